@@ -1,0 +1,71 @@
+/**
+ * @file drive_config.h
+ * Everything the firmware needs to know about its motor and board, in SI
+ * units.  drive_init() derives every per-unit constant and controller gain
+ * from it once; nothing in the ISR path reads it.  On the target a const
+ * instance lives in firmware/board_config.c; on the host it is read from the
+ * INI file.
+ */
+#ifndef DRIVE_CONFIG_H
+#define DRIVE_CONFIG_H
+
+#include <stdint.h>
+
+/** What the controller believes about the motor (nameplate / nominal values;
+ *  the identification finds the true ones). */
+typedef struct {
+    float Rs_ohm;
+    float Rr_ohm;          /* referred to the stator */
+    float Lm_H;
+    float Ls_H;            /* stator self-inductance, Lm + Lls */
+    float Lr_H;            /* rotor self-inductance,  Lm + Llr */
+    uint16_t pole_pairs;
+    float rated_speed_rpm;
+    float rated_current_A_rms;
+    float rated_freq_Hz;   /* also the per-unit frequency base */
+    float magnetizing_current_A;  /* i_M reference (peak, M-axis) */
+} drive_motor_t;
+
+/** The power stage and its sensors. */
+typedef struct {
+    float sysclk_Hz;           /* 150e6 */
+    float pwm_freq_Hz;         /* 15e3: T1PR = sysclk / (2 * pwm_freq) */
+    float dead_time_s;         /* programmed dead band */
+    float device_drop_V;       /* switch/diode forward drop, for compensation */
+    float vdc_nominal_V;       /* sets the voltage base: V_base = vdc_nominal / sqrt(3) */
+    float vdc_adc_full_scale_V;/* bus voltage that reads 3.0 V at the ADC pin */
+    float current_full_scale_A;/* Hall: +-full scale maps to 0..3 V around 1.5 V; also I_base */
+    uint16_t encoder_lines;    /* lines per revolution (x4 in the QEP) */
+    float overcurrent_A;       /* phase-current trip, peak */
+    float vdc_max_V;           /* bus overvoltage trip */
+    float vdc_min_V;           /* bus undervoltage trip */
+} drive_board_t;
+
+/** Controller design targets; the gains follow from these and the motor. */
+typedef struct {
+    float current_bw_Hz;       /* d/q current-loop bandwidth */
+    float speed_bw_Hz;         /* speed-loop bandwidth */
+    float max_torque_current_A;/* i_T limit (peak) */
+    float speed_ramp_rpm_s;    /* reference ramp rate */
+    float speed_filter_Hz;     /* low-pass of the measured speed */
+} drive_control_t;
+
+/** Identification options (method.md sections 3-5). */
+typedef struct {
+    float filter_wc_rad_s;     /* Butterworth cut-off, default 2 pi 10 */
+    uint16_t euler_passes;     /* improved-Euler corrector passes N, default 10 */
+    uint16_t paper_regressor;  /* 1: previous K2 as third regressor (eq. 9); 0: constant (eq. 7) */
+    float rls_p0;              /* P(0) = p0 * I, per unit */
+    float forgetting;          /* lambda in (0.9, 1]; 1 = none (paper) */
+    float magnetize_time_s;    /* pre-magnetisation, >= 5 Tr */
+    float target_speed_rpm;    /* speed the sequence accelerates to */
+} drive_ident_t;
+
+typedef struct {
+    drive_motor_t motor;
+    drive_board_t board;
+    drive_control_t control;
+    drive_ident_t ident;
+} drive_config_t;
+
+#endif /* DRIVE_CONFIG_H */
