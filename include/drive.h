@@ -13,11 +13,34 @@
 #define DRIVE_H
 
 #include <stdint.h>
+#include "IQmathLib.h"
 #include "drive_config.h"
 #include "hal_adc.h"
 #include "hal_pwm.h"
+#include "hal_qep.h"
 
 typedef struct drive drive_t;   /* defined in drive_types.h */
+
+/** Commands from the application / telemetry link (background context). */
+typedef enum {
+    DRIVE_CMD_NONE = 0,
+    DRIVE_CMD_START_IDENT,   /* calibrate, magnetise, accelerate, identify */
+    DRIVE_CMD_STOP,          /* ramp to zero speed, PWM off */
+    DRIVE_CMD_RESET_FAULT    /* clear a latched fault once its cause is gone */
+} drive_cmd_t;
+
+/** A snapshot for telemetry and data logging (per unit, Q GLOBAL_Q). */
+typedef struct {
+    uint16_t state;          /* identification / drive state (id_state_t) */
+    uint16_t fault;          /* latched fault code, 0 = none */
+    uint16_t pwm_on;         /* 1 while the bridge switches */
+    uint16_t params_valid;   /* 1 once identified parameters are published */
+    _iq speed;               /* rotor electrical speed, pu of w_base */
+    _iq speed_ref;           /* pu */
+    _iq i_m, i_t;            /* M/T currents, pu of I_base */
+    _iq vdc;                 /* DC bus, pu of V_base */
+    _iq Rs, Rr, Lm, Lr, psi_r, Tr;  /* published parameters, pu (Tr in pu time) */
+} drive_telemetry_t;
 
 /** Compute every constant from the SI configuration.  Returns 0 on success,
  *  a non-zero drive_cfg_status_t naming the bad field otherwise (the drive
@@ -30,5 +53,9 @@ void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
                 hal_pwm_compare_t *out);
 /** Low-priority work for the background loop (publishing, telemetry). */
 void drive_background(drive_t *d);
+/** Queue a command; acted on by the next drive_background(). */
+void drive_command(drive_t *d, drive_cmd_t cmd);
+/** Copy the telemetry snapshot (safe to call from the background loop). */
+void drive_get_telemetry(const drive_t *d, drive_telemetry_t *t);
 
 #endif /* DRIVE_H */
