@@ -42,6 +42,25 @@ typedef struct {
     _iq Rs, Rr, Lm, Lr, psi_r, Tr;  /* published parameters, pu (Tr in pu time) */
 } drive_telemetry_t;
 
+/** drive_init results: 0 or the first configuration field found bad. */
+typedef enum {
+    DRIVE_CFG_OK = 0,
+    DRIVE_CFG_BASES,          /* current full scale, bus, rated frequency, poles, PWM */
+    DRIVE_CFG_MOTOR,          /* Rs, Rr, Lm, Ls, Lr: positive, Lm < Ls and Lm < Lr */
+    DRIVE_CFG_PWM,            /* T1PR = sysclk / (2 f_pwm) outside [100, 65535] */
+    DRIVE_CFG_SENSORS,        /* current/bus scaling, encoder */
+    DRIVE_CFG_CURRENT_LOOP,
+    DRIVE_CFG_SPEED_LOOP,
+    DRIVE_CFG_ORIENTATION,
+    DRIVE_CFG_VOLTAGE_MODEL,
+    DRIVE_CFG_IDENT,          /* filter, RLS, extraction ranges */
+    DRIVE_CFG_SEQUENCE,
+    DRIVE_CFG_PROTECTION
+} drive_cfg_status_t;
+
+/** A short English name of a drive_cfg_status_t. */
+const char *drive_cfg_status_str(int16_t status);
+
 /** Compute every constant from the SI configuration.  Returns 0 on success,
  *  a non-zero drive_cfg_status_t naming the bad field otherwise (the drive
  *  then stays in its safe state: PWM off). */
@@ -55,6 +74,8 @@ void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
 void drive_background(drive_t *d);
 /** Queue a command; acted on by the next drive_background(). */
 void drive_command(drive_t *d, drive_cmd_t cmd);
+/** Set the speed the sequence runs at (pu of w_base; used from ACCELERATE on). */
+void drive_set_speed(drive_t *d, _iq speed_pu);
 /** Copy the telemetry snapshot (safe to call from the background loop). */
 void drive_get_telemetry(const drive_t *d, drive_telemetry_t *t);
 

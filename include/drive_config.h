@@ -32,6 +32,7 @@ typedef struct {
     float pwm_freq_Hz;         /* 15e3: T1PR = sysclk / (2 * pwm_freq) */
     float dead_time_s;         /* programmed dead band */
     float device_drop_V;       /* switch/diode forward drop, for compensation */
+    uint16_t dead_time_comp;   /* 1: compensate dead time and drop in the voltage reconstruction */
     float vdc_nominal_V;       /* sets the voltage base: V_base = vdc_nominal / sqrt(3) */
     float vdc_adc_full_scale_V;/* bus voltage that reads 3.0 V at the ADC pin */
     float current_full_scale_A;/* Hall: +-full scale maps to 0..3 V around 1.5 V; also I_base */
@@ -46,6 +47,7 @@ typedef struct {
     float current_bw_Hz;       /* d/q current-loop bandwidth */
     float speed_bw_Hz;         /* speed-loop bandwidth */
     float max_torque_current_A;/* i_T limit (peak) */
+    float inertia_kgm2;        /* the speed loop's assumed inertia */
     float speed_ramp_rpm_s;    /* reference ramp rate */
     float speed_filter_Hz;     /* low-pass of the measured speed */
 } drive_control_t;

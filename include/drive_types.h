@@ -1,18 +1,89 @@
 /**
  * @file drive_types.h
  * The full drive_t, so that the application can own an instance
- * (`static drive_t g_drive;` in firmware/main.c, one per instance on the host).
- * (CONTRACT STUB: the members are filled in by the integration work.)
+ * (`static drive_t g_drive;` in firmware/main.c; one per instance on the host).
+ * Every member is a module instance or a small piece of glue state; no module
+ * sees the whole struct (each step function gets its own module only).
  */
 #ifndef DRIVE_TYPES_H
 #define DRIVE_TYPES_H
 
 #include "drive.h"
 
+#include "base_values.h"
+#include "clarke.h"
+#include "dc_bus.h"
+#include "id_sequence.h"
+#include "ident_regressor.h"
+#include "ifo.h"
+#include "ipark.h"
+#include "param_extract.h"
+#include "park.h"
+#include "phase_current.h"
+#include "pi_ctrl.h"
+#include "protect.h"
+#include "qep_speed.h"
+#include "ramp_gen.h"
+#include "rls.h"
+#include "svgen.h"
+#include "volt_calc.h"
+
+/** Gains and constants derived once by drive_init (pu, Q24). */
+typedef struct {
+    _iq sigma_ls;       /* sigma Ls, pu of L_base: d-axis decoupling */
+    _iq lm2_lr;         /* Lm^2 / Lr, pu of L_base: back-EMF feed-forward */
+    _iq half_step;      /* f_base Ts / 2: pu angle per pu speed over half a period */
+    _iq i_max;          /* torque-current limit, pu */
+    _iq speed_tol;      /* steady state: |speed error| below, pu */
+    uint16_t cal_samples;
+    uint16_t live_period;       /* samples between live snapshots */
+} drive_consts_t;
+
+/** What the ISR hands to the background for the parameter extraction. */
+typedef struct {
+    _iq theta[RLS_N];   /* RLS estimate at the snapshot */
+    _iq i_m;            /* steady (filtered) M current, pu */
+    uint16_t ready;     /* set by the ISR, cleared by the background */
+} drive_snapshot_t;
+
 struct drive {
+    base_values_t base;
+    drive_consts_t k;
+    uint16_t t1pr;
+    uint16_t config_status;     /* drive_cfg_status_t of drive_init */
+
+    /* sensing */
+    phase_current_t cur;
+    dc_bus_t bus;
+    qep_speed_t qep;
+    /* control */
+    clarke_t clarke;
+    park_t park;
+    ipark_t ipark;
+    pi_ctrl_t pi_speed, pi_id, pi_iq;
+    ramp_gen_t speed_ramp;
+    ifo_t ifo;
+    svgen_t svgen;
+    volt_calc_t volt;
+    /* identification */
+    ident_regressor_t reg;
+    rls_t rls;
+    param_extract_t pex;
+    id_sequence_t seq;
+    protect_t prot;
+
+    /* PWM pipeline: duties computed at sample k apply during period k+1 and
+     * are reconstructed into voltages at sample k+2 (hal_pwm.h timing). */
+    _iq duty_next[3];           /* computed at k-1, applied now */
+    _iq duty_last[3];           /* computed at k-2, applied in the period just ended */
+    uint16_t on_next, on_last;  /* bridge switching in those periods */
+
+    drive_snapshot_t snap;      /* ISR -> background: the steady-state extraction */
+    drive_snapshot_t live_snap; /* ISR -> background: running estimates, 100 Hz */
+    uint16_t live_div;          /* samples since the last live snapshot */
+    param_extract_t live;       /* background: estimates from the running RLS */
     drive_telemetry_t telemetry;
     drive_cmd_t pending_cmd;
-    hal_pwm_compare_t cmp;
 };
 
 #endif /* DRIVE_TYPES_H */

@@ -1,0 +1,48 @@
+/* Host HAL: see hal_host.h.  Calls made with no port bound are a programming
+ * error of the simulator; they abort with a message rather than write through
+ * a null pointer. */
+#include "hal_host.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static hal_host_port_t *g_port;
+
+static hal_host_port_t *port(void)
+{
+    if (g_port == NULL) {
+        fprintf(stderr, "hal_host: HAL called with no port bound\n");
+        abort();
+    }
+    return g_port;
+}
+
+void hal_host_port_init(hal_host_port_t *p, uint16_t t1pr)
+{
+    memset(p, 0, sizeof *p);
+    p->cmp.cmpr[0] = p->cmp.cmpr[1] = p->cmp.cmpr[2] = t1pr; /* upper switches off */
+    p->adc.ia_raw = p->adc.ib_raw = 0x8000u;
+}
+
+void hal_host_bind(hal_host_port_t *p) { g_port = p; }
+
+void hal_adc_read(hal_adc_sample_t *s) { *s = port()->adc; }
+uint16_t hal_qep_read_count(void) { return port()->qep_count; }
+
+void hal_pwm_write(const hal_pwm_compare_t *c)
+{
+    hal_host_port_t *p = port();
+    p->cmp = *c;
+    p->writes++;
+}
+
+void hal_pwm_enable(void)
+{
+    hal_host_port_t *p = port();
+    /* as on the F2812: the outputs cannot be enabled while PDPINTA is active */
+    p->outputs_enabled = (uint16_t)(p->trip_input == 0u);
+}
+
+void hal_pwm_disable(void) { port()->outputs_enabled = 0u; }
+uint16_t hal_pwm_tripped(void) { return port()->trip_input; }

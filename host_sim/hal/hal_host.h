@@ -1,0 +1,34 @@
+/**
+ * @file hal_host.h
+ * Host implementation of the HAL seams (include/hal_*.h): the link-time fake
+ * that replaces firmware/hal_*_f2812.c in the host build.  The simulator
+ * fills a hal_host_port_t with what the F2812's ADC and QEP would hold at the
+ * period start, binds it, calls the very same drive_isr() the target runs,
+ * and reads back the compare values and the output-enable state.
+ *
+ * One port per drive instance; hal_host_bind() selects the one the HAL calls
+ * act on (the ISR of one instance runs at a time, as on the target).
+ */
+#ifndef HAL_HOST_H
+#define HAL_HOST_H
+
+#include <stdint.h>
+#include "hal_adc.h"
+#include "hal_pwm.h"
+#include "hal_qep.h"
+
+typedef struct {
+    /* written by the simulator before the ISR */
+    hal_adc_sample_t adc;
+    uint16_t qep_count;
+    uint16_t trip_input;       /* PDPINTA level: 1 = the power stage tripped */
+    /* written by the HAL calls of the ISR */
+    hal_pwm_compare_t cmp;     /* last CMPR1..3 written (takes effect next period) */
+    uint16_t outputs_enabled;  /* COMCONA.FCOMPOE */
+    uint32_t writes;           /* number of hal_pwm_write calls */
+} hal_host_port_t;
+
+void hal_host_port_init(hal_host_port_t *p, uint16_t t1pr);
+void hal_host_bind(hal_host_port_t *p);
+
+#endif /* HAL_HOST_H */

@@ -1,0 +1,148 @@
+/* The simulated power stage.  See plant.h. */
+#include "plant.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+int plant_init(plant_t *p, const sim_config_t *c, uint16_t t1pr, char *err, unsigned err_len)
+{
+    motor_params_t mp;
+    inverter_params_t ip;
+    hall_params_t hp;
+    adc_f2812_params_t ap;
+    encoder_params_t ep;
+    uint64_t seed = (uint64_t)c->seed;
+
+    memset(p, 0, sizeof *p);
+    p->Ts_s = 1.0 / c->pwm_freq_Hz;
+    p->t1pr = t1pr;
+    p->substeps = (uint16_t)c->substeps;
+    p->load_const_Nm = c->load_const_Nm;
+    p->load_prop_Nm_s = c->load_prop_Nm_s;
+    p->load_fan_Nm = c->load_fan_Nm;
+    p->w_rated_m_rad_s = c->rated_speed_rpm * 2.0 * M_PI / 60.0;
+    p->hall_a_gain_fault = 1.0;
+    p->vdc_scale = 1.0;
+
+    memset(&mp, 0, sizeof mp);
+    mp.Rs_ohm = c->Rs_ohm;
+    mp.Rr_ohm = c->Rr_ohm;
+    mp.Lm_H = c->Lm_H;
+    mp.Lls_H = c->Lls_H;
+    mp.Llr_H = c->Llr_H;
+    mp.pole_pairs = (uint16_t)c->pole_pairs;
+    mp.J_kgm2 = c->J_kgm2;
+    mp.B_Nm_s = c->B_Nm_s;
+    if (motor_init(&p->motor, &mp) != MOTOR_OK) {
+        snprintf(err, err_len, "motor model rejected the [motor] parameters");
+        return 1;
+    }
+
+    inverter_params_default(&ip);
+    ip.vdc_V = c->vdc_V;
+    ip.r_source_ohm = c->source_resistance_ohm;
+    ip.ripple_V = c->ripple_V;
+    ip.ripple_Hz = c->ripple_Hz;
+    ip.f_pwm_Hz = c->pwm_freq_Hz;
+    ip.dead_time_s = c->dead_time_s;
+    ip.v_drop_V = c->device_drop_V;
+    ip.r_on_ohm = c->r_on_ohm;
+    ip.ideal = 0u;
+    if (inverter_init(&p->inv, &ip) != 0) {
+        snprintf(err, err_len, "inverter model rejected the [inverter] parameters");
+        return 2;
+    }
+
+    hall_params_default(&hp);
+    hp.gain_error = c->hall_gain_error_pct / 100.0;
+    hp.noise_rms_A = c->hall_noise_A_rms;
+    hp.offset_A = c->hall_offset_a_A;
+    hp.seed = seed * 7919u + 1u;
+    if (hall_init(&p->hall_a, &hp) != HALL_OK) {
+        snprintf(err, err_len, "Hall sensor model rejected the [sensors] parameters");
+        return 3;
+    }
+    hp.offset_A = c->hall_offset_b_A;
+    hp.gain_error = -0.6 * c->hall_gain_error_pct / 100.0;   /* the two sensors differ */
+    hp.seed = seed * 7919u + 2u;
+    (void)hall_init(&p->hall_b, &hp);
+    if (sig_cond_init_current(&p->cond_i, c->hall_full_scale_A) != SIG_COND_OK ||
+        sig_cond_init_vdc(&p->cond_v, c->vdc_full_scale_V) != SIG_COND_OK) {
+        snprintf(err, err_len, "signal conditioning rejected the full-scale values");
+        return 4;
+    }
+    adc_f2812_params_default(&ap);
+    ap.noise_lsb_rms = c->adc_noise_lsb;
+    ap.seed = seed * 7919u + 3u;
+    (void)adc_f2812_init(&p->adc_a, &ap);
+    ap.seed = seed * 7919u + 4u;
+    (void)adc_f2812_init(&p->adc_b, &ap);
+    ap.seed = seed * 7919u + 5u;
+    if (adc_f2812_init(&p->adc_v, &ap) != ADC_F2812_OK) {
+        snprintf(err, err_len, "ADC model rejected its parameters");
+        return 5;
+    }
+    encoder_params_default(&ep);
+    ep.lines = (uint16_t)c->encoder_lines;
+    ep.seed = seed * 7919u + 6u;
+    if (encoder_init(&p->enc, &ep, 0.0) != 0) {
+        snprintf(err, err_len, "encoder model rejected sensors.encoder_lines");
+        return 6;
+    }
+    return 0;
+}
+
+double plant_load_Nm(const plant_t *p, double w_m)
+{
+    double sgn = (w_m > 0.0) ? 1.0 : ((w_m < 0.0) ? -1.0 : 0.0);
+    double r = w_m / p->w_rated_m_rad_s;
+    return sgn * p->load_const_Nm + p->load_prop_Nm_s * w_m + sgn * p->load_fan_Nm * r * r +
+           p->extra_load_Nm;
+}
+
+void plant_sample(plant_t *p, hal_host_port_t *port)
+{
+    const motor_t *m = &p->motor;
+    double ia = hall_measure(&p->hall_a, m->ia_A, p->Ts_s) * p->hall_a_gain_fault;
+    double ib = hall_measure(&p->hall_b, m->ib_A, p->Ts_s);
+    double vdc = inverter_bus_voltage_V(&p->inv, p->t_s, p->i_dc_A) * p->vdc_scale;
+
+    if (p->hall_b_lost != 0u) {
+        ib = 0.0;
+    }
+    port->adc.ia_raw = adc_f2812_convert(&p->adc_a, sig_cond_apply(&p->cond_i, ia));
+    port->adc.ib_raw = adc_f2812_convert(&p->adc_b, sig_cond_apply(&p->cond_i, ib));
+    port->adc.vdc_raw = adc_f2812_convert(&p->adc_v, sig_cond_apply(&p->cond_v, vdc));
+    if (p->encoder_frozen == 0u) {
+        p->frozen_count = encoder_sample(&p->enc, m->theta_m_rad);
+    }
+    port->qep_count = p->frozen_count;
+}
+
+void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_enabled)
+{
+    motor_t *m = &p->motor;
+    load_t l;
+
+    (void)load_init_constant(&l, plant_load_Nm(p, m->w_m_rad_s));
+    motor_set_load(m, &l);
+    if (outputs_enabled != 0u) {
+        double duty[3], i_abc[3];
+        uint16_t x;
+        for (x = 0u; x < 3u; x++) {
+            duty[x] = inverter_duty_from_cmpr(active->cmpr[x], p->t1pr);
+        }
+        i_abc[0] = m->ia_A;
+        i_abc[1] = m->ib_A;
+        i_abc[2] = m->ic_A;
+        inverter_step(&p->inv, p->t_s, duty, i_abc);
+        motor_step(m, p->inv.v_alpha_V * p->vdc_scale, p->inv.v_beta_V * p->vdc_scale, p->Ts_s,
+                   p->substeps);
+        p->i_dc_A = p->inv.i_dc_A;
+    } else {
+        motor_step_open(m, p->Ts_s, p->substeps);
+        p->i_dc_A = 0.0;
+    }
+    p->t_s += p->Ts_s;
+}

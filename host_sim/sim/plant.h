@@ -1,0 +1,67 @@
+/**
+ * @file plant.h
+ * The simulated power stage around the firmware: induction motor + load,
+ * inverter, current/bus sensors through the F2812 ADC, encoder into T2.
+ * Built from a sim_config_t.  Timing as on the F2812 (hal_pwm.h):
+ *   plant_sample()  at the period start (T1 underflow): what the ADC
+ *                   converts and T2CNT holds;
+ *   plant_period()  one PWM period with the compare values that became
+ *                   active at this underflow (written by the previous ISR)
+ *                   and the output-enable state the ISR left.
+ */
+#ifndef PLANT_H
+#define PLANT_H
+
+#include <stdint.h>
+
+#include "adc_f2812.h"
+#include "encoder_model.h"
+#include "hall_sensor.h"
+#include "hal_host.h"
+#include "inverter_model.h"
+#include "motor_model.h"
+#include "sim_config.h"
+
+typedef enum {
+    PLANT_FAULT_NONE = 0,
+    PLANT_FAULT_HALL_GAIN,    /* phase-a sensor gain error (value: relative) */
+    PLANT_FAULT_HALL_LOST,    /* phase-b sensor output stuck at its zero-current level */
+    PLANT_FAULT_BUS_SAG,      /* source voltage drops (value: relative) */
+    PLANT_FAULT_ENCODER_LOST, /* T2 stops counting */
+    PLANT_FAULT_OVERVOLTAGE,  /* source voltage rises (value: relative) */
+    PLANT_FAULT_SHORT         /* phase current driven up: a low-impedance fault */
+} plant_fault_t;
+
+typedef struct {
+    motor_t motor;
+    inverter_t inv;
+    hall_t hall_a, hall_b;
+    sig_cond_t cond_i, cond_v;
+    adc_f2812_t adc_a, adc_b, adc_v;
+    encoder_t enc;
+    load_t load;
+    double Ts_s;
+    uint16_t t1pr;
+    uint16_t substeps;
+    double load_const_Nm, load_prop_Nm_s, load_fan_Nm, w_rated_m_rad_s;
+    double extra_load_Nm;     /* scenario load steps */
+    double i_dc_A;            /* last DC-link current */
+    double t_s;
+    /* injected faults */
+    double hall_a_gain_fault; /* multiplies the phase-a measurement */
+    uint16_t hall_b_lost;
+    uint16_t encoder_frozen;
+    uint16_t frozen_count;
+    double vdc_scale;         /* multiplies the source voltage */
+} plant_t;
+
+/** Returns 0 or a message-worthy non-zero status (the sub-model that refused). */
+int plant_init(plant_t *p, const sim_config_t *c, uint16_t t1pr, char *err, unsigned err_len);
+/** Fill the ADC results and T2CNT the F2812 would see now. */
+void plant_sample(plant_t *p, hal_host_port_t *port);
+/** Advance one PWM period. */
+void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_enabled);
+/** The load torque (N m) at the present state: const + prop w + fan (w/w_rated)^2 + steps. */
+double plant_load_Nm(const plant_t *p, double w_m_rad_s);
+
+#endif /* PLANT_H */

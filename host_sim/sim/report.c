@@ -1,0 +1,81 @@
+/* report.json and the printed table.  See report.h. */
+#include "report.h"
+
+#include <math.h>
+
+static void json_params(FILE *f, const char *name, const sim_params_t *p, int last)
+{
+    fprintf(f,
+            "  \"%s\": {\"Rs_ohm\": %.8g, \"Rr_ohm\": %.8g, \"Lm_H\": %.8g, \"Lr_H\": %.8g, "
+            "\"psi_r_Wb\": %.8g, \"Tr_s\": %.8g}%s\n",
+            name, p->Rs_ohm, p->Rr_ohm, p->Lm_H, p->Lr_H, p->psi_r_Wb, p->Tr_s, last ? "" : ",");
+}
+
+static const char *fault_name(uint16_t code)
+{
+    static const char *const names[] = {"none", "overcurrent", "bus_overvoltage",
+                                        "bus_undervoltage", "encoder", "current_offset",
+                                        "adc_rail", "hw_trip", "config"};
+    return (code < sizeof names / sizeof names[0]) ? names[code] : "unknown";
+}
+
+int report_write_json(const char *path, const sim_config_t *cfg, const char *config_path,
+                      const sim_options_t *opt, const sim_result_t *r)
+{
+    FILE *f = fopen(path, "w");
+    unsigned i;
+    (void)cfg;
+    if (f == NULL) {
+        return -1;
+    }
+    fprintf(f, "{\n");
+    fprintf(f, "  \"config\": \"%s\",\n  \"scenario\": \"%s\",\n  \"math_type\": \"%s\",\n",
+            config_path, sim_scenario_name(opt->scenario),
+#if MATH_TYPE == IQ_MATH
+            "IQ_MATH"
+#else
+            "FLOAT_MATH"
+#endif
+    );
+    fprintf(f, "  \"duration_s\": %.6g,\n  \"wall_s\": %.6g,\n  \"identified\": %s,\n",
+            r->duration_s, r->wall_s, r->identified ? "true" : "false");
+    fprintf(f, "  \"settle_timeout\": %s,\n", r->settle_timeout ? "true" : "false");
+    fprintf(f, "  \"t_accel_start_s\": %.6g,\n  \"t_published_s\": %.6g,\n  \"converge_s\": %.6g,\n",
+            r->t_accel_start_s, r->t_published_s, r->converge_s);
+    json_params(f, "true", &r->truth, 0);
+    json_params(f, "identified", &r->ident, 0);
+    json_params(f, "error_pct", &r->error_pct, 0);
+    fprintf(f, "  \"max_abs_i_A\": %.6g,\n  \"max_speed_err_rpm_ramp\": %.6g,\n"
+               "  \"max_flux_q_over_d\": %.6g,\n  \"final_speed_rpm\": %.6g,\n",
+            r->max_abs_i_A, r->max_speed_err_rpm_ramp, r->max_flux_q_over_d, r->final_speed_rpm);
+    fprintf(f, "  \"faults\": [");
+    for (i = 0; i < r->n_faults_seen; i++) {
+        fprintf(f, "%s{\"code\": %u, \"name\": \"%s\", \"time_s\": %.7g}", i ? ", " : "",
+                r->fault_code[i], fault_name(r->fault_code[i]), r->fault_time_s[i]);
+    }
+    fprintf(f, "],\n  \"pwm_enabled_at_end\": %s\n}\n", r->final_pwm_on ? "true" : "false");
+    return fclose(f) == 0 ? 0 : -1;
+}
+
+void report_print_table(FILE *f, const sim_result_t *r)
+{
+    const sim_params_t *t = &r->truth, *e = &r->ident, *p = &r->error_pct;
+    fprintf(f, "\n%-12s %10s %10s %10s %10s %10s %10s\n", "", "Rs/ohm", "Rr/ohm", "Lm/H", "Lr/H",
+            "psi_r/Wb", "Tr/s");
+    fprintf(f, "%-12s %10.4f %10.4f %10.5f %10.5f %10.5f %10.5f\n", "reference", t->Rs_ohm,
+            t->Rr_ohm, t->Lm_H, t->Lr_H, t->psi_r_Wb, t->Tr_s);
+    if (!r->identified) {
+        fprintf(f, "%-12s (not identified)\n", "identified");
+        return;
+    }
+    fprintf(f, "%-12s %10.4f %10.4f %10.5f %10.5f %10.5f %10.5f\n", "identified", e->Rs_ohm,
+            e->Rr_ohm, e->Lm_H, e->Lr_H, e->psi_r_Wb, e->Tr_s);
+    fprintf(f, "%-12s %+10.2f %+10.2f %+10.2f %+10.2f %+10.2f %+10.2f\n", "error %", p->Rs_ohm,
+            p->Rr_ohm, p->Lm_H, p->Lr_H, p->psi_r_Wb, p->Tr_s);
+    fprintf(f, "\nacceleration started at %.3f s; parameters published at %.3f s%s;\n"
+               "all estimates within 2 %% of their final values %.3f s after the start of the "
+               "acceleration.\n",
+            r->t_accel_start_s, r->t_published_s,
+            r->settle_timeout ? " (steady state not confirmed: settle time-out)" : "",
+            r->converge_s);
+}

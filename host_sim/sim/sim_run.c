@@ -1,0 +1,303 @@
+/* One closed-loop run: the firmware ISR against the plant.  See sim_run.h. */
+#include "sim_run.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "drive_types.h"
+#include "hal_host.h"
+
+#define BACKGROUND_DIV 15u   /* background loop at 1 kHz */
+
+static const char *const k_scen[] = {"start", "reversal", "load_steps"};
+
+int sim_scenario_parse(const char *name, sim_scenario_t *out)
+{
+    unsigned i;
+    for (i = 0; i < sizeof k_scen / sizeof k_scen[0]; i++) {
+        if (strcmp(name, k_scen[i]) == 0) {
+            *out = (sim_scenario_t)i;
+            return 0;
+        }
+    }
+    return -1;
+}
+
+const char *sim_scenario_name(sim_scenario_t s) { return k_scen[s]; }
+
+static void to_si(const base_values_t *b, const param_extract_t *p, sim_params_t *o)
+{
+    o->Rs_ohm = (double)_IQtoF(p->Rs) * b->Z_base_ohm;
+    o->Rr_ohm = (double)_IQtoF(p->Rr) * b->Z_base_ohm;
+    o->Lm_H = (double)_IQtoF(p->Lm) * b->L_base_H;
+    o->Lr_H = (double)_IQtoF(p->Lr) * b->L_base_H;
+    o->psi_r_Wb = (double)_IQtoF(p->psi_r) * b->psi_base_Wb;
+    o->Tr_s = (double)_IQtoF(p->Tr) * b->t_base_s;
+}
+
+static double pct(double est, double truth) { return 100.0 * (est - truth) / truth; }
+
+/* Series of live estimates (100 Hz) for the convergence time. */
+typedef struct {
+    double t;
+    sim_params_t p;
+} live_row_t;
+
+static double converge_time(const live_row_t *rows, size_t n, const sim_params_t *fin,
+                            double t0)
+{
+    /* the last time any estimate was more than 2 % from its final value */
+    double last_bad = t0;
+    size_t i;
+    for (i = 0; i < n; i++) {
+        const sim_params_t *p = &rows[i].p;
+        if (rows[i].t < t0) {
+            continue;
+        }
+        if (fabs(pct(p->Rs_ohm, fin->Rs_ohm)) > 2.0 || fabs(pct(p->Rr_ohm, fin->Rr_ohm)) > 2.0 ||
+            fabs(pct(p->Lm_H, fin->Lm_H)) > 2.0 || fabs(pct(p->Lr_H, fin->Lr_H)) > 2.0 ||
+            fabs(pct(p->psi_r_Wb, fin->psi_r_Wb)) > 2.0 || fabs(pct(p->Tr_s, fin->Tr_s)) > 2.0 ||
+            !isfinite(p->Rs_ohm)) {
+            last_bad = rows[i].t;
+        }
+    }
+    return last_bad - t0;
+}
+
+static void apply_fault(plant_t *p, const sim_fault_t *f)
+{
+    switch (f->kind) {
+    case PLANT_FAULT_HALL_GAIN: p->hall_a_gain_fault = 1.0 + f->value; break;
+    case PLANT_FAULT_HALL_LOST: p->hall_b_lost = 1u; break;
+    case PLANT_FAULT_BUS_SAG: p->vdc_scale = 1.0 - f->value; break;
+    case PLANT_FAULT_OVERVOLTAGE: p->vdc_scale = 1.0 + f->value; break;
+    case PLANT_FAULT_ENCODER_LOST: p->encoder_frozen = 1u; break;
+    case PLANT_FAULT_SHORT: p->hall_a_gain_fault = 1.0 + f->value; break;
+    case PLANT_FAULT_NONE:
+    default: break;
+    }
+}
+
+static void trace_header(FILE *f)
+{
+    fprintf(f, "t_s,state,fault,pwm_on,speed_ref_rpm,speed_rpm,speed_meas_rpm,i_m_A,i_t_A,"
+               "ia_A,ib_A,u_m_V,u_t_V,vdc_V,Te_Nm,TL_Nm,psi_r_true_Wb,psi_rq_over_d,"
+               "Rs_ohm,Rr_ohm,Lm_H,Lr_H,psi_r_Wb,Tr_s,est_valid,"
+               "K1,K2,K3,K4\n");
+}
+
+int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res, char *err,
+            unsigned err_len)
+{
+    static drive_t drive;   /* large; one run at a time */
+    drive_config_t dc;
+    plant_t plant;
+    hal_host_port_t port;
+    hal_pwm_compare_t active;
+    FILE *trace = NULL;
+    live_row_t *rows = NULL;
+    size_t n_rows = 0, cap_rows;
+    int16_t st;
+    uint64_t k, n_steps, trace_div;
+    double Ts, duration, t_run = -1.0, rpm_per_pu;
+    uint16_t fault_applied[SIM_MAX_FAULTS] = {0};
+    uint16_t last_fault = 0u, prev_state = ID_IDLE;
+    int scen_done = 0;
+    clock_t c0 = clock();
+    const base_values_t *b = &drive.base;
+
+    memset(res, 0, sizeof *res);
+    res->converge_s = -1.0;
+    res->t_accel_start_s = -1.0;
+    sim_config_to_drive(cfg, &dc);
+    st = drive_init(&drive, &dc);
+    if (st != DRIVE_CFG_OK) {
+        snprintf(err, err_len, "drive_init rejected the configuration: %s",
+                 drive_cfg_status_str(st));
+        return 1;
+    }
+    if (plant_init(&plant, cfg, drive.t1pr, err, err_len) != 0) {
+        return 2;
+    }
+    hal_host_port_init(&port, drive.t1pr);
+    hal_host_bind(&port);
+    active = port.cmp;
+
+    Ts = 1.0 / cfg->pwm_freq_Hz;
+    duration = opt->duration_s;
+    if (duration <= 0.0) {
+        duration = 0.1 + cfg->magnetize_s + cfg->target_speed_rpm / cfg->speed_ramp_rpm_s + 1.2;
+        if (opt->scenario != SCEN_START) {
+            duration += 2.5;
+        }
+    }
+    res->duration_s = duration;
+    n_steps = (uint64_t)(duration / Ts + 0.5);
+    trace_div = (uint64_t)(cfg->pwm_freq_Hz / ((opt->trace_rate_Hz > 0.0) ? opt->trace_rate_Hz
+                                                                            : 1000.0));
+    if (trace_div == 0) {
+        trace_div = 1;
+    }
+    cap_rows = (size_t)(duration * 100.0) + 16;
+    rows = (live_row_t *)calloc(cap_rows, sizeof *rows);
+    if (rows == NULL) {
+        snprintf(err, err_len, "out of memory");
+        return 3;
+    }
+    if (opt->trace_path != NULL) {
+        trace = fopen(opt->trace_path, "w");
+        if (trace == NULL) {
+            snprintf(err, err_len, "cannot write %s", opt->trace_path);
+            free(rows);
+            return 4;
+        }
+        trace_header(trace);
+    }
+    rpm_per_pu = b->n_base_rpm;
+    res->truth.Rs_ohm = cfg->Rs_ohm;
+    res->truth.Rr_ohm = cfg->Rr_ohm;
+    res->truth.Lm_H = cfg->Lm_H;
+    res->truth.Lr_H = cfg->Lm_H + cfg->Llr_H;
+    res->truth.Tr_s = res->truth.Lr_H / cfg->Rr_ohm;
+
+    drive_command(&drive, DRIVE_CMD_START_IDENT);
+    drive_background(&drive);
+
+    for (k = 0; k < n_steps; k++) {
+        double t = (double)k * Ts;
+        const motor_t *m = &plant.motor;
+        unsigned i;
+
+        for (i = 0; i < opt->n_faults; i++) {
+            if (!fault_applied[i] && t >= opt->faults[i].t_s) {
+                apply_fault(&plant, &opt->faults[i]);
+                fault_applied[i] = 1u;
+            }
+        }
+        /* period start: ADC and QEP, then the ISR */
+        plant_sample(&plant, &port);
+        port.trip_input = 0u;
+        drive_isr(&drive);
+        if ((k % BACKGROUND_DIV) == 0u) {
+            drive_background(&drive);
+        }
+
+        /* observe (state at the sample instant, firmware's frame theta_k) */
+        {
+            double ia = fabs(m->ia_A), ib = fabs(m->ib_A), ic = fabs(m->ic_A);
+            double imax = fmax(ia, fmax(ib, ic));
+            double th = (double)_IQtoF(drive.ifo.theta_prev) * 2.0 * M_PI;
+            double pd, pq;
+            uint16_t state = drive.telemetry.state;
+            motor_rotor_flux_dq(m, th, &pd, &pq);
+            if (imax > res->max_abs_i_A) {
+                res->max_abs_i_A = imax;
+            }
+            if (state == ID_ACCELERATE && prev_state != ID_ACCELERATE) {
+                res->t_accel_start_s = t;
+            }
+            if ((state == ID_ACCELERATE || state == ID_SETTLE || state == ID_RUN) && pd > 1e-6) {
+                double r = fabs(pq / pd);
+                if (r > res->max_flux_q_over_d) {
+                    res->max_flux_q_over_d = r;
+                }
+            }
+            if (state == ID_ACCELERATE && res->t_accel_start_s >= 0.0 &&
+                t > res->t_accel_start_s + 0.2) {
+                double e = fabs((double)_IQtoF(drive.speed_ramp.out) * rpm_per_pu - m->n_rpm);
+                if (e > res->max_speed_err_rpm_ramp) {
+                    res->max_speed_err_rpm_ramp = e;
+                }
+            }
+            if (state == ID_RUN && prev_state != ID_RUN) {
+                t_run = t;
+                res->t_published_s = t;
+                res->truth.psi_r_Wb = sqrt(pd * pd + pq * pq);
+                res->settle_timeout = drive.seq.settle_timeout;
+            }
+            if (drive.telemetry.fault != 0u && drive.telemetry.fault != last_fault &&
+                res->n_faults_seen < SIM_MAX_FAULTS) {
+                res->fault_code[res->n_faults_seen] = drive.telemetry.fault;
+                res->fault_time_s[res->n_faults_seen] = t;
+                res->n_faults_seen++;
+            }
+            last_fault = drive.telemetry.fault;
+            prev_state = state;
+
+            if ((k % (uint64_t)(cfg->pwm_freq_Hz / 100.0)) == 0u && n_rows < cap_rows) {
+                rows[n_rows].t = t;
+                to_si(b, &drive.live, &rows[n_rows].p);
+                n_rows++;
+            }
+            if (trace != NULL && (k % trace_div) == 0u) {
+                sim_params_t lp;
+                to_si(b, &drive.live, &lp);
+                fprintf(trace,
+                        "%.5f,%u,%u,%u,%.3f,%.3f,%.3f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.5f,"
+                        "%.5f,%.6f,%.6f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%u,%.6g,%.6g,%.6g,%.6g\n",
+                        t, state, drive.telemetry.fault, drive.telemetry.pwm_on,
+                        (double)_IQtoF(drive.speed_ramp.out) * rpm_per_pu, m->n_rpm,
+                        (double)_IQtoF(drive.qep.speed) * rpm_per_pu,
+                        (double)_IQtoF(drive.park.ds) * b->I_base_A,
+                        (double)_IQtoF(drive.park.qs) * b->I_base_A, m->ia_A, m->ib_A,
+                        (double)_IQtoF(drive.reg.u_mf) * b->V_base_V,
+                        (double)_IQtoF(drive.reg.u_tf) * b->V_base_V,
+                        (double)_IQtoF(drive.bus.vdc) * b->V_base_V, m->Te_Nm, m->TL_Nm,
+                        sqrt(pd * pd + pq * pq), (pd > 1e-9) ? pq / pd : 0.0, lp.Rs_ohm,
+                        lp.Rr_ohm, lp.Lm_H, lp.Lr_H, lp.psi_r_Wb, lp.Tr_s, drive.live.valid,
+                        (double)_IQtoF(drive.rls.theta[0]), (double)_IQtoF(drive.rls.theta[1]),
+                        (double)_IQtoF(drive.rls.theta[2]), (double)_IQtoF(drive.rls.theta[3]));
+            }
+        }
+
+        /* scenario events after the identification */
+        if (t_run >= 0.0 && !scen_done) {
+            if (opt->scenario == SCEN_REVERSAL && t >= t_run + 0.5) {
+                drive_set_speed(&drive, -drive.seq.speed_target);
+                scen_done = 1;
+            } else if (opt->scenario == SCEN_LOAD_STEPS && t >= t_run + 0.5) {
+                plant.extra_load_Nm = (t < t_run + 1.5) ? 0.5 * (cfg->load_const_Nm +
+                                                                 cfg->load_fan_Nm)
+                                                        : 0.0;
+                scen_done = (t >= t_run + 1.5);
+            }
+        }
+        if (!opt->quiet && duration > 5.0 && (k % (uint64_t)cfg->pwm_freq_Hz) == 0u && k > 0) {
+            fprintf(stderr, "\r  simulated %.0f of %.0f s", t, duration);
+        }
+
+        /* one PWM period: the compare values written by the previous ISR are
+         * loaded at this underflow; the output enable acts at once */
+        plant_period(&plant, &active, port.outputs_enabled);
+        active = port.cmp;
+    }
+    if (!opt->quiet && duration > 5.0) {
+        fprintf(stderr, "\n");
+    }
+    res->wall_s = (double)(clock() - c0) / CLOCKS_PER_SEC;
+    res->final_speed_rpm = plant.motor.n_rpm;
+    res->final_state = drive.telemetry.state;
+    res->final_fault = drive.telemetry.fault;
+    res->final_pwm_on = port.outputs_enabled;
+    res->identified = drive.telemetry.params_valid;
+    if (res->identified) {
+        to_si(b, &drive.pex, &res->ident);
+        res->error_pct.Rs_ohm = pct(res->ident.Rs_ohm, res->truth.Rs_ohm);
+        res->error_pct.Rr_ohm = pct(res->ident.Rr_ohm, res->truth.Rr_ohm);
+        res->error_pct.Lm_H = pct(res->ident.Lm_H, res->truth.Lm_H);
+        res->error_pct.Lr_H = pct(res->ident.Lr_H, res->truth.Lr_H);
+        res->error_pct.psi_r_Wb = pct(res->ident.psi_r_Wb, res->truth.psi_r_Wb);
+        res->error_pct.Tr_s = pct(res->ident.Tr_s, res->truth.Tr_s);
+        if (res->t_accel_start_s >= 0.0) {
+            res->converge_s = converge_time(rows, n_rows, &res->ident, res->t_accel_start_s);
+        }
+    }
+    free(rows);
+    if (trace != NULL) {
+        fclose(trace);
+    }
+    return 0;
+}

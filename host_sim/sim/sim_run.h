@@ -1,0 +1,71 @@
+/**
+ * @file sim_run.h
+ * One closed-loop run of the unchanged firmware (drive_isr through the host
+ * HAL) against the plant, with a scenario, optional injected faults, a CSV
+ * trace and the identification results.  Used by motor_sim and by the
+ * closed-loop tests (in-process, so they can assert on the results).
+ */
+#ifndef SIM_RUN_H
+#define SIM_RUN_H
+
+#include <stdint.h>
+#include "plant.h"
+#include "sim_config.h"
+
+#define SIM_MAX_FAULTS 8
+
+typedef enum { SCEN_START = 0, SCEN_REVERSAL, SCEN_LOAD_STEPS } sim_scenario_t;
+
+typedef struct {
+    plant_fault_t kind;
+    double t_s;
+    double value;
+} sim_fault_t;
+
+typedef struct {
+    sim_scenario_t scenario;
+    double duration_s;           /* <= 0: the scenario's default */
+    const char *trace_path;      /* CSV, or NULL */
+    double trace_rate_Hz;        /* rows per simulated second (default 1000) */
+    uint16_t quiet;              /* no progress on stderr */
+    uint16_t n_faults;
+    sim_fault_t faults[SIM_MAX_FAULTS];
+} sim_options_t;
+
+/** Parameter set in SI. */
+typedef struct {
+    double Rs_ohm, Rr_ohm, Lm_H, Lr_H, psi_r_Wb, Tr_s;
+} sim_params_t;
+
+typedef struct {
+    double duration_s;
+    double wall_s;                  /* wall-clock time of the run */
+    uint16_t identified;            /* parameters published */
+    uint16_t settle_timeout;        /* published after the SETTLE time limit */
+    double t_accel_start_s;         /* the sequence entered ACCELERATE */
+    double t_published_s;
+    sim_params_t truth, ident;
+    sim_params_t error_pct;         /* 100 (ident - truth) / truth */
+    double converge_s;              /* after t_accel_start: all live estimates stay
+                                       within 2 % of the published values (-1: never) */
+    /* closed-loop figures */
+    double max_abs_i_A;             /* largest phase current */
+    double max_speed_err_rpm_ramp;  /* |ref - true| during ACCELERATE (after 0.2 s) */
+    double max_flux_q_over_d;       /* |psi_rq/psi_rd| after magnetisation */
+    double final_speed_rpm;
+    uint16_t final_state, final_fault, final_pwm_on;
+    uint16_t n_faults_seen;
+    uint16_t fault_code[SIM_MAX_FAULTS];
+    double fault_time_s[SIM_MAX_FAULTS];
+} sim_result_t;
+
+/** Run; returns 0, or non-zero with a message in err (drive_init or a model
+ *  refused the configuration, or the trace file could not be written). */
+int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res, char *err,
+            unsigned err_len);
+
+/** Parse "start" | "reversal" | "load_steps". Returns 0 or -1. */
+int sim_scenario_parse(const char *name, sim_scenario_t *out);
+const char *sim_scenario_name(sim_scenario_t s);
+
+#endif /* SIM_RUN_H */

@@ -1,0 +1,79 @@
+/**
+ * @file id_sequence.h
+ * The identification sequence of the paper's experiment (method §2, §6), as a
+ * state machine run once per ISR sample:
+ *
+ *   IDLE -> CALIBRATE (current offsets, PWM off)
+ *        -> MAGNETIZE (i_M to its reference, zero speed, >= 5 Tr)
+ *        -> ACCELERATE (speed ramp to the target; RLS on: the transient that
+ *                       excites the regression, method §2 "Excitation")
+ *        -> SETTLE (speed reached; wait for steady state: di/dt ~ 0, the
+ *                   precondition of the parameter formulas, method §4)
+ *        -> RUN (parameters extracted and published; RLS off)
+ *   any  -> FAULT (from the protections; PWM off) ; STOP -> IDLE
+ *
+ * It decides only; the drive applies its outputs.  Times are counted in ISR
+ * samples (uint32_t, so > 3 days at 15 kHz before a wrap).
+ */
+#ifndef ID_SEQUENCE_H
+#define ID_SEQUENCE_H
+
+#include <stdint.h>
+#include "IQmathLib.h"
+
+typedef enum {
+    ID_IDLE = 0,
+    ID_CALIBRATE,
+    ID_MAGNETIZE,
+    ID_ACCELERATE,
+    ID_SETTLE,
+    ID_RUN,
+    ID_FAULT
+} id_state_t;
+
+typedef struct {
+    /* inputs (set by the drive each sample) */
+    uint16_t cal_done;        /* offset calibration finished (ok or not) */
+    uint16_t fault;           /* a latched fault exists */
+    uint16_t ramp_done;       /* the speed reference reached its target */
+    _iq speed_err;            /* |speed ref - speed|, pu, Q24 */
+    _iq dim;                  /* |d i_M/dt| filtered, pu/pu-time, Q24 */
+    _iq dit;                  /* |d i_T/dt| filtered, pu/pu-time, Q24 */
+    /* parameters (id_sequence_init) */
+    uint32_t magnetize_samples;
+    uint32_t settle_min_samples;   /* least time in SETTLE */
+    uint32_t settle_hold_samples;  /* steady-state conditions must hold this long */
+    uint32_t settle_max_samples;   /* give up waiting: extract anyway, flagged */
+    _iq speed_tol;            /* steady: speed error below, pu */
+    _iq didt_tol;             /* steady: |di/dt| below, pu/pu-time */
+    _iq im_ref;               /* magnetising current reference, pu */
+    _iq speed_target;         /* pu */
+    /* outputs */
+    id_state_t state;
+    uint16_t pwm_on;          /* the bridge should switch */
+    uint16_t calibrating;     /* the drive runs the offset calibration */
+    uint16_t speed_loop_on;   /* speed PI drives i_T; else i_T ref = 0 */
+    uint16_t rls_on;          /* the RLS may update */
+    uint16_t extract_now;     /* one-sample pulse: take the steady i_M, extract */
+    uint16_t settle_timeout;  /* SETTLE ended by its time limit, not by steadiness */
+    _iq im_cmd;               /* i_M reference to apply, pu */
+    _iq speed_cmd;            /* speed target for the ramp, pu */
+    /* state */
+    uint32_t t_state;         /* samples in the current state */
+    uint32_t t_steady;        /* consecutive steady samples */
+    uint16_t start_req;
+    uint16_t stop_req;
+} id_sequence_t;
+
+/** Times in seconds, Ts the sample period; tolerances in pu.  Returns 0, or
+ *  1 if a time is not positive or the hold exceeds the maximum. */
+int16_t id_sequence_init(id_sequence_t *s, float Ts_s, float magnetize_s,
+                         float settle_min_s, float settle_hold_s, float settle_max_s,
+                         _iq speed_tol, _iq didt_tol, _iq im_ref, _iq speed_target);
+void id_sequence_start(id_sequence_t *s);   /* background context */
+void id_sequence_stop(id_sequence_t *s);    /* background context */
+/** Leave FAULT for IDLE (the caller has checked the cause is gone). */
+void id_sequence_clear_fault(id_sequence_t *s);
+void id_sequence_step(id_sequence_t *s);
+
+#endif /* ID_SEQUENCE_H */

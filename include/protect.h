@@ -1,0 +1,52 @@
+/**
+ * @file protect.h
+ * Drive protections: each fault has its own code, is latched on the sample it
+ * is seen, and turns the PWM off in the same ISR (the drive forces the
+ * outputs inactive before it returns).  A latched fault is cleared only by an
+ * explicit command, and only once its cause has gone (protect_clear).
+ */
+#ifndef PROTECT_H
+#define PROTECT_H
+
+#include <stdint.h>
+#include "IQmathLib.h"
+
+/** Fault codes (stable numbers: they go out over telemetry and into reports). */
+typedef enum {
+    FAULT_NONE = 0,
+    FAULT_OVERCURRENT = 1,     /* |i_x| above the trip level, any phase */
+    FAULT_BUS_OVERVOLTAGE = 2,
+    FAULT_BUS_UNDERVOLTAGE = 3,/* while the bridge switches */
+    FAULT_ENCODER = 4,         /* counts frozen with torque current, or implausible speed */
+    FAULT_CURRENT_OFFSET = 5,  /* current-sensor offset out of range at calibration */
+    FAULT_ADC_RAIL = 6,        /* an ADC result at a rail */
+    FAULT_HW_TRIP = 7,         /* PDPINTA: the power stage tripped itself */
+    FAULT_CONFIG = 8           /* drive_init rejected the configuration */
+} fault_code_t;
+
+typedef struct {
+    /* inputs (pu, Q24) */
+    _iq ia, ib, ic;
+    _iq vdc;
+    uint16_t pwm_on;           /* undervoltage is checked only while switching */
+    uint16_t adc_rail;         /* a raw result at 0 or full scale */
+    uint16_t encoder_fault;    /* from the encoder plausibility check */
+    uint16_t hw_trip;          /* PDPINTA */
+    /* parameters */
+    _iq i_trip;                /* pu */
+    _iq vdc_max, vdc_min;      /* pu */
+    /* outputs */
+    fault_code_t fault;        /* latched; FAULT_NONE when healthy */
+    uint16_t trip;             /* 1 while a fault is latched */
+} protect_t;
+
+/** Levels in pu.  Returns 1 if a level is not positive or vdc_min >= vdc_max. */
+int16_t protect_init(protect_t *p, _iq i_trip, _iq vdc_max, _iq vdc_min);
+/** Check this sample's inputs; latch the first fault seen. */
+void protect_step(protect_t *p);
+/** Latch a fault found elsewhere (calibration, configuration). */
+void protect_latch(protect_t *p, fault_code_t code);
+/** Clear the latch if the inputs of this sample are healthy; returns 1 if cleared. */
+uint16_t protect_clear(protect_t *p);
+
+#endif /* PROTECT_H */

@@ -1,0 +1,85 @@
+/**
+ * Background work of the drive (main loop, below the ISR): commands, and the
+ * parameter extraction (method §4), which needs square roots and divisions
+ * and has no reason to run at 15 kHz.
+ *
+ * ISR -> background hand-over: a one-slot mailbox per snapshot.  The ISR
+ * writes a snapshot only while its `ready` is 0 and sets `ready` last; the
+ * background reads only while `ready` is 1 and clears it last.  With one
+ * producer and one consumer no snapshot is ever read half-written.
+ */
+#include "drive_types.h"
+
+#include <string.h>
+
+static void extract(param_extract_t *p, const drive_snapshot_t *s, uint16_t paper_form)
+{
+    uint16_t i;
+    for (i = 0u; i < RLS_N; i++) {
+        p->theta[i] = s->theta[i];
+    }
+    p->paper_form = paper_form;
+    p->i_m = s->i_m;
+    param_extract_step(p);
+}
+
+static void publish(drive_telemetry_t *t, const param_extract_t *p)
+{
+    t->Rs = p->Rs;
+    t->Rr = p->Rr;
+    t->Lm = p->Lm;
+    t->Lr = p->Lr;
+    t->psi_r = p->psi_r;
+    t->Tr = p->Tr;
+    t->params_valid = p->valid;
+}
+
+static void handle_command(drive_t *d, drive_cmd_t cmd)
+{
+    switch (cmd) {
+    case DRIVE_CMD_START_IDENT:
+        if (d->config_status == DRIVE_CFG_OK && d->prot.fault == FAULT_NONE) {
+            rls_reset(&d->rls);
+            d->seq.cal_done = 0u;
+            d->telemetry.params_valid = 0u;
+            id_sequence_start(&d->seq);
+        }
+        break;
+    case DRIVE_CMD_STOP:
+        id_sequence_stop(&d->seq);
+        break;
+    case DRIVE_CMD_RESET_FAULT:
+        if (d->config_status == DRIVE_CFG_OK && protect_clear(&d->prot) != 0u) {
+            id_sequence_clear_fault(&d->seq);
+        }
+        break;
+    case DRIVE_CMD_NONE:
+    default:
+        break;
+    }
+}
+
+void drive_background(drive_t *d)
+{
+    drive_cmd_t cmd = d->pending_cmd;
+    d->pending_cmd = DRIVE_CMD_NONE;
+    handle_command(d, cmd);
+
+    if (d->snap.ready != 0u) {
+        extract(&d->pex, &d->snap, d->rls.paper_form);
+        publish(&d->telemetry, &d->pex);
+        d->snap.ready = 0u;
+    }
+    if (d->live_snap.ready != 0u) {
+        extract(&d->live, &d->live_snap, d->rls.paper_form);
+        d->live_snap.ready = 0u;
+    }
+}
+
+void drive_command(drive_t *d, drive_cmd_t cmd) { d->pending_cmd = cmd; }
+
+/* One aligned 32-bit store: atomic on the C28x (MOVL), so the ISR never sees
+ * half a value. */
+void drive_set_speed(drive_t *d, _iq speed_pu) { d->seq.speed_target = speed_pu; }
+
+void drive_get_telemetry(const drive_t *d, drive_telemetry_t *t) { *t = d->telemetry; }

@@ -1,0 +1,268 @@
+/**
+ * The 15 kHz control ISR, in the order the F2812 runs it.  Each block is its
+ * own module; this file only wires them and keeps the PWM pipeline:
+ *
+ *   sample k (T1 underflow): ADC has sampled i_a, i_b, v_dc; T2CNT read
+ *   1. sensing        current scaling, bus, QEP angle and speed
+ *   2. protections    trip -> PWM off in this same ISR
+ *   3. voltage model  the voltage applied in period k-1 (duties of sample k-2)
+ *   4. Clarke, Park   at the frame angle theta_k
+ *   5. identification regression signals and RLS update (method §2-§5)
+ *   6. sequence       identification state machine
+ *   7. control        speed ramp + PI, current PIs with decoupling
+ *   8. orientation    i_mr, slip, w_s, theta_{k+1} (indirect, current model)
+ *   9. modulation     inverse Park at the middle of period k+1, SVPWM
+ *
+ * No float, no division but the documented _IQdiv calls inside the modules.
+ */
+#include "drive_types.h"
+
+#include "angle.h"
+
+static void set_outputs_off(drive_t *d, hal_pwm_compare_t *out)
+{
+    out->cmpr[0] = out->cmpr[1] = out->cmpr[2] = d->t1pr;   /* upper switches off */
+}
+
+static void sense(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count)
+{
+    d->cur.ia_raw = adc->ia_raw;
+    d->cur.ib_raw = adc->ib_raw;
+    phase_current_step(&d->cur);
+    d->bus.vdc_raw = adc->vdc_raw;
+    dc_bus_step(&d->bus);
+    d->qep.count = qep_count;
+    qep_speed_step(&d->qep);
+}
+
+static void protect(drive_t *d)
+{
+    d->prot.ia = d->cur.ia;
+    d->prot.ib = d->cur.ib;
+    d->prot.ic = d->cur.ic;
+    d->prot.vdc = d->bus.vdc;
+    d->prot.pwm_on = d->on_next;
+    d->prot.adc_rail = (uint16_t)((d->cur.rail != 0u || d->bus.rail != 0u) ? 1u : 0u);
+    protect_step(&d->prot);
+}
+
+/* Calibrate the current offsets while the bridge is off (sequence CALIBRATE). */
+static void calibrate(drive_t *d)
+{
+    phase_current_cal_t r;
+    if (d->cur.cal_left == 0u && d->seq.cal_done == 0u) {
+        (void)phase_current_cal_start(&d->cur, d->k.cal_samples);
+    }
+    r = phase_current_cal_step(&d->cur);
+    if (r == PHASE_CURRENT_CAL_DONE) {
+        d->seq.cal_done = 1u;
+    } else if (r == PHASE_CURRENT_CAL_REJECTED) {
+        d->seq.cal_done = 1u;
+        protect_latch(&d->prot, FAULT_CURRENT_OFFSET);
+    } else {
+        /* busy */
+    }
+}
+
+/* Voltage applied in the period that just ended (duties of sample k-2). */
+static void voltage_model(drive_t *d)
+{
+    d->volt.da = d->duty_last[0];
+    d->volt.db = d->duty_last[1];
+    d->volt.dc = d->duty_last[2];
+    d->volt.vdc = d->bus.vdc;
+    d->volt.ia = d->cur.ia;
+    d->volt.ib = d->cur.ib;
+    volt_calc_step(&d->volt);
+    if (d->on_last == 0u) {
+        d->volt.valpha = _IQ(0.0);
+        d->volt.vbeta = _IQ(0.0);
+    }
+}
+
+static void transform_currents(drive_t *d)
+{
+    d->clarke.as = d->cur.ia;
+    d->clarke.bs = d->cur.ib;
+    clarke_step(&d->clarke);
+    d->park.alpha = d->clarke.alpha;
+    d->park.beta = d->clarke.beta;
+    angle_sincos(d->ifo.theta, &d->park.sine, &d->park.cosine);   /* theta_k */
+    park_step(&d->park);
+}
+
+/* Regression signals and RLS (method §2, §3, §5; §7 points 1-2). */
+static void identify(drive_t *d)
+{
+    ident_regressor_t *r = &d->reg;
+    r->i_m = d->park.ds;
+    r->i_t = d->park.qs;
+    r->u_alpha = d->volt.valpha;
+    r->u_beta = d->volt.vbeta;
+    /* the frame angle at the middle of the period in which u was applied */
+    angle_sincos(ifo_theta_mid(&d->ifo), &r->sin_mid, &r->cos_mid);
+    r->ws = d->ifo.ws;            /* frame speed over that period */
+    r->wr = d->qep.speed_raw;     /* window mean: no extra low-pass delay */
+    ident_regressor_step(r);
+
+    d->rls.enable = d->seq.rls_on;
+    rls_load_rows(&d->rls, r);
+    rls_step(&d->rls);
+}
+
+static void sequence(drive_t *d)
+{
+    id_sequence_t *s = &d->seq;
+    s->fault = (uint16_t)(d->prot.fault != FAULT_NONE);
+    s->ramp_done = d->speed_ramp.done;
+    s->speed_err = _IQabs(d->speed_ramp.out - d->qep.speed);
+    s->dim = _IQabs(d->reg.f_im.dy);
+    s->dit = _IQabs(d->reg.f_it.dy);
+    id_sequence_step(s);
+    if (s->extract_now != 0u) {
+        uint16_t i;
+        for (i = 0u; i < RLS_N; i++) {
+            d->snap.theta[i] = d->rls.theta[i];
+        }
+        d->snap.i_m = d->reg.i_mf;
+        d->snap.ready = 1u;
+    }
+    if (++d->live_div >= d->k.live_period) {
+        d->live_div = 0u;
+        if (d->live_snap.ready == 0u) {
+            uint16_t i;
+            for (i = 0u; i < RLS_N; i++) {
+                d->live_snap.theta[i] = d->rls.theta[i];
+            }
+            d->live_snap.i_m = d->reg.i_mf;
+            d->live_snap.ready = 1u;
+        }
+    }
+}
+
+static void control(drive_t *d)
+{
+    const id_sequence_t *s = &d->seq;
+    _iq i_t_ref = _IQ(0.0);
+
+    d->speed_ramp.target = s->speed_cmd;
+    ramp_gen_step(&d->speed_ramp);
+    if (s->speed_loop_on != 0u) {
+        d->pi_speed.ref = d->speed_ramp.out;
+        d->pi_speed.fbk = d->qep.speed;
+        d->pi_speed.ff = _IQ(0.0);
+        pi_step(&d->pi_speed);
+        i_t_ref = d->pi_speed.out;
+    } else {
+        pi_reset(&d->pi_speed);
+    }
+
+    /* decoupling feed-forward (rotor-flux frame steady-state voltages) */
+    d->pi_id.ref = s->im_cmd;
+    d->pi_id.fbk = d->park.ds;
+    d->pi_id.ff = -_IQmpy(d->ifo.ws, _IQmpy(d->k.sigma_ls, d->park.qs));
+    d->pi_iq.ref = i_t_ref;
+    d->pi_iq.fbk = d->park.qs;
+    d->pi_iq.ff = _IQmpy(d->ifo.ws, _IQmpy(d->k.sigma_ls, d->park.ds) +
+                                        _IQmpy(d->k.lm2_lr, d->ifo.imr));
+    pi_step(&d->pi_id);
+    pi_step(&d->pi_iq);
+}
+
+static void orient(drive_t *d)
+{
+    d->ifo.i_m = d->park.ds;
+    d->ifo.i_t = d->park.qs;
+    d->ifo.wr = d->qep.speed;
+    ifo_step(&d->ifo);   /* theta -> theta_{k+1} */
+}
+
+static void modulate(drive_t *d, hal_pwm_compare_t *out)
+{
+    /* the voltage computed now is applied over period k+1; rotate it at the
+     * middle of that period: theta_{k+1} + w_s Ts / 2 */
+    _iq theta = angle_wrap_pu(d->ifo.theta + _IQmpy(d->ifo.ws, d->k.half_step));
+    angle_sincos(theta, &d->ipark.sine, &d->ipark.cosine);
+    d->ipark.ds = d->pi_id.out;
+    d->ipark.qs = d->pi_iq.out;
+    ipark_step(&d->ipark);
+    d->svgen.ualpha = d->ipark.alpha;
+    d->svgen.ubeta = d->ipark.beta;
+    d->svgen.vdc = d->bus.vdc;
+    svgen_step(&d->svgen);
+    out->cmpr[0] = d->svgen.cmpr[0];
+    out->cmpr[1] = d->svgen.cmpr[1];
+    out->cmpr[2] = d->svgen.cmpr[2];
+}
+
+static void telemetry(drive_t *d, uint16_t pwm_on)
+{
+    drive_telemetry_t *t = &d->telemetry;
+    t->state = (uint16_t)d->seq.state;
+    t->fault = (uint16_t)d->prot.fault;
+    t->pwm_on = pwm_on;
+    t->speed = d->qep.speed;
+    t->speed_ref = d->speed_ramp.out;
+    t->i_m = d->park.ds;
+    t->i_t = d->park.qs;
+    t->vdc = d->bus.vdc;
+}
+
+void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
+                hal_pwm_compare_t *out)
+{
+    uint16_t pwm_on;
+
+    if (d->config_status != DRIVE_CFG_OK) {
+        set_outputs_off(d, out);
+        d->telemetry.pwm_on = 0u;
+        return;
+    }
+    sense(d, adc, qep_count);
+    protect(d);
+    if (d->seq.calibrating != 0u) {
+        calibrate(d);
+    }
+    voltage_model(d);
+    transform_currents(d);
+    identify(d);
+    sequence(d);
+    pwm_on = (uint16_t)(d->seq.pwm_on != 0u && d->prot.fault == FAULT_NONE);
+    if (pwm_on != 0u) {
+        control(d);
+        orient(d);
+        modulate(d, out);
+    } else {
+        pi_reset(&d->pi_id);
+        pi_reset(&d->pi_iq);
+        pi_reset(&d->pi_speed);
+        set_outputs_off(d, out);
+    }
+
+    /* PWM pipeline (hal_pwm.h): shift the duties one period */
+    d->duty_last[0] = d->duty_next[0];
+    d->duty_last[1] = d->duty_next[1];
+    d->duty_last[2] = d->duty_next[2];
+    d->on_last = d->on_next;
+    d->duty_next[0] = d->svgen.da;
+    d->duty_next[1] = d->svgen.db;
+    d->duty_next[2] = d->svgen.dc;
+    d->on_next = pwm_on;
+    telemetry(d, pwm_on);
+}
+
+void drive_isr(drive_t *d)
+{
+    hal_adc_sample_t adc;
+    hal_pwm_compare_t cmp;
+
+    hal_adc_read(&adc);
+    d->prot.hw_trip = hal_pwm_tripped();
+    drive_step(d, &adc, hal_qep_read_count(), &cmp);
+    hal_pwm_write(&cmp);
+    if (d->telemetry.pwm_on != 0u) {
+        hal_pwm_enable();
+    } else {
+        hal_pwm_disable();
+    }
+}

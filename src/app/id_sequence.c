@@ -1,0 +1,117 @@
+/* The identification sequence state machine.  See id_sequence.h. */
+#include "id_sequence.h"
+
+#include <string.h>
+
+static uint32_t seconds_to_samples(float t_s, float Ts_s)
+{
+    return (uint32_t)(t_s / Ts_s + 0.5f);
+}
+
+int16_t id_sequence_init(id_sequence_t *s, float Ts_s, float magnetize_s,
+                         float settle_min_s, float settle_hold_s, float settle_max_s,
+                         _iq speed_tol, _iq didt_tol, _iq im_ref, _iq speed_target)
+{
+    memset(s, 0, sizeof *s);
+    if (!(Ts_s > 0.0f) || !(magnetize_s > 0.0f) || !(settle_min_s >= 0.0f) ||
+        !(settle_hold_s > 0.0f) || !(settle_max_s >= settle_hold_s)) {
+        return 1;
+    }
+    s->magnetize_samples = seconds_to_samples(magnetize_s, Ts_s);
+    s->settle_min_samples = seconds_to_samples(settle_min_s, Ts_s);
+    s->settle_hold_samples = seconds_to_samples(settle_hold_s, Ts_s);
+    s->settle_max_samples = seconds_to_samples(settle_max_s, Ts_s);
+    s->speed_tol = speed_tol;
+    s->didt_tol = didt_tol;
+    s->im_ref = im_ref;
+    s->speed_target = speed_target;
+    s->state = ID_IDLE;
+    return 0;
+}
+
+void id_sequence_start(id_sequence_t *s) { s->start_req = 1u; }
+void id_sequence_stop(id_sequence_t *s) { s->stop_req = 1u; }
+
+void id_sequence_clear_fault(id_sequence_t *s)
+{
+    if (s->state == ID_FAULT) {
+        s->state = ID_IDLE;
+        s->t_state = 0u;
+    }
+}
+
+static void enter(id_sequence_t *s, id_state_t next)
+{
+    s->state = next;
+    s->t_state = 0u;
+    s->t_steady = 0u;
+}
+
+void id_sequence_step(id_sequence_t *s)
+{
+    s->extract_now = 0u;
+    if (s->fault != 0u) {
+        if (s->state != ID_FAULT) {
+            enter(s, ID_FAULT);
+        }
+    } else if (s->stop_req != 0u) {
+        enter(s, ID_IDLE);
+    }
+    s->stop_req = 0u;
+    if (s->t_state < 0xFFFFFFFFu) {
+        s->t_state++;
+    }
+
+    switch (s->state) {
+    case ID_IDLE:
+        if (s->start_req != 0u) {
+            enter(s, ID_CALIBRATE);
+        }
+        break;
+    case ID_CALIBRATE:
+        if (s->cal_done != 0u) {
+            enter(s, ID_MAGNETIZE);
+        }
+        break;
+    case ID_MAGNETIZE:
+        if (s->t_state >= s->magnetize_samples) {
+            enter(s, ID_ACCELERATE);
+        }
+        break;
+    case ID_ACCELERATE:
+        if (s->ramp_done != 0u) {
+            enter(s, ID_SETTLE);
+        }
+        break;
+    case ID_SETTLE: {
+        uint16_t steady = (uint16_t)(s->speed_err < s->speed_tol && s->dim < s->didt_tol &&
+                                     s->dit < s->didt_tol);
+        s->t_steady = (steady != 0u) ? s->t_steady + 1u : 0u;
+        if (s->t_state >= s->settle_min_samples && s->t_steady >= s->settle_hold_samples) {
+            s->settle_timeout = 0u;
+            s->extract_now = 1u;
+            enter(s, ID_RUN);
+        } else if (s->t_state >= s->settle_max_samples) {
+            s->settle_timeout = 1u;
+            s->extract_now = 1u;
+            enter(s, ID_RUN);
+        }
+        break;
+    }
+    case ID_RUN:
+    case ID_FAULT:
+    default:
+        break;
+    }
+    s->start_req = 0u;
+
+    /* outputs as a function of the (new) state */
+    s->pwm_on = (uint16_t)(s->state == ID_MAGNETIZE || s->state == ID_ACCELERATE ||
+                           s->state == ID_SETTLE || s->state == ID_RUN);
+    s->calibrating = (uint16_t)(s->state == ID_CALIBRATE);
+    s->speed_loop_on = (uint16_t)(s->state == ID_ACCELERATE || s->state == ID_SETTLE ||
+                                  s->state == ID_RUN);
+    s->rls_on = (uint16_t)(s->state == ID_ACCELERATE || s->state == ID_SETTLE);
+    s->im_cmd = (s->pwm_on != 0u) ? s->im_ref : _IQ(0.0);
+    s->speed_cmd = (s->speed_loop_on != 0u) ? s->speed_target : _IQ(0.0);
+}
