@@ -1,0 +1,267 @@
+/**
+ * @file motor_model.c
+ * Fifth-order induction motor in the stationary frame, RK4; see
+ * motor_model.h for the equations and conventions.
+ */
+#include "motor_model.h"
+
+#include <math.h>
+#include <string.h>
+
+#define MM_TWO_PI 6.283185307179586476925
+#define MM_SQRT3 1.732050807568877293527
+
+enum { X_PSA = 0, X_PSB, X_PRA, X_PRB, X_WM, X_TH, X_N };
+
+static int mm_pos(double v) { return isfinite(v) && (v > 0.0); }
+
+static double mm_wrap_2pi(double a)
+{
+    double w = fmod(a, MM_TWO_PI);
+    if (w < 0.0) {
+        w += MM_TWO_PI;
+    }
+    if (w >= MM_TWO_PI) { /* -tiny + 2 pi rounds to 2 pi */
+        w = 0.0;
+    }
+    return w;
+}
+
+void motor_params_default(motor_params_t *p)
+{
+    p->Rs_ohm = 1.031;
+    p->Rr_ohm = 0.465;
+    p->Lm_H = 6.4e-3;
+    p->Lls_H = 2.8e-3;
+    p->Llr_H = 2.8e-3;
+    p->pole_pairs = 2u;
+    p->J_kgm2 = 5.0e-4;
+    p->B_Nm_s = 1.0e-4;
+}
+
+/* Outputs from the state (also used for a consistent initial output). */
+static void mm_outputs(motor_t *m)
+{
+    const double *x = m->x;
+    const double ia = (m->Lr_H * x[X_PSA] - m->p.Lm_H * x[X_PRA]) / m->D_H2;
+    const double ib = (m->Lr_H * x[X_PSB] - m->p.Lm_H * x[X_PRB]) / m->D_H2;
+    const double pp = (double)m->p.pole_pairs;
+
+    if (m->open != 0u) {
+        /* i_s = 0 by construction; avoid reporting rounding residue */
+        m->i_alpha_A = 0.0;
+        m->i_beta_A = 0.0;
+    } else {
+        m->i_alpha_A = ia;
+        m->i_beta_A = ib;
+    }
+    /* inverse amplitude-invariant Clarke */
+    m->ia_A = m->i_alpha_A;
+    m->ib_A = -0.5 * m->i_alpha_A + 0.5 * MM_SQRT3 * m->i_beta_A;
+    m->ic_A = -m->ia_A - m->ib_A;
+    m->i_r_alpha_A = (m->Ls_H * x[X_PRA] - m->p.Lm_H * x[X_PSA]) / m->D_H2;
+    m->i_r_beta_A = (m->Ls_H * x[X_PRB] - m->p.Lm_H * x[X_PSB]) / m->D_H2;
+    m->psi_s_alpha_Wb = x[X_PSA];
+    m->psi_s_beta_Wb = x[X_PSB];
+    m->psi_r_alpha_Wb = x[X_PRA];
+    m->psi_r_beta_Wb = x[X_PRB];
+    m->Te_Nm = 1.5 * pp * (x[X_PSA] * m->i_beta_A - x[X_PSB] * m->i_alpha_A);
+    m->w_m_rad_s = x[X_WM];
+    m->w_e_rad_s = pp * x[X_WM];
+    m->n_rpm = x[X_WM] * (60.0 / MM_TWO_PI);
+    m->TL_Nm = load_torque_Nm(&m->load, m->t_s, x[X_WM]);
+    m->theta_m_rad = x[X_TH];
+    m->theta_m_wrapped_rad = mm_wrap_2pi(x[X_TH]);
+    m->theta_e_wrapped_rad = mm_wrap_2pi(pp * x[X_TH]);
+}
+
+motor_status_t motor_init(motor_t *m, const motor_params_t *p)
+{
+    motor_status_t st = MOTOR_OK;
+
+    if ((m == NULL) || (p == NULL)) {
+        return MOTOR_ERR_NULL;
+    }
+    memset(m, 0, sizeof(*m));
+    if (!mm_pos(p->Rs_ohm)) {
+        st = MOTOR_ERR_RS;
+    } else if (!mm_pos(p->Rr_ohm)) {
+        st = MOTOR_ERR_RR;
+    } else if (!mm_pos(p->Lm_H)) {
+        st = MOTOR_ERR_LM;
+    } else if (!mm_pos(p->Lls_H)) {
+        st = MOTOR_ERR_LLS;
+    } else if (!mm_pos(p->Llr_H)) {
+        st = MOTOR_ERR_LLR;
+    } else if (p->pole_pairs == 0u) {
+        st = MOTOR_ERR_POLES;
+    } else if (!mm_pos(p->J_kgm2)) {
+        st = MOTOR_ERR_J;
+    } else if (!isfinite(p->B_Nm_s) || (p->B_Nm_s < 0.0)) {
+        st = MOTOR_ERR_B;
+    } else {
+        /* all valid */
+    }
+    if (st != MOTOR_OK) {
+        return st;
+    }
+    m->p = *p;
+    m->Ls_H = p->Lm_H + p->Lls_H;
+    m->Lr_H = p->Lm_H + p->Llr_H;
+    /* D = Lm (Lls + Llr) + Lls Llr: written this way it has no
+     * cancellation, unlike Ls Lr - Lm^2 */
+    m->D_H2 = p->Lm_H * (p->Lls_H + p->Llr_H) + p->Lls_H * p->Llr_H;
+    (void)load_init_none(&m->load);
+    mm_outputs(m);
+    return MOTOR_OK;
+}
+
+void motor_set_load(motor_t *m, const load_t *l)
+{
+    m->load = *l;
+    m->TL_Nm = load_torque_Nm(&m->load, m->t_s, m->x[X_WM]);
+}
+
+void motor_set_speed(motor_t *m, double w_m_rad_s)
+{
+    m->x[X_WM] = w_m_rad_s;
+    mm_outputs(m);
+}
+
+void motor_set_angle(motor_t *m, double theta_m_rad)
+{
+    m->x[X_TH] = theta_m_rad;
+    mm_outputs(m);
+}
+
+void motor_lock_speed(motor_t *m, uint16_t locked)
+{
+    m->speed_locked = (locked != 0u) ? 1u : 0u;
+}
+
+/* dx/dt at state x, time t, stator voltage u (ignored when open). */
+static void mm_deriv(const motor_t *m, const double *x, double t, double ua,
+                     double ub, double *dx)
+{
+    const double Lm = m->p.Lm_H;
+    const double pp = (double)m->p.pole_pairs;
+    const double we = pp * x[X_WM];
+    double isa, isb, ira, irb, te;
+
+    if (m->open != 0u) {
+        /* i_s = 0: i_r = psi_r / Lr, psi_s = (Lm/Lr) psi_r follows */
+        ira = x[X_PRA] / m->Lr_H;
+        irb = x[X_PRB] / m->Lr_H;
+        dx[X_PRA] = -m->p.Rr_ohm * ira - we * x[X_PRB];
+        dx[X_PRB] = -m->p.Rr_ohm * irb + we * x[X_PRA];
+        dx[X_PSA] = (Lm / m->Lr_H) * dx[X_PRA];
+        dx[X_PSB] = (Lm / m->Lr_H) * dx[X_PRB];
+        te = 0.0;
+    } else {
+        isa = (m->Lr_H * x[X_PSA] - Lm * x[X_PRA]) / m->D_H2;
+        isb = (m->Lr_H * x[X_PSB] - Lm * x[X_PRB]) / m->D_H2;
+        ira = (m->Ls_H * x[X_PRA] - Lm * x[X_PSA]) / m->D_H2;
+        irb = (m->Ls_H * x[X_PRB] - Lm * x[X_PSB]) / m->D_H2;
+        dx[X_PSA] = ua - m->p.Rs_ohm * isa;
+        dx[X_PSB] = ub - m->p.Rs_ohm * isb;
+        /* shorted rotor seen from the stator frame: the rotor turns at w_e,
+         * hence the motional term + j w_e psi_r */
+        dx[X_PRA] = -m->p.Rr_ohm * ira - we * x[X_PRB];
+        dx[X_PRB] = -m->p.Rr_ohm * irb + we * x[X_PRA];
+        te = 1.5 * pp * (x[X_PSA] * isb - x[X_PSB] * isa);
+    }
+    if (m->speed_locked != 0u) {
+        dx[X_WM] = 0.0;
+    } else {
+        dx[X_WM] = (te - load_torque_Nm(&m->load, t, x[X_WM]) -
+                    m->p.B_Nm_s * x[X_WM]) / m->p.J_kgm2;
+    }
+    dx[X_TH] = x[X_WM];
+}
+
+static void mm_integrate(motor_t *m, double ua, double ub, double dt_s,
+                         uint16_t n_sub)
+{
+    double k1[X_N], k2[X_N], k3[X_N], k4[X_N], xt[X_N];
+    const uint16_t n = (n_sub == 0u) ? 1u : n_sub;
+    const double h = dt_s / (double)n;
+    const double t0 = m->t_s;
+    uint16_t s;
+    int i;
+
+    for (s = 0u; s < n; s++) {
+        /* time from the start of the call, not accumulated, so that long
+         * runs do not drift */
+        const double t = t0 + h * (double)s;
+        mm_deriv(m, m->x, t, ua, ub, k1);
+        for (i = 0; i < X_N; i++) {
+            xt[i] = m->x[i] + 0.5 * h * k1[i];
+        }
+        mm_deriv(m, xt, t + 0.5 * h, ua, ub, k2);
+        for (i = 0; i < X_N; i++) {
+            xt[i] = m->x[i] + 0.5 * h * k2[i];
+        }
+        mm_deriv(m, xt, t + 0.5 * h, ua, ub, k3);
+        for (i = 0; i < X_N; i++) {
+            xt[i] = m->x[i] + h * k3[i];
+        }
+        mm_deriv(m, xt, t + h, ua, ub, k4);
+        for (i = 0; i < X_N; i++) {
+            m->x[i] += (h / 6.0) * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+        }
+    }
+    m->t_s = t0 + dt_s;
+}
+
+void motor_step(motor_t *m, double u_alpha_V, double u_beta_V, double dt_s,
+                uint16_t n_sub)
+{
+    if (!isfinite(dt_s) || !(dt_s > 0.0)) {
+        return;
+    }
+    m->open = 0u;
+    m->u_alpha_V = u_alpha_V;
+    m->u_beta_V = u_beta_V;
+    mm_integrate(m, u_alpha_V, u_beta_V, dt_s, n_sub);
+    mm_outputs(m);
+}
+
+void motor_step_abc(motor_t *m, double ua_V, double ub_V, double uc_V,
+                    double dt_s, uint16_t n_sub)
+{
+    /* amplitude-invariant Clarke; (2ua - ub - uc)/3 removes the
+     * zero-sequence part */
+    const double ual = (2.0 * ua_V - ub_V - uc_V) / 3.0;
+    const double ube = (ub_V - uc_V) / MM_SQRT3;
+    motor_step(m, ual, ube, dt_s, n_sub);
+}
+
+void motor_step_open(motor_t *m, double dt_s, uint16_t n_sub)
+{
+    double dx[X_N];
+
+    if (!isfinite(dt_s) || !(dt_s > 0.0)) {
+        return;
+    }
+    if (m->open == 0u) {
+        m->open = 1u;
+        m->x[X_PSA] = (m->p.Lm_H / m->Lr_H) * m->x[X_PRA];
+        m->x[X_PSB] = (m->p.Lm_H / m->Lr_H) * m->x[X_PRB];
+    }
+    mm_integrate(m, 0.0, 0.0, dt_s, n_sub);
+    /* terminal voltage of the open stator: u_s = dpsi_s/dt (i_s = 0) */
+    mm_deriv(m, m->x, m->t_s, 0.0, 0.0, dx);
+    m->u_alpha_V = dx[X_PSA];
+    m->u_beta_V = dx[X_PSB];
+    mm_outputs(m);
+}
+
+void motor_rotor_flux_dq(const motor_t *m, double theta_rad, double *psi_d_Wb,
+                         double *psi_q_Wb)
+{
+    /* Park rotation by -theta */
+    const double c = cos(theta_rad);
+    const double s = sin(theta_rad);
+    *psi_d_Wb = c * m->x[X_PRA] + s * m->x[X_PRB];
+    *psi_q_Wb = -s * m->x[X_PRA] + c * m->x[X_PRB];
+}

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Install what the host build, the tests and the tools need on a Debian
+# machine (apt-get as root, or through sudo), and the Python packages into
+# the project's own virtual environment (.venv).  Idempotent: installs only
+# what is missing.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+debs=(cmake make gcc pkg-config libcmocka-dev libinih-dev python3
+      gcc-avr avr-libc simavr clang cppcheck clang-tidy)
+missing=()
+for p in "${debs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "install_deps: installing ${missing[*]}"
+  SUDO=""
+  [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+if [ ! -x .venv/bin/python ]; then
+  python3 -m venv .venv 2>/dev/null || {
+    SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+    $SUDO apt-get install -y -qq python3-venv >/dev/null
+    python3 -m venv .venv
+  }
+fi
+if ! .venv/bin/python -c "import numpy, matplotlib, pytest" 2>/dev/null; then
+  echo "install_deps: installing Python packages (tools/requirements.txt)"
+  .venv/bin/python -m pip install --quiet --disable-pip-version-check -r tools/requirements.txt
+fi

@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# All tests: the cmocka/CTest suites in the three host builds (IQ_MATH,
+# FLOAT_MATH, IQ_MATH under ASan+UBSan), then the Python tests.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+tools/install_deps.sh
+for preset in host-iq host-float host-asan; do
+  echo "=== $preset"
+  cmake --preset "$preset" >/dev/null
+  cmake --build --preset "$preset" -j2
+  ctest --preset "$preset" -j2
+done
+if [ -d tools/tests ] || [ -d python/tests ]; then
+  echo "=== python"
+  .venv/bin/python -m pytest -q
+fi
