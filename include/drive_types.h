@@ -51,6 +51,7 @@ struct drive {
     drive_consts_t k;
     uint16_t t1pr;
     uint16_t config_status;     /* drive_cfg_status_t of drive_init */
+    drive_ident_t ident_cfg;    /* kept to restart the RLS (background only) */
 
     /* sensing */
     phase_current_t cur;

@@ -1,6 +1,8 @@
 /* report.json and the printed table.  See report.h. */
 #include "report.h"
 
+#include "IQmathLib.h"
+
 #include <math.h>
 
 static void json_params(FILE *f, const char *name, const sim_params_t *p, int last)

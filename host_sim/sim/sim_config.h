@@ -18,7 +18,6 @@
 #include <stdint.h>
 #include "drive_config.h"
 
-typedef enum { LOAD_CONSTANT = 0 } sim_load_kind_t;
 
 typedef struct {
     /* [motor]: the simulated machine (the truth the identification must find) */

@@ -129,7 +129,8 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     Ts = 1.0 / cfg->pwm_freq_Hz;
     duration = opt->duration_s;
     if (duration <= 0.0) {
-        duration = 0.1 + cfg->magnetize_s + cfg->target_speed_rpm / cfg->speed_ramp_rpm_s + 1.2;
+        /* calibration, magnetisation, ramp, and the longest SETTLE (3 s) */
+        duration = 0.1 + cfg->magnetize_s + cfg->target_speed_rpm / cfg->speed_ramp_rpm_s + 3.2;
         if (opt->scenario != SCEN_START) {
             duration += 2.5;
         }

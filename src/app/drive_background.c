@@ -12,13 +12,13 @@
 
 #include <string.h>
 
-static void extract(param_extract_t *p, const drive_snapshot_t *s, uint16_t paper_form)
+static void extract(param_extract_t *p, const drive_snapshot_t *s, uint16_t form)
 {
     uint16_t i;
     for (i = 0u; i < RLS_N; i++) {
         p->theta[i] = s->theta[i];
     }
-    p->paper_form = paper_form;
+    p->form = form;
     p->i_m = s->i_m;
     param_extract_step(p);
 }
@@ -38,8 +38,14 @@ static void handle_command(drive_t *d, drive_cmd_t cmd)
 {
     switch (cmd) {
     case DRIVE_CMD_START_IDENT:
-        if (d->config_status == DRIVE_CFG_OK && d->prot.fault == FAULT_NONE) {
-            rls_reset(&d->rls);
+        /* a restart from a running sequence would re-initialise the RLS under
+         * the ISR: only from IDLE */
+        if (d->seq.state == ID_IDLE && d->config_status == DRIVE_CFG_OK &&
+            d->prot.fault == FAULT_NONE) {
+            const drive_ident_t *id = &d->ident_cfg;
+            (void)rls_init(&d->rls,
+                           (id->paper_regressor != 0u) ? RLS_FORM_PAPER : RLS_FORM_CONST,
+                           id->rls_p0, id->forgetting, 0.0f, NULL);
             d->seq.cal_done = 0u;
             d->telemetry.params_valid = 0u;
             id_sequence_start(&d->seq);
@@ -66,12 +72,12 @@ void drive_background(drive_t *d)
     handle_command(d, cmd);
 
     if (d->snap.ready != 0u) {
-        extract(&d->pex, &d->snap, d->rls.paper_form);
+        extract(&d->pex, &d->snap, d->rls.form);
         publish(&d->telemetry, &d->pex);
         d->snap.ready = 0u;
     }
     if (d->live_snap.ready != 0u) {
-        extract(&d->live, &d->live_snap, d->rls.paper_form);
+        extract(&d->live, &d->live_snap, d->rls.form);
         d->live_snap.ready = 0u;
     }
 }

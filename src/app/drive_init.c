@@ -119,12 +119,32 @@ static int16_t init_identification(drive_t *d, const drive_config_t *c, float Ts
                              b->w_base_rad_s) != 0) {
         return 1;
     }
-    if (rls_init(&d->rls, id->rls_p0, id->forgetting, id->paper_regressor) != 0) {
+    d->ident_cfg = *id;
+    if (rls_init(&d->rls, (id->paper_regressor != 0u) ? RLS_FORM_PAPER : RLS_FORM_CONST,
+                 id->rls_p0, id->forgetting, 0.0f, NULL) != RLS_OK) {
         return 1;
     }
-    /* plausibility: a factor 4 either way of what the controller believes */
-    if (param_extract_init(&d->pex, b, m->Rs_ohm, m->Rr_ohm, m->Lm_H, m->Lr_H, 4.0f) != 0) {
-        return 1;
+    /* plausibility: a factor of 4 either way of what the controller believes */
+    {
+        param_limits_t lim;
+        float Tr = m->Lr_H / m->Rr_ohm;
+        float psi = m->Lm_H * m->magnetizing_current_A;
+        lim.Rs_ohm[0] = 0.25f * m->Rs_ohm;  lim.Rs_ohm[1] = 4.0f * m->Rs_ohm;
+        lim.Rr_ohm[0] = 0.25f * m->Rr_ohm;  lim.Rr_ohm[1] = 4.0f * m->Rr_ohm;
+        lim.Lm_H[0] = 0.25f * m->Lm_H;      lim.Lm_H[1] = 4.0f * m->Lm_H;
+        lim.Lr_H[0] = 0.25f * m->Lr_H;      lim.Lr_H[1] = 4.0f * m->Lr_H;
+        lim.psi_Wb[0] = 0.25f * psi;        lim.psi_Wb[1] = 4.0f * psi;
+        lim.Tr_s[0] = 0.25f * Tr;           lim.Tr_s[1] = 4.0f * Tr;
+        /* Q24 holds < 128 pu: keep every upper limit representable */
+        lim.Tr_s[1] = fminf(lim.Tr_s[1], 120.0f * b->t_base_s);
+        lim.Lm_H[1] = fminf(lim.Lm_H[1], 120.0f * b->L_base_H);
+        lim.Lr_H[1] = fminf(lim.Lr_H[1], 120.0f * b->L_base_H);
+        lim.Rs_ohm[1] = fminf(lim.Rs_ohm[1], 120.0f * b->Z_base_ohm);
+        lim.Rr_ohm[1] = fminf(lim.Rr_ohm[1], 120.0f * b->Z_base_ohm);
+        lim.i_m_min_A = 0.25f * m->magnetizing_current_A;
+        if (param_extract_init(&d->pex, b, &lim) != PARAM_INIT_OK) {
+            return 1;
+        }
     }
     d->live = d->pex;
     d->k.speed_tol = _IQ(0.005f * target_pu);
@@ -186,7 +206,8 @@ int16_t drive_init(drive_t *d, const drive_config_t *c)
     d->config_status = DRIVE_CFG_VOLTAGE_MODEL;
     if (volt_calc_init(&d->volt, c->board.dead_time_s, Ts,
                        c->board.device_drop_V / d->base.V_base_V,
-                       0.01f * c->motor.rated_current_A_rms * 1.41421356f / d->base.I_base_A,
+                       fmaxf(0.01f, 0.02f * c->motor.rated_current_A_rms * 1.41421356f /
+                                        d->base.I_base_A),
                        c->board.dead_time_comp) != 0) {
         return DRIVE_CFG_VOLTAGE_MODEL;
     }

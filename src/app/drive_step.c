@@ -105,8 +105,14 @@ static void identify(drive_t *d)
     r->wr = d->qep.speed_raw;     /* window mean: no extra low-pass delay */
     ident_regressor_step(r);
 
+    d->rls.y1 = r->y1;
+    d->rls.y2 = r->y2;
+    d->rls.i_mf = r->i_mf;
+    d->rls.u_mf = r->u_mf;
+    d->rls.i_tf = r->i_tf;
+    d->rls.u_tf = r->u_tf;
+    d->rls.wr_f = r->wr_f;
     d->rls.enable = d->seq.rls_on;
-    rls_load_rows(&d->rls, r);
     rls_step(&d->rls);
 }
 
@@ -173,7 +179,7 @@ static void orient(drive_t *d)
 {
     d->ifo.i_m = d->park.ds;
     d->ifo.i_t = d->park.qs;
-    d->ifo.wr = d->qep.speed;
+    d->ifo.wr = d->qep.speed_raw;   /* 8-sample lag instead of ~31: orientation during acceleration */
     ifo_step(&d->ifo);   /* theta -> theta_{k+1} */
 }
 

@@ -1,0 +1,42 @@
+/**
+ * @file angle.h
+ * Per-unit electrical angle helpers shared by park and ipark.
+ *
+ * Angles are pu of one electrical revolution (1.0 pu = 2 pi rad), as TI's
+ * _IQsinPU / _IQcosPU take them.  The caller computes sin and cos ONCE per
+ * sample with angle_sincos() and hands the pair to park_t and ipark_t, so
+ * the forward and inverse rotations of one sample use bit-identical values
+ * (ipark(park(x)) then differs from x only by product rounding).
+ */
+#ifndef ANGLE_H
+#define ANGLE_H
+
+#include "IQmathLib.h"
+
+/**
+ * Wrap a pu angle into [0, 1).
+ *
+ * @param angle_pu  any _iq (Q24: [-128, 128) pu, i.e. +-128 revolutions).
+ * @return          angle_pu - floor(angle_pu), in [0, 1).
+ *
+ * Scaling and overflow: exact in IQ_MATH (only the integer part is removed,
+ * no rounding, no overflow possible).  In FLOAT_MATH the result is exact for
+ * |angle| < 128 as well (float subtraction of the integer part is exact by
+ * Sterbenz), except that a tiny negative input such as -1e-9 rounds to 1.0f;
+ * that case is mapped to 0.0 so the result stays in [0, 1).
+ */
+_iq angle_wrap_pu(_iq angle_pu);
+
+/**
+ * sin and cos of a pu angle: *s = sin(2 pi a), *c = cos(2 pi a), Q24.
+ *
+ * @param angle_pu  any _iq; wrapped first with angle_wrap_pu(), so an
+ *                  integrator that wraps at +-1 or not at all works alike.
+ * @param s, c      outputs, Q24, in [-1, 1].
+ *
+ * Accuracy is that of the IQmath _IQsinPU/_IQcosPU (see IQmathLib.h); the
+ * wrap itself adds no error.
+ */
+void angle_sincos(_iq angle_pu, _iq *s, _iq *c);
+
+#endif /* ANGLE_H */

@@ -1,0 +1,68 @@
+/**
+ * @file ident_regressor.h
+ * The regression signals of the identification (method §2, paper eqs. 3-7)
+ * from one ISR sample, all through identical Butterworth filters (method §5).
+ *
+ * Per sample:
+ *   1. rotate the stator voltage of the PWM period that just ended into M-T
+ *      at the frame angle of the MIDDLE of that period (method §7 point 1:
+ *      the voltage is constant in the stator frame over the period while the
+ *      frame turns by ws*Ts; the start angle biased Rr by +12 %):
+ *          u_M =  u_alpha cos + u_beta sin,   u_T = -u_alpha sin + u_beta cos
+ *   2. filter seven signals with seven identical bw_filter instances, each
+ *      product as ONE signal (method §7 point 2: the filter commutes with
+ *      the regression only if each term of it is filtered whole):
+ *          i_M, i_T, u_M, u_T, ws*i_T, ws*i_M, wr
+ *   3. form the left-hand sides (eq. 5, with the corrected + in row 2):
+ *          y1 = d(i_M)f/dt - (ws i_T)f,   y2 = d(i_T)f/dt + (ws i_M)f
+ *      and the regressor rows (eq. 3/7; K4's column is omega_r, method §2):
+ *          row1 = [i_Mf, u_Mf, c, 0],   row2 = [i_Tf, u_Tf, 0, wr_f]
+ *      (c, the third regressor, is chosen by the RLS: rls.h).
+ *
+ * Units: currents pu of I_base, voltages pu of V_base, speeds pu of w_base,
+ * time in pu of 1/w_base, so y1, y2 are pu current per pu time and the
+ * regression parameters are K1_pu = K1/w_base, K2_pu = K2 V_base/(I_base
+ * w_base), K3_pu = K3/(I_base w_base), K4_pu = K4/I_base.
+ *
+ * Scaling and overflow of ident_regressor_step: products rounded (_IQrmpy:
+ * their truncation bias would pass the unit DC gain of the filters); |sin|,
+ * |cos| <= 1 so |u_M|, |u_T| <= |u_alpha| + |u_beta|; the filters saturate
+ * their inputs at +-7 pu (bw_filter.h), so |filtered| < 7.7 and
+ * |y1|, |y2| < 16: no wrap in Q24.
+ */
+#ifndef IDENT_REGRESSOR_H
+#define IDENT_REGRESSOR_H
+
+#include <stdint.h>
+#include "IQmathLib.h"
+#include "bw_filter.h"
+
+typedef struct {
+    /* inputs */
+    _iq i_m, i_t;          /* Q24 pu: stator current in M-T, sampled now (angle theta_k) */
+    _iq u_alpha, u_beta;   /* Q24 pu: stator voltage applied over the period that just ended */
+    _iq sin_mid, cos_mid;  /* Q24: sin/cos of the frame angle at the middle of that period */
+    _iq ws;                /* Q24 pu: frame (synchronous) speed */
+    _iq wr;                /* Q24 pu: rotor electrical speed */
+    /* outputs */
+    _iq u_m, u_t;          /* Q24 pu: the voltage in M-T (unfiltered) */
+    _iq y1, y2;            /* Q24 pu/pu time: left-hand sides, eq. 5 */
+    _iq i_mf, u_mf;        /* Q24 pu: row 1 regressors */
+    _iq i_tf, u_tf, wr_f;  /* Q24 pu: row 2 regressors */
+    /* state: the seven identical filters */
+    bw_filter_t f_im, f_it, f_um, f_ut, f_ws_it, f_ws_im, f_wr;
+} ident_regressor_t;
+
+/** Initialise the seven filters (bw_filter_init arguments); returns the
+ *  first error (the struct is then zeroed). */
+bw_filter_status_t ident_regressor_init(ident_regressor_t *r, float wc_rad_s,
+                                        uint16_t n_pass, float Ts_s,
+                                        float w_base_rad_s);
+
+/** Zero every filter state (e.g. before a new identification run). */
+void ident_regressor_reset(ident_regressor_t *r);
+
+/** One ISR sample: rotate, filter, form y1, y2 and the regressors. */
+void ident_regressor_step(ident_regressor_t *r);
+
+#endif /* IDENT_REGRESSOR_H */

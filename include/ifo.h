@@ -1,0 +1,119 @@
+/**
+ * @file ifo.h
+ * Indirect field orientation: the current model of the rotor flux in the
+ * rotating M-T frame, giving the flux angle from the rotor speed and the slip.
+ *
+ * With perfect orientation (psi_rT = 0, method §1) the rotor equations give
+ *
+ *     Tr d(imr)/dt = i_M - imr          imr = psi_r / Lm (magnetising current)
+ *     w_slip       = i_T / (Tr imr)     (rad/s; in pu: i_t / (Tr_pu imr), all pu)
+ *     w_s          = w_r + w_slip       (eq. 2: omega_s, the M-T frame speed)
+ *     theta        = integral of w_s
+ *
+ * Discretisation.  imr: exact for i_M held over the sample (ZOH):
+ *     imr(k+1) = imr(k) + kf (i_M(k) - imr(k)),   kf = 1 - exp(-Ts/Tr).
+ * theta: forward Euler, theta(k+1) = theta(k) + w_s(k) f_base Ts (pu of a
+ * revolution), exact for a w_s held over the sample.  The slip uses the
+ * updated imr(k+1) (as TI's current model).
+ *
+ * Ordering in the ISR (sample k, at the T1 underflow that starts PWM period k):
+ *   1. Park the measured currents i_a,b(k) with ifo.theta, which on entry is
+ *      theta(k): the angle the previous ifo_step predicted for this instant.
+ *      ifo_theta_mid() is then the angle at the middle of the period that
+ *      just ended (k-1 -> k), over which the applied stator voltage was
+ *      constant in the stator frame: rotate that voltage with it (method §7
+ *      point 1; the start angle biased Rr by +11.8 % in the prototype).
+ *   2. ifo_step(i_M(k), i_T(k), w_r(k)): imr, slip and w_s of this sample,
+ *      then theta_prev = theta(k), theta = theta(k+1).
+ *   3. The voltage computed now is applied from the next underflow on
+ *      (shadowed compares, hal_pwm.h), i.e. over period k+1 -> k+2: its
+ *      inverse Park would ideally use theta(k+1) + w_s Ts / 2, the middle of
+ *      that period; that prediction is the drive's choice, made from theta
+ *      and ws.
+ * Integrating after the Park transform (not before) keeps the current
+ * transform on the angle of the instant the currents were sampled.
+ *
+ * Tr may be changed online (ifo_set_tr) by the identification: the
+ * divisions 1/Tr and Ts/Tr are done there, never per sample.
+ */
+#ifndef IFO_H
+#define IFO_H
+
+#include <stdint.h>
+#include "IQmathLib.h"
+#include "base_values.h"
+
+/** Tr must be at least this many samples (keeps kf's series exact to 1e-9). */
+#define IFO_TR_MIN_SAMPLES 10.0f
+/** Largest accepted Tr, pu time (Q24 headroom). */
+#define IFO_TR_MAX_PU 100.0f
+/** |i_T| is at most the sensor full scale, well below this (pu); the slip
+ *  bound I_T_MAX / (Tr imr_min) is checked against IFO_SLIP_MAX at init. */
+#define IFO_I_T_MAX 2.0f
+#define IFO_SLIP_MAX 64.0f
+
+typedef enum {
+    IFO_OK = 0,
+    IFO_ERR_BASE,         /* bases NULL or not initialised, or f_base Ts >= 1/128 */
+    IFO_ERR_TR,           /* Tr not in [10 Ts, 100 t_base] */
+    IFO_ERR_IMR_MIN       /* imr_min not in (0, 1], or 2 / (Tr imr_min) > 64 */
+} ifo_status_t;
+
+typedef struct {
+    /* inputs */
+    _iq i_m;            /* Q24, M-axis stator current, pu of I_base */
+    _iq i_t;            /* Q24, T-axis stator current, pu of I_base */
+    _iq wr;             /* Q24, rotor electrical speed, pu of w_base */
+    /* parameters */
+    _iq tr;             /* Q24, Tr in pu time (Tr_s * w_base) */
+    _iq inv_tr;         /* Q24, 1 / tr */
+    _iq kf;             /* Q24, 1 - exp(-Ts/Tr) */
+    _iq ts;             /* Q24, Ts in pu time */
+    _iq30 k_theta;      /* Q30, f_base Ts: revolutions per sample at 1 pu speed */
+    _iq imr_min;        /* Q24, pu: below it the slip is forced to 0 */
+    /* outputs */
+    _iq imr;            /* Q24, magnetising current psi_r / Lm, pu of I_base */
+    _iq wslip;          /* Q24, slip speed, pu of w_base */
+    _iq ws;             /* Q24, M-T frame (synchronous) speed, pu of w_base */
+    _iq theta;          /* Q24, flux angle for the next sample, pu [0, 1) */
+    _iq theta_prev;     /* Q24, flux angle of this sample, pu [0, 1) */
+    uint16_t imr_low;   /* 1 while imr < imr_min (slip forced to 0) */
+} ifo_t;
+
+/**
+ * @p Tr_s: rotor time constant, s; @p imr_min_pu: the guard (e.g. 5 % of the
+ * rated magnetising current).  Starts demagnetised: imr = 0, theta = 0.
+ */
+ifo_status_t ifo_init(ifo_t *f, float Tr_s, const base_values_t *b, float imr_min_pu);
+
+/**
+ * Change Tr (pu time, e.g. from the identification).  No float: 1/Tr and
+ * Ts/Tr by _IQdiv, kf = 1 - exp(-x) by its Taylor series to x^5/120
+ * (x = Ts/Tr <= 0.1: truncation error < x^6/720 = 1.4e-9, below 1 LSB).
+ * Rejects (and keeps the old Tr) if Tr < 10 Ts, Tr > 100 or if the slip
+ * bound 2 / (Tr imr_min) would exceed 64 pu.
+ */
+ifo_status_t ifo_set_tr(ifo_t *f, _iq tr_pu);
+
+/** Restart demagnetised at angle @p theta0 (pu, [0, 1)). */
+void ifo_reset(ifo_t *f, _iq theta0);
+
+/**
+ * One sample.  Scaling and overflow: imr += kf (i_m - imr) with a rounded
+ * product: imr settles within 0.5/kf LSB of i_m (Tr = 19.8 ms at 15 kHz:
+ * kf = 0.00336, 149 LSB = 9e-6 pu).  Slip: (i_t / Tr) / imr with
+ * imr >= imr_min, so |wslip| <= 2 / (Tr imr_min) <= 64 (checked at init);
+ * ws = wr + wslip (|wr| <= 63 assumed: qep_speed saturates there), so
+ * |ws| < 128; with f_base Ts < 1/128 (checked at init) the angle
+ * increment is below one revolution, so one conditional +-1
+ * wraps theta exactly into [0, 1) (the wrap is an exact integer operation
+ * in Q24, exact in float too).  The increment is truncated (< 1 LSB per
+ * sample, 6e-8 of a revolution).
+ */
+void ifo_step(ifo_t *f);
+
+/** The angle at the middle of the last sample period, (theta_prev + theta)/2
+ *  taken along the shorter arc (correct across the 1 -> 0 wrap), in [0, 1). */
+_iq ifo_theta_mid(const ifo_t *f);
+
+#endif /* IFO_H */

@@ -1,0 +1,91 @@
+/**
+ * @file param_extract.h
+ * Motor parameters from the RLS estimates (method §4, paper eq. 10
+ * rewritten), in per unit.
+ *
+ * With a = -K4 / (K2 i_M) = Lm^2 / Lr (steady state: psi_r = Lm i_M; the
+ * paper's assumption Ls = Lr):
+ *     Ls = Lr = 1/K2 + a          Lm = sqrt(a Lr)        psi_r = Lm i_M
+ *     Rr = K3' Lr / (a i_M)       Rs = -K1/K2 - K3'/i_M
+ *     Tr = Lr/Rr = -K4 / (K2 K3')  (pu time: Tr_pu = Tr w_base)
+ * where K3' = theta3 (paper regressor, eq. 9) or theta3/K2 (constant
+ * regressor, eq. 7: theta3 = K3 = K2 K3').
+ *
+ * Never a silent wrong answer: i_M below its minimum, K2 <= 0, a quotient
+ * that would overflow Q24 (division by ~0), a negative square-root argument
+ * (a <= 0), K3' <= 0 (Tr undefined), or any result outside its plausibility
+ * range gives a status and valid = 0 (the outputs then hold what could be
+ * computed, for diagnosis only).
+ *
+ * Scaling and overflow of param_extract_step: Q24 throughout; divisions by
+ * _IQdiv (< 1 LSB, truncating) only after checking |num| < 127 |den|;
+ * products by _IQrsmpy (rounded, saturating) and a product >= 127 pu is
+ * reported as PARAM_ERR_OVERFLOW; sqrt by _IQsqrt (<= 0.5 LSB).  Not in the
+ * ISR (runs in the background once the RLS has converged).
+ */
+#ifndef PARAM_EXTRACT_H
+#define PARAM_EXTRACT_H
+
+#include <stdint.h>
+#include "IQmathLib.h"
+#include "base_values.h"
+#include "rls.h"
+
+/** Plausibility ranges in SI (min < max, min >= 0). */
+typedef struct {
+    float Rs_ohm[2];    /* {min, max} */
+    float Rr_ohm[2];
+    float Lm_H[2];
+    float Lr_H[2];
+    float psi_Wb[2];
+    float Tr_s[2];
+    float i_m_min_A;    /* smallest magnetising current accepted (> 0) */
+} param_limits_t;
+
+typedef enum {
+    PARAM_OK = 0,
+    PARAM_ERR_IM,        /* i_M below i_m_min */
+    PARAM_ERR_K2,        /* K2 <= 0 or 1/K2 beyond Q24 */
+    PARAM_ERR_SQRT,      /* a = Lm^2/Lr <= 0: negative square-root argument */
+    PARAM_ERR_K3,        /* K3' <= 0: Rr, Tr undefined */
+    PARAM_ERR_DIV,       /* another division by ~0 (quotient beyond Q24) */
+    PARAM_ERR_OVERFLOW,  /* a product beyond Q24 */
+    PARAM_ERR_RS,        /* result outside its range: */
+    PARAM_ERR_RR,
+    PARAM_ERR_LM,
+    PARAM_ERR_LR,
+    PARAM_ERR_PSI,
+    PARAM_ERR_TR
+} param_status_t;
+
+typedef enum {
+    PARAM_INIT_OK = 0,
+    PARAM_INIT_ERR_BASES,   /* bases not initialised (Z, L, psi, t base not > 0) */
+    PARAM_INIT_ERR_RANGE,   /* a range with min < 0, min >= max, or max >= 127 pu */
+    PARAM_INIT_ERR_IM       /* i_m_min_A not > 0 or >= 127 pu */
+} param_init_status_t;
+
+typedef struct {
+    /* inputs */
+    _iq theta[RLS_N];   /* Q24 pu: K1, K2, theta3, K4 (rls_t.theta) */
+    uint16_t form;      /* rls_form_t that produced theta3 */
+    _iq i_m;            /* Q24 pu: steady M current */
+    /* parameters (pu, Q24) */
+    _iq Rs_lim[2], Rr_lim[2], Lm_lim[2], Lr_lim[2], psi_lim[2], Tr_lim[2];
+    _iq i_m_min;
+    /* outputs (pu, Q24; Tr in pu time) */
+    _iq Rs, Rr, Lm, Lr, psi_r, Tr;
+    _iq K3p;            /* Q24: K3' used */
+    uint16_t status;    /* param_status_t */
+    uint16_t valid;     /* 1 only if status == PARAM_OK */
+} param_extract_t;
+
+/** Convert the SI ranges with the bases.  On error the struct is zeroed
+ *  (valid = 0). */
+param_init_status_t param_extract_init(param_extract_t *p, const base_values_t *b,
+                                       const param_limits_t *lim);
+
+/** Compute the parameters and check them.  See the file comment. */
+void param_extract_step(param_extract_t *p);
+
+#endif /* PARAM_EXTRACT_H */

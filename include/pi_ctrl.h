@@ -1,0 +1,105 @@
+/**
+ * @file pi_ctrl.h
+ * Discrete PI controller, parallel form, with feed-forward and clamping
+ * anti-windup: the current (M, T) and speed loops of the drive.
+ *
+ *   e(k)  = ref(k) - fbk(k)
+ *   ui(k) = ui(k-1) + ki e(k)                 (ki = Kp Ts / Ti, per sample)
+ *   out(k) = sat(kp e(k) + ui(k) + ff(k), out_min, out_max)
+ *
+ * so, unsaturated, out = ff + (kp + ki z/(z-1)) e: the integrator includes
+ * the current sample (backward Euler), and the zero of the controller is at
+ * z = kp / (kp + ki).
+ *
+ * Anti-windup (clamping / conditional integration): the integrator never
+ * moves in the direction that deepens a saturation.  When e pushes upward it
+ * may rise only until kp e + ui + ff reaches out_max (and never falls because
+ * of the clamp); symmetrically downward.  It is also kept inside
+ * [out_min, out_max].  So during a saturation the integrator holds the value
+ * it had when the output reached the limit, and the output leaves the limit
+ * in the first sample in which kp e + ui + ff comes back inside it
+ * (no unwinding delay).
+ *
+ * Valid ranges (so that no intermediate sum can exceed Q24's +-128):
+ *   ref, fbk        |.| <= 32 pu    (so |e| <= 64)
+ *   ff              |.| <= 16 pu
+ *   kp              [0, 100]        (the proportional path clamps e to
+ *                                    +-64/kp, so |kp e| <= 64; this changes
+ *                                    nothing because the output then
+ *                                    saturates anyway, see pi_step)
+ *   ki              [0, 1]          (more than the whole error per sample
+ *                                    is not a meaningful integral gain)
+ *   out_min, out_max  [-16, 16], out_min < out_max.
+ */
+#ifndef PI_CTRL_H
+#define PI_CTRL_H
+
+#include <stdint.h>
+#include "IQmathLib.h"
+
+/** Largest |ref|, |fbk| (pu). */
+#define PI_IN_MAX_PU   32.0f
+/** Largest |ff|, |out_min|, |out_max| (pu). */
+#define PI_OUT_MAX_PU  16.0f
+/** Largest kp. */
+#define PI_KP_MAX      100.0f
+/** Largest ki (per sample). */
+#define PI_KI_MAX      1.0f
+
+typedef enum {
+    PI_OK = 0,
+    PI_ERR_KP,       /* kp NaN, < 0 or > PI_KP_MAX */
+    PI_ERR_KI,       /* ki NaN, < 0 or > PI_KI_MAX */
+    PI_ERR_LIMITS    /* a limit NaN or outside +-PI_OUT_MAX_PU, or out_min >= out_max */
+} pi_status_t;
+
+typedef struct {
+    /* inputs */
+    _iq ref;       /* reference, pu, Q24, |ref| <= 32 */
+    _iq fbk;       /* feedback, pu, Q24, |fbk| <= 32 */
+    _iq ff;        /* feed-forward added to the output, pu, Q24, |ff| <= 16 */
+    /* parameters */
+    _iq kp;        /* proportional gain, Q24, [0, 100] */
+    _iq ki;        /* integral gain per sample (Kp Ts / Ti), Q24, [0, 1] */
+    _iq out_max;   /* output upper limit, pu, Q24 */
+    _iq out_min;   /* output lower limit, pu, Q24, < out_max */
+    _iq e_max;     /* error clamp of the proportional path, Q24:
+                      min(64, 64 / kp), computed by pi_init */
+    /* outputs */
+    _iq out;       /* controller output, pu, Q24, in [out_min, out_max] */
+    uint16_t sat;  /* 1 while the output is at (or clamped to) a limit */
+    /* state */
+    _iq ui;        /* integrator, pu, Q24, in [out_min, out_max] */
+} pi_ctrl_t;
+
+/**
+ * Set gains and limits (pu) and reset the state.  On an error the struct is
+ * left zeroed (gains 0, limits 0: output 0) and the first offending argument
+ * is named.  NaN is rejected by every check.
+ */
+pi_status_t pi_init(pi_ctrl_t *p, float kp, float ki, float out_min, float out_max);
+
+/** Clear the integrator and the outputs (gains and limits kept). */
+void pi_reset(pi_ctrl_t *p);
+
+/**
+ * Change the output limits at run time (the speed loop's torque-current
+ * limit, for instance).  No float: callable from the ISR.  Rejects (and
+ * leaves everything unchanged) out_min >= out_max or a limit outside
+ * +-PI_OUT_MAX_PU.  On success the integrator is clamped into the new
+ * range at once, so a tightened limit cannot leave it wound up.
+ */
+pi_status_t pi_set_limits(pi_ctrl_t *p, _iq out_min, _iq out_max);
+
+/**
+ * One sample.  Scaling: all Q24; kp*e is truncated (_IQmpy, within 1 LSB
+ * below the exact product), ki*e rounded (_IQrmpy, within 1/2 LSB, no bias),
+ * so unsaturated the output is within 1.5 LSB of the exact kp e + ui + ff of
+ * the same (Q24) gains and state, and the integrator moves within 1/2 LSB
+ * of ki e per sample (it ignores |e| < 1/(2 ki) LSB).  Overflow: none in the valid ranges (|kp e| <= 64 by the
+ * clamp, |ui| <= 16, |ff| <= 16, so every sum is within +-96); the output
+ * saturates at out_min/out_max, the integrator at the same limits.
+ */
+void pi_step(pi_ctrl_t *p);
+
+#endif /* PI_CTRL_H */

@@ -1,0 +1,99 @@
+/**
+ * @file volt_calc.h
+ * Stator phase voltages reconstructed from the measured DC bus and the duty
+ * cycles applied during the last PWM period (no voltage sensors), as the
+ * paper's F2812 rig does (method §6), with optional dead-time and
+ * device-drop compensation.
+ *
+ * Pole voltage of phase x (leg output to the negative rail, period average):
+ *   ideal:        p_x = vdc d_x
+ *   inverter:     with centre-aligned PWM and dead time td, while i_x > 0
+ *                 (out of the leg) the lower diode conducts during the dead
+ *                 time and the pole loses vdc td/Ts, plus the device drop
+ *                 v_drop; while i_x < 0 it gains the same.
+ *   compensated:  p_x = vdc d_x - sgn(i_x) (vdc td/Ts + v_drop)
+ * sgn() has a linear zone: sgn(i) = sat(i / i_thresh, -1, 1), so that noise
+ * near a zero crossing does not make the estimate chatter (and the average
+ * error there, which does shrink near zero current, is followed smoothly).
+ * ic = -ia - ib (three-wire star).
+ *
+ * Phase-to-neutral of the floating star: the common mode is removed,
+ *   v_x = p_x - (p_a + p_b + p_c) / 3,
+ * then valpha = va, vbeta = (vb - vc) / sqrt(3) (amplitude-invariant Clarke).
+ *
+ * Timing: the compare values computed in ISR k are shadowed and act during
+ * period k+1, so ISR k+2 must pass the duties computed in ISR k together
+ * with the bus voltage and currents of that period.
+ *
+ * Valid input range: d_x in [0, 1]; vdc in [0, 16] pu (nominal sqrt(3));
+ * |ia|, |ib| <= 32 pu.  Poles are then within [-5, 21] pu and every sum
+ * below 64.
+ */
+#ifndef VOLT_CALC_H
+#define VOLT_CALC_H
+
+#include <stdint.h>
+#include "IQmathLib.h"
+
+/** Largest dead-time fraction td/Ts accepted. */
+#define VOLT_CALC_DT_FRAC_MAX 0.25f
+/** Largest device drop accepted, pu of V_base. */
+#define VOLT_CALC_DROP_MAX_PU 1.0f
+/** Range of the sign threshold, pu of I_base (1/i_thresh must fit Q24). */
+#define VOLT_CALC_ITH_MIN_PU 0.01f
+#define VOLT_CALC_ITH_MAX_PU 1.0f
+
+typedef enum {
+    VOLT_CALC_OK = 0,
+    VOLT_CALC_ERR_PERIOD,     /* Ts_s NaN or not > 0 */
+    VOLT_CALC_ERR_DEADTIME,   /* dead_time_s NaN, < 0, or td/Ts > VOLT_CALC_DT_FRAC_MAX */
+    VOLT_CALC_ERR_DROP,       /* drop_pu NaN, < 0 or > VOLT_CALC_DROP_MAX_PU */
+    VOLT_CALC_ERR_THRESH,     /* i_thresh_pu NaN or outside [ITH_MIN, ITH_MAX] */
+    VOLT_CALC_ERR_ENABLE      /* comp_enable not 0 or 1 */
+} volt_calc_status_t;
+
+typedef struct {
+    /* inputs */
+    _iq da;            /* applied upper-switch duty, phase a, Q24, [0, 1] */
+    _iq db;            /* phase b, Q24, [0, 1] */
+    _iq dc;            /* phase c, Q24, [0, 1] */
+    _iq vdc;           /* DC bus during that period, pu of V_base, Q24, [0, 16] */
+    _iq ia;            /* phase-a current, pu, Q24, |.| <= 32 */
+    _iq ib;            /* phase-b current, pu, Q24, |.| <= 32 */
+    /* parameters */
+    uint16_t comp_enable; /* 1: dead-time / drop compensation on */
+    _iq dt_frac;       /* td / Ts, Q24, [0, 0.25] */
+    _iq v_drop;        /* device forward drop, pu of V_base, Q24, [0, 1] */
+    _iq i_thresh;      /* half-width of the linear zone of sgn(), pu, Q24 */
+    _iq inv_i_thresh;  /* 1 / i_thresh, Q24, [1, 100] */
+    /* outputs */
+    _iq va;            /* phase-to-neutral voltages, pu of V_base, Q24 */
+    _iq vb;
+    _iq vc;
+    _iq valpha;        /* stator voltage, alpha, pu, Q24 */
+    _iq vbeta;         /* stator voltage, beta, pu, Q24 */
+} volt_calc_t;
+
+/**
+ * Compute the constants from SI times and pu drop/threshold and clear the
+ * rest.  dead_time_s: programmed dead band; Ts_s: PWM period; drop_pu:
+ * switch/diode forward drop in pu of V_base; i_thresh_pu: half-width of the
+ * linear zone of sgn(); comp_enable: 0 or 1.  On an error the struct is
+ * left zeroed (compensation off) and the first offending argument is named.
+ */
+volt_calc_status_t volt_calc_init(volt_calc_t *v, float dead_time_s, float Ts_s,
+                                  float drop_pu, float i_thresh_pu, uint16_t comp_enable);
+
+/**
+ * One sample.  Scaling: poles vdc*d are Q24*Q24 -> Q24 truncated products;
+ * the common mode is (sum)*(1/3 as Q30), vbeta (vb - vc)*(1/sqrt(3) as
+ * Q30), both truncated to Q24.  Without compensation va, vb, vc and valpha
+ * are within 3.05 LSB, vbeta within 2.2 LSB of the exact formula of the
+ * same inputs (over the valid range).  The compensation adds to each pole
+ * the truncations of vdc*td/Ts, of i/i_thresh (times verr) and of
+ * sgn*verr: 2 + verr LSB more per pole, 4 + 2 verr LSB in va.  Overflow: none in the valid range (every intermediate below 64 pu);
+ * sgn() is saturated to [-1, 1].
+ */
+void volt_calc_step(volt_calc_t *v);
+
+#endif /* VOLT_CALC_H */

@@ -1,0 +1,138 @@
+/* Motor parameters from the regression estimates (method §4, eq. 10
+ * rewritten).  See param_extract.h. */
+#include "param_extract.h"
+
+#include <math.h>
+#include <string.h>
+
+#define PE_Q24_MAX 127.0f   /* largest pu value accepted (Q24 holds < 128) */
+
+static _iq pe_q24(float v)
+{
+#if MATH_TYPE == IQ_MATH
+    return _IQ(roundf(v * 16777216.0f) / 16777216.0f);
+#else
+    return v;
+#endif
+}
+
+static int16_t pe_range(_iq out[2], const float si[2], float base)
+{
+    float lo = si[0] / base, hi = si[1] / base;
+    if (!(lo >= 0.0f) || !(hi > lo) || !(hi < PE_Q24_MAX)) {
+        return 1;
+    }
+    out[0] = pe_q24(lo);
+    out[1] = pe_q24(hi);
+    return 0;
+}
+
+param_init_status_t param_extract_init(param_extract_t *p, const base_values_t *b,
+                                       const param_limits_t *lim)
+{
+    float im;
+    memset(p, 0, sizeof *p);
+    if (!(b->Z_base_ohm > 0.0f) || !(b->L_base_H > 0.0f) || !(b->psi_base_Wb > 0.0f)
+        || !(b->t_base_s > 0.0f) || !(b->I_base_A > 0.0f)) {
+        return PARAM_INIT_ERR_BASES;
+    }
+    if (pe_range(p->Rs_lim, lim->Rs_ohm, b->Z_base_ohm) != 0
+        || pe_range(p->Rr_lim, lim->Rr_ohm, b->Z_base_ohm) != 0
+        || pe_range(p->Lm_lim, lim->Lm_H, b->L_base_H) != 0
+        || pe_range(p->Lr_lim, lim->Lr_H, b->L_base_H) != 0
+        || pe_range(p->psi_lim, lim->psi_Wb, b->psi_base_Wb) != 0
+        || pe_range(p->Tr_lim, lim->Tr_s, b->t_base_s) != 0) {
+        memset(p, 0, sizeof *p);
+        return PARAM_INIT_ERR_RANGE;
+    }
+    im = lim->i_m_min_A / b->I_base_A;
+    if (!(im > 0.0f) || !(im < PE_Q24_MAX)) {
+        memset(p, 0, sizeof *p);
+        return PARAM_INIT_ERR_IM;
+    }
+    p->i_m_min = pe_q24(im);
+    p->status = (uint16_t)PARAM_ERR_IM;     /* nothing computed yet */
+    return PARAM_INIT_OK;
+}
+
+/* num/den, or status `code` if |num| >= 127 |den| (quotient beyond Q24,
+ * including den = 0).  |num| < 128, so |num|/127 cannot overflow. */
+static _iq pe_div(_iq num, _iq den, param_status_t code, param_status_t *st)
+{
+    if (*st != PARAM_OK) {
+        return _IQ(0.0);
+    }
+    if (_IQabs(den) <= _IQmpy(_IQabs(num), _IQ(1.0 / 127.0))) {   /* Q24*Q24 -> Q24 */
+        *st = code;
+        return _IQ(0.0);
+    }
+    return _IQdiv(num, den);
+}
+
+/* a*b rounded and saturated; a result of 127 pu or more is an overflow. */
+static _iq pe_mul(_iq a, _iq b, param_status_t *st)
+{
+    _iq r = _IQrsmpy(a, b);                                        /* Q24*Q24 -> Q24 */
+    if (*st == PARAM_OK && _IQabs(r) >= _IQ(PE_Q24_MAX)) {
+        *st = PARAM_ERR_OVERFLOW;
+    }
+    return r;
+}
+
+static void pe_check(_iq v, const _iq lim[2], param_status_t code, param_status_t *st)
+{
+    if (*st == PARAM_OK && (v < lim[0] || v > lim[1])) {
+        *st = code;
+    }
+}
+
+void param_extract_step(param_extract_t *p)
+{
+    param_status_t st = PARAM_OK;
+    _iq K1 = p->theta[0], K2 = p->theta[1], K4 = p->theta[3];
+    _iq inv_k2, a, k2im;
+
+    p->Rs = _IQ(0.0); p->Rr = _IQ(0.0); p->Lm = _IQ(0.0);
+    p->Lr = _IQ(0.0); p->psi_r = _IQ(0.0); p->Tr = _IQ(0.0); p->K3p = _IQ(0.0);
+
+    if (p->i_m < p->i_m_min) {
+        st = PARAM_ERR_IM;
+    }
+    if (st == PARAM_OK && K2 <= _IQ(0.0)) {
+        st = PARAM_ERR_K2;                  /* K2 = 1/(sigma Ls) > 0 */
+    }
+    inv_k2 = pe_div(_IQ(1.0), K2, PARAM_ERR_K2, &st);
+    /* K3' = K3/K2 for the constant regressor (eq. 7 vs eq. 9) */
+    p->K3p = (p->form == (uint16_t)RLS_FORM_PAPER) ? p->theta[2]
+                                                   : pe_div(p->theta[2], K2, PARAM_ERR_DIV, &st);
+    if (st == PARAM_OK && p->K3p <= _IQ(0.0)) {
+        st = PARAM_ERR_K3;                  /* K3' = Lm Rr psi_r / Lr^2 > 0 */
+    }
+    k2im = pe_mul(K2, p->i_m, &st);
+    a = pe_div(-K4, k2im, PARAM_ERR_DIV, &st);          /* a = Lm^2/Lr */
+    if (st == PARAM_OK && a <= _IQ(0.0)) {
+        st = PARAM_ERR_SQRT;                /* Lm = sqrt(a Lr) needs a > 0 */
+    }
+    if (st == PARAM_OK) {
+        _iq lr = inv_k2 + a;                /* both < 127, > 0: no overflow of the sum */
+        _iq alr = pe_mul(a, lr, &st);
+        p->Lr = lr;
+        p->Lm = _IQsqrt(alr);
+        p->psi_r = pe_mul(p->Lm, p->i_m, &st);
+        p->Rr = pe_div(pe_mul(p->K3p, lr, &st), pe_mul(a, p->i_m, &st), PARAM_ERR_DIV, &st);
+        {
+            _iq k1k2 = pe_div(K1, K2, PARAM_ERR_DIV, &st);
+            _iq k3im = pe_div(p->K3p, p->i_m, PARAM_ERR_DIV, &st);
+            p->Rs = -k1k2 - k3im;           /* each < 127 in magnitude */
+        }
+        p->Tr = pe_div(-K4, pe_mul(K2, p->K3p, &st), PARAM_ERR_DIV, &st);
+    }
+    pe_check(p->Rs, p->Rs_lim, PARAM_ERR_RS, &st);
+    pe_check(p->Rr, p->Rr_lim, PARAM_ERR_RR, &st);
+    pe_check(p->Lm, p->Lm_lim, PARAM_ERR_LM, &st);
+    pe_check(p->Lr, p->Lr_lim, PARAM_ERR_LR, &st);
+    pe_check(p->psi_r, p->psi_lim, PARAM_ERR_PSI, &st);
+    pe_check(p->Tr, p->Tr_lim, PARAM_ERR_TR, &st);
+    p->status = (uint16_t)st;
+    p->valid = (st == PARAM_OK) ? 1u : 0u;
+}

@@ -1,0 +1,123 @@
+/* Indirect field orientation (current model).  See ifo.h. */
+#include "ifo.h"
+
+/* Wrap a Q24 angle that is within one revolution of [0, 1) back into it.
+ * Adding or subtracting exactly 1.0 is exact in Q24 and in float. */
+static _iq ifo_wrap(_iq th)
+{
+    if (th >= _IQ(1.0)) {
+        th -= _IQ(1.0);
+    } else if (th < _IQ(0.0)) {
+        th += _IQ(1.0);
+    }
+    return th;
+}
+
+ifo_status_t ifo_init(ifo_t *f, float Tr_s, const base_values_t *b, float imr_min_pu)
+{
+    float tr_pu;
+
+    f->i_m = _IQ(0.0);
+    f->i_t = _IQ(0.0);
+    f->wr = _IQ(0.0);
+    f->tr = _IQ(0.0);
+    f->inv_tr = _IQ(0.0);
+    f->kf = _IQ(0.0);
+    f->ts = _IQ(0.0);
+    f->k_theta = _IQ30(0.0);
+    f->imr_min = _IQ(0.0);
+    ifo_reset(f, _IQ(0.0));
+
+    if (b == 0 || !(b->Ts_s > 0.0f) || !(b->t_base_s > 0.0f) || !(b->Ts_pu > 0.0f) ||
+        !(b->f_base_Hz > 0.0f)) {
+        return IFO_ERR_BASE;
+    }
+    if (!(imr_min_pu > 0.0f && imr_min_pu <= 1.0f)) {
+        return IFO_ERR_IMR_MIN;
+    }
+    tr_pu = Tr_s / b->t_base_s;
+    if (!(tr_pu <= IFO_TR_MAX_PU)) {   /* also NaN; the lower bound is set_tr's */
+        return IFO_ERR_TR;
+    }
+    /* |ws| <= |wr| + |wslip| < 63 + 64 < 128, so f_base Ts < 1/128 keeps
+     * the angle increment of ifo_step below one revolution (one wrap) */
+    if (!(b->f_base_Hz * b->Ts_s < 1.0f / 128.0f)) {
+        return IFO_ERR_BASE;
+    }
+    f->ts = _IQ(b->Ts_pu);
+    f->k_theta = _IQ30(b->f_base_Hz * b->Ts_s);
+    f->imr_min = _IQ(imr_min_pu);
+    return ifo_set_tr(f, _IQ(tr_pu));
+}
+
+ifo_status_t ifo_set_tr(ifo_t *f, _iq tr_pu)
+{
+    _iq x;
+    _iq t;
+
+    /* Tr >= 10 Ts, i.e. x = Ts/Tr <= 0.1; Tr <= 100 (Q24 headroom) */
+    if (!(tr_pu >= _IQmpy(f->ts, _IQ(IFO_TR_MIN_SAMPLES))) || !(tr_pu <= _IQ(IFO_TR_MAX_PU))) {
+        return IFO_ERR_TR;
+    }
+    /* slip bound: I_T_MAX / (Tr imr_min) <= SLIP_MAX  <=>  Tr imr_min >= 2/64.
+     * Q24*Q24 -> Q24: Tr <= 100, imr_min <= 1, no overflow */
+    if (!(_IQmpy(tr_pu, f->imr_min) >= _IQ(IFO_I_T_MAX / IFO_SLIP_MAX))) {
+        return IFO_ERR_IMR_MIN;
+    }
+    x = _IQdiv(f->ts, tr_pu);   /* Q24 / Q24 -> Q24, in (0, 0.1] */
+    /* 1 - exp(-x) = x (1 - x/2 (1 - x/3 (1 - x/4 (1 - x/5)))), Horner;
+     * every factor is in (0.9, 1]: no overflow, truncation < 1 LSB each */
+    t = _IQ(1.0) - _IQmpy(x, _IQ(0.2));
+    t = _IQ(1.0) - _IQmpy(_IQmpy(x, _IQ(0.25)), t);
+    t = _IQ(1.0) - _IQmpy(_IQmpy(x, _IQ(0.33333333)), t);
+    t = _IQ(1.0) - _IQmpy(_IQmpy(x, _IQ(0.5)), t);
+    f->kf = _IQmpy(x, t);
+    f->inv_tr = _IQdiv(_IQ(1.0), tr_pu);   /* in [0.01, 1/(10 Ts_pu)] */
+    f->tr = tr_pu;
+    return IFO_OK;
+}
+
+void ifo_reset(ifo_t *f, _iq theta0)
+{
+    f->imr = _IQ(0.0);
+    f->wslip = _IQ(0.0);
+    f->ws = _IQ(0.0);
+    f->theta = ifo_wrap(theta0);
+    f->theta_prev = f->theta;
+    f->imr_low = 1u;
+}
+
+void ifo_step(ifo_t *f)
+{
+    /* rotor flux lag, exact ZOH discretisation; Q24*Q24 -> Q24 rounded,
+     * |i_m - imr| < 4 pu */
+    f->imr += _IQrmpy(f->kf, f->i_m - f->imr);
+
+    if (f->imr < f->imr_min) {
+        /* no division by a vanishing flux: no slip until magnetised */
+        f->wslip = _IQ(0.0);
+        f->imr_low = 1u;
+    } else {
+        /* (Q24*Q24 -> Q24) / Q24 -> Q24; |result| <= 2/(Tr imr_min) <= 64 */
+        f->wslip = _IQdiv(_IQmpy(f->i_t, f->inv_tr), f->imr);
+        f->imr_low = 0u;
+    }
+    f->ws = f->wr + f->wslip;
+
+    f->theta_prev = f->theta;
+    /* Q24 * Q30 -> Q24 (truncated): |increment| < 128 f_base Ts < 1 revolution */
+    f->theta = ifo_wrap(f->theta + _IQmpyIQX(f->ws, GLOBAL_Q, f->k_theta, 30));
+}
+
+_iq ifo_theta_mid(const ifo_t *f)
+{
+    /* signed difference along the shorter arc, in [-0.5, 0.5) */
+    _iq d = f->theta - f->theta_prev;   /* in (-1, 1): no overflow */
+
+    if (d >= _IQ(0.5)) {
+        d -= _IQ(1.0);
+    } else if (d < _IQ(-0.5)) {
+        d += _IQ(1.0);
+    }
+    return ifo_wrap(f->theta_prev + _IQmpy(d, _IQ(0.5)));
+}

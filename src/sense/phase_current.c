@@ -1,0 +1,122 @@
+/* Phase currents from the Hall sensors.  See phase_current.h. */
+#include "phase_current.h"
+
+/* 2^-15: one raw count is 2^-15 pu (32768 counts = 1 pu).  Exact in Q24
+ * (2^9 LSB) and in float. */
+#define PC_COUNT_TO_PU _IQ(3.0517578125e-5)
+
+static uint16_t pc_rail_bits(uint16_t a_raw, uint16_t b_raw)
+{
+    uint16_t r = 0u;
+    if (a_raw == 0u || a_raw >= PHASE_CURRENT_RAIL_HIGH) {
+        r |= PHASE_CURRENT_PHASE_A;
+    }
+    if (b_raw == 0u || b_raw >= PHASE_CURRENT_RAIL_HIGH) {
+        r |= PHASE_CURRENT_PHASE_B;
+    }
+    return r;
+}
+
+phase_current_status_t phase_current_init(phase_current_t *pc, float gain_a, float gain_b,
+                                          int16_t polarity, float offset_window_fs)
+{
+    float sign;
+
+    pc->ia_raw = PHASE_CURRENT_OFFSET_NOMINAL;
+    pc->ib_raw = PHASE_CURRENT_OFFSET_NOMINAL;
+    pc->offset_a = PHASE_CURRENT_OFFSET_NOMINAL;
+    pc->offset_b = PHASE_CURRENT_OFFSET_NOMINAL;
+    pc->gain_a = _IQ(0.0);
+    pc->gain_b = _IQ(0.0);
+    pc->offset_window = 0u;
+    pc->ia = _IQ(0.0);
+    pc->ib = _IQ(0.0);
+    pc->ic = _IQ(0.0);
+    pc->rail = 0u;
+    pc->cal_fault = 0u;
+    pc->cal_sum_a = 0u;
+    pc->cal_sum_b = 0u;
+    pc->cal_n = 0u;
+    pc->cal_left = 0u;
+
+    /* "!(x >= lo && x <= hi)" also rejects NaN */
+    if (!(gain_a >= PHASE_CURRENT_GAIN_MIN && gain_a <= PHASE_CURRENT_GAIN_MAX) ||
+        !(gain_b >= PHASE_CURRENT_GAIN_MIN && gain_b <= PHASE_CURRENT_GAIN_MAX)) {
+        return PHASE_CURRENT_ERR_GAIN;
+    }
+    if (polarity != 1 && polarity != -1) {
+        return PHASE_CURRENT_ERR_POLARITY;
+    }
+    if (!(offset_window_fs > 0.0f && offset_window_fs <= PHASE_CURRENT_WINDOW_MAX)) {
+        return PHASE_CURRENT_ERR_WINDOW;
+    }
+    sign = (polarity > 0) ? 1.0f : -1.0f;
+    pc->gain_a = _IQ(sign * gain_a);
+    pc->gain_b = _IQ(sign * gain_b);
+    /* <= 0.25 * 65536 + 0.5 = 16384.5: fits uint16_t */
+    pc->offset_window = (uint16_t)(offset_window_fs * 65536.0f + 0.5f);
+    if (pc->offset_window == 0u) {
+        pc->offset_window = 1u;
+    }
+    return PHASE_CURRENT_OK;
+}
+
+void phase_current_step(phase_current_t *pc)
+{
+    /* exact integers in [-65535, 65535] (int32: no 16-bit overflow on C28x) */
+    int32_t da = (int32_t)pc->ia_raw - (int32_t)pc->offset_a;
+    int32_t db = (int32_t)pc->ib_raw - (int32_t)pc->offset_b;
+
+    /* count * 2^-15 -> Q24 exact (|.| < 2); Q24*Q24 -> Q24 (|.| < 2.5) */
+    pc->ia = _IQmpy(pc->gain_a, _IQmpyI32(PC_COUNT_TO_PU, da));
+    pc->ib = _IQmpy(pc->gain_b, _IQmpyI32(PC_COUNT_TO_PU, db));
+    pc->ic = -pc->ia - pc->ib;   /* |.| < 5: no overflow */
+    pc->rail = pc_rail_bits(pc->ia_raw, pc->ib_raw);
+}
+
+phase_current_status_t phase_current_cal_start(phase_current_t *pc, uint16_t n_samples)
+{
+    pc->cal_sum_a = 0u;
+    pc->cal_sum_b = 0u;
+    pc->cal_fault = 0u;
+    pc->cal_n = n_samples;
+    pc->cal_left = n_samples;
+    return (n_samples == 0u) ? PHASE_CURRENT_ERR_SAMPLES : PHASE_CURRENT_OK;
+}
+
+/* Rounded mean of n readings; accept it if within the window of 32768.
+ * Returns 1 if accepted (offset loaded), 0 if rejected (nominal loaded). */
+static uint16_t pc_load_offset(uint32_t sum, uint16_t n, uint16_t window, uint16_t *offset)
+{
+    /* sum <= 65535 * 65535 < 2^32 - n/2: no wrap in the rounding */
+    uint32_t mean = (sum + ((uint32_t)n >> 1)) / (uint32_t)n;   /* <= 65535 */
+    int32_t dev = (int32_t)mean - (int32_t)PHASE_CURRENT_OFFSET_NOMINAL;
+
+    if (dev > (int32_t)window || dev < -(int32_t)window) {
+        *offset = PHASE_CURRENT_OFFSET_NOMINAL;
+        return 0u;
+    }
+    *offset = (uint16_t)mean;
+    return 1u;
+}
+
+phase_current_cal_t phase_current_cal_step(phase_current_t *pc)
+{
+    if (pc->cal_left == 0u) {
+        return PHASE_CURRENT_CAL_IDLE;
+    }
+    pc->rail = pc_rail_bits(pc->ia_raw, pc->ib_raw);
+    pc->cal_sum_a += pc->ia_raw;
+    pc->cal_sum_b += pc->ib_raw;
+    pc->cal_left--;
+    if (pc->cal_left != 0u) {
+        return PHASE_CURRENT_CAL_BUSY;
+    }
+    if (pc_load_offset(pc->cal_sum_a, pc->cal_n, pc->offset_window, &pc->offset_a) == 0u) {
+        pc->cal_fault |= PHASE_CURRENT_PHASE_A;
+    }
+    if (pc_load_offset(pc->cal_sum_b, pc->cal_n, pc->offset_window, &pc->offset_b) == 0u) {
+        pc->cal_fault |= PHASE_CURRENT_PHASE_B;
+    }
+    return (pc->cal_fault == 0u) ? PHASE_CURRENT_CAL_DONE : PHASE_CURRENT_CAL_REJECTED;
+}

@@ -1,0 +1,226 @@
+/* foc_volt_calc: volt_calc_t against the pole-voltage formula written here
+ * in double (floating star, common mode removed, amplitude-invariant
+ * Clarke), with and without dead-time / device-drop compensation; the sign
+ * and size of the compensation; parameter checks; the range edges. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <cmocka.h>
+#include <string.h>
+
+#include "volt_calc.h"
+#include "foc_test_util.h"
+
+#define SQRT3 1.73205080756887729353
+#define TS_S (1.0f / 15000.0f)
+
+static void test_init(void **state)
+{
+    volt_calc_t v, z;
+    const float nan = nanf("");
+    (void)state;
+    memset(&z, 0, sizeof z);
+    assert_int_equal(volt_calc_init(&v, 2e-6f, 0.0f, 0.05f, 0.02f, 1u), VOLT_CALC_ERR_PERIOD);
+    assert_int_equal(volt_calc_init(&v, 2e-6f, nan, 0.05f, 0.02f, 1u), VOLT_CALC_ERR_PERIOD);
+    assert_int_equal(volt_calc_init(&v, -1e-9f, TS_S, 0.05f, 0.02f, 1u), VOLT_CALC_ERR_DEADTIME);
+    assert_int_equal(volt_calc_init(&v, nan, TS_S, 0.05f, 0.02f, 1u), VOLT_CALC_ERR_DEADTIME);
+    assert_int_equal(volt_calc_init(&v, 20e-6f, TS_S, 0.05f, 0.02f, 1u), VOLT_CALC_ERR_DEADTIME);
+    assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, -0.01f, 0.02f, 1u), VOLT_CALC_ERR_DROP);
+    assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, 1.5f, 0.02f, 1u), VOLT_CALC_ERR_DROP);
+    assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, nan, 0.02f, 1u), VOLT_CALC_ERR_DROP);
+    assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, 0.05f, 0.005f, 1u), VOLT_CALC_ERR_THRESH);
+    assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, 0.05f, 2.0f, 1u), VOLT_CALC_ERR_THRESH);
+    assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, 0.05f, nan, 1u), VOLT_CALC_ERR_THRESH);
+    assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, 0.05f, 0.02f, 2u), VOLT_CALC_ERR_ENABLE);
+    assert_memory_equal(&v, &z, sizeof v);
+    /* constants: td/Ts = 0.03, 1/0.02 = 50; _IQ truncates (1 LSB), and
+     * 1/i_thresh is formed in float first (2^-24 relative, 3e-6 pu at 50) */
+    assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, 0.05f, 0.02f, 1u), VOLT_CALC_OK);
+    assert_true(fabs(iq2d(v.dt_frac) - 0.03) <= foc_tol(1.1, 2.0, 1.0));
+    assert_true(fabs(iq2d(v.v_drop) - 0.05) <= foc_tol(1.1, 2.0, 1.0));
+    assert_true(fabs(iq2d(v.inv_i_thresh) - 50.0) <= 50.0 * (double)FLT_EPSILON + foc_tol(1.0, 1.0, 1.0));
+    assert_int_equal(v.comp_enable, 1u);
+}
+
+/* The formula, in double, with the module's stored constants (their
+ * quantisation is checked in test_init): pole_x = vdc d_x - sgn(i_x) verr,
+ * verr = vdc td/Ts + v_drop, sgn(i) = sat(i / i_thresh, +-1). */
+static double sgn_lin(double i, double th, double inv)
+{
+    const double ic = fmin(fmax(i, -th), th);
+    return fmin(fmax(ic * inv, -1.0), 1.0);
+}
+
+static void reference(const volt_calc_t *v, double out[5])
+{
+    const double vdc = iq2d(v->vdc);
+    const double d[3] = { iq2d(v->da), iq2d(v->db), iq2d(v->dc) };
+    const double i[3] = { iq2d(v->ia), iq2d(v->ib), -iq2d(v->ia) - iq2d(v->ib) };
+    const double verr = vdc * iq2d(v->dt_frac) + iq2d(v->v_drop);
+    double p[3], m;
+    int x;
+    for (x = 0; x < 3; x++) {
+        p[x] = vdc * d[x];
+        if (v->comp_enable) {
+            p[x] -= sgn_lin(i[x], iq2d(v->i_thresh), iq2d(v->inv_i_thresh)) * verr;
+        }
+    }
+    m = (p[0] + p[1] + p[2]) / 3.0;
+    out[0] = p[0] - m;
+    out[1] = p[1] - m;
+    out[2] = p[2] - m;
+    out[3] = out[0];
+    out[4] = (out[1] - out[2]) / SQRT3;
+}
+
+/* Bounds.  IQ_MATH: each pole is a truncated product (< 1 LSB); with the
+ * compensation it also carries the truncation of vdc td/Ts (1 LSB, times
+ * |sgn| <= 1), of i/i_thresh (1 LSB, times verr pu) and of sgn * verr
+ * (1 LSB): P = 3 + verr LSB (1 without compensation).  The common mode
+ * averages three poles and adds its own truncation (1 LSB) and the Q30
+ * constant's (sum * 2^-30 < 0.05 LSB): va, vb, vc, valpha within 2P + 1.05;
+ * vbeta = (vb - vc)/sqrt3 within 2P/sqrt3 + 1.03.  FLOAT_MATH: ~6
+ * roundings of quantities <= 16 + verr: 8 FLT_EPSILON * (vdc + verr). */
+static void check(volt_calc_t *v, double *worst)
+{
+    double ref[5];
+    const double vdc = iq2d(v->vdc);
+    const double verr = v->comp_enable ? vdc * iq2d(v->dt_frac) + iq2d(v->v_drop) : 0.0;
+    const double P = v->comp_enable ? 3.0 + verr : 1.0;
+    int x;
+    volt_calc_step(v);
+    reference(v, ref);
+    {
+        const _iq now[5] = { v->va, v->vb, v->vc, v->valpha, v->vbeta };
+        for (x = 0; x < 5; x++) {
+            const double b = (x < 4) ? foc_tol(2.0 * P + 1.05, 8.0, vdc + verr)
+                                     : foc_tol(2.0 * P / SQRT3 + 1.03, 8.0, vdc + verr);
+            const double e = fabs(iq2d(now[x]) - ref[x]);
+            if (e > b) {
+                print_error("x=%d got %.10f ref %.10f err %.3g bound %.3g\n", x, iq2d(now[x]), ref[x], e, b);
+            }
+            assert_true(e <= b);
+            if (e > *worst) { *worst = e; }
+        }
+    }
+}
+
+static void test_formula_random(void **state)
+{
+    foc_rng_t r = { 0xD00Du };
+    volt_calc_t v;
+    double worst0 = 0.0, worst1 = 0.0;
+    int k;
+    (void)state;
+    for (k = 0; k < 100000; k++) {
+        const uint16_t en = (uint16_t)(k & 1);
+        const float th = (float)foc_rng_uniform(&r, 0.01, 1.0);
+        const float td = (float)foc_rng_uniform(&r, 0.0, 0.25 * (double)TS_S * 0.999);
+        const float drop = (float)foc_rng_uniform(&r, 0.0, 1.0);
+        /* currents: half within a few thresholds of zero (the linear zone),
+         * half over the whole range */
+        const double isc = (k % 4 < 2) ? 3.0 * (double)th : 32.0;
+        assert_int_equal(volt_calc_init(&v, td, TS_S, drop, th, en), VOLT_CALC_OK);
+        v.da = d2iq(foc_rng_uniform(&r, 0.0, 1.0));
+        v.db = d2iq(foc_rng_uniform(&r, 0.0, 1.0));
+        v.dc = d2iq(foc_rng_uniform(&r, 0.0, 1.0));
+        v.vdc = d2iq(foc_rng_uniform(&r, 0.0, 16.0));
+        v.ia = d2iq(foc_rng_uniform(&r, -isc, isc));
+        v.ib = d2iq(foc_rng_uniform(&r, -isc, isc));
+        check(&v, en ? &worst1 : &worst0);
+    }
+    print_message("foc_volt_calc random: worst error %.3g pu without, %.3g pu with compensation\n",
+                  worst0, worst1);
+}
+
+/* Edges of the valid range: vdc = 16, duties 0 and 1, currents +-32 (so
+ * ic = -+64), the largest dead time and drop. */
+static void test_edges(void **state)
+{
+    static const double d[] = { 0.0, 1.0 };
+    static const double cur[] = { -32.0, 0.0, 32.0 - 1.0 / 16777216.0 };
+    volt_calc_t v;
+    double worst = 0.0;
+    size_t a, b, c, i, j;
+    (void)state;
+    assert_int_equal(volt_calc_init(&v, 0.25f * TS_S, TS_S, 1.0f, 0.01f, 1u), VOLT_CALC_OK);
+    for (a = 0; a < 2; a++) for (b = 0; b < 2; b++) for (c = 0; c < 2; c++)
+        for (i = 0; i < 3; i++) for (j = 0; j < 3; j++) {
+            v.da = d2iq(d[a]);
+            v.db = d2iq(d[b]);
+            v.dc = d2iq(d[c]);
+            v.vdc = d2iq(16.0);
+            v.ia = d2iq(cur[i]);
+            v.ib = d2iq(cur[j]);
+            check(&v, &worst);
+        }
+}
+
+/* Physics.  Averaged inverter with dead time: while i_x > 0 the pole loses
+ * verr = vdc td/Ts + v_drop, while i_x < 0 it gains it.  With ia = 1,
+ * ib = -0.4, ic = -0.6 (all beyond the threshold) the true phase voltages
+ * differ from the ideal ones by (-4/3, +2/3, +2/3) verr: the uncompensated
+ * estimate is off by exactly that, the compensated one is right.  In the
+ * linear zone (|i| = i_thresh/2) the correction of that phase is halved, at
+ * zero current it is zero.  vdc = sqrt3 (nominal), td = 2 us at 15 kHz
+ * (td/Ts = 0.03), v_drop = 0.05 pu: verr = 0.10196 pu. */
+static void test_compensation_physics(void **state)
+{
+    const double vdc = SQRT3, verr = SQRT3 * 0.03 + 0.05;
+    const double duty[3] = { 0.62, 0.41, 0.35 };
+    volt_calc_t on, off;
+    double ideal[3], truth[3], m, bnd;
+    int x;
+    (void)state;
+    assert_int_equal(volt_calc_init(&on, 2e-6f, TS_S, 0.05f, 0.02f, 1u), VOLT_CALC_OK);
+    assert_int_equal(volt_calc_init(&off, 2e-6f, TS_S, 0.05f, 0.02f, 0u), VOLT_CALC_OK);
+    on.da = off.da = d2iq(duty[0]);
+    on.db = off.db = d2iq(duty[1]);
+    on.dc = off.dc = d2iq(duty[2]);
+    on.vdc = off.vdc = d2iq(vdc);
+    on.ia = off.ia = _IQ(1.0);
+    on.ib = off.ib = _IQ(-0.4);
+    volt_calc_step(&on);
+    volt_calc_step(&off);
+    m = (duty[0] + duty[1] + duty[2]) / 3.0;
+    for (x = 0; x < 3; x++) {
+        ideal[x] = vdc * (duty[x] - m);
+    }
+    truth[0] = ideal[0] - 4.0 / 3.0 * verr;
+    truth[1] = ideal[1] + 2.0 / 3.0 * verr;
+    truth[2] = ideal[2] + 2.0 / 3.0 * verr;
+    /* bound: the formula bound (above) plus the quantisation of the inputs
+     * and of the constants (td/Ts, drop: 1 LSB each times vdc or 1; duties
+     * 0.5 LSB times vdc): 2 (3 + verr) + 1.05 + 4 LSB */
+    bnd = foc_tol(2.0 * (3.0 + verr) + 5.05, 16.0, vdc);
+    assert_true(fabs(iq2d(off.va) - ideal[0]) <= bnd);
+    assert_true(fabs(iq2d(off.vb) - ideal[1]) <= bnd);
+    assert_true(fabs(iq2d(off.vc) - ideal[2]) <= bnd);
+    assert_true(fabs(iq2d(on.va) - truth[0]) <= bnd);
+    assert_true(fabs(iq2d(on.vb) - truth[1]) <= bnd);
+    assert_true(fabs(iq2d(on.vc) - truth[2]) <= bnd);
+    /* sign: the phase carrying positive current is corrected downward */
+    assert_true(iq2d(on.va) < iq2d(off.va) - verr);
+    assert_true(iq2d(on.vb) > iq2d(off.vb) + 0.5 * verr);
+
+    /* linear zone: ia = +0.01 = i_thresh/2 -> sgn 0.5; ib = 0 -> sgn 0;
+     * ic = -0.01 -> sgn -0.5.  Pole shifts (-0.5, 0, +0.5) verr, mean 0. */
+    on.ia = off.ia = d2iq(0.01);
+    on.ib = off.ib = _IQ(0.0);
+    volt_calc_step(&on);
+    volt_calc_step(&off);
+    assert_true(fabs((iq2d(on.va) - iq2d(off.va)) - (-0.5 * verr)) <= 2.0 * bnd);
+    assert_true(fabs(iq2d(on.vb) - iq2d(off.vb)) <= 2.0 * bnd);
+    assert_true(fabs((iq2d(on.vc) - iq2d(off.vc)) - (0.5 * verr)) <= 2.0 * bnd);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_init),
+        cmocka_unit_test(test_formula_random),
+        cmocka_unit_test(test_edges),
+        cmocka_unit_test(test_compensation_physics),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,327 @@
+/* ifo (indirect field orientation): the flux-lag coefficient, the imr step
+ * response against the exact exponential, the slip against its formula,
+ * the angle integration against the exact integral, the small-imr guard,
+ * the wrap and the mid-period angle.
+ *
+ * Rig: the paper's motor (Tr = 19.78 ms), f_base = 50 Hz, Ts = 1/15000 s:
+ * Tr = 6.214 pu time, Ts = 0.020944 pu, kf = 1 - exp(-Ts/Tr) = 0.0033647. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <math.h>
+#include <cmocka.h>
+
+#include "IQmathLib.h"
+#include "base_values.h"
+#include "ifo.h"
+
+#if MATH_TYPE == IQ_MATH
+static double to_d(_iq x) { return ldexp((double)x, -GLOBAL_Q); }
+#else
+static double to_d(_iq x) { return (double)x; }
+#endif
+#define LSB 5.9604644775390625e-8   /* 2^-24 */
+#define PI 3.14159265358979323846
+
+#define TS_S (1.0f / 15000.0f)
+#define TR_S 0.01978f
+
+static base_values_t g_b;
+
+static int setup(void **state)
+{
+    (void)state;
+    return (base_values_init(&g_b, 20.0f, 34.6410161513775f, 50.0f, 2u, TS_S) == BASE_OK) ? 0 : -1;
+}
+
+/* Tr in pu time, as the module receives it (the test's reference uses the
+ * same float input; its own conversion error is not the module's) */
+static double tr_pu_ref(void)
+{
+    return (double)TR_S / (double)g_b.t_base_s;
+}
+
+/* kf against 1 - exp(-Ts/Tr) for Tr from 10 Ts to 100 pu.  Error budget
+ * (IQ): Ts truncated to Q24 (< 1 LSB) divided by Tr: < 1/Tr LSB; the
+ * division truncates (< 1 LSB); Horner steps (each < 1 LSB, multiplied by
+ * x <= 0.1); the last product (< 1 LSB); series remainder < x^6/720 <
+ * 1.4e-9 = 0.02 LSB.  Bound (1/Tr + 4) LSB.  Float: ~6 roundings of
+ * values < 1, relative 6e-8 each: within the same bound. */
+static void test_kf_series(void **state)
+{
+    static const double tr_list[] = {0.2094395102 * 1.0001, 0.5, 1.0, 6.2141, 20.0, 99.0};
+    ifo_t f;
+    uint32_t i;
+    (void)state;
+
+    /* imr_min 0.2 so that the slip bound admits Tr down to 10 Ts */
+    assert_int_equal(ifo_init(&f, TR_S, &g_b, 0.2f), IFO_OK);
+    for (i = 0u; i < sizeof tr_list / sizeof tr_list[0]; i++) {
+        _iq tr = _IQ(tr_list[i]);
+        double trd = to_d(tr);
+        double want = 1.0 - exp(-(double)g_b.Ts_pu / trd);
+        assert_int_equal(ifo_set_tr(&f, tr), IFO_OK);
+        if (!(fabs(to_d(f.kf) - want) <= (1.0 / trd + 4.0) * LSB)) {
+            print_error("Tr=%.4f kf %.10f want %.10f err %.2f LSB\n", trd, to_d(f.kf), want,
+                        (to_d(f.kf) - want) / LSB);
+            fail();
+        }
+        /* 1/Tr: division truncated, < 1 LSB (+ float rounding) */
+        assert_true(fabs(to_d(f.inv_tr) - 1.0 / trd) <= 1.5 * LSB);
+    }
+}
+
+/* Magnetising from 0 with i_m = 0.33 pu (6.56 A of 20 A): imr(k) against
+ * i_m (1 - exp(-k Ts/Tr)) over 8 Tr (2400 samples).
+ * e(k) = (1-kf) e(k-1) + r(k) + i_m (kf_q - kf) (1-kf)^(k-1):
+ * rounding |r| <= 0.5 LSB accumulates to <= 0.5/kf = 149 LSB; the
+ * coefficient error (<= 1/Tr + 4 = 4.2 LSB, test_kf_series) contributes
+ * <= i_m |dkf| max_k k (1-kf)^(k-1) = i_m |dkf| / (e kf) = 152 LSB; the
+ * Tr conversion in float (< 2e-7 relative of x) adds < 0.1 LSB of kf,
+ * i.e. < 4 LSB.  Bound 310 LSB (1.8e-5 pu, 5.6e-5 relative).  Float: per
+ * step 1 rounding of < 0.5 pu (<= 0.5 LSB): same budget. */
+static void test_imr_step_response(void **state)
+{
+    ifo_t f;
+    uint32_t k;
+    const double im = 0.33;
+    double tr = tr_pu_ref();
+    (void)state;
+
+    assert_int_equal(ifo_init(&f, TR_S, &g_b, 0.05f), IFO_OK);
+    f.i_m = _IQ(im);
+    f.i_t = _IQ(0.0);
+    for (k = 1u; k <= 2400u; k++) {
+        double want;
+        ifo_step(&f);
+        want = to_d(f.i_m) * (1.0 - exp(-(double)k * (double)g_b.Ts_pu / tr));
+        if (!(fabs(to_d(f.imr) - want) <= 310.0 * LSB)) {
+            print_error("k=%u imr %.10f want %.10f err %.1f LSB\n", (unsigned)k, to_d(f.imr),
+                        want, (to_d(f.imr) - want) / LSB);
+            fail();
+        }
+    }
+    /* magnetised: the guard is off */
+    assert_int_equal(f.imr_low, 0);
+}
+
+/* Slip at steady flux, against w_slip = i_t / (Tr imr) (pu), for several
+ * i_t, imr.  Budget: 1/Tr truncated (< 1 LSB, times |i_t| <= 1), the
+ * product truncated (< 1 LSB), the division truncated (< 1 LSB) and the
+ * numerator's error divided by imr (>= 0.1): < (2/0.1 + 1) = 21 LSB; plus
+ * the relative error of Tr as passed (float conversion, < 2e-7, times
+ * |wslip| < 2.5: < 9 LSB).  Bound 30 LSB.  ws = wr + wslip exactly. */
+static void test_slip(void **state)
+{
+    static const double it_list[] = {0.5, -0.5, 1.0, 0.01, -1.0};
+    static const double imr_list[] = {0.33, 0.1, 1.0};
+    ifo_t f;
+    uint32_t i, j;
+    double tr = tr_pu_ref();
+    (void)state;
+
+    assert_int_equal(ifo_init(&f, TR_S, &g_b, 0.05f), IFO_OK);
+    for (i = 0u; i < sizeof it_list / sizeof it_list[0]; i++) {
+        for (j = 0u; j < sizeof imr_list / sizeof imr_list[0]; j++) {
+            double want;
+            f.i_m = _IQ(imr_list[j]);
+            f.imr = f.i_m;                  /* steady flux: i_m = imr */
+            f.i_t = _IQ(it_list[i]);
+            f.wr = _IQ(0.8);
+            ifo_step(&f);
+            assert_true(f.imr == f.i_m);    /* no drift at steady state */
+            want = to_d(f.i_t) / (tr * to_d(f.imr));
+            if (!(fabs(to_d(f.wslip) - want) <= 30.0 * LSB)) {
+                print_error("i_t=%.3f imr=%.3f wslip %.10f want %.10f\n", it_list[i],
+                            imr_list[j], to_d(f.wslip), want);
+                fail();
+            }
+            assert_true(f.ws == f.wr + f.wslip);
+            assert_int_equal(f.imr_low, 0);
+        }
+    }
+    /* rated point of the paper's motor: i_T = 5 A (0.25 pu), imr = 6.5625 A
+     * (0.328 pu): w_slip = 0.25/(6.214*0.328) = 0.1226 pu = 38.5 rad/s */
+    f.i_m = _IQ(6.5625 / 20.0);
+    f.imr = f.i_m;
+    f.i_t = _IQ(0.25);
+    ifo_step(&f);
+    assert_true(fabs(to_d(f.wslip) * (double)g_b.w_base_rad_s -
+                     5.0 / (0.01978 * 6.5625)) <= 1e-4 * 38.5);
+}
+
+/* Angle integration at constant ws: theta(N) = frac(theta0 + N ws f_base
+ * Ts).  Per sample: the increment is truncated (IQ: in (-1, 0] LSB) and
+ * the constant f_base Ts carries its float product (< 6e-8 relative) and
+ * its Q30 truncation (< 2^-30), i.e. d = |ws| (2^-30 + 6e-8 f_base Ts)
+ * either way (0.023 LSB at ws = 1.2).  So after k samples the IQ angle is
+ * within [-k (1 LSB + d), +k d] of the exact one; float: one rounding of
+ * the sum per sample (<= 0.5 ulp of < 1: 0.5 LSB), |error| <= k (0.5 LSB +
+ * d) + 1 LSB.  Asserted at every sample, k up to 20000 (about 80
+ * revolutions, 80 wraps), both directions; also theta in [0, 1) and
+ * theta_prev. */
+static void test_angle_integration(void **state)
+{
+    static const double ws_list[] = {1.2, -0.7};
+    ifo_t f;
+    uint32_t i, k;
+    (void)state;
+
+    for (i = 0u; i < 2u; i++) {
+        double ws = ws_list[i];
+        double inc = ws * 50.0 * (double)TS_S;
+        double d = fabs(ws) * (ldexp(1.0, -30) + 6e-8 * 50.0 * (double)TS_S);
+        _iq prev;
+        assert_int_equal(ifo_init(&f, TR_S, &g_b, 0.05f), IFO_OK);
+        ifo_reset(&f, _IQ(0.9));
+        f.wr = _IQ(ws);                /* i_t = 0: no slip */
+        for (k = 1u; k <= 20000u; k++) {
+            double want = fmod(to_d(_IQ(0.9)) + (double)k * to_d(f.wr) / ws * inc, 1.0);
+            double e;
+            if (want < 0.0) {
+                want += 1.0;
+            }
+            prev = f.theta;
+            ifo_step(&f);
+            assert_true(f.theta_prev == prev);
+            assert_true(to_d(f.theta) >= 0.0 && to_d(f.theta) < 1.0);
+            e = to_d(f.theta) - want;
+            e -= floor(e + 0.5);       /* compare on the circle */
+#if MATH_TYPE == IQ_MATH
+            if (!(e <= (double)k * d && e >= -(double)k * (LSB + d))) {
+#else
+            if (!(fabs(e) <= (double)k * (0.5 * LSB + d) + LSB)) {
+#endif
+                print_error("ws=%.2f k=%u theta %.10f want %.10f err %.1f LSB\n", ws,
+                            (unsigned)k, to_d(f.theta), want, e / LSB);
+                fail();
+            }
+        }
+        assert_true(to_d(f.ws) == to_d(f.wr));
+    }
+}
+
+/* Below imr_min the slip is 0 (no division by a vanishing flux) and the
+ * flag is set; it clears on the sample imr crosses imr_min. */
+static void test_small_imr_guard(void **state)
+{
+    ifo_t f;
+    uint32_t k;
+    double tr = tr_pu_ref();
+    /* imr crosses 0.05 when 0.33 (1 - exp(-k Ts/Tr)) = 0.05: k = 48.9 */
+    double k_cross = -log(1.0 - 0.05 / 0.33) * tr / (double)g_b.Ts_pu;
+    (void)state;
+
+    assert_int_equal(ifo_init(&f, TR_S, &g_b, 0.05f), IFO_OK);
+    assert_int_equal(f.imr_low, 1);
+    f.i_m = _IQ(0.33);
+    f.i_t = _IQ(1.0);                  /* full torque current, no flux yet */
+    f.wr = _IQ(0.1);
+    for (k = 1u; k <= 100u; k++) {
+        ifo_step(&f);
+        if ((double)k < k_cross - 0.5) {
+            assert_int_equal(f.imr_low, 1);
+            assert_true(to_d(f.wslip) == 0.0);
+            assert_true(f.ws == f.wr);
+        } else if ((double)k > k_cross + 0.5) {
+            assert_int_equal(f.imr_low, 0);
+            /* finite, and the formula's value (Tr imr >= 0.31: < 3 pu) */
+            assert_true(to_d(f.wslip) > 0.0 && to_d(f.wslip) < 3.3);
+        }
+    }
+    /* zero flux, negative torque current: still 0, no overflow */
+    ifo_reset(&f, _IQ(0.0));
+    f.i_m = _IQ(0.0);
+    f.i_t = _IQ(-1.0);
+    ifo_step(&f);
+    assert_true(to_d(f.wslip) == 0.0);
+    assert_int_equal(f.imr_low, 1);
+}
+
+/* ifo_theta_mid: midpoint along the shorter arc, across the wrap both
+ * ways.  Exact in IQ to 1 LSB (the halving floors). */
+static void test_theta_mid(void **state)
+{
+    static const double cases[][3] = {
+        /* theta_prev, theta, mid */
+        {0.30, 0.31, 0.305},
+        {0.998, 0.004, 0.001},        /* forwards through the wrap */
+        {0.002, 0.996, 0.999},        /* backwards through the wrap */
+        {0.999, 0.001, 0.0},          /* mid exactly on the wrap */
+        {0.7, 0.6, 0.65},
+    };
+    ifo_t f;
+    uint32_t i;
+    (void)state;
+    assert_int_equal(ifo_init(&f, TR_S, &g_b, 0.05f), IFO_OK);
+    for (i = 0u; i < sizeof cases / sizeof cases[0]; i++) {
+        double m, e;
+        f.theta_prev = _IQ(cases[i][0]);
+        f.theta = _IQ(cases[i][1]);
+        m = to_d(ifo_theta_mid(&f));
+        assert_true(m >= 0.0 && m < 1.0);
+        e = m - cases[i][2];
+        e -= floor(e + 0.5);
+        assert_true(fabs(e) <= 2.0 * LSB);
+    }
+    /* after a real step, the mid angle is theta_prev + ws f_base Ts / 2 */
+    ifo_reset(&f, _IQ(0.9995));
+    f.wr = _IQ(1.0);
+    ifo_step(&f);
+    {
+        double e = to_d(ifo_theta_mid(&f)) - fmod(0.9995 + 0.5 * 50.0 * (double)TS_S, 1.0);
+        e -= floor(e + 0.5);
+        assert_true(fabs(e) <= 3.0 * LSB);
+    }
+}
+
+static void test_init_errors(void **state)
+{
+    ifo_t f;
+    base_values_t slow;
+    (void)state;
+    assert_int_equal(ifo_init(&f, TR_S, NULL, 0.05f), IFO_ERR_BASE);
+    /* Ts = 10 ms at 50 Hz: f_base Ts = 0.5 >= 1/128 */
+    assert_int_equal(base_values_init(&slow, 20.0f, 34.6f, 50.0f, 2u, 0.01f), BASE_OK);
+    assert_int_equal(ifo_init(&f, TR_S, &slow, 0.05f), IFO_ERR_BASE);
+    assert_int_equal(ifo_init(&f, TR_S, &g_b, 0.0f), IFO_ERR_IMR_MIN);
+    assert_int_equal(ifo_init(&f, TR_S, &g_b, 1.5f), IFO_ERR_IMR_MIN);
+    assert_int_equal(ifo_init(&f, TR_S, &g_b, NAN), IFO_ERR_IMR_MIN);
+    /* Tr = 5 Ts */
+    assert_int_equal(ifo_init(&f, 5.0f * TS_S, &g_b, 0.05f), IFO_ERR_TR);
+    assert_int_equal(ifo_init(&f, 0.0f, &g_b, 0.05f), IFO_ERR_TR);
+    assert_int_equal(ifo_init(&f, NAN, &g_b, 0.05f), IFO_ERR_TR);
+    /* 0.5 s = 157 pu > 100 */
+    assert_int_equal(ifo_init(&f, 0.5f, &g_b, 0.05f), IFO_ERR_TR);
+    /* slip bound: 2 / (6.21 * 0.004) = 80 > 64 */
+    assert_int_equal(ifo_init(&f, TR_S, &g_b, 0.004f), IFO_ERR_IMR_MIN);
+
+    /* online change: a rejected Tr keeps the old constants */
+    assert_int_equal(ifo_init(&f, TR_S, &g_b, 0.05f), IFO_OK);
+    {
+        _iq kf = f.kf, inv = f.inv_tr, tr = f.tr;
+        assert_int_equal(ifo_set_tr(&f, _IQ(0.1)), IFO_ERR_TR);      /* < 10 Ts */
+        assert_int_equal(ifo_set_tr(&f, _IQ(101.0)), IFO_ERR_TR);
+        assert_int_equal(ifo_set_tr(&f, _IQ(-6.0)), IFO_ERR_TR);
+        assert_true(f.kf == kf && f.inv_tr == inv && f.tr == tr);
+        /* Tr +10 %: kf and 1/Tr move accordingly */
+        assert_int_equal(ifo_set_tr(&f, _IQ(6.2141 * 1.1)), IFO_OK);
+        assert_true(fabs(to_d(f.inv_tr) - 1.0 / to_d(f.tr)) <= 1.5 * LSB);
+        assert_true(to_d(f.kf) < to_d(kf));
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_kf_series),
+        cmocka_unit_test(test_imr_step_response),
+        cmocka_unit_test(test_slip),
+        cmocka_unit_test(test_angle_integration),
+        cmocka_unit_test(test_small_imr_guard),
+        cmocka_unit_test(test_theta_mid),
+        cmocka_unit_test(test_init_errors),
+    };
+    return cmocka_run_group_tests(tests, setup, NULL);
+}

@@ -1,0 +1,114 @@
+/*
+ * Closed-loop tests (issue 3 item 5, issue 4 item 6): the unchanged firmware
+ * ISR against the simulated paper motor with the default realistic inverter
+ * (dead time 1 us, 0.3 V drop, bus ripple) and sensors (Hall gain/offset
+ * errors and noise, ADC quantisation and noise, 1000-line encoder).
+ * One run of the default scenario; each test asserts one property of it.
+ */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "sim_config.h"
+#include "sim_run.h"
+
+static sim_config_t g_cfg;
+static sim_result_t g_res;
+
+static int run_paper_motor(void **state)
+{
+    sim_options_t opt;
+    char err[256];
+    (void)state;
+    memset(&opt, 0, sizeof opt);
+    opt.scenario = SCEN_START;
+    opt.quiet = 1u;
+    if (sim_config_load(MC_CONFIG_DIR "/paper_motor.ini", &g_cfg, err, sizeof err) != 0) {
+        fprintf(stderr, "%s\n", err);
+        return -1;
+    }
+    if (sim_run(&g_cfg, &opt, &g_res, err, sizeof err) != 0) {
+        fprintf(stderr, "%s\n", err);
+        return -1;
+    }
+    printf("paper motor: error %% Rs %+.2f Rr %+.2f Lm %+.2f Lr %+.2f psi_r %+.2f Tr %+.2f; "
+           "converged %.3f s after the acceleration began; max |psi_q/psi_d| %.4f; "
+           "max speed error on the ramp %.1f r/min; max |i| %.2f A\n",
+           g_res.error_pct.Rs_ohm, g_res.error_pct.Rr_ohm, g_res.error_pct.Lm_H,
+           g_res.error_pct.Lr_H, g_res.error_pct.psi_r_Wb, g_res.error_pct.Tr_s, g_res.converge_s,
+           g_res.max_flux_q_over_d, g_res.max_speed_err_rpm_ramp, g_res.max_abs_i_A);
+    return 0;
+}
+
+/* Issue 4: every parameter within 2 % of truth (the paper reports up to 4.3 %). */
+static void test_identification_accuracy(void **state)
+{
+    const double bound_pct = 2.0;
+    (void)state;
+    assert_int_equal(g_res.identified, 1);
+    assert_true(fabs(g_res.error_pct.Rs_ohm) < bound_pct);
+    assert_true(fabs(g_res.error_pct.Rr_ohm) < bound_pct);
+    assert_true(fabs(g_res.error_pct.Lm_H) < bound_pct);
+    assert_true(fabs(g_res.error_pct.Lr_H) < bound_pct);
+    assert_true(fabs(g_res.error_pct.psi_r_Wb) < bound_pct);
+    assert_true(fabs(g_res.error_pct.Tr_s) < bound_pct);
+    /* published from a confirmed steady state, not from the time-out */
+    assert_int_equal(g_res.settle_timeout, 0);
+}
+
+/* Issue 4: within 2 % of the final value at most 1 s after the acceleration starts. */
+static void test_convergence_time(void **state)
+{
+    (void)state;
+    assert_true(g_res.converge_s >= 0.0);
+    assert_true(g_res.converge_s <= 1.0);
+}
+
+/* Issue 3: field orientation holds: rotor-flux q below 1 % of d with the right Tr. */
+static void test_field_orientation(void **state)
+{
+    (void)state;
+    assert_true(g_res.max_flux_q_over_d < 0.01);
+}
+
+/* Issue 3: speed follows its ramp.  Bound 2 % of rated speed (28 r/min): the
+ * speed loop (8 Hz) lags a 2000 r/min/s ramp by about ramp/(2 pi 8 Hz) ~ 40 r/min
+ * without the integral action; with it the steady ramp error goes to zero,
+ * what is left is the start transient (excluded: the first 0.2 s). */
+static void test_speed_tracking(void **state)
+{
+    (void)state;
+    assert_true(g_res.max_speed_err_rpm_ramp < 0.02 * g_cfg.rated_speed_rpm);
+    assert_true(fabs(g_res.final_speed_rpm - g_cfg.target_speed_rpm) < 0.005 * g_cfg.rated_speed_rpm);
+}
+
+/* Issue 3: no current limit exceeded: the phase current stays below the
+ * magnitude the limits allow, sqrt(i_M^2 + i_T,max^2) plus 10 % for ripple and
+ * the current-loop overshoot, and below the trip level. */
+static void test_current_limits(void **state)
+{
+    double allowed = sqrt(g_cfg.magnetizing_current_A * g_cfg.magnetizing_current_A +
+                          g_cfg.max_torque_current_A * g_cfg.max_torque_current_A);
+    (void)state;
+    assert_true(g_res.max_abs_i_A < 1.1 * allowed);
+    assert_true(g_res.max_abs_i_A < g_cfg.overcurrent_A);
+    assert_int_equal(g_res.n_faults_seen, 0);
+    assert_int_equal(g_res.final_pwm_on, 1);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_identification_accuracy),
+        cmocka_unit_test(test_convergence_time),
+        cmocka_unit_test(test_field_orientation),
+        cmocka_unit_test(test_speed_tracking),
+        cmocka_unit_test(test_current_limits),
+    };
+    return cmocka_run_group_tests(tests, run_paper_motor, NULL);
+}
