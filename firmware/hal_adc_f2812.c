@@ -1,0 +1,83 @@
+/**
+ * @file hal_adc_f2812.c
+ * hal_adc.h on the F2812 ADC (SPRU060).
+ *
+ * Why the control ISR is the ADC end-of-sequence interrupt and not the T1
+ * underflow interrupt: the T1 underflow starts the conversions (EV-A SOC),
+ * so at that instant the results are not there yet (3 conversions take
+ * ~1.5 us); a T1UFINT ISR would have to busy-wait on SEQ1_BSY or read the
+ * previous period's samples.  ADCINT fires when the three results are in
+ * ADCRESULT0..2, so the ISR reads fresh samples without waiting, at a fixed
+ * delay after the period start (the sampling instant is still the underflow,
+ * the centre of the zero vector, where the currents equal their period
+ * average).
+ *
+ * Clocks: HSPCLK 150 MHz, ADCCLKPS = 3 -> 25 MHz, CPS = 1 -> ADCCLK 12.5 MHz
+ * (under the 25 MHz maximum, with the better linearity of the slower clock);
+ * ACQ_PS = 3 -> a 4-ADCCLK (320 ns) sample window for the Hall outputs.
+ */
+#include "DSP281x_Device.h"
+#include "adc_f2812.h"
+#include "hal_adc.h"
+
+#pragma CODE_SECTION(hal_adc_read, "ramfuncs")
+#pragma CODE_SECTION(adc_f2812_ack, "ramfuncs")
+
+/* ADCTRL3.ADCBGRFDN = 11 (band gap and reference on), then ADCPWDN = 1; the
+ * SPRU060 power-up delays: 7 ms after the reference, 20 us after the rest. */
+#define ADC_REF_DELAY_LOOPS   350000UL   /* >= 7 ms at 150 MHz, >= 3 cycles/loop */
+#define ADC_PWR_DELAY_LOOPS   1000UL     /* >= 20 us */
+
+#define ADC_CH_A0  0x0u   /* ADCCHSELSEQ code: ADCINA0..7 = 0..7, ADCINB0..7 = 8..15 */
+#define ADC_CH_A1  0x1u
+#define ADC_CH_B0  0x8u
+
+static void adc_delay(uint32_t loops)
+{
+    volatile uint32_t n;
+    for (n = 0u; n < loops; n++) {
+        /* power-up wait (start-up only) */
+    }
+}
+
+void adc_f2812_init(void)
+{
+    AdcRegs.ADCTRL3.bit.ADCBGRFDN = 3u;
+    adc_delay(ADC_REF_DELAY_LOOPS);
+    AdcRegs.ADCTRL3.bit.ADCPWDN = 1u;
+    adc_delay(ADC_PWR_DELAY_LOOPS);
+
+    AdcRegs.ADCTRL3.bit.ADCCLKPS = 3u;
+    AdcRegs.ADCTRL3.bit.SMODE_SEL = 0u;    /* sequential sampling */
+    AdcRegs.ADCTRL1.bit.CPS = 1u;
+    AdcRegs.ADCTRL1.bit.ACQ_PS = 3u;
+    AdcRegs.ADCTRL1.bit.SEQ_CASC = 1u;     /* one 16-state sequencer */
+    AdcRegs.ADCTRL1.bit.CONT_RUN = 0u;     /* start-stop: one sequence per SOC */
+    AdcRegs.ADCTRL1.bit.SUSMOD = 0u;
+
+    AdcRegs.ADCMAXCONV.bit.MAX_CONV1 = 2u; /* three conversions */
+    AdcRegs.ADCCHSELSEQ1.bit.CONV00 = ADC_CH_A0;   /* ia  -> ADCRESULT0 */
+    AdcRegs.ADCCHSELSEQ1.bit.CONV01 = ADC_CH_B0;   /* ib  -> ADCRESULT1 */
+    AdcRegs.ADCCHSELSEQ1.bit.CONV02 = ADC_CH_A1;   /* vdc -> ADCRESULT2 */
+
+    AdcRegs.ADCTRL2.bit.RST_SEQ1 = 1u;
+    AdcRegs.ADCST.bit.INT_SEQ1_CLR = 1u;
+    AdcRegs.ADCTRL2.bit.EVA_SOC_SEQ1 = 1u; /* EV-A (T1 underflow) starts it */
+    AdcRegs.ADCTRL2.bit.INT_MOD_SEQ1 = 0u; /* interrupt at every sequence end */
+    AdcRegs.ADCTRL2.bit.INT_ENA_SEQ1 = 1u;
+}
+
+void adc_f2812_ack(void)
+{
+    AdcRegs.ADCTRL2.bit.RST_SEQ1 = 1u;
+    AdcRegs.ADCST.bit.INT_SEQ1_CLR = 1u;
+}
+
+void hal_adc_read(hal_adc_sample_t *s)
+{
+    /* ADCRESULTn are left-justified 12-bit (bits 15..4), as hal_adc.h
+     * specifies: passed through unchanged */
+    s->ia_raw = AdcRegs.ADCRESULT0;
+    s->ib_raw = AdcRegs.ADCRESULT1;
+    s->vdc_raw = AdcRegs.ADCRESULT2;
+}

@@ -1,0 +1,132 @@
+/**
+ * @file main.c
+ * F2812 firmware entry: start-up sequence and the background loop.
+ *
+ *   reset -> boot ROM -> BEGIN (code_start.asm) -> _c_int00 -> main
+ *   main:  clocks and watchdog, ramfuncs copy, flash wait states, pins,
+ *          PIE, drive_init(board config), EV-A / ADC / QEP / SCI-A, the data
+ *          log, ISRs, T1 start, then the background loop forever.
+ *
+ * The drive starts its identification sequence on a telemetry command ($C,S)
+ * or the start button (GPIOB0, active low); everything else runs in
+ * drive_isr (15 kHz, from the ADC end-of-sequence interrupt).
+ */
+#include "DSP281x_Device.h"
+#include "adc_f2812.h"
+#include "board_config.h"
+#include "datalog.h"
+#include "drive_types.h"
+#include "f2812_timing.h"
+#include "flash.h"
+#include "gpio_mux.h"
+#include "isr.h"
+#include "pie.h"
+#include "pwm_f2812.h"
+#include "qep_f2812.h"
+#include "sci_f2812.h"
+#include "sysctrl.h"
+#include "telemetry.h"
+
+/* The application owns the drive.  The data log sits in its own RAM section
+ * (`dlog`, linker/F2812_flash.cmd) at a fixed address for the CCS graph. */
+static drive_t g_drive;
+#pragma DATA_SECTION(g_dlog, "dlog")
+static datalog_t g_dlog;
+static telemetry_t g_tlm;
+
+/* 20 telemetry frames per second: one every 750 control periods */
+#define TLM_PERIOD_TICKS 750u
+/* data log: every 2nd sample (7.5 kS/s, 34 ms of history), trigger when i_T
+ * rises through 0.1 pu */
+#define DLOG_PRESCALE    2u
+
+static void halt_on_config_error(void)
+{
+    /* no PWM was ever enabled; the LED says why we stopped */
+    hal_pwm_disable();
+    gpio_fault_led(1u);
+    for (;;) {
+        /* halted: the watchdog is disabled during init, so it stays here */
+    }
+}
+
+static void apply_command(tlm_cmd_t cmd)
+{
+    switch (cmd) {
+    case TLM_CMD_START:
+        drive_command(&g_drive, DRIVE_CMD_START_IDENT);
+        break;
+    case TLM_CMD_STOP:
+        drive_command(&g_drive, DRIVE_CMD_STOP);
+        break;
+    case TLM_CMD_RESET_FAULT:
+        (void)pwm_f2812_clear_trip();
+        drive_command(&g_drive, DRIVE_CMD_RESET_FAULT);
+        break;
+    case TLM_CMD_DLOG_ARM:
+        datalog_arm(&g_dlog);
+        break;
+    case TLM_CMD_NONE:
+    default:
+        break;
+    }
+}
+
+int main(void)
+{
+    f2812_timing_t tm;
+    uint16_t last_tlm = 0u;
+    uint16_t button_prev = 0u;
+    const drive_config_t *cfg = &g_board_config;
+
+    sysctrl_init();
+    flash_copy_ramfuncs();
+    flash_init();
+    gpio_mux_init();
+    pie_init();
+
+    if (f2812_timing_t1pr(&tm, (float)BOARD_HSPCLK_HZ, cfg->board.pwm_freq_Hz) != TIMING_OK
+        || f2812_timing_deadband(&tm, (float)BOARD_HSPCLK_HZ, cfg->board.dead_time_s) != TIMING_OK
+        || f2812_timing_brr(&tm, (float)BOARD_LSPCLK_HZ, (float)BOARD_SCI_BAUD) != TIMING_OK
+        || drive_init(&g_drive, cfg) != 0) {
+        halt_on_config_error();
+    }
+    (void)datalog_init(&g_dlog, DLOG_PRESCALE, _IQ(0.1));
+    telemetry_init(&g_tlm);
+
+    pwm_f2812_init(tm.t1pr, tm.dbtcona);
+    adc_f2812_init();
+    qep_f2812_init();
+    sci_f2812_init(tm.brr);
+
+    isr_install(&g_drive, &g_dlog);
+    EINT;
+    ERTM;
+    pwm_f2812_start();          /* T1 runs: SOC, ADCINT, drive_isr at 15 kHz */
+    sysctrl_watchdog_enable();
+
+    for (;;) {
+        drive_telemetry_t tl;
+        uint16_t now = isr_ticks();
+        uint16_t button = BOARD_BUTTON_PRESSED() ? 1u : 0u;
+
+        drive_background(&g_drive);
+
+        if (button != 0u && button_prev == 0u) {
+            apply_command(TLM_CMD_START);
+        }
+        button_prev = button;
+
+        apply_command(sci_f2812_poll(&g_tlm));
+
+        /* modulo-2^16 difference: correct across the tick counter's wrap */
+        if ((uint16_t)(now - last_tlm) >= TLM_PERIOD_TICKS) {
+            last_tlm = now;
+            drive_get_telemetry(&g_drive, &tl);
+            (void)telemetry_send(&g_tlm, &tl, isr_load_max());
+            gpio_fault_led((tl.fault != 0u || hal_pwm_tripped() != 0u) ? 1u : 0u);
+        }
+
+        sysctrl_watchdog_service();
+    }
+}

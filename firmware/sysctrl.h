@@ -1,0 +1,19 @@
+/**
+ * @file sysctrl.h
+ * System control of the F2812 (SPRU078): watchdog, PLL, peripheral clocks.
+ */
+#ifndef SYSCTRL_H
+#define SYSCTRL_H
+
+/** Disable the watchdog, set the PLL to 150 MHz from the 30 MHz clock and
+ *  wait for lock, set HSPCLK / LSPCLK and enable the clocks of EV-A, ADC and
+ *  SCI-A.  First call after reset (the boot ROM leaves the watchdog running). */
+void sysctrl_init(void);
+/** Enable the watchdog (reset after 256 / (OSCCLK / 512 / 64) = 280 ms
+ *  without service).  Called once the background loop runs. */
+void sysctrl_watchdog_enable(void);
+/** Service the watchdog (key sequence 0x55, 0xAA).  Background loop only:
+ *  a stuck background loop, or an ISR that takes all the CPU, resets. */
+void sysctrl_watchdog_service(void);
+
+#endif /* SYSCTRL_H */

@@ -1,0 +1,65 @@
+/**
+ * @file telemetry.h
+ * The SCI-A telemetry protocol (portable C: frames are built in and parsed
+ * from RAM rings; sci_f2812.c moves the bytes to and from the SCI FIFOs).
+ *
+ * ASCII frames in the NMEA style, one per line, so a terminal shows them and
+ * a script parses them:
+ *
+ *   $T,<seq>,<state>,<fault>,<pwm_on>,<valid>,<load>,<speed>,<speed_ref>,
+ *      <i_m>,<i_t>,<vdc>,<Rs>,<Rr>,<Lm>,<Lr>,<psi_r>,<Tr>*<CK>\r\n
+ *
+ *   seq .. load   4 hex digits (uint16: frame counter, id_state_t, fault
+ *                 code, 0/1, 0/1, ISR load in T1 ticks)
+ *   speed .. Tr   8 hex digits: the per-unit value in Q24, two's complement
+ *                 (value = (int32)hex / 2^24; bases in base_values.h)
+ *   CK            2 hex digits: XOR of every character between '$' and '*'
+ *
+ * Commands to the drive, same framing:  $C,<c>*<CK>\r\n  with c =
+ *   S start the identification sequence   X stop
+ *   R reset a latched fault               D arm the data-log trigger
+ * A frame with a bad checksum or format is ignored (counted in rx_errors).
+ *
+ * Non-blocking: telemetry_send drops the whole frame (counted in dropped)
+ * when the TX ring lacks room; nothing ever waits for the UART.
+ */
+#ifndef TELEMETRY_H
+#define TELEMETRY_H
+
+#include <stdint.h>
+#include "drive.h"
+
+#define TLM_TX_SIZE   512u    /* > 3 frames of 146 characters */
+#define TLM_RX_SIZE   16u
+#define TLM_Q24_FIELDS 11u
+
+typedef enum {
+    TLM_CMD_NONE = 0,
+    TLM_CMD_START,
+    TLM_CMD_STOP,
+    TLM_CMD_RESET_FAULT,
+    TLM_CMD_DLOG_ARM
+} tlm_cmd_t;
+
+typedef struct {
+    /* outputs */
+    uint16_t seq;       /* frames queued so far (wraps) */
+    uint16_t dropped;   /* frames dropped for lack of room */
+    uint16_t rx_errors; /* command frames rejected */
+    /* state */
+    uint16_t tx[TLM_TX_SIZE];  /* one character per word (16-bit char on C28x) */
+    uint16_t head, tail;       /* ring: write at head, read at tail */
+    uint16_t rx[TLM_RX_SIZE];
+    uint16_t rx_len;           /* 0 while waiting for '$' */
+} telemetry_t;
+
+void telemetry_init(telemetry_t *t);
+/** Queue one $T frame.  Returns 1 if queued, 0 if dropped. */
+uint16_t telemetry_send(telemetry_t *t, const drive_telemetry_t *s, uint16_t isr_load);
+/** Next character to transmit; returns 0 when the ring is empty. */
+uint16_t telemetry_tx_pop(telemetry_t *t, uint16_t *c);
+/** Feed one received character; returns a command when a valid $C frame
+ *  ends with this character, TLM_CMD_NONE otherwise. */
+tlm_cmd_t telemetry_rx_byte(telemetry_t *t, uint16_t c);
+
+#endif /* TELEMETRY_H */

@@ -1,0 +1,141 @@
+/* target_telemetry: the $T frame parsed back field by field by an
+ * independent parser written here (sscanf + NMEA XOR checksum), the $C
+ * commands, and the non-blocking drop when the ring is full. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "telemetry.h"
+
+static telemetry_t s_t;
+
+static size_t drain(telemetry_t *t, char *buf, size_t cap)
+{
+    size_t n = 0u;
+    uint16_t c;
+    while (n + 1u < cap && telemetry_tx_pop(t, &c) != 0u) {
+        buf[n++] = (char)c;
+    }
+    buf[n] = '\0';
+    return n;
+}
+
+static unsigned nmea_ck(const char *s)   /* XOR between '$' and '*' */
+{
+    unsigned ck = 0u;
+    for (s++; *s != '\0' && *s != '*'; s++) {
+        ck ^= (unsigned char)*s;
+    }
+    return ck;
+}
+
+static void test_frame_round_trip(void **state)
+{
+    drive_telemetry_t d;
+    char buf[400];
+    unsigned f[6], ck;
+    unsigned q[TLM_Q24_FIELDS];
+    int n;
+    size_t len;
+    (void)state;
+    telemetry_init(&s_t);
+    memset(&d, 0, sizeof d);
+    d.state = 7u; d.fault = 0x12u; d.pwm_on = 1u; d.params_valid = 1u;
+    d.speed = _IQ(0.5);    d.speed_ref = _IQ(-0.25); d.i_m = _IQ(0.328125);
+    d.i_t = _IQ(-1.5);     d.vdc = _IQ(1.75);        d.Rs = _IQ(0.0625);
+    d.Rr = _IQ(0.03125);   d.Lm = _IQ(1.25);         d.Lr = _IQ(1.5);
+    d.psi_r = _IQ(-0.125); d.Tr = _IQ(100.0);
+    assert_int_equal(telemetry_send(&s_t, &d, 4321u), 1);
+    len = drain(&s_t, buf, sizeof buf);
+    assert_int_equal(len, strlen(buf));
+    assert_int_equal(len, 136u);   /* 2 + 6*5 + 11*9 + 5 characters */
+    n = sscanf(buf, "$T,%4x,%4x,%4x,%4x,%4x,%4x,%8x,%8x,%8x,%8x,%8x,%8x,%8x,%8x,%8x,%8x,%8x*%2x\r\n",
+               &f[0], &f[1], &f[2], &f[3], &f[4], &f[5], &q[0], &q[1], &q[2], &q[3], &q[4],
+               &q[5], &q[6], &q[7], &q[8], &q[9], &q[10], &ck);
+    assert_int_equal(n, 18);
+    assert_int_equal(f[0], 0u); assert_int_equal(f[1], 7u); assert_int_equal(f[2], 0x12u);
+    assert_int_equal(f[3], 1u); assert_int_equal(f[4], 1u); assert_int_equal(f[5], 4321u);
+    /* dyadic values: their Q24 images are exact in both builds */
+    assert_int_equal((int32_t)q[0], 8388608);      /* 0.5 * 2^24 */
+    assert_int_equal((int32_t)q[1], -4194304);
+    assert_int_equal((int32_t)q[2], 5505024);      /* 0.328125 * 2^24 */
+    assert_int_equal((int32_t)q[3], -25165824);
+    assert_int_equal((int32_t)q[4], 29360128);
+    assert_int_equal((int32_t)q[10], 1677721600);  /* 100 * 2^24 */
+    assert_int_equal(ck, nmea_ck(buf));
+    assert_int_equal(buf[strlen(buf) - 2], '\r');
+    assert_int_equal(s_t.seq, 1u);
+}
+
+static void test_ring_full_drops_whole_frames(void **state)
+{
+    drive_telemetry_t d;
+    char buf[2048];
+    uint16_t sent = 0u, i;
+    size_t len;
+    (void)state;
+    telemetry_init(&s_t);
+    memset(&d, 0, sizeof d);
+    for (i = 0u; i < 10u; i++) {
+        sent = (uint16_t)(sent + telemetry_send(&s_t, &d, 0u));
+    }
+    /* a frame is 2+6*5+11*9+5 = 136 characters; the ring keeps 511: 3 fit */
+    assert_int_equal(sent, 3u);
+    assert_int_equal(s_t.dropped, 7u);
+    len = drain(&s_t, buf, sizeof buf);
+    assert_int_equal(len, 3u * 136u);
+    /* no partial frame: every frame starts with $T */
+    assert_int_equal(buf[136], '$');
+    assert_int_equal(buf[272], '$');
+}
+
+static tlm_cmd_t feed(const char *s)
+{
+    tlm_cmd_t last = TLM_CMD_NONE;
+    for (; *s != '\0'; s++) {
+        tlm_cmd_t c = telemetry_rx_byte(&s_t, (uint16_t)(unsigned char)*s);
+        if (c != TLM_CMD_NONE) {
+            last = c;
+        }
+    }
+    return last;
+}
+
+static void test_commands(void **state)
+{
+    char frame[16];
+    const char cmds[4] = { 'S', 'X', 'R', 'D' };
+    const tlm_cmd_t want[4] = { TLM_CMD_START, TLM_CMD_STOP, TLM_CMD_RESET_FAULT, TLM_CMD_DLOG_ARM };
+    int i;
+    (void)state;
+    telemetry_init(&s_t);
+    for (i = 0; i < 4; i++) {
+        snprintf(frame, sizeof frame, "$C,%c*", cmds[i]);
+        snprintf(frame + 5, sizeof frame - 5, "%02X\r\n", nmea_ck(frame));
+        assert_int_equal(feed(frame), want[i]);
+    }
+    assert_int_equal(s_t.rx_errors, 0u);
+    /* bad checksum, unknown command, garbage, over-long: all rejected */
+    assert_int_equal(feed("$C,S*00\r\n"), TLM_CMD_NONE);
+    assert_int_equal(feed("$C,Q*"), TLM_CMD_NONE);
+    assert_int_equal(feed("noise\r\n"), TLM_CMD_NONE);
+    assert_int_equal(feed("$C,SSSSSSSSSSSSSSSSSSSS*00\r\n"), TLM_CMD_NONE);
+    assert_true(s_t.rx_errors >= 3u);
+    /* a good frame after the garbage still works */
+    snprintf(frame, sizeof frame, "$C,S*%02X\n", 'C' ^ ',' ^ 'S');
+    assert_int_equal(feed(frame), TLM_CMD_START);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_frame_round_trip),
+        cmocka_unit_test(test_ring_full_drops_whole_frames),
+        cmocka_unit_test(test_commands),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
