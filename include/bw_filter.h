@@ -30,8 +30,9 @@
  * exactly 1 (d = 0, z2 = 0 is a fixed point to the bit), and D's small
  * entries are computed and stored with full relative precision (A11 = 1 -
  * 9e-6 would keep only 17 significant bits of its distance to 1).
- * bw_filter_step uses the map (4 multiplies); bw_filter_step_npass runs the
- * literal predictor + N corrector passes (2 + 5N multiplies) as the
+ * bw_filter_step uses the map (5 IQmath multiplies, one of them the
+ * Q27 -> Q26 change of format, + 1 for dy); bw_filter_step_npass runs the
+ * literal predictor + N corrector passes (7 + 5N multiplies) as the
  * reference the map is tested against.
  *
  * Fixed point (IQ_MATH).  State s in Q27 (range +-16, LSB 7.5e-9 pu = 1/8
@@ -45,6 +46,11 @@
  * at a = 4.2e-3) that is a steady bias of ~600 LSB Q27 = 70 LSB Q24; with
  * rounding the bias is zero and the rounding noise ~0.5 LSB Q24 rms.
  * Coefficients in Q30 (relative resolution 2.5e-7 for |D| ~ a).
+ * Dead band: a rounded increment a*w vanishes for |w| < 1/(2a) LSB, so a
+ * settling state stops within |x1 - u| <= 290 LSB27 = 37 LSB24 (2.2e-6 pu)
+ * of the equilibrium (at a = 4.19e-3; tests/estim measure 35); it is
+ * symmetric (zero mean) with rounding, one-sided (-51 LSB24) with
+ * truncation.  A wider state would need 64-bit arithmetic.
  *
  * Scaling and overflow of bw_filter_step: input saturated (bounded as
  * above, so no internal sum can overflow); outputs y = x1 in Q24 (the 3
@@ -106,7 +112,7 @@ bw_filter_status_t bw_filter_init(bw_filter_t *f, float wc_rad_s, uint16_t n_pas
  *  x1 = y0, derivative 0.  Avoids the start-up transient. */
 void bw_filter_reset(bw_filter_t *f, _iq y0);
 
-/** One sample with the precomputed map (the ISR path): 4 multiplies + 1
+/** One sample with the precomputed map (the ISR path): 5 multiplies + 1
  *  for dy.  Each row is one small coefficient times one sum,
  *      x1 += D12 (z2 + c1 d),   z2 += D21 (d + c2 z2),
  *  so each increment is rounded once (the dead band, below, is then
@@ -116,7 +122,7 @@ void bw_filter_step(bw_filter_t *f);
 /** One sample by the literal predictor + N corrector passes (eqs. 15-18,
  *  method §5): the reference for bw_filter_step.  Same state, inputs and
  *  outputs; intermediate f values in Q26 (range +-32 covers |f| < 25).
- *  Not for the ISR (2 + 5N multiplies). */
+ *  Not for the ISR (7 + 5N multiplies). */
 void bw_filter_step_npass(bw_filter_t *f);
 
 #endif /* BW_FILTER_H */

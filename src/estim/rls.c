@@ -138,7 +138,7 @@ void rls_forget(rls_t *r)
     r->windup_hold = 0u;
     for (i = 0; i < RLS_N; i++) {
         for (j = i; j < RLS_N; j++) {
-            r->Pn[i][j] = _IQ30rmpy(r->Pn[i][j], r->inv_lambda);   /* Q30*Q30 -> Q30 */
+            r->Pn[i][j] = _IQ30rsmpy(r->Pn[i][j], r->inv_lambda);  /* Q30*Q30 -> Q30, rounded, saturating */
             r->Pn[j][i] = r->Pn[i][j];
         }
     }
@@ -184,7 +184,7 @@ _iq rls_update_row(rls_t *r, const _iq phi_in[RLS_N], _iq y)
     for (i = 0; i < RLS_N; i++) {
         g[i] = _IQ28(0.0);
         for (j = 0; j < RLS_N; j++) {
-            g[i] += _IQ30rmpy(r->Pn[i][j], psi[j]);
+            g[i] = estim_add_sat(g[i], _IQ30rmpy(r->Pn[i][j], psi[j]), &r->sat_count);
         }
         q = estim_add_sat(q, _IQ29rmpy(psi[i], g[i]), &r->sat_count);
     }
@@ -194,11 +194,13 @@ _iq rls_update_row(rls_t *r, const _iq phi_in[RLS_N], _iq y)
     }
     /* den and the shifts of h and K (rls.h) */
     if (pp >= 0) {
-        den = q + estim_ldexp(_IQ27(1.0), (int16_t)(-2 * pp), 27, 27, NULL);
+        den = estim_add_sat(q, estim_ldexp(_IQ27(1.0), (int16_t)(-2 * pp), 27, 27, NULL),
+                            &r->sat_count);
         hs = 0;
         ks = (int16_t)-pp;
     } else {
-        den = _IQ27(1.0) + estim_ldexp(q, (int16_t)(2 * pp), 27, 27, NULL);
+        den = estim_add_sat(_IQ27(1.0), estim_ldexp(q, (int16_t)(2 * pp), 27, 27, NULL),
+                            &r->sat_count);
         hs = pp;
         ks = 0;
     }
@@ -214,7 +216,9 @@ _iq rls_update_row(rls_t *r, const _iq phi_in[RLS_N], _iq y)
     /* P update on the upper triangle, mirrored: symmetric to the bit */
     for (i = 0; i < RLS_N; i++) {
         for (j = i; j < RLS_N; j++) {
-            r->Pn[i][j] = r->Pn[i][j] - _IQ26rmpy(h[i], h[j]);   /* Q28*Q28 -> Q30 */
+            /* Q28*Q28 -> Q30; |h_i h_j| < 1 and |Pn_ij| < 1 while P is PD, so the
+             * saturation only acts on an already ill-conditioned P (counted) */
+            r->Pn[i][j] = estim_sub_sat(r->Pn[i][j], _IQ26rmpy(h[i], h[j]), &r->sat_count);
             r->Pn[j][i] = r->Pn[i][j];
         }
     }

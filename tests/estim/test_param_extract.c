@@ -1,0 +1,231 @@
+/* estim_param_extract: motor parameters from the regression estimates
+ * (method §4, eq. 10 rewritten).  The method's check (K1 = -264.548 1/s,
+ * K2 = 210.623 1/H, K3' = 1.47675 V, K4 = -6.15385 A, i_M = 6.5625 A give
+ * Rs 1.031, Rr 0.465, Lm 0.0064, Lr 0.0092, psi_r 0.042, Tr 0.01978) in per
+ * unit (I_base 20 A, V_base 60/sqrt3 V, f_base 50 Hz), both regressor
+ * forms, and every rejection path. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <cmocka.h>
+
+#include "param_extract.h"
+#include "estim_test_util.h"
+
+#define PI_D 3.14159265358979323846
+
+typedef struct {
+    base_values_t b;
+    param_limits_t lim;
+    param_extract_t p;
+    /* the check, SI */
+    double K1, K2, K3p, K4, im;
+} fx_t;
+
+static fx_t fx;
+
+static int setup(void **state)
+{
+    (void)state;
+    assert_int_equal(base_values_init(&fx.b, 20.0f, 60.0f / 1.7320508f, 50.0f, 2u, 1.0f / 15000.0f),
+                     BASE_OK);
+    fx.lim = (param_limits_t){
+        .Rs_ohm = {0.1f, 10.0f}, .Rr_ohm = {0.05f, 5.0f}, .Lm_H = {1e-3f, 0.05f},
+        .Lr_H = {1e-3f, 0.06f}, .psi_Wb = {0.005f, 0.2f}, .Tr_s = {0.002f, 0.2f},
+        .i_m_min_A = 0.5f};
+    assert_int_equal(param_extract_init(&fx.p, &fx.b, &fx.lim), PARAM_INIT_OK);
+    fx.K1 = -264.548; fx.K2 = 210.623; fx.K3p = 1.47675; fx.K4 = -6.15385; fx.im = 6.5625;
+    return 0;
+}
+
+/* the check in pu: K1/w_base, K2 V_base/(I_base w_base), K3'/V_base (paper
+ * form) or K3 = K2 K3' in pu = K3/(I_base w_base) (constant form),
+ * K4/I_base, i_M/I_base */
+static void load(param_extract_t *p, int paper, double K1, double K2, double K3p, double K4, double im)
+{
+    const double wb = (double)fx.b.w_base_rad_s, Ib = (double)fx.b.I_base_A, Vb = (double)fx.b.V_base_V;
+    p->theta[0] = d_to_iq(K1 / wb);
+    p->theta[1] = d_to_iq(K2 * Vb / (Ib * wb));
+    p->theta[2] = paper ? d_to_iq(K3p / Vb) : d_to_iq(K2 * K3p / (Ib * wb));
+    p->theta[3] = d_to_iq(K4 / Ib);
+    p->form = paper ? (uint16_t)RLS_FORM_PAPER : (uint16_t)RLS_FORM_CONST;
+    p->i_m = d_to_iq(im / Ib);
+}
+
+/* The check, both forms.  Two comparisons:
+ *  (1) against the same formulas in double from the same (Q24-quantised)
+ *      pu inputs: each output within 8 LSB24 + 2e-6 relative (IQ: five
+ *      to seven chained Q24 operations, _IQdiv truncating < 1 LSB, _IQsqrt
+ *      <= 0.5 LSB, each rounding amplified by the following quotients by
+ *      at most |1/K2|, |1/i_M| ~ 3: a few LSB; the relative term covers
+ *      the Q24 quantisation of the small K3' = 0.0426 pu (1.4e-6 relative)
+ *      propagating into Rr and Tr; FLOAT: 24-bit float, same bound);
+ *  (2) against the method's reference values in SI: within 0.1 %, the
+ *      published K values and references having 4-6 significant digits
+ *      (Lm 0.0064, psi_r 0.042 are given to 2: within 0.5 % of them; the
+ *      formulas give 0.0064000 and 0.0420 to 5 digits). */
+static void check_reference(int paper)
+{
+    param_extract_t *p = &fx.p;
+    const double wb = (double)fx.b.w_base_rad_s;
+    double K1, K2, K3p, K4, im, a, Lr, Lm, psi, Rr, Rs, Tr;
+    load(p, paper, fx.K1, fx.K2, fx.K3p, fx.K4, fx.im);
+    param_extract_step(p);
+    assert_int_equal(p->status, PARAM_OK);
+    assert_int_equal(p->valid, 1);
+    /* (1) double formulas on the quantised inputs */
+    K1 = iq_to_d(p->theta[0]); K2 = iq_to_d(p->theta[1]); K4 = iq_to_d(p->theta[3]);
+    K3p = paper ? iq_to_d(p->theta[2]) : iq_to_d(p->theta[2]) / K2;
+    im = iq_to_d(p->i_m);
+    a = -K4 / (K2 * im);
+    Lr = 1.0 / K2 + a;
+    Lm = sqrt(a * Lr);
+    psi = Lm * im;
+    Rr = K3p * Lr / (a * im);
+    Rs = -K1 / K2 - K3p / im;
+    Tr = -K4 / (K2 * K3p);
+    print_message("%s: Rs %.7f/%.7f Rr %.7f/%.7f Lm %.7f/%.7f Lr %.7f/%.7f psi %.7f/%.7f Tr %.6f/%.6f pu\n",
+                  paper ? "paper" : "const", iq_to_d(p->Rs), Rs, iq_to_d(p->Rr), Rr, iq_to_d(p->Lm), Lm,
+                  iq_to_d(p->Lr), Lr, iq_to_d(p->psi_r), psi, iq_to_d(p->Tr), Tr);
+#define NEAR(x, ref) assert_true(fabs(iq_to_d(x) - (ref)) <= 8.0 * LSB24 + 2e-6 * fabs(ref))
+    NEAR(p->Rs, Rs); NEAR(p->Rr, Rr); NEAR(p->Lm, Lm); NEAR(p->Lr, Lr); NEAR(p->psi_r, psi); NEAR(p->Tr, Tr);
+#undef NEAR
+    /* (2) the method's reference values, SI */
+#define REL(x, base, ref, tol) assert_true(fabs(iq_to_d(x) * (double)(base) / (ref) - 1.0) <= (tol))
+    REL(p->Rs, fx.b.Z_base_ohm, 1.031, 1e-3);
+    REL(p->Rr, fx.b.Z_base_ohm, 0.465, 1e-3);
+    REL(p->Lm, fx.b.L_base_H, 0.0064, 5e-3);
+    REL(p->Lr, fx.b.L_base_H, 0.0092, 1e-3);
+    REL(p->psi_r, fx.b.psi_base_Wb, 0.042, 5e-3);
+    REL(p->Tr, 1.0 / wb, 0.01978, 1e-3);
+#undef REL
+}
+
+static void test_reference_paper_form(void **state)
+{
+    (void)state;
+    check_reference(1);
+}
+
+static void test_reference_const_form(void **state)
+{
+    (void)state;
+    check_reference(0);
+}
+
+/* Each rejection: status, valid = 0. */
+static void expect(param_status_t st)
+{
+    param_extract_step(&fx.p);
+    assert_int_equal(fx.p.status, st);
+    assert_int_equal(fx.p.valid, 0);
+}
+
+static void test_rejections(void **state)
+{
+    param_extract_t *p = &fx.p;
+    (void)state;
+    /* i_M below its minimum (0.5 A) */
+    load(p, 1, fx.K1, fx.K2, fx.K3p, fx.K4, 0.4);
+    expect(PARAM_ERR_IM);
+    /* K2 <= 0, and K2 ~ 0 (1/K2 beyond Q24) */
+    load(p, 1, fx.K1, -fx.K2, fx.K3p, fx.K4, fx.im);
+    expect(PARAM_ERR_K2);
+    load(p, 1, fx.K1, 0.0, fx.K3p, fx.K4, fx.im);
+    expect(PARAM_ERR_K2);
+    p->theta[1] = d_to_iq(1e-3);             /* 1/K2 = 1000 pu > 127 */
+    expect(PARAM_ERR_K2);
+    /* constant form: K3/K2 with K2 tiny but 1/K2 representable: K3/K2 too big */
+    load(p, 0, fx.K1, fx.K2, fx.K3p, fx.K4, fx.im);
+    p->theta[1] = d_to_iq(0.02);
+    p->theta[2] = d_to_iq(3.0);              /* K3/K2 = 150 > 127 */
+    expect(PARAM_ERR_DIV);
+    /* K3' <= 0 */
+    load(p, 1, fx.K1, fx.K2, -fx.K3p, fx.K4, fx.im);
+    expect(PARAM_ERR_K3);
+    /* negative square-root argument: K4 > 0 makes a = Lm^2/Lr < 0 */
+    load(p, 1, fx.K1, fx.K2, fx.K3p, -fx.K4, fx.im);
+    expect(PARAM_ERR_SQRT);
+    /* K4 = 0: a = 0, Lm = 0 (no magnetising inductance): rejected */
+    load(p, 1, fx.K1, fx.K2, fx.K3p, 0.0, fx.im);
+    expect(PARAM_ERR_SQRT);
+    /* a = -K4/(K2 i_M) with K2 i_M tiny: division by ~0 */
+    load(p, 1, fx.K1, fx.K2, fx.K3p, fx.K4, fx.im);
+    p->theta[1] = d_to_iq(0.0100);           /* 1/K2 = 100 pu: representable */
+    p->theta[3] = d_to_iq(-2.0);             /* a = 2/(0.01*0.328) = 610 pu */
+    expect(PARAM_ERR_DIV);
+    /* a product beyond Q24: a Lr = (a)(1/K2 + a) with a = 12, 1/K2 = 100 */
+    load(p, 1, fx.K1, fx.K2, fx.K3p, fx.K4, fx.im);
+    p->theta[1] = d_to_iq(0.0100);
+    p->theta[3] = d_to_iq(-0.01 * 0.328125 * 12.0);
+    expect(PARAM_ERR_OVERFLOW);
+    /* results outside their ranges (one at a time, from the check):
+     * Rs: K1 larger in magnitude -> Rs = -K1/K2 - K3'/i_M above 10 ohm */
+    load(p, 1, fx.K1 * 20.0, fx.K2, fx.K3p, fx.K4, fx.im);
+    expect(PARAM_ERR_RS);
+    /* Rr: K3' x 20 -> Rr 9.3 ohm > 5 (K1 x 5 keeps Rs = 1.8 ohm in range:
+     * Rs is checked first) */
+    load(p, 1, fx.K1 * 5.0, fx.K2, fx.K3p * 20.0, fx.K4, fx.im);
+    expect(PARAM_ERR_RR);
+    /* Lm: K4 / 100 -> a / 100, Lm 0.46 mH < 1 mH (K3' / 100 keeps Rr at
+     * 0.24 ohm, in range: Rr is checked before Lm) */
+    load(p, 1, fx.K1, fx.K2, fx.K3p / 100.0, fx.K4 / 100.0, fx.im);
+    expect(PARAM_ERR_LM);
+    /* Lr: K2 / 20 -> Lr 0.0994 H > 0.06 (K1, K4 / 20 keep -K1/K2 and a;
+     * K3' / 2 keeps Rr = 2.5 ohm in range; Lm 0.021 H, Tr 40 ms in range) */
+    load(p, 1, fx.K1 / 20.0, fx.K2 / 20.0, fx.K3p / 2.0, fx.K4 / 20.0, fx.im);
+    expect(PARAM_ERR_LR);
+    /* psi: i_M x 12 -> psi_r 0.5 Wb > 0.2 (K4, K3' x 12 keep a, Lr, Lm,
+     * Rr, Rs and Tr unchanged) */
+    load(p, 1, fx.K1, fx.K2, fx.K3p * 12.0, fx.K4 * 12.0, fx.im * 12.0);
+    expect(PARAM_ERR_PSI);
+    /* Tr: narrow the Tr range with a fresh init so that 19.8 ms is outside */
+    {
+        param_limits_t l = fx.lim;
+        param_extract_t q;
+        l.Tr_s[0] = 0.025f;
+        l.Tr_s[1] = 0.2f;
+        assert_int_equal(param_extract_init(&q, &fx.b, &l), PARAM_INIT_OK);
+        load(&q, 1, fx.K1, fx.K2, fx.K3p, fx.K4, fx.im);
+        param_extract_step(&q);
+        assert_int_equal(q.status, PARAM_ERR_TR);
+        assert_int_equal(q.valid, 0);
+    }
+    /* and back to valid */
+    load(p, 1, fx.K1, fx.K2, fx.K3p, fx.K4, fx.im);
+    param_extract_step(p);
+    assert_int_equal(p->valid, 1);
+}
+
+static void test_init_rejects(void **state)
+{
+    param_extract_t q;
+    param_limits_t l = fx.lim;
+    base_values_t zero = {0};
+    (void)state;
+    assert_int_equal(param_extract_init(&q, &zero, &l), PARAM_INIT_ERR_BASES);
+    l.Rs_ohm[0] = -0.1f;
+    assert_int_equal(param_extract_init(&q, &fx.b, &l), PARAM_INIT_ERR_RANGE);
+    l = fx.lim;
+    l.Lm_H[0] = 0.06f;                        /* min > max */
+    assert_int_equal(param_extract_init(&q, &fx.b, &l), PARAM_INIT_ERR_RANGE);
+    l = fx.lim;
+    l.Tr_s[1] = 1.0f;                         /* 314 pu: not representable in Q24 */
+    assert_int_equal(param_extract_init(&q, &fx.b, &l), PARAM_INIT_ERR_RANGE);
+    l = fx.lim;
+    l.i_m_min_A = 0.0f;
+    assert_int_equal(param_extract_init(&q, &fx.b, &l), PARAM_INIT_ERR_IM);
+    assert_int_equal(q.valid, 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_reference_paper_form),
+        cmocka_unit_test(test_reference_const_form),
+        cmocka_unit_test(test_rejections),
+        cmocka_unit_test(test_init_rejects),
+    };
+    return cmocka_run_group_tests(tests, setup, NULL);
+}
