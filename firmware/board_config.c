@@ -25,6 +25,7 @@ const drive_config_t g_board_config = {
         .dead_time_s = 1.0e-6f,        /* DBTCONA: DBTPS = /16, DBT = 10 -> 1.067 us */
         .device_drop_V = 0.3f,
         .dead_time_comp = 1u,
+        .dead_time_band_A = 0.1f,      /* measured on the bridge at commissioning */
         .vdc_nominal_V = 60.0f,
         .vdc_adc_full_scale_V = 100.0f,/* divider: 100 V reads 3.0 V */
         .current_full_scale_A = 20.0f, /* Hall: +-20 A -> 0..3 V */

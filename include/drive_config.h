@@ -33,6 +33,8 @@ typedef struct {
     float dead_time_s;         /* programmed dead band */
     float device_drop_V;       /* switch/diode forward drop, for compensation */
     uint16_t dead_time_comp;   /* 1: compensate dead time and drop in the voltage reconstruction */
+    float dead_time_band_A;    /* current over which the dead-time error changes sign
+                                  (measured on the inverter at commissioning) */
     float vdc_nominal_V;       /* sets the voltage base: V_base = vdc_nominal / sqrt(3) */
     float vdc_adc_full_scale_V;/* bus voltage that reads 3.0 V at the ADC pin */
     float current_full_scale_A;/* Hall: +-full scale maps to 0..3 V around 1.5 V; also I_base */
@@ -61,6 +63,7 @@ typedef struct {
     float forgetting;          /* lambda in (0.9, 1]; 1 = none (paper) */
     float magnetize_time_s;    /* pre-magnetisation, >= 5 Tr */
     float target_speed_rpm;    /* speed the sequence accelerates to */
+    float rls_tail_s;          /* the RLS runs this long after the ramp ends */
 } drive_ident_t;
 
 typedef struct {

@@ -32,7 +32,7 @@
 typedef struct {
     _iq sigma_ls;       /* sigma Ls, pu of L_base: d-axis decoupling */
     _iq lm2_lr;         /* Lm^2 / Lr, pu of L_base: back-EMF feed-forward */
-    _iq half_step;      /* f_base Ts / 2: pu angle per pu speed over half a period */
+    _iq three_half_step;/* 1.5 f_base Ts: pu angle per pu speed over 1.5 periods */
     _iq i_max;          /* torque-current limit, pu */
     _iq speed_tol;      /* steady state: |speed error| below, pu */
     uint16_t cal_samples;
@@ -56,7 +56,9 @@ struct drive {
     /* sensing */
     phase_current_t cur;
     dc_bus_t bus;
-    qep_speed_t qep;
+    qep_speed_t qep;            /* angle, and the speed for the loops (window 16) */
+    qep_speed_t qep_fast;       /* speed over one sample, for the regression: its lag
+                                   (half a period) matches the mid-period voltage */
     /* control */
     clarke_t clarke;
     park_t park;
@@ -78,6 +80,7 @@ struct drive {
     _iq duty_next[3];           /* computed at k-1, applied now */
     _iq duty_last[3];           /* computed at k-2, applied in the period just ended */
     uint16_t on_next, on_last;  /* bridge switching in those periods */
+    _iq ia_prev, ib_prev;       /* phase currents of the previous sample, pu */
 
     drive_snapshot_t snap;      /* ISR -> background: the steady-state extraction */
     drive_snapshot_t live_snap; /* ISR -> background: running estimates, 100 Hz */

@@ -7,7 +7,8 @@
  *        -> MAGNETIZE (i_M to its reference, zero speed, >= 5 Tr)
  *        -> ACCELERATE (speed ramp to the target; RLS on: the transient that
  *                       excites the regression, method §2 "Excitation")
- *        -> SETTLE (speed reached; wait for steady state: di/dt ~ 0, the
+ *        -> SETTLE (speed reached; the RLS runs on for rls_tail_s, then
+ *                   stops; wait for steady state: di/dt ~ 0, the
  *                   precondition of the parameter formulas, method §4)
  *        -> RUN (parameters extracted and published; RLS off)
  *   any  -> FAULT (from the protections; PWM off) ; STOP -> IDLE
@@ -44,6 +45,7 @@ typedef struct {
     uint32_t settle_min_samples;   /* least time in SETTLE */
     uint32_t settle_hold_samples;  /* steady-state conditions must hold this long */
     uint32_t settle_max_samples;   /* give up waiting: extract anyway, flagged */
+    uint32_t rls_tail_samples;     /* the RLS runs this long into SETTLE */
     _iq speed_tol;            /* steady: speed error below, pu */
     _iq didt_tol;             /* steady: |di/dt| below, pu/pu-time */
     _iq im_ref;               /* magnetising current reference, pu */
@@ -65,10 +67,14 @@ typedef struct {
     uint16_t stop_req;
 } id_sequence_t;
 
-/** Times in seconds, Ts the sample period; tolerances in pu.  Returns 0, or
- *  1 if a time is not positive or the hold exceeds the maximum. */
+/** Times in seconds, Ts the sample period; tolerances in pu.  rls_tail_s: how
+ *  long the RLS keeps running into SETTLE (the end of the ramp, where i_T
+ *  steps, still excites the regression; later, steady operation carries no
+ *  information and only lets biases pull the estimates).  Returns 0, or 1 if
+ *  a time is out of range. */
 int16_t id_sequence_init(id_sequence_t *s, float Ts_s, float magnetize_s,
                          float settle_min_s, float settle_hold_s, float settle_max_s,
+                         float rls_tail_s,
                          _iq speed_tol, _iq didt_tol, _iq im_ref, _iq speed_target);
 void id_sequence_start(id_sequence_t *s);   /* background context */
 void id_sequence_stop(id_sequence_t *s);    /* background context */

@@ -78,6 +78,11 @@ typedef struct {
     _iq theta;          /* Q24, flux angle for the next sample, pu [0, 1) */
     _iq theta_prev;     /* Q24, flux angle of this sample, pu [0, 1) */
     uint16_t imr_low;   /* 1 while imr < imr_min (slip forced to 0) */
+    /* encoder-angle mode (ifo_frame_from_rotor / ifo_step_slip) */
+    _iq theta_r;        /* input, Q24: rotor electrical angle from the encoder, pu [0, 1) */
+    _iq theta_slip;     /* state, Q24: integral of the slip, pu [0, 1) */
+    _iq20 inv_k_theta;  /* parameter, Q20: 1 / (f_base Ts), pu speed per revolution per sample */
+    _iq ws_frame;       /* output, Q24: frame speed over the last sample, from the angle step */
 } ifo_t;
 
 /**
@@ -115,5 +120,24 @@ void ifo_step(ifo_t *f);
 /** The angle at the middle of the last sample period, (theta_prev + theta)/2
  *  taken along the shorter arc (correct across the 1 -> 0 wrap), in [0, 1). */
 _iq ifo_theta_mid(const ifo_t *f);
+
+/**
+ * Encoder-angle mode: the flux angle is the measured rotor angle plus the
+ * integrated slip, theta(k) = theta_r(k) + sum(w_slip Ts).  The speed
+ * measurement's lag then never enters the angle: with a lagging speed
+ * (ifo_step) the angle error under acceleration a is about a * lag * Tr, which
+ * the regression sees amplified by w_r Tr (method §7 point 4); here it is 0.
+ *
+ * Per sample: ifo_frame_from_rotor() at the start (theta_r set), which sets
+ * theta_prev = theta(k-1), theta = theta(k) and ws_frame = the frame's actual
+ * speed over the last period (its angle step / (f_base Ts): exactly the
+ * rotation the M-T quantities saw); then, after the current control,
+ * ifo_step_slip() (i_m, i_t, wr set), which updates imr, wslip, ws = wr + wslip
+ * (for decoupling and modulation) and the slip angle for sample k+1.
+ * Scaling: the angle sum wraps modulo 1 pu exactly (ifo_wrap); ws_frame
+ * saturates at +-(0.5 / (f_base Ts)) pu, half a revolution per sample.
+ */
+void ifo_frame_from_rotor(ifo_t *f);
+void ifo_step_slip(ifo_t *f);
 
 #endif /* IFO_H */

@@ -40,7 +40,7 @@
 /** Largest device drop accepted, pu of V_base. */
 #define VOLT_CALC_DROP_MAX_PU 1.0f
 /** Range of the sign threshold, pu of I_base (1/i_thresh must fit Q24). */
-#define VOLT_CALC_ITH_MIN_PU 0.01f
+#define VOLT_CALC_ITH_MIN_PU 0.0005f
 #define VOLT_CALC_ITH_MAX_PU 1.0f
 
 typedef enum {
@@ -65,7 +65,7 @@ typedef struct {
     _iq dt_frac;       /* td / Ts, Q24, [0, 0.25] */
     _iq v_drop;        /* device forward drop, pu of V_base, Q24, [0, 1] */
     _iq i_thresh;      /* half-width of the linear zone of sgn(), pu, Q24 */
-    _iq inv_i_thresh;  /* 1 / i_thresh, Q24, [1, 100] */
+    _iq16 inv_i_thresh;/* 1 / i_thresh, Q16, [1, 2000] */
     /* outputs */
     _iq va;            /* phase-to-neutral voltages, pu of V_base, Q24 */
     _iq vb;

@@ -48,6 +48,7 @@ int plant_init(plant_t *p, const sim_config_t *c, uint16_t t1pr, char *err, unsi
     ip.dead_time_s = c->dead_time_s;
     ip.v_drop_V = c->device_drop_V;
     ip.r_on_ohm = c->r_on_ohm;
+    ip.i_band_A = c->dead_time_band_A_plant;
     ip.ideal = 0u;
     if (inverter_init(&p->inv, &ip) != 0) {
         snprintf(err, err_len, "inverter model rejected the [inverter] parameters");

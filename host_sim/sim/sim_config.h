@@ -29,7 +29,7 @@ typedef struct {
     double load_const_Nm, load_prop_Nm_s, load_fan_Nm;
     /* [inverter] */
     double vdc_V, source_resistance_ohm, ripple_V, ripple_Hz;
-    double dead_time_s, device_drop_V, r_on_ohm;
+    double dead_time_s, device_drop_V, r_on_ohm, dead_time_band_A_plant;
     /* [sensors] */
     double hall_full_scale_A, hall_gain_error_pct, hall_offset_a_A, hall_offset_b_A;
     double hall_noise_A_rms, adc_noise_lsb, vdc_full_scale_V, encoder_lines;
@@ -40,10 +40,10 @@ typedef struct {
     double ctl_Rs_error_pct, ctl_Rr_error_pct, ctl_Lm_error_pct;
     double current_bw_Hz, speed_bw_Hz, inertia_kgm2, max_torque_current_A;
     double speed_ramp_rpm_s, speed_filter_Hz, magnetizing_current_A;
-    double overcurrent_A, vdc_max_V, vdc_min_V, dead_time_comp;
+    double overcurrent_A, vdc_max_V, vdc_min_V, dead_time_comp, dead_time_band_A;
     /* [ident] */
     double filter_cutoff_Hz, euler_passes, paper_regressor, rls_p0, forgetting;
-    double magnetize_s, target_speed_rpm;
+    double magnetize_s, target_speed_rpm, rls_tail_s;
     /* [simulation] */
     double pwm_freq_Hz, sysclk_Hz, substeps;
 } sim_config_t;

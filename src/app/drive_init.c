@@ -50,7 +50,9 @@ static int16_t init_sensing(drive_t *d, const drive_config_t *c, float Ts)
         return 1;
     }
     if (qep_speed_init(&d->qep, c->board.encoder_lines, &d->base, c->control.speed_filter_Hz,
-                       16u) != 0) {
+                       16u) != 0 ||
+        qep_speed_init(&d->qep_fast, c->board.encoder_lines, &d->base,
+                       c->control.speed_filter_Hz, 1u) != 0) {
         return 1;
     }
     d->k.cal_samples = (uint16_t)(0.07f / Ts);   /* ~70 ms of offset averaging */
@@ -148,7 +150,8 @@ static int16_t init_identification(drive_t *d, const drive_config_t *c, float Ts
     }
     d->live = d->pex;
     d->k.speed_tol = _IQ(0.005f * target_pu);
-    if (id_sequence_init(&d->seq, Ts, id->magnetize_time_s, 0.2f, 0.2f, 3.0f, d->k.speed_tol,
+    if (id_sequence_init(&d->seq, Ts, id->magnetize_time_s, 0.2f, 0.2f, 3.0f, id->rls_tail_s,
+                         d->k.speed_tol,
                          _IQ(didt_pu), _IQ(im_pu), _IQ(target_pu)) != 0) {
         return 2;
     }
@@ -202,12 +205,11 @@ int16_t drive_init(drive_t *d, const drive_config_t *c)
     if (ifo_init(&d->ifo, Tr, &d->base, 0.2f * m->magnetizing_current_A / d->base.I_base_A) != 0) {
         return DRIVE_CFG_ORIENTATION;
     }
-    d->k.half_step = _IQ(0.5f * d->base.f_base_Hz * Ts);
+    d->k.three_half_step = _IQ(1.5f * d->base.f_base_Hz * Ts);
     d->config_status = DRIVE_CFG_VOLTAGE_MODEL;
     if (volt_calc_init(&d->volt, c->board.dead_time_s, Ts,
                        c->board.device_drop_V / d->base.V_base_V,
-                       fmaxf(0.01f, 0.02f * c->motor.rated_current_A_rms * 1.41421356f /
-                                        d->base.I_base_A),
+                       c->board.dead_time_band_A / d->base.I_base_A,
                        c->board.dead_time_comp) != 0) {
         return DRIVE_CFG_VOLTAGE_MODEL;
     }

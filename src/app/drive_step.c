@@ -10,7 +10,8 @@
  *   5. identification regression signals and RLS update (method §2-§5)
  *   6. sequence       identification state machine
  *   7. control        speed ramp + PI, current PIs with decoupling
- *   8. orientation    i_mr, slip, w_s, theta_{k+1} (indirect, current model)
+ *   8. orientation    i_mr, slip, slip angle (indirect, current model; the
+ *                     frame angle is the encoder angle plus the slip angle)
  *   9. modulation     inverse Park at the middle of period k+1, SVPWM
  *
  * No float, no division but the documented _IQdiv calls inside the modules.
@@ -33,6 +34,8 @@ static void sense(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count)
     dc_bus_step(&d->bus);
     d->qep.count = qep_count;
     qep_speed_step(&d->qep);
+    d->qep_fast.count = qep_count;
+    qep_speed_step(&d->qep_fast);
 }
 
 static void protect(drive_t *d)
@@ -71,8 +74,12 @@ static void voltage_model(drive_t *d)
     d->volt.db = d->duty_last[1];
     d->volt.dc = d->duty_last[2];
     d->volt.vdc = d->bus.vdc;
-    d->volt.ia = d->cur.ia;
-    d->volt.ib = d->cur.ib;
+    /* the current in the middle of that period decides the dead-time sign:
+     * the mean of its two end samples (Q24 + Q24 in range: |i| <= 1 pu) */
+    d->volt.ia = _IQmpy(d->cur.ia + d->ia_prev, _IQ(0.5));
+    d->volt.ib = _IQmpy(d->cur.ib + d->ib_prev, _IQ(0.5));
+    d->ia_prev = d->cur.ia;
+    d->ib_prev = d->cur.ib;
     volt_calc_step(&d->volt);
     if (d->on_last == 0u) {
         d->volt.valpha = _IQ(0.0);
@@ -87,7 +94,10 @@ static void transform_currents(drive_t *d)
     clarke_step(&d->clarke);
     d->park.alpha = d->clarke.alpha;
     d->park.beta = d->clarke.beta;
-    angle_sincos(d->ifo.theta, &d->park.sine, &d->park.cosine);   /* theta_k */
+    /* frame angle theta_k = encoder angle + integrated slip (ifo.h) */
+    d->ifo.theta_r = d->qep.theta_elec;
+    ifo_frame_from_rotor(&d->ifo);
+    angle_sincos(d->ifo.theta, &d->park.sine, &d->park.cosine);
     park_step(&d->park);
 }
 
@@ -101,8 +111,8 @@ static void identify(drive_t *d)
     r->u_beta = d->volt.vbeta;
     /* the frame angle at the middle of the period in which u was applied */
     angle_sincos(ifo_theta_mid(&d->ifo), &r->sin_mid, &r->cos_mid);
-    r->ws = d->ifo.ws;            /* frame speed over that period */
-    r->wr = d->qep.speed_raw;     /* window mean: no extra low-pass delay */
+    r->ws = d->ifo.ws_frame;      /* the frame's actual speed over that period */
+    r->wr = d->qep_fast.speed_raw;/* rotor speed over that period */
     ident_regressor_step(r);
 
     d->rls.y1 = r->y1;
@@ -180,14 +190,14 @@ static void orient(drive_t *d)
     d->ifo.i_m = d->park.ds;
     d->ifo.i_t = d->park.qs;
     d->ifo.wr = d->qep.speed_raw;   /* 8-sample lag instead of ~31: orientation during acceleration */
-    ifo_step(&d->ifo);   /* theta -> theta_{k+1} */
+    ifo_step_slip(&d->ifo);   /* i_mr, slip, slip angle for theta_{k+1} */
 }
 
 static void modulate(drive_t *d, hal_pwm_compare_t *out)
 {
     /* the voltage computed now is applied over period k+1; rotate it at the
-     * middle of that period: theta_{k+1} + w_s Ts / 2 */
-    _iq theta = angle_wrap_pu(d->ifo.theta + _IQmpy(d->ifo.ws, d->k.half_step));
+     * middle of that period: theta_k + 1.5 w_s Ts */
+    _iq theta = angle_wrap_pu(d->ifo.theta + _IQmpy(d->ifo.ws, d->k.three_half_step));
     angle_sincos(theta, &d->ipark.sine, &d->ipark.cosine);
     d->ipark.ds = d->pi_id.out;
     d->ipark.qs = d->pi_iq.out;

@@ -10,17 +10,20 @@ static uint32_t seconds_to_samples(float t_s, float Ts_s)
 
 int16_t id_sequence_init(id_sequence_t *s, float Ts_s, float magnetize_s,
                          float settle_min_s, float settle_hold_s, float settle_max_s,
+                         float rls_tail_s,
                          _iq speed_tol, _iq didt_tol, _iq im_ref, _iq speed_target)
 {
     memset(s, 0, sizeof *s);
     if (!(Ts_s > 0.0f) || !(magnetize_s > 0.0f) || !(settle_min_s >= 0.0f) ||
-        !(settle_hold_s > 0.0f) || !(settle_max_s >= settle_hold_s)) {
+        !(settle_hold_s > 0.0f) || !(settle_max_s >= settle_hold_s) ||
+        !(rls_tail_s >= 0.0f) || rls_tail_s > settle_max_s) {
         return 1;
     }
     s->magnetize_samples = seconds_to_samples(magnetize_s, Ts_s);
     s->settle_min_samples = seconds_to_samples(settle_min_s, Ts_s);
     s->settle_hold_samples = seconds_to_samples(settle_hold_s, Ts_s);
     s->settle_max_samples = seconds_to_samples(settle_max_s, Ts_s);
+    s->rls_tail_samples = seconds_to_samples(rls_tail_s, Ts_s);
     s->speed_tol = speed_tol;
     s->didt_tol = didt_tol;
     s->im_ref = im_ref;
@@ -111,7 +114,8 @@ void id_sequence_step(id_sequence_t *s)
     s->calibrating = (uint16_t)(s->state == ID_CALIBRATE);
     s->speed_loop_on = (uint16_t)(s->state == ID_ACCELERATE || s->state == ID_SETTLE ||
                                   s->state == ID_RUN);
-    s->rls_on = (uint16_t)(s->state == ID_ACCELERATE || s->state == ID_SETTLE);
+    s->rls_on = (uint16_t)(s->state == ID_ACCELERATE ||
+                           (s->state == ID_SETTLE && s->t_state <= s->rls_tail_samples));
     s->im_cmd = (s->pwm_on != 0u) ? s->im_ref : _IQ(0.0);
     s->speed_cmd = (s->speed_loop_on != 0u) ? s->speed_target : _IQ(0.0);
 }

@@ -46,6 +46,7 @@ ifo_status_t ifo_init(ifo_t *f, float Tr_s, const base_values_t *b, float imr_mi
     }
     f->ts = _IQ(b->Ts_pu);
     f->k_theta = _IQ30(b->f_base_Hz * b->Ts_s);
+    f->inv_k_theta = _IQ20(1.0f / (b->f_base_Hz * b->Ts_s));
     f->imr_min = _IQ(imr_min_pu);
     return ifo_set_tr(f, _IQ(tr_pu));
 }
@@ -85,6 +86,8 @@ void ifo_reset(ifo_t *f, _iq theta0)
     f->theta = ifo_wrap(theta0);
     f->theta_prev = f->theta;
     f->imr_low = 1u;
+    f->theta_slip = _IQ(0.0);
+    f->ws_frame = _IQ(0.0);
 }
 
 void ifo_step(ifo_t *f)
@@ -120,4 +123,35 @@ _iq ifo_theta_mid(const ifo_t *f)
         d += _IQ(1.0);
     }
     return ifo_wrap(f->theta_prev + _IQmpy(d, _IQ(0.5)));
+}
+
+void ifo_frame_from_rotor(ifo_t *f)
+{
+    _iq d;
+
+    f->theta_prev = f->theta;
+    f->theta = ifo_wrap(f->theta_r + f->theta_slip);   /* both in [0, 1): no overflow */
+    d = f->theta - f->theta_prev;                       /* in (-1, 1) */
+    if (d >= _IQ(0.5)) {
+        d -= _IQ(1.0);
+    } else if (d < _IQ(-0.5)) {
+        d += _IQ(1.0);
+    }
+    /* Q24 * Q20 -> Q24; |d| <= 0.5 and 1/(f_base Ts) < 256 keep |result| < 128 */
+    f->ws_frame = _IQmpyIQX(d, GLOBAL_Q, f->inv_k_theta, 20);
+}
+
+void ifo_step_slip(ifo_t *f)
+{
+    f->imr += _IQrmpy(f->kf, f->i_m - f->imr);
+    if (f->imr < f->imr_min) {
+        f->wslip = _IQ(0.0);
+        f->imr_low = 1u;
+    } else {
+        f->wslip = _IQdiv(_IQmpy(f->i_t, f->inv_tr), f->imr);
+        f->imr_low = 0u;
+    }
+    f->ws = f->wr + f->wslip;
+    /* Q24 * Q30 -> Q24 (truncated), wrapped modulo one revolution */
+    f->theta_slip = ifo_wrap(f->theta_slip + _IQmpyIQX(f->wslip, GLOBAL_Q, f->k_theta, 30));
 }

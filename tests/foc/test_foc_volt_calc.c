@@ -28,7 +28,7 @@ static void test_init(void **state)
     assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, -0.01f, 0.02f, 1u), VOLT_CALC_ERR_DROP);
     assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, 1.5f, 0.02f, 1u), VOLT_CALC_ERR_DROP);
     assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, nan, 0.02f, 1u), VOLT_CALC_ERR_DROP);
-    assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, 0.05f, 0.005f, 1u), VOLT_CALC_ERR_THRESH);
+    assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, 0.05f, 0.0004f, 1u), VOLT_CALC_ERR_THRESH);
     assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, 0.05f, 2.0f, 1u), VOLT_CALC_ERR_THRESH);
     assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, 0.05f, nan, 1u), VOLT_CALC_ERR_THRESH);
     assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, 0.05f, 0.02f, 2u), VOLT_CALC_ERR_ENABLE);
@@ -38,7 +38,7 @@ static void test_init(void **state)
     assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, 0.05f, 0.02f, 1u), VOLT_CALC_OK);
     assert_true(fabs(iq2d(v.dt_frac) - 0.03) <= foc_tol(1.1, 2.0, 1.0));
     assert_true(fabs(iq2d(v.v_drop) - 0.05) <= foc_tol(1.1, 2.0, 1.0));
-    assert_true(fabs(iq2d(v.inv_i_thresh) - 50.0) <= 50.0 * (double)FLT_EPSILON + foc_tol(1.0, 1.0, 1.0));
+    assert_true(fabs((double)_IQ16toF(v.inv_i_thresh) - 50.0) <= 50.0 * (double)FLT_EPSILON + foc_tol(1.0, 1.0, 1.0));
     assert_int_equal(v.comp_enable, 1u);
 }
 
@@ -62,7 +62,7 @@ static void reference(const volt_calc_t *v, double out[5])
     for (x = 0; x < 3; x++) {
         p[x] = vdc * d[x];
         if (v->comp_enable) {
-            p[x] -= sgn_lin(i[x], iq2d(v->i_thresh), iq2d(v->inv_i_thresh)) * verr;
+            p[x] -= sgn_lin(i[x], iq2d(v->i_thresh), (double)_IQ16toF(v->inv_i_thresh)) * verr;
         }
     }
     m = (p[0] + p[1] + p[2]) / 3.0;

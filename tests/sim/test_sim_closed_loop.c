@@ -101,6 +101,33 @@ static void test_current_limits(void **state)
     assert_int_equal(g_res.final_pwm_on, 1);
 }
 
+/* Issue 4: another motor, set up only through its own file: a 1.1 kW 400 V
+ * machine.  Bound 3 % per parameter (issue 4). */
+static void test_identification_1kw(void **state)
+{
+    sim_config_t cfg;
+    sim_result_t res;
+    sim_options_t opt;
+    char err[256];
+    const double bound_pct = 3.0;
+    (void)state;
+    memset(&opt, 0, sizeof opt);
+    opt.quiet = 1u;
+    assert_int_equal(sim_config_load(MC_CONFIG_DIR "/motor_1kw.ini", &cfg, err, sizeof err), 0);
+    assert_int_equal(sim_run(&cfg, &opt, &res, err, sizeof err), 0);
+    printf("1.1 kW motor: error %% Rs %+.2f Rr %+.2f Lm %+.2f Lr %+.2f psi_r %+.2f Tr %+.2f\n",
+           res.error_pct.Rs_ohm, res.error_pct.Rr_ohm, res.error_pct.Lm_H, res.error_pct.Lr_H,
+           res.error_pct.psi_r_Wb, res.error_pct.Tr_s);
+    assert_int_equal(res.identified, 1);
+    assert_true(fabs(res.error_pct.Rs_ohm) < bound_pct);
+    assert_true(fabs(res.error_pct.Rr_ohm) < bound_pct);
+    assert_true(fabs(res.error_pct.Lm_H) < bound_pct);
+    assert_true(fabs(res.error_pct.Lr_H) < bound_pct);
+    assert_true(fabs(res.error_pct.psi_r_Wb) < bound_pct);
+    assert_true(fabs(res.error_pct.Tr_s) < bound_pct);
+    assert_true(res.max_flux_q_over_d < 0.01);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -109,6 +136,7 @@ int main(void)
         cmocka_unit_test(test_field_orientation),
         cmocka_unit_test(test_speed_tracking),
         cmocka_unit_test(test_current_limits),
+        cmocka_unit_test(test_identification_1kw),
     };
     return cmocka_run_group_tests(tests, run_paper_motor, NULL);
 }
