@@ -1,0 +1,50 @@
+#!/usr/bin/env python3
+"""Identification accuracy on the three motors, IQ_MATH and FLOAT_MATH.
+
+Runs motor_sim (default scenario) for each config in host_sim/config and
+each build in build/host-iq and build/host-float, and prints the error of
+every parameter, the convergence time and the IQ-vs-FLOAT difference.
+Usage: tools/accuracy.py   (after `cmake --build --preset host-iq` and host-float)
+"""
+import json
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+KEYS = ["Rs_ohm", "Rr_ohm", "Lm_H", "Lr_H", "psi_r_Wb", "Tr_s"]
+MOTORS = [("paper_motor", 2.0), ("motor_1kw", 3.0), ("motor_15kw", 3.0)]
+
+
+def run(build, config):
+    exe = ROOT / "build" / build / "host_sim" / "sim" / "motor_sim"
+    with tempfile.TemporaryDirectory() as d:
+        subprocess.run([str(exe), "--config", str(ROOT / "host_sim" / "config" / f"{config}.ini"),
+                        "--quiet", "--out", d], check=True)
+        return json.loads((Path(d) / "report.json").read_text())
+
+
+def main():
+    print(f"{'motor':<12} {'build':<6} " + " ".join(f"{k:>9}" for k in KEYS) +
+          f" {'conv/s':>7} {'bound':>6}")
+    ok = True
+    for motor, bound in MOTORS:
+        reps = {}
+        for build in ("host-iq", "host-float"):
+            r = run(build, motor)
+            reps[build] = r
+            e = r["error_pct"]
+            worst = max(abs(e[k]) for k in KEYS) if r["identified"] else float("inf")
+            flag = "" if worst < bound else "  <- above bound"
+            ok &= worst < bound
+            print(f"{motor:<12} {build[5:]:<6} " + " ".join(f"{e[k]:>+8.2f}%" for k in KEYS) +
+                  f" {r['converge_s']:>7.2f} {bound:>5.1f}%{flag}")
+        d = max(abs(reps['host-iq']['error_pct'][k] -
+                    reps['host-float']['error_pct'][k]) for k in KEYS)
+        print(f"{'':<12} {'IQ-FL':<6} max difference {d:.3f} percentage points")
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
