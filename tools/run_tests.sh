@@ -10,7 +10,9 @@ for preset in host-iq host-float host-asan; do
   cmake --build --preset "$preset" -j2
   ctest --preset "$preset" -j2
 done
-if [ -d tools/tests ] || [ -d python/tests ]; then
+if [ -f tools/python/pyproject.toml ]; then
   echo "=== python"
-  .venv/bin/python -m pytest -q
+  # the package wraps the shared library of the host-iq build
+  .venv/bin/python -m pip install --quiet --disable-pip-version-check -e tools/python
+  IMFOC_LIB_DIR="$PWD/build/host-iq" .venv/bin/python -m pytest -q tools/python/tests
 fi
