@@ -90,7 +90,9 @@ void ifo_reset(ifo_t *f, _iq theta0)
     f->ws_frame = _IQ(0.0);
 }
 
-void ifo_step(ifo_t *f)
+/* The current model of the rotor flux, shared by both modes: i_mr, slip and
+ * the frame speed w_s = w_r + w_slip. */
+static void ifo_update_flux(ifo_t *f)
 {
     /* rotor flux lag, exact ZOH discretisation; Q24*Q24 -> Q24 rounded,
      * |i_m - imr| < 4 pu */
@@ -106,7 +108,25 @@ void ifo_step(ifo_t *f)
         f->imr_low = 0u;
     }
     f->ws = f->wr + f->wslip;
+}
 
+/* Signed difference b - a of two angles in [0, 1), along the shorter arc:
+ * [-0.5, 0.5).  The raw difference is in (-1, 1): no overflow. */
+static _iq ifo_angle_diff(_iq b, _iq a)
+{
+    _iq d = b - a;
+
+    if (d >= _IQ(0.5)) {
+        d -= _IQ(1.0);
+    } else if (d < _IQ(-0.5)) {
+        d += _IQ(1.0);
+    }
+    return d;
+}
+
+void ifo_step(ifo_t *f)
+{
+    ifo_update_flux(f);
     f->theta_prev = f->theta;
     /* Q24 * Q30 -> Q24 (truncated): |increment| < 128 f_base Ts < 1 revolution */
     f->theta = ifo_wrap(f->theta + _IQmpyIQX(f->ws, GLOBAL_Q, f->k_theta, 30));
@@ -114,44 +134,21 @@ void ifo_step(ifo_t *f)
 
 _iq ifo_theta_mid(const ifo_t *f)
 {
-    /* signed difference along the shorter arc, in [-0.5, 0.5) */
-    _iq d = f->theta - f->theta_prev;   /* in (-1, 1): no overflow */
-
-    if (d >= _IQ(0.5)) {
-        d -= _IQ(1.0);
-    } else if (d < _IQ(-0.5)) {
-        d += _IQ(1.0);
-    }
-    return ifo_wrap(f->theta_prev + _IQmpy(d, _IQ(0.5)));
+    return ifo_wrap(f->theta_prev + _IQmpy(ifo_angle_diff(f->theta, f->theta_prev), _IQ(0.5)));
 }
 
 void ifo_frame_from_rotor(ifo_t *f)
 {
-    _iq d;
-
     f->theta_prev = f->theta;
     f->theta = ifo_wrap(f->theta_r + f->theta_slip);   /* both in [0, 1): no overflow */
-    d = f->theta - f->theta_prev;                       /* in (-1, 1) */
-    if (d >= _IQ(0.5)) {
-        d -= _IQ(1.0);
-    } else if (d < _IQ(-0.5)) {
-        d += _IQ(1.0);
-    }
     /* Q24 * Q20 -> Q24; |d| <= 0.5 and 1/(f_base Ts) < 256 keep |result| < 128 */
-    f->ws_frame = _IQmpyIQX(d, GLOBAL_Q, f->inv_k_theta, 20);
+    f->ws_frame = _IQmpyIQX(ifo_angle_diff(f->theta, f->theta_prev), GLOBAL_Q,
+                            f->inv_k_theta, 20);
 }
 
 void ifo_step_slip(ifo_t *f)
 {
-    f->imr += _IQrmpy(f->kf, f->i_m - f->imr);
-    if (f->imr < f->imr_min) {
-        f->wslip = _IQ(0.0);
-        f->imr_low = 1u;
-    } else {
-        f->wslip = _IQdiv(_IQmpy(f->i_t, f->inv_tr), f->imr);
-        f->imr_low = 0u;
-    }
-    f->ws = f->wr + f->wslip;
+    ifo_update_flux(f);
     /* Q24 * Q30 -> Q24 (truncated), wrapped modulo one revolution */
     f->theta_slip = ifo_wrap(f->theta_slip + _IQmpyIQX(f->wslip, GLOBAL_Q, f->k_theta, 30));
 }

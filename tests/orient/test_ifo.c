@@ -312,6 +312,49 @@ static void test_init_errors(void **state)
     }
 }
 
+/* Encoder-angle mode: theta(k) = theta_r(k) + sum of w_slip f_base Ts, and
+ * ws_frame = the frame's angle step / (f_base Ts).  A rotor turning at a
+ * constant 0.9 pu with a constant slip command: after n samples the angle is
+ * the exact sum (reference in double from the module's own constants), and
+ * ws_frame equals w_r + w_slip up to the truncation of the two angle terms.
+ * Bounds: the slip angle accumulates one truncation (<= 1 LSB) per sample,
+ * so n LSB after n samples; ws_frame is a difference of two angles, each
+ * within 1 LSB of exact, times 1/(f_base Ts) = 300: 2 * 300 + 2 LSB. */
+static void test_encoder_angle_mode(void **state)
+{
+    ifo_t f;
+    const double wr = 0.9, k = 50.0 * (1.0 / 15000.0);
+    double slip_ref = 0.0, wslip = 0.0;
+    int n;
+    (void)state;
+    assert_int_equal(ifo_init(&f, TR_S, &g_b, 0.05f), IFO_OK);
+    ifo_reset(&f, _IQ(0.0));
+    f.imr = _IQ(0.33);        /* magnetised: the slip is active */
+    f.i_m = _IQ(0.33);
+    f.i_t = _IQ(0.25);
+    f.wr = _IQ(0.9);
+    for (n = 1; n <= 3000; n++) {
+        double th_r = fmod(wr * k * n, 1.0);
+        double th_ref;
+        double d;
+        f.theta_r = _IQ(th_r);
+        ifo_frame_from_rotor(&f);
+        th_ref = fmod(th_r + slip_ref, 1.0);
+        d = fabs(to_d(f.theta) - th_ref);
+        d = fmin(d, 1.0 - d);                       /* across the wrap */
+        assert_true(d <= (double)(n + 2) * LSB);
+        if (n > 1) {
+            /* frame speed over the last sample: w_r + the previous w_slip */
+            assert_true(fabs(to_d(f.ws_frame) - (wr + wslip)) <= 602.0 * LSB + 1e-6 * 300.0);
+        }
+        ifo_step_slip(&f);
+        wslip = to_d(f.wslip);
+        slip_ref = fmod(slip_ref + wslip * k, 1.0);
+        assert_true(to_d(f.theta_slip) >= 0.0 && to_d(f.theta_slip) < 1.0);
+    }
+    assert_true(fabs(to_d(f.ws) - (wr + wslip)) <= 2.0 * LSB);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -322,6 +365,7 @@ int main(void)
         cmocka_unit_test(test_small_imr_guard),
         cmocka_unit_test(test_theta_mid),
         cmocka_unit_test(test_init_errors),
+        cmocka_unit_test(test_encoder_angle_mode),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }
