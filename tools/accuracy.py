@@ -35,7 +35,7 @@ def main():
             r = run(build, motor)
             reps[build] = r
             e = r["error_pct"]
-            worst = max(abs(e[k]) for k in KEYS) if r["identified"] else float("inf")
+            worst = max(abs(e[k]) for k in KEYS) if r["published"] else float("inf")
             flag = "" if worst < bound else "  <- above bound"
             ok &= worst < bound
             print(f"{motor:<12} {build[5:]:<6} " + " ".join(f"{e[k]:>+8.2f}%" for k in KEYS) +

@@ -39,14 +39,19 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
             "FLOAT_MATH"
 #endif
     );
-    fprintf(f, "  \"duration_s\": %.6g,\n  \"wall_s\": %.6g,\n  \"identified\": %s,\n",
+    fprintf(f, "  \"duration_s\": %.6g,\n  \"wall_s\": %.6g,\n  \"published\": %s,\n",
             r->duration_s, r->wall_s, r->identified ? "true" : "false");
     fprintf(f, "  \"settle_timeout\": %s,\n", r->settle_timeout ? "true" : "false");
     fprintf(f, "  \"t_accel_start_s\": %.6g,\n  \"t_published_s\": %.6g,\n  \"converge_s\": %.6g,\n",
             r->t_accel_start_s, r->t_published_s, r->converge_s);
     json_params(f, "true", &r->truth, 0);
-    json_params(f, "identified", &r->ident, 0);
-    json_params(f, "error_pct", &r->error_pct, 0);
+    if (r->identified) {
+        json_params(f, "identified", &r->ident, 0);
+        json_params(f, "error_pct", &r->error_pct, 0);
+    } else {
+        /* nothing was published: no numbers that could be mistaken for a result */
+        fprintf(f, "  \"identified\": null,\n  \"error_pct\": null,\n");
+    }
     fprintf(f, "  \"max_abs_i_A\": %.6g,\n  \"max_speed_err_rpm_ramp\": %.6g,\n"
                "  \"max_flux_q_over_d\": %.6g,\n  \"final_speed_rpm\": %.6g,\n",
             r->max_abs_i_A, r->max_speed_err_rpm_ramp, r->max_flux_q_over_d, r->final_speed_rpm);
