@@ -3,6 +3,7 @@
  * Flash wait states (F2812 datasheet SPRS174, "Flash timing": at 150 MHz
  * paged and random wait states >= 5, OTP >= 8) and the copy of `ramfuncs`.
  */
+#include <stdint.h>
 #include <string.h>
 
 #include "DSP281x_Device.h"
@@ -18,10 +19,12 @@
 
 void flash_copy_ramfuncs(void)
 {
-    /* sizes in 16-bit words; on the C28x sizeof(uint16_t) == 1, so memcpy
-     * counts words there (and bytes on a host, where this is not run) */
-    size_t n = (size_t)(&RamfuncsLoadEnd - &RamfuncsLoadStart);
-    memcpy(&RamfuncsRunStart, &RamfuncsLoadStart, n * sizeof(uint16_t));
+    /* The three symbols are distinct objects to C (the linker places them),
+     * so their distance is taken between addresses, not pointers (pointer
+     * subtraction across objects is undefined).  On the C28x an address
+     * counts 16-bit words, the unit of sizeof and memcpy there. */
+    size_t n = (size_t)((uintptr_t)&RamfuncsLoadEnd - (uintptr_t)&RamfuncsLoadStart);
+    memcpy(&RamfuncsRunStart, &RamfuncsLoadStart, n);
 }
 
 void flash_init(void)

@@ -39,7 +39,12 @@ typedef struct {
     _iq speed_ref;           /* pu */
     _iq i_m, i_t;            /* M/T currents, pu of I_base */
     _iq vdc;                 /* DC bus, pu of V_base */
-    _iq Rs, Rr, Lm, Lr, psi_r, Tr;  /* published parameters, pu (Tr in pu time) */
+    _iq Rs, Rr, Lm, Lr, psi_r, Tr;  /* published parameters, pu (Tr in pu time); only a
+                                       plausible set is published, an implausible one
+                                       leaves the last good set (and params_valid) as is */
+    uint32_t rls_sat_count;  /* RLS saturation events (rls_t.sat_count), never wraps */
+    uint32_t theta_rejects;  /* RLS samples whose theta the guard rejected (theta_guard.h) */
+    uint16_t publish_rejects;/* extractions that were implausible and not published */
 } drive_telemetry_t;
 
 /** drive_init results: 0 or the first configuration field found bad. */

@@ -12,7 +12,9 @@
 
 #include "base_values.h"
 #include "clarke.h"
+#include "current_check.h"
 #include "dc_bus.h"
+#include "encoder_check.h"
 #include "id_sequence.h"
 #include "ident_regressor.h"
 #include "ifo.h"
@@ -26,6 +28,7 @@
 #include "ramp_gen.h"
 #include "rls.h"
 #include "svgen.h"
+#include "theta_guard.h"
 #include "volt_calc.h"
 
 /** Gains and constants derived once by drive_init (pu, Q24). */
@@ -74,6 +77,9 @@ struct drive {
     param_extract_t pex;
     id_sequence_t seq;
     protect_t prot;
+    encoder_check_t enc_chk;    /* encoder plausibility -> FAULT_ENCODER */
+    current_check_t cur_chk;    /* current feedback plausibility -> FAULT_CURRENT_SENSOR */
+    theta_guard_t guard;        /* last good theta: what the snapshots carry */
 
     /* PWM pipeline: duties computed at sample k apply during period k+1 and
      * are reconstructed into voltages at sample k+2 (hal_pwm.h timing). */

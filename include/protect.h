@@ -21,7 +21,9 @@ typedef enum {
     FAULT_CURRENT_OFFSET = 5,  /* current-sensor offset out of range at calibration */
     FAULT_ADC_RAIL = 6,        /* an ADC result at a rail */
     FAULT_HW_TRIP = 7,         /* PDPINTA: the power stage tripped itself */
-    FAULT_CONFIG = 8           /* drive_init rejected the configuration */
+    FAULT_CONFIG = 8,          /* drive_init rejected the configuration */
+    FAULT_CURRENT_SENSOR = 9   /* measured currents do not follow their references
+                                  (a phase-current sensor lost: current_check.h) */
 } fault_code_t;
 
 typedef struct {
@@ -31,6 +33,7 @@ typedef struct {
     uint16_t pwm_on;           /* undervoltage is checked only while switching */
     uint16_t adc_rail;         /* a raw result at 0 or full scale */
     uint16_t encoder_fault;    /* from the encoder plausibility check */
+    uint16_t current_fault;    /* from the current-feedback check */
     uint16_t hw_trip;          /* PDPINTA */
     /* parameters */
     _iq i_trip;                /* pu */
@@ -42,11 +45,19 @@ typedef struct {
 
 /** Levels in pu.  Returns 1 if a level is not positive or vdc_min >= vdc_max. */
 int16_t protect_init(protect_t *p, _iq i_trip, _iq vdc_max, _iq vdc_min);
-/** Check this sample's inputs; latch the first fault seen. */
+/** Check this sample's inputs; latch the first fault seen, in this priority:
+ *  hardware trip, overcurrent (a phase reading at a rail is also beyond the
+ *  trip level, which is below full scale: a clipped real overcurrent reports
+ *  as overcurrent), ADC rail (so a bus reading at a rail is not taken for
+ *  an over- or under-voltage), bus over-, under-voltage, encoder, current
+ *  feedback. */
 void protect_step(protect_t *p);
 /** Latch a fault found elsewhere (calibration, configuration). */
 void protect_latch(protect_t *p, fault_code_t code);
-/** Clear the latch if the inputs of this sample are healthy; returns 1 if cleared. */
+/** Clear the latch if the inputs of this sample are healthy; returns 1 if
+ *  cleared.  Stricter than protect_step: the bus must be above vdc_min even
+ *  with the bridge off (a restart onto a sagging bus would trip at once),
+ *  and the encoder and current checks must have been reset by the caller. */
 uint16_t protect_clear(protect_t *p);
 
 #endif /* PROTECT_H */

@@ -17,7 +17,8 @@ static void usage(FILE *f)
 {
     fprintf(f,
             "usage: motor_sim [--config FILE] [--scenario NAME] [--duration S] [--out DIR]\n"
-            "                 [--fault NAME@TIME[=VALUE]]... [--quiet] [--keys] [--help]\n"
+            "                 [--fault NAME@TIME[=VALUE]]... [--cmd NAME@TIME]... [--quiet]\n"
+            "                 [--keys] [--help]\n"
             "\n"
             "Runs the firmware's 15 kHz ISR against a simulated induction motor, inverter and\n"
             "sensors: offset calibration, magnetisation, acceleration with the online RLS\n"
@@ -25,17 +26,39 @@ static void usage(FILE *f)
             "\n"
             "  --config FILE      INI file (default host_sim/config/paper_motor.ini)\n"
             "  --scenario NAME    start (default: standstill to rated speed under load),\n"
-            "                     reversal (then to -rated speed), load_steps (then a load step)\n"
+            "                     reversal (then to -rated speed), load_steps (then a load step),\n"
+            "                     soak (then reversals every 4 s, a load step 2 s after each)\n"
             "  --duration S       simulated seconds (default: long enough for the scenario)\n"
             "  --out DIR          write DIR/trace.csv and DIR/report.json (created if missing)\n"
             "  --fault NAME@T     inject at T seconds: hall_gain (=rel. error, default 0.2),\n"
-            "                     hall_lost, bus_sag (=rel. drop, default 0.5), overvoltage\n"
-            "                     (=rel. rise, default 0.5), encoder_lost, short (=current\n"
-            "                     multiplier - 1, default 3)\n"
+            "                     hall_lost (phase b reads 0 A), bus_sag (=rel. drop, default\n"
+            "                     0.5), overvoltage (=rel. rise, default 0.5), encoder_lost\n"
+            "                     (T2 frozen), encoder_jump (=counts, default 100), short\n"
+            "                     (a-b short, =loop inductance uH, default 20), adc_rail (bus\n"
+            "                     feedback at the top rail), offset (phase-a sensor offset, =fraction\n"
+            "                     of full scale, default 0.1), hw_trip (PDPINTA low, =seconds,\n"
+            "                     default 100), clear (every injected fault removed)\n"
+            "  --cmd NAME@T       give the drive a command at T seconds: start, stop, reset\n"
+            "                     (a run begins with start at 0)\n"
             "  --quiet            no progress and no table\n"
             "  --keys             list every configuration key, its unit and range\n"
             "\n"
             "Exit status: 0 ok, 1 usage or configuration error, 2 run failed.\n");
+}
+
+/* The options followed by a value.  Checked before any value is used, so
+ * that such an option as the last argument is an error, never a NULL value. */
+static int takes_value(const char *a)
+{
+    static const char *const k[] = {"--config", "--out",   "--scenario",
+                                     "--duration", "--fault", "--cmd"};
+    unsigned i;
+    for (i = 0; i < sizeof k / sizeof k[0]; i++) {
+        if (strcmp(a, k[i]) == 0) {
+            return 1;
+        }
+    }
+    return 0;
 }
 
 static int parse_double(const char *s, double *out)
@@ -46,20 +69,45 @@ static int parse_double(const char *s, double *out)
     return (s[0] != '\0' && end != NULL && *end == '\0' && errno == 0) ? 0 : -1;
 }
 
+static int parse_cmd(const char *arg, sim_cmd_t *c)
+{
+    static const struct { const char *name; uint16_t cmd; } k[] = {
+        {"start", 1u}, {"stop", 2u}, {"reset", 3u},   /* drive_cmd_t */
+    };
+    const char *at = strchr(arg, '@');
+    unsigned i;
+    if (at == NULL) {
+        return -1;
+    }
+    for (i = 0; i < sizeof k / sizeof k[0]; i++) {
+        size_t n = (size_t)(at - arg);
+        if (strlen(k[i].name) == n && strncmp(arg, k[i].name, n) == 0) {
+            c->cmd = k[i].cmd;
+            return (parse_double(at + 1, &c->t_s) == 0 && c->t_s >= 0.0 && c->t_s <= 1e6) ? 0
+                                                                                           : -1;
+        }
+    }
+    return -1;
+}
+
 static int parse_fault(const char *arg, sim_fault_t *f)
 {
     static const struct { const char *name; plant_fault_t kind; double def; } k[] = {
         {"hall_gain", PLANT_FAULT_HALL_GAIN, 0.2},   {"hall_lost", PLANT_FAULT_HALL_LOST, 0},
         {"bus_sag", PLANT_FAULT_BUS_SAG, 0.5},       {"overvoltage", PLANT_FAULT_OVERVOLTAGE, 0.5},
-        {"encoder_lost", PLANT_FAULT_ENCODER_LOST, 0}, {"short", PLANT_FAULT_SHORT, 3.0},
+        {"encoder_lost", PLANT_FAULT_ENCODER_LOST, 0}, {"short", PLANT_FAULT_SHORT, 20.0},
+        {"adc_rail", PLANT_FAULT_ADC_RAIL, 0},       {"offset", PLANT_FAULT_CURRENT_OFFSET, 0.1},
+        {"encoder_jump", PLANT_FAULT_ENCODER_JUMP, 100}, {"hw_trip", PLANT_FAULT_HW_TRIP, 100},
+        {"clear", PLANT_FAULT_CLEAR, 0},
     };
     char buf[128];
     char *at, *eq;
+    size_t len = strlen(arg);
     unsigned i;
-    if (strlen(arg) >= sizeof buf) {
+    if (len >= sizeof buf) {
         return -1;
     }
-    strcpy(buf, arg);
+    memcpy(buf, arg, len + 1u);
     at = strchr(buf, '@');
     if (at == NULL) {
         return -1;
@@ -76,8 +124,9 @@ static int parse_fault(const char *arg, sim_fault_t *f)
             if (parse_double(at + 1, &f->t_s) != 0 || !(f->t_s >= 0.0) || f->t_s > 1e6) {
                 return -1;
             }
-            if (eq != NULL && (parse_double(eq + 1, &f->value) != 0 || f->value < -0.99 ||
-                               f->value > 100.0)) {
+            /* written so that a NaN fails too */
+            if (eq != NULL && (parse_double(eq + 1, &f->value) != 0 ||
+                               !(f->value >= -0.99 && f->value <= 100.0))) {
                 return -1;
             }
             return 0;
@@ -110,8 +159,11 @@ int main(int argc, char **argv)
             return 0;
         } else if (strcmp(a, "--quiet") == 0) {
             opt.quiet = 1u;
+        } else if (!takes_value(a)) {
+            fprintf(stderr, "motor_sim: unknown option '%s'; see --help\n", a);
+            return 1;
         } else if (v == NULL) {
-            fprintf(stderr, "motor_sim: %s needs a value (or is unknown); see --help\n", a);
+            fprintf(stderr, "motor_sim: %s needs a value; see --help\n", a);
             return 1;
         } else if (strcmp(a, "--config") == 0) {
             config = v;
@@ -141,8 +193,17 @@ int main(int argc, char **argv)
             }
             opt.n_faults++;
             i++;
+        } else if (strcmp(a, "--cmd") == 0) {
+            if (opt.n_cmds >= SIM_MAX_CMDS || parse_cmd(v, &opt.cmds[opt.n_cmds]) != 0) {
+                fprintf(stderr, "motor_sim: bad --cmd '%s' (start|stop|reset@SECONDS, at most %d)\n",
+                        v, SIM_MAX_CMDS);
+                return 1;
+            }
+            opt.n_cmds++;
+            i++;
         } else {
-            fprintf(stderr, "motor_sim: unknown option '%s'; see --help\n", a);
+            /* takes_value() lists an option that has no branch here */
+            fprintf(stderr, "motor_sim: option '%s' is not implemented\n", a);
             return 1;
         }
     }
@@ -151,12 +212,25 @@ int main(int argc, char **argv)
         return 1;
     }
     if (out_dir != NULL) {
+        struct stat st;
+        int n_trace, n_report;
         if (mkdir(out_dir, 0777) != 0 && errno != EEXIST) {
-            fprintf(stderr, "motor_sim: cannot create %s\n", out_dir);
+            fprintf(stderr, "motor_sim: cannot create %s (%s)\n", out_dir, strerror(errno));
             return 1;
         }
-        snprintf(trace_path, sizeof trace_path, "%s/trace.csv", out_dir);
-        snprintf(report_path, sizeof report_path, "%s/report.json", out_dir);
+        if (stat(out_dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
+            fprintf(stderr, "motor_sim: --out %s is not a directory\n", out_dir);
+            return 1;
+        }
+        /* a truncated path would write some other file */
+        n_trace = snprintf(trace_path, sizeof trace_path, "%s/trace.csv", out_dir);
+        n_report = snprintf(report_path, sizeof report_path, "%s/report.json", out_dir);
+        if (n_trace < 0 || (size_t)n_trace >= sizeof trace_path || n_report < 0 ||
+            (size_t)n_report >= sizeof report_path) {
+            fprintf(stderr, "motor_sim: --out path longer than %u characters\n",
+                    (unsigned)(sizeof report_path - sizeof "/report.json"));
+            return 1;
+        }
         opt.trace_path = trace_path;
     }
     if (sim_run(&cfg, &opt, &res, err, sizeof err) != 0) {

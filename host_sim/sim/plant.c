@@ -24,6 +24,10 @@ int plant_init(plant_t *p, const sim_config_t *c, uint16_t t1pr, char *err, unsi
     p->w_rated_m_rad_s = c->rated_speed_rpm * 2.0 * M_PI / 60.0;
     p->hall_a_gain_fault = 1.0;
     p->vdc_scale = 1.0;
+    p->t_visible_s = -1.0;
+    p->i_trip_A = c->overcurrent_A;
+    p->i_fs_A = c->hall_full_scale_A;
+    p->hw_trip_until_s = -1.0;
 
     memset(&mp, 0, sizeof mp);
     mp.Rs_ohm = c->Rs_ohm;
@@ -102,23 +106,73 @@ double plant_load_Nm(const plant_t *p, double w_m)
            p->extra_load_Nm;
 }
 
+void plant_inject(plant_t *p, plant_fault_t kind, double value)
+{
+    switch (kind) {
+    case PLANT_FAULT_HALL_GAIN: p->hall_a_gain_fault = 1.0 + value; break;
+    case PLANT_FAULT_HALL_LOST: p->hall_b_lost = 1u; break;
+    case PLANT_FAULT_BUS_SAG: p->vdc_scale = 1.0 - value; break;
+    case PLANT_FAULT_OVERVOLTAGE: p->vdc_scale = 1.0 + value; break;
+    case PLANT_FAULT_ENCODER_LOST: p->encoder_frozen = 1u; break;
+    case PLANT_FAULT_SHORT: p->short_L_H = value * 1e-6; break;
+    case PLANT_FAULT_ADC_RAIL: p->vdc_rail = 1u; break;
+    case PLANT_FAULT_CURRENT_OFFSET: p->offset_a_A = value * p->i_fs_A; break;
+    case PLANT_FAULT_ENCODER_JUMP: p->qep_jump = (uint16_t)(p->qep_jump + (uint16_t)value); break;
+    case PLANT_FAULT_HW_TRIP: p->hw_trip_until_s = p->t_s + value; break;
+    case PLANT_FAULT_CLEAR:
+        p->hall_a_gain_fault = 1.0;
+        p->hall_b_lost = 0u;
+        p->vdc_scale = 1.0;
+        p->encoder_frozen = 0u;
+        p->short_L_H = 0.0;
+        p->i_short_A = 0.0;
+        p->vdc_rail = 0u;
+        p->offset_a_A = 0.0;
+        p->hw_trip_until_s = -1.0;   /* a count jump, once taken, stays (T2 is relative) */
+        break;
+    case PLANT_FAULT_NONE:
+    default: break;
+    }
+}
+
+uint16_t plant_trip_line(const plant_t *p) { return (uint16_t)(p->t_s < p->hw_trip_until_s); }
+
 void plant_sample(plant_t *p, hal_host_port_t *port)
 {
     const motor_t *m = &p->motor;
-    double ia = hall_measure(&p->hall_a, m->ia_A, p->Ts_s) * p->hall_a_gain_fault;
-    double ib = hall_measure(&p->hall_b, m->ib_A, p->Ts_s);
+    double ia = hall_measure(&p->hall_a, m->ia_A + p->i_short_A, p->Ts_s) * p->hall_a_gain_fault +
+                p->offset_a_A;
+    double ib = hall_measure(&p->hall_b, m->ib_A - p->i_short_A, p->Ts_s);
     double vdc = inverter_bus_voltage_V(&p->inv, p->t_s, p->i_dc_A) * p->vdc_scale;
+    double vdc_pin = sig_cond_apply(&p->cond_v, vdc);
+    uint16_t visible;
+    uint16_t count;
 
     if (p->hall_b_lost != 0u) {
         ib = 0.0;
     }
+    if (p->vdc_rail != 0u) {
+        vdc_pin = 3.3;   /* divider's low side open: the pin at the 3.3 V clamp */
+    }
     port->adc.ia_raw = adc_f2812_convert(&p->adc_a, sig_cond_apply(&p->cond_i, ia));
     port->adc.ib_raw = adc_f2812_convert(&p->adc_b, sig_cond_apply(&p->cond_i, ib));
-    port->adc.vdc_raw = adc_f2812_convert(&p->adc_v, sig_cond_apply(&p->cond_v, vdc));
+    port->adc.vdc_raw = adc_f2812_convert(&p->adc_v, vdc_pin);
+    count = encoder_sample(&p->enc, m->theta_m_rad);
     if (p->encoder_frozen == 0u) {
-        p->frozen_count = encoder_sample(&p->enc, m->theta_m_rad);
+        p->frozen_count = (uint16_t)(count + p->qep_jump);
     }
     port->qep_count = p->frozen_count;
+    /* the first sample in which an injected fault reaches the ADC or QEP
+     * (a short: once a phase current beyond the trip level reaches them) */
+    visible = (uint16_t)(p->hall_a_gain_fault != 1.0 || p->hall_b_lost != 0u ||
+                         p->vdc_scale != 1.0 || p->encoder_frozen != 0u ||
+                         fmax(fabs(m->ia_A + p->i_short_A), fabs(m->ib_A - p->i_short_A)) >
+                             p->i_trip_A ||
+                         p->vdc_rail != 0u || p->offset_a_A != 0.0 ||
+                         p->qep_jump != 0u || plant_trip_line(p) != 0u);
+    if (visible != 0u && p->t_visible_s < 0.0) {
+        p->t_visible_s = p->t_s;
+    }
 }
 
 void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_enabled)
@@ -141,7 +195,16 @@ void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_
         motor_step(m, p->inv.v_alpha_V * p->vdc_scale, p->inv.v_beta_V * p->vdc_scale, p->Ts_s,
                    p->substeps);
         p->i_dc_A = p->inv.i_dc_A;
+        if (p->short_L_H > 0.0) {
+            /* legs a and b drive the short: its current integrates the mean
+             * a-b voltage of the period (no resistance, dead time or drops:
+             * a fault current is not a precision quantity) */
+            double vab = (duty[0] - duty[1]) * inverter_bus_voltage_V(&p->inv, p->t_s, 0.0) *
+                         p->vdc_scale;
+            p->i_short_A += vab * p->Ts_s / p->short_L_H;
+        }
     } else {
+        p->i_short_A = 0.0;   /* bridge off: the loop current freewheels out within us */
         motor_step_open(m, p->Ts_s, p->substeps);
         p->i_dc_A = 0.0;
     }

@@ -29,7 +29,17 @@ typedef enum {
     PLANT_FAULT_BUS_SAG,      /* source voltage drops (value: relative) */
     PLANT_FAULT_ENCODER_LOST, /* T2 stops counting */
     PLANT_FAULT_OVERVOLTAGE,  /* source voltage rises (value: relative) */
-    PLANT_FAULT_SHORT         /* phase current driven up: a low-impedance fault */
+    PLANT_FAULT_SHORT,        /* phase-to-phase short a-b at the inverter output (value:
+                                 loop inductance, uH): a current rising at vdc/L while the
+                                 bridge switches, seen by both sensors */
+    PLANT_FAULT_ADC_RAIL,     /* bus-voltage divider's low side open: the ADC pin at its
+                                 3.3 V clamp, the result at the top rail */
+    PLANT_FAULT_CURRENT_OFFSET,/* phase-a sensor offset shifted (value: fraction of full
+                                 scale); before calibration it must be refused there */
+    PLANT_FAULT_ENCODER_JUMP, /* T2 jumps once by `value` counts (noise on A/B) */
+    PLANT_FAULT_HW_TRIP,      /* PDPINTA pulled low by the power stage (value: for how
+                                 long, s) */
+    PLANT_FAULT_CLEAR         /* every injected fault removed (the cause has gone) */
 } plant_fault_t;
 
 typedef struct {
@@ -53,12 +63,25 @@ typedef struct {
     uint16_t encoder_frozen;
     uint16_t frozen_count;
     double vdc_scale;         /* multiplies the source voltage */
+    double short_L_H;         /* > 0: the a-b short is present */
+    double i_short_A;         /* its current (out of leg a, into leg b) */
+    uint16_t vdc_rail;        /* bus feedback at 0 V */
+    double offset_a_A;        /* added phase-a sensor offset */
+    uint16_t qep_jump;        /* counts added to T2 from now on */
+    double hw_trip_until_s;   /* PDPINTA low while t < this */
+    double i_fs_A;            /* current-sensor full scale */
+    double i_trip_A;          /* the drive's overcurrent level (for t_visible_s) */
+    double t_visible_s;       /* first sample an injected fault changed (-1: none yet) */
 } plant_t;
 
 /** Returns 0 or a message-worthy non-zero status (the sub-model that refused). */
 int plant_init(plant_t *p, const sim_config_t *c, uint16_t t1pr, char *err, unsigned err_len);
 /** Fill the ADC results and T2CNT the F2812 would see now. */
 void plant_sample(plant_t *p, hal_host_port_t *port);
+/** Apply an injected fault (or PLANT_FAULT_CLEAR) from now on. */
+void plant_inject(plant_t *p, plant_fault_t kind, double value);
+/** 1 while the power stage holds PDPINTA low (the simulator copies it to the port). */
+uint16_t plant_trip_line(const plant_t *p);
 /** Advance one PWM period. */
 void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_enabled);
 /** The load torque (N m) at the present state: const + prop w + fan (w/w_rated)^2 + steps. */

@@ -13,11 +13,30 @@ static void json_params(FILE *f, const char *name, const sim_params_t *p, int la
             name, p->Rs_ohm, p->Rr_ohm, p->Lm_H, p->Lr_H, p->psi_r_Wb, p->Tr_s, last ? "" : ",");
 }
 
+/* A JSON string: the path comes from the command line and may hold quotes,
+ * backslashes or control characters (RFC 8259 section 7). */
+static void json_string(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; *s != '\0'; s++) {
+        unsigned char c = (unsigned char)*s;
+        if (c == '"' || c == '\\') {
+            fprintf(f, "\\%c", c);
+        } else if (c < 0x20u) {
+            fprintf(f, "\\u%04x", c);
+        } else {
+            fputc(c, f);
+        }
+    }
+    fputc('"', f);
+}
+
 static const char *fault_name(uint16_t code)
 {
     static const char *const names[] = {"none", "overcurrent", "bus_overvoltage",
                                         "bus_undervoltage", "encoder", "current_offset",
-                                        "adc_rail", "hw_trip", "config"};
+                                        "adc_rail", "hw_trip", "config",
+                                        "current_sensor"};
     return (code < sizeof names / sizeof names[0]) ? names[code] : "unknown";
 }
 
@@ -26,13 +45,15 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
 {
     FILE *f = fopen(path, "w");
     unsigned i;
+    int write_failed;
     (void)cfg;
     if (f == NULL) {
         return -1;
     }
-    fprintf(f, "{\n");
-    fprintf(f, "  \"config\": \"%s\",\n  \"scenario\": \"%s\",\n  \"math_type\": \"%s\",\n",
-            config_path, sim_scenario_name(opt->scenario),
+    fprintf(f, "{\n  \"config\": ");
+    json_string(f, config_path);
+    fprintf(f, ",\n  \"scenario\": \"%s\",\n  \"math_type\": \"%s\",\n",
+            sim_scenario_name(opt->scenario),
 #if MATH_TYPE == IQ_MATH
             "IQ_MATH"
 #else
@@ -61,7 +82,8 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
                 r->fault_code[i], fault_name(r->fault_code[i]), r->fault_time_s[i]);
     }
     fprintf(f, "],\n  \"pwm_enabled_at_end\": %s\n}\n", r->final_pwm_on ? "true" : "false");
-    return fclose(f) == 0 ? 0 : -1;
+    write_failed = ferror(f);
+    return (fclose(f) == 0 && write_failed == 0) ? 0 : -1;
 }
 
 void report_print_table(FILE *f, const sim_result_t *r)

@@ -12,7 +12,7 @@
 
 #define BACKGROUND_DIV 15u   /* background loop at 1 kHz */
 
-static const char *const k_scen[] = {"start", "reversal", "load_steps"};
+static const char *const k_scen[] = {"start", "reversal", "load_steps", "soak"};
 
 int sim_scenario_parse(const char *name, sim_scenario_t *out)
 {
@@ -67,17 +67,68 @@ static double converge_time(const live_row_t *rows, size_t n, const sim_params_t
     return last_bad - t0;
 }
 
-static void apply_fault(plant_t *p, const sim_fault_t *f)
+static void published_si(const base_values_t *b, const drive_telemetry_t *t, sim_params_t *o)
 {
-    switch (f->kind) {
-    case PLANT_FAULT_HALL_GAIN: p->hall_a_gain_fault = 1.0 + f->value; break;
-    case PLANT_FAULT_HALL_LOST: p->hall_b_lost = 1u; break;
-    case PLANT_FAULT_BUS_SAG: p->vdc_scale = 1.0 - f->value; break;
-    case PLANT_FAULT_OVERVOLTAGE: p->vdc_scale = 1.0 + f->value; break;
-    case PLANT_FAULT_ENCODER_LOST: p->encoder_frozen = 1u; break;
-    case PLANT_FAULT_SHORT: p->hall_a_gain_fault = 1.0 + f->value; break;
-    case PLANT_FAULT_NONE:
-    default: break;
+    o->Rs_ohm = (double)_IQtoF(t->Rs) * b->Z_base_ohm;
+    o->Rr_ohm = (double)_IQtoF(t->Rr) * b->Z_base_ohm;
+    o->Lm_H = (double)_IQtoF(t->Lm) * b->L_base_H;
+    o->Lr_H = (double)_IQtoF(t->Lr) * b->L_base_H;
+    o->psi_r_Wb = (double)_IQtoF(t->psi_r) * b->psi_base_Wb;
+    o->Tr_s = (double)_IQtoF(t->Tr) * b->t_base_s;
+}
+
+static void extreme(double v, double *lo, double *hi)
+{
+    if (v < *lo) { *lo = v; }
+    if (v > *hi) { *hi = v; }
+}
+
+/* Worst live estimate against truth (psi_r: against Lm * i_M, as extracted). */
+static void live_extremes(const base_values_t *b, const param_extract_t *p,
+                          const sim_params_t *truth, sim_result_t *r)
+{
+    sim_params_t l;
+    to_si(b, p, &l);
+    extreme(pct(l.Rs_ohm, truth->Rs_ohm), &r->live_min_pct, &r->live_max_pct);
+    extreme(pct(l.Rr_ohm, truth->Rr_ohm), &r->live_min_pct, &r->live_max_pct);
+    extreme(pct(l.Lm_H, truth->Lm_H), &r->live_min_pct, &r->live_max_pct);
+    extreme(pct(l.Lr_H, truth->Lr_H), &r->live_min_pct, &r->live_max_pct);
+    extreme(pct(l.Tr_s, truth->Tr_s), &r->live_min_pct, &r->live_max_pct);
+}
+
+static void observe_protection(const drive_t *d, sim_result_t *r, double t)
+{
+    double e = (double)_IQtoF(d->cur_chk.e_f);
+    if (e > r->max_cur_check_pu) {
+        r->max_cur_check_pu = e;
+        r->t_max_cur_check_s = t;
+    }
+}
+
+/* Control-path flags after the magnetisation, and the RLS estimate range. */
+static void observe_soak(const drive_t *d, sim_result_t *r, double t)
+{
+    uint16_t i;
+    if (d->seq.state == ID_ACCELERATE || d->seq.state == ID_SETTLE || d->seq.state == ID_RUN) {
+        if (d->svgen.overmod != 0u) {
+            if (r->n_overmod == 0u) {
+                r->t_first_overmod_s = t;
+            }
+            r->t_last_overmod_s = t;
+            r->n_overmod++;
+        }
+        if (d->pi_id.sat != 0u || d->pi_iq.sat != 0u) { r->n_current_pi_sat++; }
+        if (d->ifo.imr_low != 0u) { r->n_imr_low++; }
+        if (d->qep.speed_raw >= _IQmpyI32(d->qep.k_speed, d->qep.d_max) ||
+            d->qep.speed_raw <= -_IQmpyI32(d->qep.k_speed, d->qep.d_max)) {
+            r->n_speed_sat++;
+        }
+    }
+    for (i = 0u; i < RLS_N; i++) {
+        double a = fabs((double)_IQtoF(d->rls.theta[i]));
+        if (a > r->max_abs_theta) {
+            r->max_abs_theta = a;
+        }
     }
 }
 
@@ -86,7 +137,9 @@ static void trace_header(FILE *f)
     fprintf(f, "t_s,state,fault,pwm_on,speed_ref_rpm,speed_rpm,speed_meas_rpm,i_m_A,i_t_A,"
                "ia_A,ib_A,u_m_V,u_t_V,vdc_V,Te_Nm,TL_Nm,psi_r_true_Wb,psi_rq_over_d,"
                "Rs_ohm,Rr_ohm,Lm_H,Lr_H,psi_r_Wb,Tr_s,est_valid,"
-               "K1,K2,K3,K4\n");
+               "K1,K2,K3,K4,"
+               /* appended (tools/batch_ls.py): the RLS regression, pu, method §2 */
+               "rls_on,y1,y2,i_mf,u_mf,i_tf,u_tf,wr_f\n");
 }
 
 int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res, char *err,
@@ -104,6 +157,9 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     uint64_t k, n_steps, trace_div;
     double Ts, duration, t_run = -1.0, rpm_per_pu;
     uint16_t fault_applied[SIM_MAX_FAULTS] = {0};
+    uint16_t cmd_given[SIM_MAX_CMDS] = {0};
+    double t_soak_rev = -1.0, t_soak_load = -1.0;
+    int pub_seen = 0;
     uint16_t last_fault = 0u, prev_state = ID_IDLE;
     int scen_done = 0;
     clock_t c0 = clock();
@@ -111,6 +167,10 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
 
     memset(res, 0, sizeof *res);
     res->converge_s = -1.0;
+    res->t_fault_visible_s = -1.0;
+    res->t_first_published_s = -1.0;
+    res->t_first_overmod_s = -1.0;
+    res->t_last_overmod_s = -1.0;
     res->t_accel_start_s = -1.0;
     sim_config_to_drive(cfg, &dc);
     st = drive_init(&drive, &dc);
@@ -174,16 +234,41 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
 
         for (i = 0; i < opt->n_faults; i++) {
             if (!fault_applied[i] && t >= opt->faults[i].t_s) {
-                apply_fault(&plant, &opt->faults[i]);
+                plant_inject(&plant, opt->faults[i].kind, opt->faults[i].value);
                 fault_applied[i] = 1u;
+            }
+        }
+        for (i = 0; i < opt->n_cmds; i++) {
+            if (!cmd_given[i] && t >= opt->cmds[i].t_s) {
+                drive_command(&drive, (drive_cmd_t)opt->cmds[i].cmd);
+                cmd_given[i] = 1u;
             }
         }
         /* period start: ADC and QEP, then the ISR */
         plant_sample(&plant, &port);
-        port.trip_input = 0u;
+        port.trip_input = plant_trip_line(&plant);
         drive_isr(&drive);
         if ((k % BACKGROUND_DIV) == 0u) {
             drive_background(&drive);
+        }
+        if (drive.telemetry.fault != 0u && port.outputs_enabled != 0u) {
+            res->pwm_periods_with_fault++;
+        }
+        observe_protection(&drive, res, t);
+        observe_soak(&drive, res, t);
+        if (drive.telemetry.params_valid != 0u) {
+            sim_params_t pub;
+            published_si(b, &drive.telemetry, &pub);
+            if (!pub_seen) {
+                pub_seen = 1;
+                res->t_first_published_s = t;
+                res->published_first = pub;
+            } else if (memcmp(&pub, &res->published_first, sizeof pub) != 0) {
+                res->published_changed = 1u;
+            }
+            if (drive.live.valid != 0u) {
+                live_extremes(b, &drive.live, &res->truth, res);
+            }
         }
 
         /* observe (state at the sample instant, firmware's frame theta_k) */
@@ -239,7 +324,8 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                 to_si(b, &drive.live, &lp);
                 fprintf(trace,
                         "%.5f,%u,%u,%u,%.3f,%.3f,%.3f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.5f,"
-                        "%.5f,%.6f,%.6f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%u,%.6g,%.6g,%.6g,%.6g\n",
+                        "%.5f,%.6f,%.6f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%u,%.6g,%.6g,%.6g,%.6g,"
+                        "%u,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g\n",
                         t, state, drive.telemetry.fault, drive.telemetry.pwm_on,
                         (double)_IQtoF(drive.speed_ramp.out) * rpm_per_pu, m->n_rpm,
                         (double)_IQtoF(drive.qep.speed) * rpm_per_pu,
@@ -251,11 +337,39 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                         sqrt(pd * pd + pq * pq), (pd > 1e-9) ? pq / pd : 0.0, lp.Rs_ohm,
                         lp.Rr_ohm, lp.Lm_H, lp.Lr_H, lp.psi_r_Wb, lp.Tr_s, drive.live.valid,
                         (double)_IQtoF(drive.rls.theta[0]), (double)_IQtoF(drive.rls.theta[1]),
-                        (double)_IQtoF(drive.rls.theta[2]), (double)_IQtoF(drive.rls.theta[3]));
+                        (double)_IQtoF(drive.rls.theta[2]), (double)_IQtoF(drive.rls.theta[3]),
+                        drive.seq.rls_on, (double)_IQtoF(drive.reg.y1),
+                        (double)_IQtoF(drive.reg.y2), (double)_IQtoF(drive.reg.i_mf),
+                        (double)_IQtoF(drive.reg.u_mf), (double)_IQtoF(drive.reg.i_tf),
+                        (double)_IQtoF(drive.reg.u_tf), (double)_IQtoF(drive.reg.wr_f));
             }
         }
 
         /* scenario events after the identification */
+        if (t_run >= 0.0 && opt->scenario == SCEN_SOAK) {
+            /* each event from a settled state: the load step 2 s after each
+             * reversal (the 1.4 s ramp is over); a step at the end of a
+             * reversal at rated speed reaches the 60 V bus's voltage limit */
+            if (t_soak_rev < 0.0) {
+                t_soak_rev = t_run;
+                t_soak_load = t_run - 1.0;
+            }
+            if (t >= t_soak_rev + 4.0) {
+                double e = fabs((double)_IQtoF(drive.speed_ramp.out) * rpm_per_pu -
+                                plant.motor.n_rpm);
+                if (e > res->max_settled_speed_err_rpm) {
+                    res->max_settled_speed_err_rpm = e;
+                }
+                drive_set_speed(&drive, -drive.seq.speed_target);
+                t_soak_rev = t;
+            }
+            if (t >= t_soak_load + 4.0) {
+                t_soak_load = t;
+            }
+            plant.extra_load_Nm = (t < t_soak_load + 1.0 && t >= t_soak_load)
+                                      ? 0.5 * (cfg->load_const_Nm + cfg->load_fan_Nm)
+                                      : 0.0;
+        }
         if (t_run >= 0.0 && !scen_done) {
             if (opt->scenario == SCEN_REVERSAL && t >= t_run + 0.5) {
                 drive_set_speed(&drive, -drive.seq.speed_target);
@@ -284,6 +398,11 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     res->final_state = drive.telemetry.state;
     res->final_fault = drive.telemetry.fault;
     res->final_pwm_on = port.outputs_enabled;
+    res->t_fault_visible_s = plant.t_visible_s;
+    res->rls_sat_count = drive.rls.sat_count;
+    res->rls_pd_count = drive.rls.pd_count;
+    res->theta_rejects = drive.guard.reject_count;
+    res->publish_rejects = drive.telemetry.publish_rejects;
     res->identified = drive.telemetry.params_valid;
     if (res->identified) {
         to_si(b, &drive.pex, &res->ident);
@@ -299,7 +418,12 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     }
     free(rows);
     if (trace != NULL) {
-        fclose(trace);
+        /* a full disk must not pass for a complete trace */
+        int write_failed = ferror(trace);
+        if (fclose(trace) != 0 || write_failed != 0) {
+            snprintf(err, err_len, "error writing %s", opt->trace_path);
+            return 4;
+        }
     }
     return 0;
 }

@@ -14,7 +14,18 @@
 
 #define SIM_MAX_FAULTS 8
 
-typedef enum { SCEN_START = 0, SCEN_REVERSAL, SCEN_LOAD_STEPS } sim_scenario_t;
+#define SIM_MAX_CMDS 8
+
+/* SCEN_SOAK: after the identification, repeated speed reversals
+ * (+-target every 4 s) and load steps (+50 % of the rated load for 1 s,
+ * 2 s after each reversal): the long-run test of issue 6. */
+typedef enum { SCEN_START = 0, SCEN_REVERSAL, SCEN_LOAD_STEPS, SCEN_SOAK } sim_scenario_t;
+
+/** A command given to the drive at a time (as from the telemetry link). */
+typedef struct {
+    double t_s;
+    uint16_t cmd;   /* drive_cmd_t */
+} sim_cmd_t;
 
 typedef struct {
     plant_fault_t kind;
@@ -30,6 +41,8 @@ typedef struct {
     uint16_t quiet;              /* no progress on stderr */
     uint16_t n_faults;
     sim_fault_t faults[SIM_MAX_FAULTS];
+    uint16_t n_cmds;
+    sim_cmd_t cmds[SIM_MAX_CMDS];
 } sim_options_t;
 
 /** Parameter set in SI. */
@@ -57,6 +70,28 @@ typedef struct {
     uint16_t n_faults_seen;
     uint16_t fault_code[SIM_MAX_FAULTS];
     double fault_time_s[SIM_MAX_FAULTS];
+    /* protection figures (issue 6) */
+    double t_fault_visible_s;       /* first sample an injected fault reached the ADC/QEP
+                                       (-1: none) */
+    uint32_t pwm_periods_with_fault;/* periods the bridge switched with a fault latched
+                                       (after the ISR): must be 0 */
+    double t_first_published_s;     /* -1: never */
+    sim_params_t published_first;   /* the published set when it first appeared */
+    uint16_t published_changed;     /* a published value changed after that */
+    double max_cur_check_pu;        /* largest filtered current-tracking error */
+    double t_max_cur_check_s;       /* when */
+    /* soak figures: control-path flags, counted in samples after the
+     * magnetisation, and the estimator's counters at the end */
+    uint32_t n_overmod;             /* svgen clamped onto the hexagon */
+    double t_first_overmod_s, t_last_overmod_s;   /* -1: never */
+    uint32_t n_current_pi_sat;      /* a current PI at its voltage limit */
+    uint32_t n_imr_low;             /* orientation: i_mr below its minimum */
+    uint32_t n_speed_sat;           /* QEP speed at its saturation (d_max counts) */
+    uint32_t rls_sat_count, rls_pd_count, theta_rejects, publish_rejects;
+    double max_abs_theta;           /* largest |RLS theta_i|, pu */
+    double live_min_pct, live_max_pct; /* live estimates (valid ones, after
+                                       publication) relative to truth, worst */
+    double max_settled_speed_err_rpm; /* soak: |ref - speed| just before each reversal */
 } sim_result_t;
 
 /** Run; returns 0, or non-zero with a message in err (drive_init or a model
@@ -64,7 +99,7 @@ typedef struct {
 int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res, char *err,
             unsigned err_len);
 
-/** Parse "start" | "reversal" | "load_steps". Returns 0 or -1. */
+/** Parse "start" | "reversal" | "load_steps" | "soak". Returns 0 or -1. */
 int sim_scenario_parse(const char *name, sim_scenario_t *out);
 const char *sim_scenario_name(sim_scenario_t s);
 

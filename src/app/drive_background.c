@@ -23,15 +23,23 @@ static void extract(param_extract_t *p, const drive_snapshot_t *s, uint16_t form
     param_extract_step(p);
 }
 
+/* Only a plausible set is published; an implausible extraction leaves the
+ * last good set (and params_valid) untouched and is counted. */
 static void publish(drive_telemetry_t *t, const param_extract_t *p)
 {
+    if (p->valid == 0u) {
+        if (t->publish_rejects < 0xFFFFu) {
+            t->publish_rejects++;
+        }
+        return;
+    }
     t->Rs = p->Rs;
     t->Rr = p->Rr;
     t->Lm = p->Lm;
     t->Lr = p->Lr;
     t->psi_r = p->psi_r;
     t->Tr = p->Tr;
-    t->params_valid = p->valid;
+    t->params_valid = 1u;
 }
 
 static void handle_command(drive_t *d, drive_cmd_t cmd)
@@ -47,7 +55,9 @@ static void handle_command(drive_t *d, drive_cmd_t cmd)
                            (id->paper_regressor != 0u) ? RLS_FORM_PAPER : RLS_FORM_CONST,
                            id->rls_p0, id->forgetting, 0.0f, NULL);
             d->seq.cal_done = 0u;
-            d->telemetry.params_valid = 0u;
+            /* the published set stays (last good values) until a new
+             * plausible one replaces it; the guard starts afresh */
+            theta_guard_reset(&d->guard);
             id_sequence_start(&d->seq);
         }
         break;
@@ -55,6 +65,12 @@ static void handle_command(drive_t *d, drive_cmd_t cmd)
         id_sequence_stop(&d->seq);
         break;
     case DRIVE_CMD_RESET_FAULT:
+        /* the plausibility checks judge a running drive: re-armed here, they
+         * trip again if their cause is still there once it runs */
+        encoder_check_reset(&d->enc_chk);
+        current_check_reset(&d->cur_chk);
+        d->prot.encoder_fault = 0u;
+        d->prot.current_fault = 0u;
         if (d->config_status == DRIVE_CFG_OK && protect_clear(&d->prot) != 0u) {
             id_sequence_clear_fault(&d->seq);
         }

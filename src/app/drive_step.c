@@ -46,6 +46,13 @@ static void protect(drive_t *d)
     d->prot.vdc = d->bus.vdc;
     d->prot.pwm_on = d->on_next;
     d->prot.adc_rail = (uint16_t)((d->cur.rail != 0u || d->bus.rail != 0u) ? 1u : 0u);
+    /* encoder plausibility on this sample's count and the last i_T (the
+     * frozen test needs 50 ms anyway; the jump test uses the count only) */
+    d->enc_chk.count = d->qep.count;
+    d->enc_chk.i_t = d->park.qs;
+    d->enc_chk.active = d->on_next;
+    encoder_check_step(&d->enc_chk);
+    d->prot.encoder_fault = d->enc_chk.fault;
     protect_step(&d->prot);
 }
 
@@ -124,6 +131,16 @@ static void identify(drive_t *d)
     d->rls.wr_f = r->wr_f;
     d->rls.enable = d->seq.rls_on;
     rls_step(&d->rls);
+    /* safeguard: the snapshots take the last good theta (theta_guard.h) */
+    {
+        uint16_t i;
+        for (i = 0u; i < RLS_N; i++) {
+            d->guard.theta[i] = d->rls.theta[i];
+        }
+    }
+    d->guard.updated = d->rls.enable;
+    d->guard.windup_hold = d->rls.windup_hold;
+    theta_guard_step(&d->guard);
 }
 
 static void sequence(drive_t *d)
@@ -138,7 +155,7 @@ static void sequence(drive_t *d)
     if (s->extract_now != 0u) {
         uint16_t i;
         for (i = 0u; i < RLS_N; i++) {
-            d->snap.theta[i] = d->rls.theta[i];
+            d->snap.theta[i] = d->guard.theta_good[i];
         }
         d->snap.i_m = d->reg.i_mf;
         d->snap.ready = 1u;
@@ -148,7 +165,7 @@ static void sequence(drive_t *d)
         if (d->live_snap.ready == 0u) {
             uint16_t i;
             for (i = 0u; i < RLS_N; i++) {
-                d->live_snap.theta[i] = d->rls.theta[i];
+                d->live_snap.theta[i] = d->guard.theta_good[i];
             }
             d->live_snap.i_m = d->reg.i_mf;
             d->live_snap.ready = 1u;
@@ -183,6 +200,23 @@ static void control(drive_t *d)
                                         _IQmpy(d->k.lm2_lr, d->ifo.imr));
     pi_step(&d->pi_id);
     pi_step(&d->pi_iq);
+}
+
+/* Current feedback check, after the references of this sample are set.
+ * Returns 1 if it tripped (the caller turns the outputs off in this ISR). */
+static uint16_t check_current(drive_t *d)
+{
+    d->cur_chk.i_m_ref = d->pi_id.ref;
+    d->cur_chk.i_m = d->park.ds;
+    d->cur_chk.i_t_ref = d->pi_iq.ref;
+    d->cur_chk.i_t = d->park.qs;
+    d->cur_chk.active = 1u;
+    current_check_step(&d->cur_chk);
+    d->prot.current_fault = d->cur_chk.fault;
+    if (d->cur_chk.fault != 0u) {
+        protect_latch(&d->prot, FAULT_CURRENT_SENSOR);
+    }
+    return (uint16_t)(d->prot.fault != FAULT_NONE);
 }
 
 static void orient(drive_t *d)
@@ -222,6 +256,8 @@ static void telemetry(drive_t *d, uint16_t pwm_on)
     t->i_m = d->park.ds;
     t->i_t = d->park.qs;
     t->vdc = d->bus.vdc;
+    t->rls_sat_count = d->rls.sat_count;
+    t->theta_rejects = d->guard.reject_count;
 }
 
 void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
@@ -246,6 +282,14 @@ void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
     pwm_on = (uint16_t)(d->seq.pwm_on != 0u && d->prot.fault == FAULT_NONE);
     if (pwm_on != 0u) {
         control(d);
+        if (check_current(d) != 0u) {
+            pwm_on = 0u;
+        }
+    } else {
+        d->cur_chk.active = 0u;
+        current_check_step(&d->cur_chk);   /* re-arms its filter */
+    }
+    if (pwm_on != 0u) {
         orient(d);
         modulate(d, out);
     } else {

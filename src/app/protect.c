@@ -7,7 +7,7 @@ int16_t protect_init(protect_t *p, _iq i_trip, _iq vdc_max, _iq vdc_min)
 {
     p->ia = p->ib = p->ic = _IQ(0.0);
     p->vdc = _IQ(0.0);
-    p->pwm_on = p->adc_rail = p->encoder_fault = p->hw_trip = 0u;
+    p->pwm_on = p->adc_rail = p->encoder_fault = p->current_fault = p->hw_trip = 0u;
     p->fault = FAULT_NONE;
     p->trip = 0u;
     p->i_trip = i_trip;
@@ -19,7 +19,8 @@ int16_t protect_init(protect_t *p, _iq i_trip, _iq vdc_max, _iq vdc_min)
     return 0;
 }
 
-static fault_code_t protect_check(const protect_t *p)
+/* strict: check the undervoltage also with the bridge off (protect_clear). */
+static fault_code_t protect_check(const protect_t *p, uint16_t strict)
 {
     if (p->hw_trip != 0u) {
         return FAULT_HW_TRIP;
@@ -33,11 +34,14 @@ static fault_code_t protect_check(const protect_t *p)
     if (p->vdc > p->vdc_max) {
         return FAULT_BUS_OVERVOLTAGE;
     }
-    if (p->pwm_on != 0u && p->vdc < p->vdc_min) {
+    if ((p->pwm_on != 0u || strict != 0u) && p->vdc < p->vdc_min) {
         return FAULT_BUS_UNDERVOLTAGE;
     }
     if (p->encoder_fault != 0u) {
         return FAULT_ENCODER;
+    }
+    if (p->current_fault != 0u) {
+        return FAULT_CURRENT_SENSOR;
     }
     return FAULT_NONE;
 }
@@ -52,7 +56,7 @@ void protect_latch(protect_t *p, fault_code_t code)
 
 void protect_step(protect_t *p)
 {
-    protect_latch(p, protect_check(p));
+    protect_latch(p, protect_check(p, 0u));
 }
 
 uint16_t protect_clear(protect_t *p)
@@ -60,7 +64,7 @@ uint16_t protect_clear(protect_t *p)
     if (p->fault == FAULT_NONE) {
         return 1u;
     }
-    if (protect_check(p) != FAULT_NONE) {
+    if (protect_check(p, 1u) != FAULT_NONE) {
         return 0u;
     }
     p->fault = FAULT_NONE;

@@ -1,0 +1,344 @@
+/**
+ * Co-simulation API: independent firmware instances on the host; see
+ * include/imfoc_api.h.  Each instance is one heap-allocated drive_t (malloc
+ * is fine here, on the host; never in src/) driven through drive_step(), the
+ * HAL-free body of the ISR, so nothing global is shared between instances.
+ */
+#include "imfoc_api.h"
+
+#include <math.h>
+
+#define IMFOC_TWO_PI 6.28318530717958647692
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "drive_types.h"
+#include "imfoc_convert.h"
+#include "sim_config.h"
+
+#define IMFOC_BACKGROUND_DIV 15u   /* 1 kHz background at 15 kHz, as motor_sim */
+
+struct imfoc {
+    drive_t drive;
+    imfoc_info_t info;
+    hal_pwm_compare_t cmp;   /* last compare values */
+    uint32_t isr_count;
+    uint16_t bg_left;        /* periods to the next background call */
+    uint16_t have_angle;     /* theta_in / theta_unwrapped valid */
+    double theta_in;         /* last physical angle given */
+    double theta_unwrapped;  /* its unwrapped sum */
+};
+
+static void set_err(char *err, size_t len, const char *msg, const char *detail)
+{
+    if (err != NULL && len > 0u) {
+        snprintf(err, len, "%s%s%s", msg, (detail != NULL) ? ": " : "",
+                 (detail != NULL) ? detail : "");
+    }
+}
+
+int32_t imfoc_api_version(void) { return IMFOC_API_VERSION; }
+
+const char *imfoc_status_str(int32_t status)
+{
+    switch (status) {
+    case IMFOC_OK: return "ok";
+    case IMFOC_ERR_NULL: return "NULL instance or pointer";
+    case IMFOC_ERR_CONFIG: return "configuration refused";
+    case IMFOC_ERR_NOMEM: return "out of memory";
+    case IMFOC_ERR_RANGE: return "argument out of range or not finite";
+    case IMFOC_ERR_COMMAND: return "unknown command";
+    default: return "unknown status";
+    }
+}
+
+imfoc_t *imfoc_create(const drive_config_t *cfg, char *err, size_t err_len)
+{
+    imfoc_t *h;
+    int16_t st;
+    const base_values_t *b;
+
+    if (cfg == NULL) {
+        set_err(err, err_len, imfoc_status_str(IMFOC_ERR_NULL), NULL);
+        return NULL;
+    }
+    h = (imfoc_t *)calloc(1u, sizeof *h);
+    if (h == NULL) {
+        set_err(err, err_len, imfoc_status_str(IMFOC_ERR_NOMEM), NULL);
+        return NULL;
+    }
+    st = drive_init(&h->drive, cfg);
+    if (st != DRIVE_CFG_OK) {
+        set_err(err, err_len, "drive_init rejected the configuration",
+                drive_cfg_status_str(st));
+        free(h);
+        return NULL;
+    }
+    b = &h->drive.base;
+    h->info.Ts_s = (double)b->Ts_s;
+    h->info.I_base_A = (double)b->I_base_A;
+    h->info.V_base_V = (double)b->V_base_V;
+    h->info.f_base_Hz = (double)b->f_base_Hz;
+    h->info.w_base_rad_s = (double)b->w_base_rad_s;
+    h->info.t_base_s = (double)b->t_base_s;
+    h->info.Z_base_ohm = (double)b->Z_base_ohm;
+    h->info.L_base_H = (double)b->L_base_H;
+    h->info.psi_base_Wb = (double)b->psi_base_Wb;
+    h->info.n_base_rpm = (double)b->n_base_rpm;
+    h->info.current_full_scale_A = (double)cfg->board.current_full_scale_A;
+    h->info.vdc_full_scale_V = (double)cfg->board.vdc_adc_full_scale_V;
+    h->info.t1pr = h->drive.t1pr;
+    h->info.pole_pairs = b->pole_pairs;
+    h->info.encoder_lines = cfg->board.encoder_lines;
+    h->info.background_div = IMFOC_BACKGROUND_DIV;
+    h->bg_left = 0u;   /* background right after the first ISR, as motor_sim */
+    h->cmp.cmpr[0] = h->cmp.cmpr[1] = h->cmp.cmpr[2] = h->drive.t1pr;
+    return h;
+}
+
+imfoc_t *imfoc_create_ini(const char *path, char *err, size_t err_len)
+{
+    sim_config_t sc;
+    drive_config_t dc;
+    char msg[SIM_CONFIG_ERR_LEN];
+
+    if (path == NULL) {
+        set_err(err, err_len, imfoc_status_str(IMFOC_ERR_NULL), NULL);
+        return NULL;
+    }
+    if (sim_config_load(path, &sc, msg, sizeof msg) != 0) {
+        set_err(err, err_len, msg, NULL);
+        return NULL;
+    }
+    sim_config_to_drive(&sc, &dc);
+    return imfoc_create(&dc, err, err_len);
+}
+
+void imfoc_destroy(imfoc_t *h) { free(h); }
+
+int32_t imfoc_get_info(const imfoc_t *h, imfoc_info_t *info)
+{
+    if (h == NULL || info == NULL) {
+        return IMFOC_ERR_NULL;
+    }
+    *info = h->info;
+    return IMFOC_OK;
+}
+
+int32_t imfoc_set_background_div(imfoc_t *h, uint16_t div)
+{
+    if (h == NULL) {
+        return IMFOC_ERR_NULL;
+    }
+    h->info.background_div = div;
+    h->bg_left = 0u;
+    return IMFOC_OK;
+}
+
+int32_t imfoc_background(imfoc_t *h)
+{
+    if (h == NULL) {
+        return IMFOC_ERR_NULL;
+    }
+    drive_background(&h->drive);
+    return IMFOC_OK;
+}
+
+int32_t imfoc_command(imfoc_t *h, int32_t cmd)
+{
+    drive_cmd_t c;
+    if (h == NULL) {
+        return IMFOC_ERR_NULL;
+    }
+    switch (cmd) {
+    case IMFOC_CMD_START_IDENT: c = DRIVE_CMD_START_IDENT; break;
+    case IMFOC_CMD_STOP: c = DRIVE_CMD_STOP; break;
+    case IMFOC_CMD_RESET_FAULT: c = DRIVE_CMD_RESET_FAULT; break;
+    default: return IMFOC_ERR_COMMAND;
+    }
+    drive_command(&h->drive, c);
+    drive_background(&h->drive);
+    return IMFOC_OK;
+}
+
+int32_t imfoc_set_speed_rpm(imfoc_t *h, double rpm)
+{
+    double pu;
+    if (h == NULL) {
+        return IMFOC_ERR_NULL;
+    }
+    pu = rpm / h->info.n_base_rpm;
+    /* the ramp and the speed loop keep headroom: well inside Q24's +-128 */
+    if (!isfinite(pu) || fabs(pu) > 4.0) {
+        return IMFOC_ERR_RANGE;
+    }
+    drive_set_speed(&h->drive, _IQ((float)pu));
+    return IMFOC_OK;
+}
+
+static void fill_out(const imfoc_t *h, imfoc_out_t *out)
+{
+    const drive_t *d = &h->drive;
+    double t1pr = (double)h->info.t1pr, mean = 0.0, vdc;
+    unsigned i;
+
+    out->pwm_on = d->telemetry.pwm_on;
+    for (i = 0; i < 3u; i++) {
+        out->cmpr[i] = h->cmp.cmpr[i];
+        out->duty[i] = (t1pr - (double)h->cmp.cmpr[i]) / t1pr;
+        mean += out->duty[i] / 3.0;
+    }
+    vdc = (double)_IQtoF(d->bus.vdc) * h->info.V_base_V;
+    for (i = 0; i < 3u; i++) {
+        out->v_phase_V[i] = (out->pwm_on != 0u) ? (out->duty[i] - mean) * vdc : 0.0;
+    }
+}
+
+int32_t imfoc_step_raw(imfoc_t *h, const imfoc_raw_in_t *in, imfoc_out_t *out)
+{
+    hal_adc_sample_t adc;
+
+    if (h == NULL || in == NULL) {
+        return IMFOC_ERR_NULL;
+    }
+    adc.ia_raw = in->ia_raw;
+    adc.ib_raw = in->ib_raw;
+    adc.vdc_raw = in->vdc_raw;
+    /* drive_isr() without the HAL: PDPINTA in, compares and enable out */
+    h->drive.prot.hw_trip = (uint16_t)(in->trip != 0u);
+    drive_step(&h->drive, &adc, in->qep_count, &h->cmp);
+    h->isr_count++;
+    if (h->info.background_div != 0u) {
+        if (h->bg_left == 0u) {
+            drive_background(&h->drive);
+            h->bg_left = h->info.background_div;
+        }
+        h->bg_left--;
+    }
+    if (out != NULL) {
+        fill_out(h, out);
+    }
+    return IMFOC_OK;
+}
+
+static int32_t convert(const imfoc_t *h, const imfoc_phys_in_t *in, double theta,
+                       imfoc_raw_in_t *raw)
+{
+    if (!isfinite(in->ia_A) || !isfinite(in->ib_A) || !isfinite(in->vdc_V) ||
+        !isfinite(theta)) {
+        return IMFOC_ERR_RANGE;
+    }
+    raw->ia_raw = imfoc_adc_current(in->ia_A, h->info.current_full_scale_A);
+    raw->ib_raw = imfoc_adc_current(in->ib_A, h->info.current_full_scale_A);
+    raw->vdc_raw = imfoc_adc_vdc(in->vdc_V, h->info.vdc_full_scale_V);
+    raw->qep_count = imfoc_qep_count(theta, h->info.encoder_lines);
+    raw->trip = (uint16_t)(in->trip != 0u);
+    return IMFOC_OK;
+}
+
+int32_t imfoc_phys_to_raw(const imfoc_t *h, const imfoc_phys_in_t *in, imfoc_raw_in_t *raw)
+{
+    if (h == NULL || in == NULL || raw == NULL) {
+        return IMFOC_ERR_NULL;
+    }
+    return convert(h, in, in->theta_m_rad, raw);
+}
+
+int32_t imfoc_step_phys(imfoc_t *h, const imfoc_phys_in_t *in, imfoc_out_t *out)
+{
+    imfoc_raw_in_t raw;
+    double theta;
+    int32_t st;
+
+    if (h == NULL || in == NULL) {
+        return IMFOC_ERR_NULL;
+    }
+    if (!isfinite(in->theta_m_rad)) {
+        return IMFOC_ERR_RANGE;
+    }
+    theta = (h->have_angle != 0u) ? imfoc_unwrap(h->theta_unwrapped, h->theta_in, in->theta_m_rad)
+                                  : in->theta_m_rad;
+    st = convert(h, in, theta, &raw);
+    if (st != IMFOC_OK) {
+        return st;
+    }
+    h->theta_in = in->theta_m_rad;
+    h->theta_unwrapped = theta;
+    h->have_angle = 1u;
+    return imfoc_step_raw(h, &raw, out);
+}
+
+static double f(_iq x) { return (double)_IQtoF(x); }
+
+static void params_si(const imfoc_t *h, const param_extract_t *p, double *o)
+{
+    o[0] = f(p->Rs) * h->info.Z_base_ohm;
+    o[1] = f(p->Rr) * h->info.Z_base_ohm;
+    o[2] = f(p->Lm) * h->info.L_base_H;
+    o[3] = f(p->Lr) * h->info.L_base_H;
+    o[4] = f(p->psi_r) * h->info.psi_base_Wb;
+    o[5] = f(p->Tr) * h->info.t_base_s;
+}
+
+int32_t imfoc_get_signals(const imfoc_t *h, imfoc_signals_t *s)
+{
+    const drive_t *d;
+    double lp[6], pp[6];
+    const double I = (h != NULL) ? h->info.I_base_A : 0.0;
+    const double V = (h != NULL) ? h->info.V_base_V : 0.0;
+    unsigned i;
+
+    if (h == NULL || s == NULL) {
+        return IMFOC_ERR_NULL;
+    }
+    d = &h->drive;
+    memset(s, 0, sizeof *s);
+    s->isr_count = h->isr_count;
+    s->state = d->telemetry.state;
+    s->fault = d->telemetry.fault;
+    s->pwm_on = d->telemetry.pwm_on;
+    s->params_valid = d->telemetry.params_valid;
+    s->live_valid = d->live.valid;
+    s->rls_on = d->seq.rls_on;
+    s->speed_rpm = f(d->qep.speed) * h->info.n_base_rpm;
+    s->speed_ref_rpm = f(d->speed_ramp.out) * h->info.n_base_rpm;
+    s->ia_A = f(d->cur.ia) * I;
+    s->ib_A = f(d->cur.ib) * I;
+    s->vdc_V = f(d->bus.vdc) * V;
+    s->i_m_A = f(d->park.ds) * I;
+    s->i_t_A = f(d->park.qs) * I;
+    s->i_mr_A = f(d->ifo.imr) * I;
+    s->theta_e_rad = f(d->ifo.theta) * IMFOC_TWO_PI;
+    s->w_frame_rad_s = f(d->ifo.ws_frame) * h->info.w_base_rad_s;
+    s->u_alpha_V = f(d->volt.valpha) * V;
+    s->u_beta_V = f(d->volt.vbeta) * V;
+    s->u_m_ref_V = f(d->pi_id.out) * V;
+    s->u_t_ref_V = f(d->pi_iq.out) * V;
+    for (i = 0; i < RLS_N; i++) {
+        s->K[i] = f(d->rls.theta[i]);
+    }
+    s->y1 = f(d->reg.y1);
+    s->y2 = f(d->reg.y2);
+    s->i_mf = f(d->reg.i_mf);
+    s->u_mf = f(d->reg.u_mf);
+    s->i_tf = f(d->reg.i_tf);
+    s->u_tf = f(d->reg.u_tf);
+    s->wr_f = f(d->reg.wr_f);
+    s->rls_updates = d->rls.n_updates;
+    params_si(h, &d->live, lp);
+    params_si(h, &d->pex, pp);
+    s->live_Rs_ohm = lp[0];
+    s->live_Rr_ohm = lp[1];
+    s->live_Lm_H = lp[2];
+    s->live_Lr_H = lp[3];
+    s->live_psi_r_Wb = lp[4];
+    s->live_Tr_s = lp[5];
+    s->Rs_ohm = pp[0];
+    s->Rr_ohm = pp[1];
+    s->Lm_H = pp[2];
+    s->Lr_H = pp[3];
+    s->psi_r_Wb = pp[4];
+    s->Tr_s = pp[5];
+    return IMFOC_OK;
+}

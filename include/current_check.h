@@ -1,0 +1,60 @@
+/**
+ * @file current_check.h
+ * Current-feedback plausibility (issue 6): the measured M/T currents must
+ * follow their references.  With two phase sensors a sensor that is lost
+ * with its output at the zero-current level (1.5 V: a broken signal path
+ * after the level shift, a dead sensor with a mid-rail bias) reads 0 A, is
+ * not at an ADC rail and never exceeds the trip level, while the current
+ * loops drive the true current of that phase far above it (measured on the
+ * paper motor: 28 A peak against an 18 A trip within 100 ms).  The only
+ * symptom in the measurements is that the currents no longer follow their
+ * references: the measured vector is confined to one line of the
+ * alpha-beta plane and cannot rotate, so i_M and i_T swing at twice the
+ * electrical frequency.
+ *
+ *     e   = |i_M,ref - i_M| + |i_T,ref - i_T|                       (pu)
+ *     e_f += a (e - e_f),  a = 1 - exp(-Ts / tau)    (first-order low-pass)
+ *     fault when e_f > e_max while active
+ *
+ * A healthy drive's e is large only during a reference step, for about the
+ * current loop's time constant; the low-pass turns that into e_f ~ step *
+ * T_loop / tau.  drive_init sets tau and e_max (values and the healthy
+ * maximum measured over every scenario are in drive_init.c).
+ *
+ * Scaling and overflow of current_check_step: Q24 throughout.  Each input
+ * is saturated to +-4 pu before the differences (references and
+ * measurements are within +-2.5 pu, so this never acts on a real value),
+ * each |error| <= 8 pu, e <= 16 pu; the filter increment a (e - e_f) is a
+ * rounded product with |e - e_f| <= 16, e_f stays in [0, 16].  Nothing can
+ * wrap, whatever the inputs.
+ */
+#ifndef CURRENT_CHECK_H
+#define CURRENT_CHECK_H
+
+#include <stdint.h>
+#include "IQmathLib.h"
+
+typedef struct {
+    /* inputs (Q24, pu) */
+    _iq i_m_ref, i_m, i_t_ref, i_t;
+    uint16_t active;      /* 1 while the current loops run */
+    /* parameters */
+    _iq k_filt;           /* Q24: a = 1 - exp(-Ts/tau) */
+    _iq e_max;            /* Q24, pu */
+    /* outputs */
+    _iq e_f;              /* Q24, pu: filtered tracking error */
+    uint16_t fault;       /* 1 once tripped, until current_check_reset */
+} current_check_t;
+
+typedef enum {
+    CURRENT_CHECK_OK = 0,
+    CURRENT_CHECK_ERR_ARG   /* Ts, tau not > 0, tau < Ts, or e_max not in (0, 4) pu */
+} current_check_status_t;
+
+/** Float, once.  On error the struct is zeroed with fault = 1. */
+current_check_status_t current_check_init(current_check_t *c, float Ts_s, float tau_s,
+                                          float e_max_pu);
+void current_check_step(current_check_t *c);
+void current_check_reset(current_check_t *c);
+
+#endif /* CURRENT_CHECK_H */

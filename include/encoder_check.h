@@ -1,0 +1,80 @@
+/**
+ * @file encoder_check.h
+ * Encoder plausibility (issue 6): the QEP counter must move while torque
+ * current flows, and must not move faster than the motor can turn.
+ *
+ *  - frozen: T2CNT unchanged for `frozen_max` consecutive samples while
+ *    |i_T| > i_t_min.  Why it is safe to call that a fault: with i_T above
+ *    i_t_min the motor makes a torque well above its friction and the rotor
+ *    moves one count (1/cpr rev) within a few ms (paper motor: 30 % of the
+ *    i_T limit against the 0.15 N m load turns it by one count in ~5 ms);
+ *    the window (50 ms from drive_init) is ten times that.  A rotor that does
+ *    not move in 50 ms against that torque is locked, which also needs the
+ *    bridge off.  At |i_T| <= i_t_min (standstill, magnetising, light
+ *    load) the count may legitimately stand still: the run is restarted.
+ *  - jump: one sample's count difference beyond `jump_max` counts, i.e. a
+ *    speed above speed_max (drive_init: 4 pu, twice the highest speed the
+ *    ramp can command): noise on the A/B lines or a slipping coupling.
+ *
+ * The check runs only while the bridge switches (active); it is re-primed
+ * with the present count whenever it is inactive, so the first active
+ * sample never sees a stale difference.  Once set, `fault` stays set until
+ * encoder_check_reset() (the drive's fault reset).
+ *
+ * Scaling and overflow of encoder_check_step: the count difference is taken
+ * modulo 2^16 and read as signed in int32_t (exact, wrap-safe); its
+ * magnitude is formed in int32_t, so INT16_MIN cannot overflow on a 16-bit
+ * int CPU.  |i_T| is _IQabs of a Q24 current (|i| <= ~2.5 pu, no overflow).
+ * The frozen counter saturates at frozen_max.
+ */
+#ifndef ENCODER_CHECK_H
+#define ENCODER_CHECK_H
+
+#include <stdint.h>
+#include "IQmathLib.h"
+
+/** Why the check tripped (`cause`). */
+#define ENCODER_CHECK_FROZEN 0x1u
+#define ENCODER_CHECK_JUMP 0x2u
+
+typedef enum {
+    ENCODER_CHECK_OK = 0,
+    ENCODER_CHECK_ERR_ARG,         /* a time, level or count not positive / not finite */
+    ENCODER_CHECK_ERR_RESOLUTION   /* speed_max is below 2 counts per sample (cannot tell
+                                      a jump from motion) or above 16384 (wrap) */
+} encoder_check_status_t;
+
+typedef struct {
+    /* inputs */
+    uint16_t count;        /* T2CNT this sample */
+    _iq i_t;               /* Q24, pu: measured torque current */
+    uint16_t active;       /* 1 while the bridge switches */
+    /* parameters */
+    _iq i_t_min;           /* Q24, pu: |i_T| above which the rotor must turn */
+    uint16_t frozen_max;   /* samples */
+    int32_t jump_max;      /* counts per sample */
+    /* outputs */
+    uint16_t fault;        /* 1 once tripped, until encoder_check_reset */
+    uint16_t cause;        /* ENCODER_CHECK_x bits */
+    /* state */
+    uint16_t prev_count;
+    uint16_t frozen;       /* consecutive frozen samples with torque current */
+} encoder_check_t;
+
+/**
+ * Ts_s: sample period; frozen_s: frozen-count window; i_t_min_pu: torque
+ * current level (pu); speed_max_pu: highest plausible electrical speed (pu
+ * of f_base_Hz); encoder_lines (x4 counts); pole_pairs.  Float, once.  On
+ * error the struct is zeroed with fault = 1 (a drive that cannot judge its
+ * encoder must not run).
+ */
+encoder_check_status_t encoder_check_init(encoder_check_t *e, float Ts_s, float frozen_s,
+                                          float i_t_min_pu, float speed_max_pu,
+                                          float f_base_Hz, uint16_t encoder_lines,
+                                          uint16_t pole_pairs);
+/** One sample (see the file comment for scaling). */
+void encoder_check_step(encoder_check_t *e);
+/** Clear the fault and restart from the present count. */
+void encoder_check_reset(encoder_check_t *e);
+
+#endif /* ENCODER_CHECK_H */

@@ -1,0 +1,197 @@
+/**
+ * @file flux_obs.h
+ * Closed-loop rotor-flux observer for direct field orientation: a voltage
+ * model in the stationary frame, pulled towards a current model (rotor
+ * coordinates, encoder angle) below a crossover w_c, so that above w_c the
+ * flux angle does not depend on Tr (Jansen & Lorenz 1994; TI's ACI_FE uses
+ * the same idea with a plain PI).
+ *
+ * Models (pu: flux of psi_base, time of 1/w_base, complex alpha + j beta):
+ *   voltage model   d psi_s / dt = u - Rs i
+ *                   psi_r = (Lr/Lm) (psi_s - sigma Ls i)      needs Rs, sigma Ls, Lr/Lm
+ *   current model   in rotor coordinates (i^r = i e^{-j theta_r}):
+ *                   Tr d psi_r^r / dt = Lm i^r - psi_r^r,  psi_r = psi_r^r e^{j theta_r}
+ *                   needs Tr, Lm and the encoder angle, no orientation
+ *                   assumption (so a wrong Tr does not feed back through
+ *                   the observer's own angle, unlike a flux-frame model)
+ *   blend           the current model's stator flux psi_s,cm = (Lm/Lr) psi_r,cm
+ *                   + sigma Ls i is compared with the observer's psi_s; the
+ *                   difference drives a correction voltage u_c
+ *                      s psi_s = u - Rs i + u_c,   u_c = C(s) (psi_s,cm - psi_s)
+ *                      C(s) = (3 w_c^2 s + w_c^3) / (s (s + 3 w_c))
+ *                   a PI (integral: no wind-up from DC offsets) followed by a
+ *                   first-order roll-off at 3 w_c.
+ *
+ * How the result depends on speed.  With D(s) = (s + w_c)^3 and the flux
+ * turning at w_e (s = j w_e in the stationary frame):
+ *     psi_s^ = H_v psi_s,true + H_c psi_s,cm + H_e e_err
+ *     H_c = (3 w_c^2 s + w_c^3) / D       current model weight: 1 at DC,
+ *                                         |H_c| ~ 3 (w_c/w_e)^2 above w_c
+ *     H_v = 1 - H_c = s^2 (s + 3 w_c) / D voltage model weight
+ *     H_e = s (s + 3 w_c) / D             voltage error e_err (e.g. -dRs i,
+ *                                         offsets) -> flux: 0 at DC (no drift,
+ *                                         no wind-up), ~ 1/(j w_e) above w_c
+ * and psi_r^ = (Lr/Lm)(psi_s^ - sigma Ls i): the current model's error (a
+ * wrong Tr) reaches the output times |H_c| (3 % at w_e = 10 w_c), a plain PI
+ * with the same poles would pass 2 zeta w_c / w_e (14 % with zeta = 0.707):
+ * the roll-off is why this is not the textbook PI.  The voltage model's
+ * errors (Rs, sigma Ls) are not attenuated above w_c: an Rs error gives an
+ * angle error of about dRs / (w_e Lm^2/Lr) rad whatever the load and flux
+ * (paper motor, Rs 10 % off: 4.3-4.9 deg at 0.93 pu, 6.5-8 deg at 0.6 pu;
+ * sigma Ls 10 % off: 4-5 deg), growing as the speed falls until, below w_c,
+ * the current model (and Tr) takes over; near w_c both errors mix and can
+ * peak (tools/study/flux_obs_blend.py tabulates it).  So: Tr matters only
+ * below about w_c; Rs and sigma Ls (the angle) and Lr/Lm (the magnitude
+ * only) matter above it; the RLS identifies these without Tr
+ * (sigma Ls = 1/K2; Rs from K1, K3').
+ *
+ * Discretisation (sample k, period Ts; inputs: i(k), the mean voltage u over
+ * the period k-1 -> k, the rotor angle theta_r(k)):
+ *   psi_s(k) = psi_s(k-1) + Ts (u - Rs (i(k-1) + i(k))/2 + u_c(k-1))
+ *              (exact for u constant over the period, trapezoidal in i)
+ *   psi_r^r(k) = psi_r^r(k-1) + kf (Lm (i^r(k-1) + i^r(k))/2 - psi_r^r(k-1)),
+ *              kf = 1 - exp(-Ts/Tr) (first-order hold, O((Ts/Tr)^2))
+ *   C(s) in scaled states z = w_c int(e), y = u_c / w_c (e = psi_s,cm - psi_s):
+ *      z += g e,  y += g (3 e + z - 3 y),  u_c = w_c y,   g = w_c Ts
+ *   forward Euler at g <= 0.05 (the crossover is far below the sample
+ *   rate: 3 Hz at 15 kHz is g = 1.3e-3); every per-sample gain is g, not
+ *   w_c^3 Ts (4.5e-6 at 3 Hz), so the rounded integrators' dead zone is
+ *   only 0.5 LSB / g = 2.4e-5 pu of flux (it would be 0.0066 pu with the
+ *   w_c^3 Ts gain in Q24).
+ *
+ * Outputs at sample k: psi_r(k) (alpha, beta), |psi_r|, its angle theta(k)
+ * in [0, 1) (the frame angle for the Park transform of i(k)), theta_prev =
+ * theta(k-1), ws = the frame's actual speed over the last period (angle step
+ * / (f_base Ts)), ws_f = ws low-passed (for decoupling and the modulation
+ * angle: ws carries the current noise through sigma Ls i).
+ *
+ * Parameters are changed at run time in pu without float (flux_obs_set_rs,
+ * flux_obs_set_tr, flux_obs_set_inductances); rate limiting and blending of
+ * identified values is the caller's choice.
+ */
+#ifndef FLUX_OBS_H
+#define FLUX_OBS_H
+
+#include <stdint.h>
+#include "IQmathLib.h"
+#include "base_values.h"
+
+/** Input magnitudes are saturated to this (pu): the drive's currents and
+ *  voltages are below 1.2 pu; the bound keeps every product inside Q24. */
+#define FLUX_OBS_IN_MAX 4.0f
+/** Parameter ranges (pu), chosen so that no intermediate leaves Q24:
+ *  |Rs i| <= 16, |Lm i| <= 64, |Lr/Lm (psi_s - sigma Ls i)| <= 4 (8 + 16) = 96. */
+#define FLUX_OBS_RS_MAX 4.0f
+#define FLUX_OBS_LM_MAX 16.0f
+#define FLUX_OBS_SIGMA_LS_MAX 4.0f
+#define FLUX_OBS_LR_LM_MAX 4.0f
+/** Tr range: at least 10 samples (kf series, as ifo), at most 100 pu. */
+#define FLUX_OBS_TR_MIN_SAMPLES 10.0f
+#define FLUX_OBS_TR_MAX_PU 100.0f
+/** State bounds (pu): psi_s (and the error e), and the correction states
+ *  z, y.  At DC z = 3 y and u_c = w_c y: |u_c| <= 10 w_c (0.6 pu at 3 Hz),
+ *  far above the offsets it has to cancel. */
+#define FLUX_OBS_PSI_MAX 8.0f
+#define FLUX_OBS_Z_MAX 30.0f
+#define FLUX_OBS_Y_MAX 10.0f
+/** Largest g = w_c Ts and largest crossover (pu of w_base). */
+#define FLUX_OBS_G_MAX 0.05f
+#define FLUX_OBS_WC_MAX_PU 1.0f
+
+typedef enum {
+    FLUX_OBS_OK = 0,
+    FLUX_OBS_ERR_BASE,    /* bases NULL or not initialised, or f_base Ts not in (1/2000, 1/128) */
+    FLUX_OBS_ERR_RS,      /* Rs not in [0, 4] pu */
+    FLUX_OBS_ERR_L,       /* not 0 < Lm < Lr, Lm < Ls, Lm <= 16, Lr/Lm <= 4, sigma Ls in (0, 4] */
+    FLUX_OBS_ERR_TR,      /* Tr not in [10 Ts, 100] pu */
+    FLUX_OBS_ERR_WC,      /* w_c not in (0, 1] pu, or w_c Ts > 0.05 */
+    FLUX_OBS_ERR_WS_LPF   /* ws low-pass corner f not > 0 or 2 pi f Ts > 1 */
+} flux_obs_status_t;
+
+typedef struct {
+    /* inputs (set before each flux_obs_step) */
+    _iq i_alpha, i_beta;    /* Q24, stator current at this sample, pu of I_base */
+    _iq u_alpha, u_beta;    /* Q24, mean stator voltage over the period that just ended, pu of V_base */
+    _iq theta_r;            /* Q24, rotor electrical angle at this sample (encoder), pu [0, 1) */
+    /* parameters */
+    _iq rs;                 /* Q24, Rs, pu of Z_base */
+    _iq lm;                 /* Q24, Lm, pu of L_base */
+    _iq sigma_ls;           /* Q24, sigma Ls = Ls - Lm^2/Lr, pu of L_base */
+    _iq lr_lm;              /* Q24, Lr / Lm (> 1) */
+    _iq lm_lr;              /* Q24, Lm / Lr (< 1) */
+    _iq tr;                 /* Q24, Tr, pu time */
+    _iq kf;                 /* Q24, 1 - exp(-Ts/Tr) */
+    _iq ts;                 /* Q24, Ts, pu time (kept for flux_obs_set_tr) */
+    _iq30 ts30;             /* Q30, Ts, pu time (flux integration) */
+    _iq wc;                 /* Q24, crossover w_c, pu of w_base */
+    _iq g;                  /* Q24, w_c Ts (per-sample gain of the correction states) */
+    _iq kf_ws;              /* Q24, 1 - exp(-2 pi f_ws Ts): ws low-pass coefficient */
+    _iq20 inv_k_theta;      /* Q20, 1 / (f_base Ts): pu speed per revolution per sample */
+    _iq dth_max;            /* Q24, largest angle step converted to ws (|ws| <= 100 pu) */
+    /* outputs */
+    _iq psi_alpha, psi_beta;        /* Q24, rotor flux (observer), pu of psi_base */
+    _iq psi_mag;                    /* Q24, |psi_r|, pu */
+    _iq theta;                      /* Q24, rotor flux angle at this sample, pu [0, 1) */
+    _iq theta_prev;                 /* Q24, the same at the previous sample */
+    _iq ws;                         /* Q24, frame speed over the last period, pu of w_base */
+    _iq ws_f;                       /* Q24, ws low-passed, pu */
+    _iq psi_cm_alpha, psi_cm_beta;  /* Q24, current-model rotor flux (diagnostic), pu */
+    _iq uc_alpha, uc_beta;          /* Q24, correction voltage u_c (diagnostic), pu of V_base */
+    uint16_t sat;                   /* 1 if a state hit its bound this sample (diagnostic) */
+    /* state */
+    _iq psis_alpha, psis_beta;      /* Q24, observer stator flux, pu (|.| <= FLUX_OBS_PSI_MAX) */
+    _iq z_alpha, z_beta;            /* Q24, w_c int(e), pu flux (|.| <= FLUX_OBS_Z_MAX) */
+    _iq y_alpha, y_beta;            /* Q24, u_c / w_c, pu flux (|.| <= FLUX_OBS_Y_MAX) */
+    _iq psirr_d, psirr_q;           /* Q24, current-model rotor flux in rotor coordinates, pu */
+    _iq irr_d_prev, irr_q_prev;     /* Q24, i^r(k-1), pu */
+    _iq i_alpha_prev, i_beta_prev;  /* Q24, i(k-1), pu */
+} flux_obs_t;
+
+/**
+ * Compute every constant once (float, not in the ISR) and reset the state.
+ * @p Rs_ohm, @p Ls_H, @p Lr_H, @p Lm_H, @p Tr_s: the controller's motor
+ * model (Tr = Lr / Rr); @p wc_Hz: crossover (a few Hz: see the file
+ * comment); @p ws_lpf_Hz: corner of the ws low-pass.  On an error the
+ * observer is left reset with zero gains (its outputs stay 0).
+ */
+flux_obs_status_t flux_obs_init(flux_obs_t *o, const base_values_t *b, float Rs_ohm,
+                                float Ls_H, float Lr_H, float Lm_H, float Tr_s, float wc_Hz,
+                                float ws_lpf_Hz);
+
+/** Zero the state and outputs (demagnetised machine: all fluxes 0). */
+void flux_obs_reset(flux_obs_t *o);
+
+/** Rs in pu (e.g. identified).  Rejects (old value kept) outside [0, 4]. */
+flux_obs_status_t flux_obs_set_rs(flux_obs_t *o, _iq rs_pu);
+
+/**
+ * Tr in pu time.  As ifo_set_tr: Ts/Tr by _IQdiv, kf by its Taylor series
+ * to x^5/120 (x = Ts/Tr <= 0.1: error < 1.4e-9).  Rejects (old value kept)
+ * outside [10 Ts, 100].
+ */
+flux_obs_status_t flux_obs_set_tr(flux_obs_t *o, _iq tr_pu);
+
+/**
+ * Lm, Lr, Ls in pu: Lr/Lm and Lm/Lr by _IQdiv (< 1 LSB), sigma Ls = Ls -
+ * Lm (Lm/Lr) (< 2 LSB).  Rejects (all old values kept) unless 0 < Lm < Lr,
+ * Lm < Ls, Lm <= 16, Lr/Lm <= 4 and 0 < sigma Ls <= 4.
+ */
+flux_obs_status_t flux_obs_set_inductances(flux_obs_t *o, _iq lm_pu, _iq lr_pu, _iq ls_pu);
+
+/**
+ * One sample (inputs set).  Scaling and overflow: inputs saturated to
+ * +-FLUX_OBS_IN_MAX; with the parameter ranges above every product is
+ * below 128 pu; psi_s and e saturated to +-FLUX_OBS_PSI_MAX, z and y to
+ * +-FLUX_OBS_Z_MAX, +-FLUX_OBS_Y_MAX (anti-wind-up; sat reports it); the integrators use
+ * rounded products (no drift from truncation), the flux step Ts e is
+ * truncated (-0.5 LSB per sample, a 1.4e-6 pu voltage the loop removes).
+ * Angle by _IQatan2PU, magnitude by _IQmag; ws saturates at half a
+ * revolution per sample.
+ */
+void flux_obs_step(flux_obs_t *o);
+
+/** The flux angle at the middle of the last period (for rotating the
+ *  voltage applied over it), along the shorter arc, in [0, 1). */
+_iq flux_obs_theta_mid(const flux_obs_t *o);
+
+#endif /* FLUX_OBS_H */

@@ -1,0 +1,46 @@
+/* Current-feedback plausibility.  See current_check.h. */
+#include "current_check.h"
+
+#include <math.h>
+#include <string.h>
+
+current_check_status_t current_check_init(current_check_t *c, float Ts_s, float tau_s,
+                                          float e_max_pu)
+{
+    memset(c, 0, sizeof *c);
+    c->fault = 1u;
+    if (!(Ts_s > 0.0f) || !(tau_s >= Ts_s) || !(e_max_pu > 0.0f) || !(e_max_pu < 4.0f)) {
+        return CURRENT_CHECK_ERR_ARG;
+    }
+    c->k_filt = _IQ(1.0f - expf(-Ts_s / tau_s));
+    c->e_max = _IQ(e_max_pu);
+    c->fault = 0u;
+    return CURRENT_CHECK_OK;
+}
+
+void current_check_reset(current_check_t *c)
+{
+    c->e_f = _IQ(0.0);
+    c->fault = 0u;
+}
+
+static _iq abs_err(_iq ref, _iq meas)
+{
+    /* each input clamped to +-4 pu first (real ones are within 2.5 pu), so
+     * the difference is within +-8 pu whatever the caller passes */
+    return _IQabs(_IQsat(ref, _IQ(4.0), _IQ(-4.0)) - _IQsat(meas, _IQ(4.0), _IQ(-4.0)));
+}
+
+void current_check_step(current_check_t *c)
+{
+    _iq e;
+    if (c->active == 0u) {
+        c->e_f = _IQ(0.0);
+        return;
+    }
+    e = abs_err(c->i_m_ref, c->i_m) + abs_err(c->i_t_ref, c->i_t);   /* <= 16 pu */
+    c->e_f += _IQrmpy(c->k_filt, e - c->e_f);                          /* Q24*Q24 -> Q24 */
+    if (c->e_f > c->e_max) {
+        c->fault = 1u;
+    }
+}

@@ -1,0 +1,72 @@
+/* Encoder plausibility check.  See encoder_check.h. */
+#include "encoder_check.h"
+
+#include <math.h>
+#include <string.h>
+
+encoder_check_status_t encoder_check_init(encoder_check_t *e, float Ts_s, float frozen_s,
+                                          float i_t_min_pu, float speed_max_pu,
+                                          float f_base_Hz, uint16_t encoder_lines,
+                                          uint16_t pole_pairs)
+{
+    float frozen_n, jump;
+    memset(e, 0, sizeof *e);
+    e->fault = 1u;
+    if (!(Ts_s > 0.0f) || !(frozen_s > 0.0f) || !(i_t_min_pu > 0.0f) || !(i_t_min_pu < 2.0f) ||
+        !(speed_max_pu > 0.0f) || !(f_base_Hz > 0.0f) || encoder_lines == 0u ||
+        pole_pairs == 0u) {
+        return ENCODER_CHECK_ERR_ARG;
+    }
+    frozen_n = frozen_s / Ts_s;
+    if (!(frozen_n >= 1.0f) || !(frozen_n <= 65535.0f)) {
+        return ENCODER_CHECK_ERR_ARG;
+    }
+    /* counts per sample at speed_max: mechanical rev/s * counts/rev * Ts */
+    jump = speed_max_pu * f_base_Hz / (float)pole_pairs * 4.0f * (float)encoder_lines * Ts_s;
+    if (!(jump >= 2.0f) || !(jump <= 16384.0f)) {
+        return ENCODER_CHECK_ERR_RESOLUTION;
+    }
+    e->frozen_max = (uint16_t)(frozen_n + 0.5f);
+    e->jump_max = (int32_t)ceilf(jump);
+    e->i_t_min = _IQ(i_t_min_pu);
+    e->fault = 0u;
+    return ENCODER_CHECK_OK;
+}
+
+void encoder_check_reset(encoder_check_t *e)
+{
+    e->fault = 0u;
+    e->cause = 0u;
+    e->frozen = 0u;
+    e->prev_count = e->count;
+}
+
+void encoder_check_step(encoder_check_t *e)
+{
+    int32_t d = (int32_t)(uint16_t)(e->count - e->prev_count);   /* [0, 65535] */
+    int32_t ad;
+    if (d >= 32768) {
+        d -= 65536;                                               /* signed, wrap-safe */
+    }
+    ad = (d < 0) ? -d : d;
+    e->prev_count = e->count;
+    if (e->active == 0u) {
+        e->frozen = 0u;
+        return;
+    }
+    if (ad > e->jump_max) {
+        e->fault = 1u;
+        e->cause |= ENCODER_CHECK_JUMP;
+    }
+    if (ad == 0 && _IQabs(e->i_t) > e->i_t_min) {
+        if (e->frozen < e->frozen_max) {
+            e->frozen++;
+        }
+        if (e->frozen >= e->frozen_max) {
+            e->fault = 1u;
+            e->cause |= ENCODER_CHECK_FROZEN;
+        }
+    } else {
+        e->frozen = 0u;
+    }
+}

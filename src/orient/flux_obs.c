@@ -1,0 +1,292 @@
+/* Closed-loop rotor-flux observer (voltage model + current model).  See flux_obs.h. */
+#include "flux_obs.h"
+
+#include <math.h>
+
+#define PSI_MAX _IQ(FLUX_OBS_PSI_MAX)
+#define Z_MAX _IQ(FLUX_OBS_Z_MAX)
+#define Y_MAX _IQ(FLUX_OBS_Y_MAX)
+#define E_MAX _IQ(FLUX_OBS_PSI_MAX)
+#define IN_MAX _IQ(FLUX_OBS_IN_MAX)
+
+/* Limit x to [-m, m]; *sat set when it had to. */
+static _iq sat_sym(_iq x, _iq m, uint16_t *sat)
+{
+    if (x > m) {
+        *sat = 1u;
+        return m;
+    }
+    if (x < -m) {
+        *sat = 1u;
+        return -m;
+    }
+    return x;
+}
+
+/* Signed difference b - a of two angles in [0, 1), along the shorter arc:
+ * [-0.5, 0.5).  The raw difference is in (-1, 1): no overflow. */
+static _iq angle_diff(_iq b, _iq a)
+{
+    _iq d = b - a;
+
+    if (d >= _IQ(0.5)) {
+        d -= _IQ(1.0);
+    } else if (d < _IQ(-0.5)) {
+        d += _IQ(1.0);
+    }
+    return d;
+}
+
+void flux_obs_reset(flux_obs_t *o)
+{
+    o->i_alpha = o->i_beta = _IQ(0.0);
+    o->u_alpha = o->u_beta = _IQ(0.0);
+    o->theta_r = _IQ(0.0);
+    o->psi_alpha = o->psi_beta = _IQ(0.0);
+    o->psi_mag = _IQ(0.0);
+    o->theta = o->theta_prev = _IQ(0.0);
+    o->ws = o->ws_f = _IQ(0.0);
+    o->psi_cm_alpha = o->psi_cm_beta = _IQ(0.0);
+    o->uc_alpha = o->uc_beta = _IQ(0.0);
+    o->sat = 0u;
+    o->psis_alpha = o->psis_beta = _IQ(0.0);
+    o->z_alpha = o->z_beta = _IQ(0.0);
+    o->y_alpha = o->y_beta = _IQ(0.0);
+    o->psirr_d = o->psirr_q = _IQ(0.0);
+    o->irr_d_prev = o->irr_q_prev = _IQ(0.0);
+    o->i_alpha_prev = o->i_beta_prev = _IQ(0.0);
+}
+
+/* Gains and parameters to zero: the observer's outputs then stay 0. */
+static void zero_params(flux_obs_t *o)
+{
+    o->rs = o->lm = o->sigma_ls = o->lr_lm = o->lm_lr = _IQ(0.0);
+    o->tr = o->kf = o->ts = _IQ(0.0);
+    o->ts30 = _IQ30(0.0);
+    o->wc = o->g = o->kf_ws = _IQ(0.0);
+    o->inv_k_theta = _IQ20(0.0);
+    o->dth_max = _IQ(0.0);
+}
+
+flux_obs_status_t flux_obs_init(flux_obs_t *o, const base_values_t *b, float Rs_ohm,
+                                float Ls_H, float Lr_H, float Lm_H, float Tr_s, float wc_Hz,
+                                float ws_lpf_Hz)
+{
+    flux_obs_status_t st;
+    float fts;
+    float wc_pu;
+    float x_ws;
+
+    /* zero gains first: on any error below the observer stays inert */
+    zero_params(o);
+    flux_obs_reset(o);
+
+    if (b == 0 || !(b->Ts_s > 0.0f) || !(b->t_base_s > 0.0f) || !(b->Ts_pu > 0.0f) ||
+        !(b->Z_base_ohm > 0.0f) || !(b->L_base_H > 0.0f) || !(b->f_base_Hz > 0.0f)) {
+        return FLUX_OBS_ERR_BASE;
+    }
+    fts = b->f_base_Hz * b->Ts_s;   /* revolutions per sample at 1 pu speed */
+    /* 1/(f_base Ts) < 2000 fits Q20; Ts_pu = 2 pi f_base Ts < 0.05 fits Q30 */
+    if (!(fts > 1.0f / 2000.0f && fts < 1.0f / 128.0f)) {
+        return FLUX_OBS_ERR_BASE;
+    }
+    wc_pu = wc_Hz / b->f_base_Hz;
+    if (!(wc_pu > 0.0f && wc_pu <= FLUX_OBS_WC_MAX_PU && wc_pu * b->Ts_pu <= FLUX_OBS_G_MAX)) {
+        return FLUX_OBS_ERR_WC;
+    }
+    x_ws = 6.2831853f * ws_lpf_Hz * b->Ts_s;
+    if (!(x_ws > 0.0f && x_ws <= 1.0f)) {
+        return FLUX_OBS_ERR_WS_LPF;
+    }
+
+    o->ts = _IQ(b->Ts_pu);
+    o->ts30 = _IQ30(b->Ts_pu);
+    o->inv_k_theta = _IQ20(1.0f / fts);
+    o->dth_max = _IQ(100.0f * fts);   /* |d| <= 100 f_base Ts < 0.79 rev: |ws| <= 100 */
+
+    /* ranges checked in float first (also NaN), so that no conversion to
+     * Q24 can overflow; the setters then check them again in pu */
+    st = FLUX_OBS_OK;
+    if (!(Rs_ohm >= 0.0f && Rs_ohm / b->Z_base_ohm <= FLUX_OBS_RS_MAX)) {
+        st = FLUX_OBS_ERR_RS;
+    }
+    if (!(Lm_H > 0.0f && Lm_H / b->L_base_H <= FLUX_OBS_LM_MAX && Lr_H > Lm_H &&
+          Lr_H <= FLUX_OBS_LR_LM_MAX * Lm_H && Ls_H > Lm_H &&
+          Ls_H / b->L_base_H <= 2.0f * FLUX_OBS_LM_MAX) && st == FLUX_OBS_OK) {
+        st = FLUX_OBS_ERR_L;
+    }
+    if (!(Tr_s / b->t_base_s <= FLUX_OBS_TR_MAX_PU) && st == FLUX_OBS_OK) {
+        st = FLUX_OBS_ERR_TR;   /* also NaN; the lower bound is set_tr's */
+    }
+    if (st == FLUX_OBS_OK) {
+        st = flux_obs_set_rs(o, _IQ(Rs_ohm / b->Z_base_ohm));
+    }
+    if (st == FLUX_OBS_OK) {
+        st = flux_obs_set_inductances(o, _IQ(Lm_H / b->L_base_H), _IQ(Lr_H / b->L_base_H),
+                                      _IQ(Ls_H / b->L_base_H));
+    }
+    if (st == FLUX_OBS_OK) {
+        st = flux_obs_set_tr(o, _IQ(Tr_s / b->t_base_s));
+    }
+    if (st != FLUX_OBS_OK) {
+        zero_params(o);   /* no half-configured observer left behind */
+        return st;
+    }
+    o->wc = _IQ(wc_pu);
+    o->g = _IQ(wc_pu * b->Ts_pu);
+    o->kf_ws = _IQ(1.0f - expf(-x_ws));
+    return FLUX_OBS_OK;
+}
+
+flux_obs_status_t flux_obs_set_rs(flux_obs_t *o, _iq rs_pu)
+{
+    if (!(rs_pu >= _IQ(0.0) && rs_pu <= _IQ(FLUX_OBS_RS_MAX))) {
+        return FLUX_OBS_ERR_RS;
+    }
+    o->rs = rs_pu;
+    return FLUX_OBS_OK;
+}
+
+flux_obs_status_t flux_obs_set_tr(flux_obs_t *o, _iq tr_pu)
+{
+    _iq x;
+    _iq t;
+
+    /* Tr >= 10 Ts, i.e. x = Ts/Tr <= 0.1; Tr <= 100 (Q24 headroom) */
+    if (!(o->ts > _IQ(0.0)) || !(tr_pu >= _IQmpy(o->ts, _IQ(FLUX_OBS_TR_MIN_SAMPLES))) ||
+        !(tr_pu <= _IQ(FLUX_OBS_TR_MAX_PU))) {
+        return FLUX_OBS_ERR_TR;
+    }
+    x = _IQdiv(o->ts, tr_pu);   /* Q24 / Q24 -> Q24, in (0, 0.1] */
+    /* 1 - exp(-x) = x (1 - x/2 (1 - x/3 (1 - x/4 (1 - x/5)))), Horner;
+     * every factor is in (0.9, 1]: no overflow, truncation < 1 LSB each */
+    t = _IQ(1.0) - _IQmpy(x, _IQ(0.2));
+    t = _IQ(1.0) - _IQmpy(_IQmpy(x, _IQ(0.25)), t);
+    t = _IQ(1.0) - _IQmpy(_IQmpy(x, _IQ(0.33333333)), t);
+    t = _IQ(1.0) - _IQmpy(_IQmpy(x, _IQ(0.5)), t);
+    o->kf = _IQmpy(x, t);
+    o->tr = tr_pu;
+    return FLUX_OBS_OK;
+}
+
+flux_obs_status_t flux_obs_set_inductances(flux_obs_t *o, _iq lm_pu, _iq lr_pu, _iq ls_pu)
+{
+    _iq lr_lm;
+    _iq lm_lr;
+    _iq sls;
+
+    /* Lr <= 4 Lm is checked before the division, so the quotient is < 4 */
+    if (!(lm_pu > _IQ(0.0) && lm_pu <= _IQ(FLUX_OBS_LM_MAX) && lr_pu > lm_pu &&
+          ls_pu > lm_pu && lr_pu <= _IQmpy(lm_pu, _IQ(FLUX_OBS_LR_LM_MAX)) &&
+          ls_pu <= _IQ(2.0f * FLUX_OBS_LM_MAX))) {
+        return FLUX_OBS_ERR_L;
+    }
+    lr_lm = _IQdiv(lr_pu, lm_pu);   /* Q24 / Q24 -> Q24, in (1, 4] */
+    lm_lr = _IQdiv(lm_pu, lr_pu);   /* in [0.25, 1) */
+    sls = ls_pu - _IQmpy(lm_pu, lm_lr);   /* Ls - Lm^2/Lr; Q24*Q24 -> Q24 < 16 */
+    if (!(sls > _IQ(0.0) && sls <= _IQ(FLUX_OBS_SIGMA_LS_MAX))) {
+        return FLUX_OBS_ERR_L;
+    }
+    o->lm = lm_pu;
+    o->lr_lm = lr_lm;
+    o->lm_lr = lm_lr;
+    o->sigma_ls = sls;
+    return FLUX_OBS_OK;
+}
+
+/* The correction C(s) for one axis, in the scaled states z = w_c int(e),
+ * y = u_c / w_c: z += g e, y += g (3 e + z - 3 y).  Products Q24*Q24 -> Q24
+ * rounded (a truncated product would bias the integrators by -0.5 LSB per
+ * sample).  e is limited to +-8 pu (a real error is below 1 pu; |e| < 88
+ * before the limit: |lm_lr psi_cm| <= 64, |sigma Ls i| <= 16, |psi_s| <= 8),
+ * so |3 e + z - 3 y| <= 24 + 30 + 30 < 128. */
+static void correct_axis(const flux_obs_t *o, _iq e, _iq *z, _iq *y, uint16_t *sat)
+{
+    _iq zn;
+    _iq drive;
+
+    e = sat_sym(e, E_MAX, sat);
+    zn = sat_sym(*z + _IQrmpy(o->g, e), Z_MAX, sat);
+    drive = _IQmpy(_IQ(3.0), e) + zn - _IQmpy(_IQ(3.0), *y);
+    *y = sat_sym(*y + _IQrmpy(o->g, drive), Y_MAX, sat);
+    *z = zn;
+}
+
+void flux_obs_step(flux_obs_t *o)
+{
+    uint16_t sat = 0u;
+    uint16_t ws_sat = 0u;
+    _iq ia, ib, ua, ub;
+    _iq s, c;
+    _iq ird, irq;
+    _iq psia, psib;
+    _iq ea, eb;
+    _iq d;
+
+    ia = sat_sym(o->i_alpha, IN_MAX, &sat);
+    ib = sat_sym(o->i_beta, IN_MAX, &sat);
+    ua = sat_sym(o->u_alpha, IN_MAX, &sat);
+    ub = sat_sym(o->u_beta, IN_MAX, &sat);
+
+    /* voltage model: psi_s(k) = psi_s(k-1) + Ts (u - Rs i_mean + u_c(k-1)).
+     * Integrand |.| <= 4 + 4*4 + 1*10 = 30; Q24 * Q30 -> Q24 truncated */
+    ea = ua - _IQmpy(o->rs, _IQmpy(ia + o->i_alpha_prev, _IQ(0.5))) + o->uc_alpha;
+    eb = ub - _IQmpy(o->rs, _IQmpy(ib + o->i_beta_prev, _IQ(0.5))) + o->uc_beta;
+    o->psis_alpha = sat_sym(o->psis_alpha + _IQmpyIQX(ea, GLOBAL_Q, o->ts30, 30), PSI_MAX, &sat);
+    o->psis_beta = sat_sym(o->psis_beta + _IQmpyIQX(eb, GLOBAL_Q, o->ts30, 30), PSI_MAX, &sat);
+
+    /* current model in rotor coordinates: i^r = i e^{-j theta_r} */
+    s = _IQsinPU(o->theta_r);
+    c = _IQcosPU(o->theta_r);
+    ird = _IQmpy(c, ia) + _IQmpy(s, ib);
+    irq = _IQmpy(c, ib) - _IQmpy(s, ia);
+    /* first-order hold: Lm times the mean of i^r(k-1), i^r(k); |Lm i| <= 64,
+     * |psi^r| settles inside it; rounded products (kf ~ 3e-3: no drift) */
+    o->psirr_d += _IQrmpy(o->kf, _IQmpy(o->lm, _IQmpy(ird + o->irr_d_prev, _IQ(0.5))) - o->psirr_d);
+    o->psirr_q += _IQrmpy(o->kf, _IQmpy(o->lm, _IQmpy(irq + o->irr_q_prev, _IQ(0.5))) - o->psirr_q);
+    o->irr_d_prev = ird;
+    o->irr_q_prev = irq;
+    o->i_alpha_prev = ia;
+    o->i_beta_prev = ib;
+    /* back to the stationary frame at theta_r(k) */
+    o->psi_cm_alpha = _IQmpy(c, o->psirr_d) - _IQmpy(s, o->psirr_q);
+    o->psi_cm_beta = _IQmpy(s, o->psirr_d) + _IQmpy(c, o->psirr_q);
+
+    /* e = psi_s,cm - psi_s, psi_s,cm = (Lm/Lr) psi_r,cm + sigma Ls i */
+    ea = _IQmpy(o->lm_lr, o->psi_cm_alpha) + _IQmpy(o->sigma_ls, ia) - o->psis_alpha;
+    eb = _IQmpy(o->lm_lr, o->psi_cm_beta) + _IQmpy(o->sigma_ls, ib) - o->psis_beta;
+    correct_axis(o, ea, &o->z_alpha, &o->y_alpha, &sat);
+    correct_axis(o, eb, &o->z_beta, &o->y_beta, &sat);
+    o->uc_alpha = _IQmpy(o->wc, o->y_alpha);   /* |.| <= 1 * 10 */
+    o->uc_beta = _IQmpy(o->wc, o->y_beta);
+
+    /* rotor flux: (Lr/Lm)(psi_s - sigma Ls i), |.| <= 4 (8 + 16) = 96 */
+    psia = _IQmpy(o->lr_lm, o->psis_alpha - _IQmpy(o->sigma_ls, ia));
+    psib = _IQmpy(o->lr_lm, o->psis_beta - _IQmpy(o->sigma_ls, ib));
+    o->psi_alpha = psia;
+    o->psi_beta = psib;
+    o->psi_mag = _IQmag(psia, psib);
+    o->theta_prev = o->theta;
+    o->theta = _IQatan2PU(psib, psia);   /* [0, 1); 0 for a zero flux */
+
+    /* frame speed from the angle step; Q24 * Q20 -> Q24, |d| <= dth_max
+     * keeps |ws| <= 100 (an output limit, hit when the flux angle jumps,
+     * e.g. as the flux first appears: not reported in sat) */
+    d = sat_sym(angle_diff(o->theta, o->theta_prev), o->dth_max, &ws_sat);
+    o->ws = _IQmpyIQX(d, GLOBAL_Q, o->inv_k_theta, 20);
+    /* |ws - ws_f| < 200, product < 200 * 0.64: in range; rounded */
+    o->ws_f += _IQrmpy(o->kf_ws, o->ws - o->ws_f);
+    o->sat = sat;
+}
+
+_iq flux_obs_theta_mid(const flux_obs_t *o)
+{
+    _iq m = o->theta_prev + _IQmpy(angle_diff(o->theta, o->theta_prev), _IQ(0.5));
+
+    if (m >= _IQ(1.0)) {
+        m -= _IQ(1.0);
+    } else if (m < _IQ(0.0)) {
+        m += _IQ(1.0);
+    }
+    return m;
+}

@@ -1,0 +1,263 @@
+/*
+ * Writes the hostile inputs of the motor_sim CLI tests (tests/cli) into one
+ * directory: binary and textual garbage, over-long lines, 10 000 keys, and
+ * output directories that cannot be written.  Everything is deterministic
+ * (a fixed LCG, no /dev/urandom), so a failure reproduces.
+ *
+ *   cli_fixtures OUT_DIR BASE_CONFIG
+ *
+ * Re-runnable: existing files are overwritten, existing directories kept.
+ */
+#include <errno.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#define BASE_MAX 16384
+#define N_KEYS 10000
+
+static char g_base[BASE_MAX];
+static const char *g_dir;
+
+static void die(const char *what, const char *path)
+{
+    fprintf(stderr, "cli_fixtures: %s %s: %s\n", what, path, strerror(errno));
+    exit(1);
+}
+
+static const char *in_dir(const char *name)
+{
+    static char path[4096];
+    if ((size_t)snprintf(path, sizeof path, "%s/%s", g_dir, name) >= sizeof path) {
+        fprintf(stderr, "cli_fixtures: path too long\n");
+        exit(1);
+    }
+    return path;
+}
+
+static FILE *create(const char *name)
+{
+    const char *path = in_dir(name);
+    FILE *f = fopen(path, "wb");
+    if (f == NULL) {
+        die("cannot create", path);
+    }
+    return f;
+}
+
+static void finish(FILE *f, const char *name)
+{
+    if (ferror(f) != 0 || fclose(f) != 0) {
+        die("cannot write", in_dir(name));
+    }
+}
+
+static void make_dir(const char *path)
+{
+    if (mkdir(path, 0777) != 0 && errno != EEXIST) {
+        die("cannot create directory", path);
+    }
+}
+
+static void make_symlink(const char *target, const char *name)
+{
+    const char *path = in_dir(name);
+    if (unlink(path) != 0 && errno != ENOENT) {
+        die("cannot remove", path);
+    }
+    if (symlink(target, path) != 0) {
+        die("cannot link", path);
+    }
+}
+
+/* Numerical Recipes LCG: deterministic bytes for the garbage files. */
+static uint32_t g_rng = 12345u;
+static unsigned char next_byte(void)
+{
+    g_rng = g_rng * 1664525u + 1013904223u;
+    return (unsigned char)(g_rng >> 24);
+}
+
+/* The base configuration with @p len bytes of @p text inserted right after
+ * its @p section header line ("[motor]\n"). */
+static void base_with_after(const char *section, const char *name, const char *text, size_t len)
+{
+    const char *m = strstr(g_base, section);
+    FILE *f;
+    size_t head;
+    if (m == NULL) {
+        fprintf(stderr, "cli_fixtures: no %s line in the base configuration\n", section);
+        exit(1);
+    }
+    head = (size_t)(m - g_base) + strlen(section);
+    f = create(name);
+    fwrite(g_base, 1, head, f);
+    fwrite(text, 1, len, f);
+    fputs(g_base + head, f);
+    finish(f, name);
+}
+
+static void write_garbage(void)
+{
+    FILE *f = create("garbage_binary.ini");
+    int i;
+    for (i = 0; i < 4096; i++) {
+        fputc(next_byte(), f);
+    }
+    fputc('\0', f);   /* at least one NUL whatever the generator gives */
+    finish(f, "garbage_binary.ini");
+
+    /* text-like garbage: no NUL, lines of printable and high bytes */
+    f = create("garbage_text.ini");
+    for (i = 0; i < 4096; i++) {
+        unsigned char c = next_byte();
+        if (c == 0u) {
+            c = 0xFFu;
+        }
+        fputc((i % 61 == 60) ? '\n' : (int)c, f);
+    }
+    finish(f, "garbage_text.ini");
+}
+
+static void write_long_lines(void)
+{
+    static char line[100010];
+    size_t i;
+
+    /* a 100 000-character comment */
+    line[0] = ';';
+    for (i = 1; i < 100000; i++) {
+        line[i] = 'x';
+    }
+    line[100000] = '\n';
+    line[100001] = '\0';
+    base_with_after("[motor]\n", "long_comment.ini", line, strlen(line));
+
+    /* a value of 300 characters (trailing zeros of a valid number) */
+    strcpy(line, "B_Nm_s = 1.");
+    for (i = strlen(line); i < 300; i++) {
+        line[i] = '0';
+    }
+    line[300] = '\n';
+    line[301] = '\0';
+    base_with_after("[motor]\n", "long_value.ini", line, strlen(line));
+
+    /* a comment whose tail, beyond inih's 199-character line buffer, reads as
+     * a key that the base file leaves at its default: inih's own reader
+     * would silently set load.prop_Nm_s = 5 from a comment */
+    line[0] = ';';
+    for (i = 1; i < 199; i++) {
+        line[i] = '-';
+    }
+    strcpy(line + 199, "prop_Nm_s = 5\n");
+    base_with_after("[load]\n", "smuggled_key.ini", line, strlen(line));
+}
+
+/* A NUL inside a value: a reader that stops at the NUL would take "0". */
+static void write_nul_in_value(void)
+{
+    static const char text[] = "prop_Nm_s = 0\0.5\n";
+    base_with_after("[load]\n", "nul_in_value.ini", text, sizeof text - 1u);
+}
+
+static void write_many_keys(void)
+{
+    FILE *f;
+    int i;
+
+    f = create("keys_10000_unknown.ini");
+    fputs(g_base, f);
+    fputs("\n[motor]\n", f);
+    for (i = 0; i < N_KEYS; i++) {
+        fprintf(f, "key%05d = %d\n", i, i);
+    }
+    finish(f, "keys_10000_unknown.ini");
+
+    f = create("keys_10000_same.ini");
+    fputs("[motor]\n", f);
+    for (i = 0; i < N_KEYS; i++) {
+        fputs("Rs_ohm = 1.0\n", f);
+    }
+    finish(f, "keys_10000_same.ini");
+
+    /* 10 000 comment lines before a valid file: must load */
+    f = create("comments_10000.ini");
+    for (i = 0; i < N_KEYS; i++) {
+        fprintf(f, "; comment %d\n", i);
+    }
+    fputs(g_base, f);
+    finish(f, "comments_10000.ini");
+}
+
+static void write_outputs(void)
+{
+    FILE *f;
+    char path[4096];
+    int level;
+
+    f = create("empty.ini");
+    finish(f, "empty.ini");
+    f = create("regular_file");
+    fputs("not a directory\n", f);
+    finish(f, "regular_file");
+
+    /* the config under a name that needs escaping in report.json */
+    f = create("quote\"name.ini");
+    fputs(g_base, f);
+    finish(f, "quote\"name.ini");
+
+    /* trace.csv cannot be created: it is a directory */
+    make_dir(in_dir("out_trace_is_dir"));
+    make_dir(in_dir("out_trace_is_dir/trace.csv"));
+
+    /* disk full (Linux /dev/full: every write fails with ENOSPC) */
+    make_dir(in_dir("out_full_trace"));
+    make_symlink("/dev/full", "out_full_trace/trace.csv");
+    make_dir(in_dir("out_full_report"));
+    make_symlink("/dev/full", "out_full_report/report.json");
+
+    /* an existing directory whose path is longer than motor_sim's buffers */
+    snprintf(path, sizeof path, "%s", in_dir("deep"));
+    make_dir(path);
+    for (level = 0; level < 6; level++) {
+        size_t len = strlen(path);
+        path[len] = '/';
+        memset(path + len + 1, 'd', 200);
+        path[len + 201] = '\0';
+        make_dir(path);
+    }
+}
+
+int main(int argc, char **argv)
+{
+    FILE *f;
+    size_t n;
+
+    if (argc != 3) {
+        fprintf(stderr, "usage: cli_fixtures OUT_DIR BASE_CONFIG\n");
+        return 2;
+    }
+    g_dir = argv[1];
+    make_dir(g_dir);
+    f = fopen(argv[2], "rb");
+    if (f == NULL) {
+        die("cannot open", argv[2]);
+    }
+    n = fread(g_base, 1, sizeof g_base - 1, f);
+    fclose(f);
+    if (n == 0 || n >= sizeof g_base - 1) {
+        fprintf(stderr, "cli_fixtures: %s is empty or too large\n", argv[2]);
+        return 1;
+    }
+    g_base[n] = '\0';
+
+    write_garbage();
+    write_long_lines();
+    write_nul_in_value();
+    write_many_keys();
+    write_outputs();
+    return 0;
+}

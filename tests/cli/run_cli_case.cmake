@@ -1,0 +1,54 @@
+# One hostile-input case of motor_sim (tests/cli/CMakeLists.txt):
+#   cmake -DEXE=motor_sim -DARGS=a|b|c -DRC=1 -DERR=regex [-DOUT=regex]
+#         [-DJSON=file -DJSON_CONFIG=expected] -P run_cli_case.cmake
+# Runs EXE with ARGS ("|" separates the arguments), then asserts
+#   - the exit status is exactly RC (0 ok, 1 usage/config error, 2 run failed),
+#   - stderr matches the regular expression ERR (an empty ERR: stderr empty),
+#   - stdout matches OUT when given, and is empty for an error (RC != 0),
+#   - no sanitizer report and no crash (ASan/UBSan exit with 1 too, so the
+#     status alone would not tell them from a clean error),
+#   - JSON, when given, is valid JSON whose "config" equals JSON_CONFIG.
+cmake_minimum_required(VERSION 3.25)
+
+string(REPLACE "|" ";" args "${ARGS}")
+execute_process(COMMAND ${EXE} ${args}
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err
+                TIMEOUT 120)
+
+set(problems "")
+if(NOT rc STREQUAL "${RC}")
+  string(APPEND problems "exit status '${rc}', expected ${RC}\n")
+endif()
+if(err MATCHES "Sanitizer|runtime error:|Segmentation|Aborted|core dumped")
+  string(APPEND problems "sanitizer report or crash on stderr\n")
+endif()
+if(ERR STREQUAL "")
+  if(NOT err STREQUAL "")
+    string(APPEND problems "stderr should be empty\n")
+  endif()
+elseif(NOT err MATCHES "${ERR}")
+  string(APPEND problems "stderr does not match /${ERR}/\n")
+endif()
+if(DEFINED OUT AND NOT out MATCHES "${OUT}")
+  string(APPEND problems "stdout does not match /${OUT}/\n")
+endif()
+if(NOT RC STREQUAL "0" AND NOT out STREQUAL "")
+  string(APPEND problems "an error must not print to stdout\n")
+endif()
+if(DEFINED JSON)
+  if(NOT EXISTS "${JSON}")
+    string(APPEND problems "${JSON} was not written\n")
+  else()
+    file(READ "${JSON}" json)
+    string(JSON cfg ERROR_VARIABLE json_err GET "${json}" config)
+    if(json_err)
+      string(APPEND problems "${JSON} is not valid JSON: ${json_err}\n")
+    elseif(NOT cfg STREQUAL "${JSON_CONFIG}")
+      string(APPEND problems "${JSON}: config is '${cfg}', expected '${JSON_CONFIG}'\n")
+    endif()
+  endif()
+endif()
+
+if(NOT problems STREQUAL "")
+  message(FATAL_ERROR "motor_sim ${args}\n${problems}--- stdout:\n${out}\n--- stderr:\n${err}")
+endif()

@@ -1,0 +1,167 @@
+/*
+ * Fault injection (issue 6 items 1 and 3): each fault injected into the
+ * simulated power stage, once during the identification (before anything is
+ * published) and once after the publication, against the unchanged firmware
+ * ISR.  For each: the right fault code; the safe state (PWM off at the end,
+ * and not one PWM period switched while a fault is latched, i.e. off from
+ * the ISR of detection on); the reaction time (detection no later than one
+ * ISR period after the fault reaches the ADC/QEP, the encoder's frozen-count
+ * window aside); and the published parameters (unchanged if published
+ * before; nothing published if the fault came first).
+ */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+
+#include <cmocka.h>
+
+#include "fault_run.h"
+#include "protect.h"
+
+#define PAPER MC_CONFIG_DIR "/paper_motor.ini"
+
+typedef struct {
+    const char *name;
+    plant_fault_t kind;
+    double value;
+    uint16_t code;          /* expected fault_code_t */
+    double detect_window_s; /* allowed detection delay beyond one ISR period */
+} fault_case_t;
+
+/* detect_window_s: 0 for a fault that one sample shows; the encoder's frozen
+ * test waits 50 ms by design (encoder_check.h); a sensor reading 0 A shows
+ * nothing wrong in one sample (0 A is a legal reading): the current check
+ * sees the consequence through its 2 ms low-pass (current_check.h) */
+static const fault_case_t k_cases[] = {
+    {"short a-b, 20 uH", PLANT_FAULT_SHORT, 20.0, FAULT_OVERCURRENT, 0.0},
+    {"bus overvoltage +50 %", PLANT_FAULT_OVERVOLTAGE, 0.5, FAULT_BUS_OVERVOLTAGE, 0.0},
+    {"bus sag -50 %", PLANT_FAULT_BUS_SAG, 0.5, FAULT_BUS_UNDERVOLTAGE, 0.0},
+    {"encoder frozen", PLANT_FAULT_ENCODER_LOST, 0.0, FAULT_ENCODER, 0.05},
+    {"encoder jump 100 counts", PLANT_FAULT_ENCODER_JUMP, 100.0, FAULT_ENCODER, 0.0},
+    {"bus feedback at the ADC rail", PLANT_FAULT_ADC_RAIL, 0.0, FAULT_ADC_RAIL, 0.0},
+    {"PDPINTA (power stage trip)", PLANT_FAULT_HW_TRIP, 100.0, FAULT_HW_TRIP, 0.0},
+    {"phase-b sensor lost (reads 0 A)", PLANT_FAULT_HALL_LOST, 0.0, FAULT_CURRENT_SENSOR, 0.002},
+};
+#define N_CASES (sizeof k_cases / sizeof k_cases[0])
+
+static void check_case(const fault_case_t *c, double t_fault)
+{
+    sim_config_t cfg;
+    sim_result_t r;
+    sim_fault_t f;
+    double Ts, delay;
+    f.kind = c->kind;
+    f.t_s = t_fault;
+    f.value = c->value;
+    assert_int_equal(fault_run(PAPER, &f, 1u, NULL, 0u, FAULT_RUN_S, &cfg, &r), 0);
+    Ts = 1.0 / cfg.pwm_freq_Hz;
+    delay = r.fault_time_s[0] - r.t_fault_visible_s;
+    print_message("%-34s at %.1f s: code %u at %.6f s, visible %.6f s, delay %.1f periods, "
+                  "PWM at end %u, periods switched with a fault %u, max |i| %.2f A\n",
+                  c->name, t_fault, r.n_faults_seen ? r.fault_code[0] : 0u, r.fault_time_s[0],
+                  r.t_fault_visible_s, delay / Ts, r.final_pwm_on, r.pwm_periods_with_fault,
+                  r.max_abs_i_A);
+    /* the right code, and only one */
+    assert_int_equal(r.n_faults_seen, 1);
+    assert_int_equal(r.fault_code[0], c->code);
+    assert_int_equal(r.final_fault, c->code);
+    /* safe state: off at the end, and never on with a fault latched */
+    assert_int_equal(r.final_pwm_on, 0);
+    assert_int_equal(r.pwm_periods_with_fault, 0);
+    /* reaction: detected in the ISR of the sample in which the fault is
+     * visible (delay 0), at most one period later (1e-9: float time) */
+    assert_true(r.t_fault_visible_s >= t_fault - 1e-9);
+    assert_true(delay >= -1e-9);
+    assert_true(delay <= c->detect_window_s + Ts + 1e-9);
+    /* the motor's phase currents never reached the trip level (the short's
+     * own current is in the bridge, not the motor) */
+    assert_true(r.max_abs_i_A < cfg.overcurrent_A);
+    if (t_fault > 1.8) {
+        /* published before the fault, unchanged after it */
+        assert_true(r.t_first_published_s > 0.0 && r.t_first_published_s < t_fault);
+        assert_int_equal(r.identified, 1);
+        assert_int_equal(r.published_changed, 0);
+    } else {
+        assert_true(r.t_first_published_s < 0.0);
+        assert_int_equal(r.identified, 0);
+    }
+}
+
+static void test_faults_after_publication(void **state)
+{
+    unsigned i;
+    (void)state;
+    for (i = 0; i < N_CASES; i++) {
+        check_case(&k_cases[i], FAULT_T_AFTER);
+    }
+}
+
+static void test_faults_during_identification(void **state)
+{
+    unsigned i;
+    (void)state;
+    for (i = 0; i < N_CASES; i++) {
+        check_case(&k_cases[i], FAULT_T_BEFORE);
+    }
+}
+
+/* A current-sensor offset outside the window (10 % of full scale against
+ * 5 %) present at start-up: refused by the calibration, FAULT_CURRENT_OFFSET
+ * at its end (70 ms: the calibration's averaging time), the bridge never
+ * switched, nothing published. */
+static void test_offset_at_calibration(void **state)
+{
+    sim_config_t cfg;
+    sim_result_t r;
+    sim_fault_t f = {PLANT_FAULT_CURRENT_OFFSET, 0.0, 0.1};
+    (void)state;
+    assert_int_equal(fault_run(PAPER, &f, 1u, NULL, 0u, FAULT_RUN_S, &cfg, &r), 0);
+    print_message("offset 10 %% FS at start: code %u at %.4f s\n", r.fault_code[0],
+                  r.fault_time_s[0]);
+    assert_int_equal(r.n_faults_seen, 1);
+    assert_int_equal(r.fault_code[0], FAULT_CURRENT_OFFSET);
+    assert_true(r.fault_time_s[0] < 0.08);
+    assert_int_equal(r.final_pwm_on, 0);
+    assert_int_equal(r.pwm_periods_with_fault, 0);
+    assert_true(r.max_abs_i_A < 1e-9);          /* never switched */
+    assert_true(r.t_first_published_s < 0.0);
+    /* the same offset inside the window (2 %) is calibrated out: no fault,
+     * and the identification publishes (4 s: the steady-state detection
+     * takes up to 1 s longer with this offset's residual in FLOAT_MATH) */
+    f.value = 0.02;
+    assert_int_equal(fault_run(PAPER, &f, 1u, NULL, 0u, 4.0, &cfg, &r), 0);
+    assert_int_equal(r.n_faults_seen, 0);
+    assert_int_equal(r.identified, 1);
+}
+
+/* A sensor gain error of 20 % on phase a after the publication is not a
+ * protection fault: the true currents stay bounded (below the trip level) and
+ * the drive keeps running; the published parameters do not change (the RLS
+ * is off in RUN). */
+static void test_gain_error_after_publication(void **state)
+{
+    sim_config_t cfg;
+    sim_result_t r;
+    sim_fault_t f = {PLANT_FAULT_HALL_GAIN, FAULT_T_AFTER, 0.2};
+    (void)state;
+    assert_int_equal(fault_run(PAPER, &f, 1u, NULL, 0u, FAULT_RUN_S, &cfg, &r), 0);
+    print_message("gain error 20 %% at 2 s: faults %u, max |i| %.2f A, PWM %u\n", r.n_faults_seen,
+                  r.max_abs_i_A, r.final_pwm_on);
+    assert_int_equal(r.n_faults_seen, 0);
+    assert_int_equal(r.final_pwm_on, 1);
+    assert_true(r.max_abs_i_A < cfg.overcurrent_A);
+    assert_int_equal(r.identified, 1);
+    assert_int_equal(r.published_changed, 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_faults_after_publication),
+        cmocka_unit_test(test_faults_during_identification),
+        cmocka_unit_test(test_offset_at_calibration),
+        cmocka_unit_test(test_gain_error_after_publication),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,242 @@
+/*
+ * Fuzz target: arbitrary ADC and QEP sequences into the control ISR
+ * (drive_step of include/drive.h) after drive_init with a valid
+ * configuration: the board's (firmware/board_config.c, g_board_config) or
+ * one of three variants of it that reach the identification states sooner.
+ *
+ * Properties checked at every ISR (beyond "no undefined behaviour", which
+ * ASan/UBSan check):
+ *   - every compare value lies in [0, T1PR] (hal_pwm.h);
+ *   - with the bridge off (telemetry pwm_on = 0) all three compares equal
+ *     T1PR: upper switches off, the safe state;
+ *   - a latched fault, or the hardware trip input, means pwm_on = 0 in the
+ *     same ISR (reaction within one period);
+ *   - drive_init accepts the configuration and T1PR is what the board's
+ *     clock and PWM frequency give (150e6 / (2 * 15e3) = 5000).
+ *
+ * Input format (little-endian), chosen so that short inputs reach deep
+ * states: a run of samples is one 8-byte record with a repeat count.
+ *   byte 0       configuration variant (bits 0-1, see make_config)
+ *   records      [op][ia:2][ib:2][vdc:2][dq:1]
+ *     op bits 0-1  command before the run: none, start, stop, reset fault
+ *     op bit  2    PDPINTA (hardware trip) level during the run
+ *     op bit  3    echo: the phase currents follow the drive's own current
+ *                  references (an ideal current-controlled machine), and
+ *                  ia, ib are signed perturbations in counts added to them;
+ *                  without it ia, ib are the raw words themselves
+ *     op bits 4-7  the run is 2^n ISR periods (1 .. 32768)
+ *     ia, ib, vdc  raw ADCRESULT words (any 16 bits, also the low 4 that the
+ *                  F2812 leaves 0)
+ *     dq           signed QEP counts per period (T2CNT wraps modulo 2^16)
+ * Echo lets short inputs pass the current-plausibility protection and reach
+ * acceleration, steady state and the parameter extraction, where fixed ADC
+ * words would trip it within a few periods.
+ * At most MAX_STEPS periods per input; the background loop runs every 15th
+ * period, as the firmware's main loop at 1 kHz does.  With FUZZ_TRACE set in
+ * the environment each state and fault change is printed (to read a crash
+ * input: FUZZ_TRACE=1 fuzz_drive_step_replay crash-...).
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "board_config.h"
+#include "drive_types.h"
+#include "fuzz_target.h"
+
+#define MAX_STEPS 16384u        /* ~1.1 s at 15 kHz: the seeds need ~13 900 */
+#define BACKGROUND_DIV 15u      /* background at 1 kHz */
+#define RECORD_LEN 8u
+
+static drive_t g_drive;         /* large: static, one input at a time */
+static uint16_t g_states_seen;  /* bit n: id_state_t n was reached (corpus check) */
+static int g_trace = -1;        /* FUZZ_TRACE set: print state and fault changes */
+
+void fuzz_fail(const char *what, unsigned long step, long value, long limit)
+{
+    fprintf(stderr, "fuzz_drive_step: %s at ISR %lu: %ld (limit %ld)\n", what, step, value,
+            limit);
+    abort();
+}
+
+/* Variants of the board configuration, each valid (drive_init accepts it):
+ *   0  g_board_config unchanged (paper motor, 0.3 s magnetisation, 1 s ramp)
+ *   1  0.1 s magnetisation, a 0.1 s ramp to 1350 r/min (= 6 QEP counts per
+ *      period: 6 * 15e3 / 4000 * 60), so that SETTLE and RUN come early
+ *   2  as 1, with the paper's regressor (eq. 9) and forgetting 0.995
+ *   3  as 1, without dead-time compensation and with a 0.5 s RLS tail */
+static void make_config(uint8_t variant, drive_config_t *c)
+{
+    *c = g_board_config;
+    if (variant == 0u) {
+        return;
+    }
+    c->ident.magnetize_time_s = 0.1f;   /* >= 5 Tr = 99 ms */
+    c->ident.target_speed_rpm = 1350.0f;
+    c->control.speed_ramp_rpm_s = 13500.0f;
+    if (variant == 2u) {
+        c->ident.paper_regressor = 1u;
+        c->ident.forgetting = 0.995f;
+    } else if (variant == 3u) {
+        c->board.dead_time_comp = 0u;
+        c->ident.rls_tail_s = 0.5f;
+    } else {
+        /* variant 1: nothing more */
+    }
+}
+
+static uint16_t get16(const uint8_t *p) { return (uint16_t)(p[0] | (p[1] << 8)); }
+
+/* Raw ADC word of a phase current in pu (inverse of phase_current_step with
+ * the calibrated offset and gain), plus a perturbation; clamped to 16 bits. */
+static uint16_t raw_of_current(double i_pu, _iq gain, uint16_t offset, int16_t perturb)
+{
+    double g = (double)_IQtoF(gain);
+    double raw = (double)offset + (double)perturb + ((g != 0.0) ? i_pu * 32768.0 / g : 0.0);
+    if (raw < 0.0) {
+        raw = 0.0;
+    } else if (raw > 65535.0) {
+        raw = 65535.0;
+    } else {
+        /* in range */
+    }
+    return (uint16_t)(raw + 0.5);
+}
+
+/* The phase currents an ideal current loop would give at the next sample:
+ * the drive's M/T references rotated by its frame angle, advanced by the
+ * rotor angle the encoder moves in one period (dq counts). */
+static void echo_currents(const drive_t *d, const drive_config_t *c, int16_t dq,
+                          hal_adc_sample_t *adc, int16_t pa, int16_t pb)
+{
+    const double two_pi = 6.283185307179586;
+    double th = two_pi * ((double)_IQtoF(d->ifo.theta) +
+                          (double)dq * (double)c->motor.pole_pairs /
+                              (4.0 * (double)c->board.encoder_lines));
+    double i_m = (double)_IQtoF(d->pi_id.ref), i_t = (double)_IQtoF(d->pi_iq.ref);
+    double alpha = i_m * cos(th) - i_t * sin(th);
+    double beta = i_m * sin(th) + i_t * cos(th);
+    double ib = -0.5 * alpha + 0.8660254037844386 * beta;
+    adc->ia_raw = raw_of_current(alpha, d->cur.gain_a, d->cur.offset_a, pa);
+    adc->ib_raw = raw_of_current(ib, d->cur.gain_b, d->cur.offset_b, pb);
+}
+
+static void check_outputs(const drive_t *d, const hal_pwm_compare_t *out, uint16_t hw_trip,
+                          unsigned long step)
+{
+    unsigned i;
+    for (i = 0; i < 3u; i++) {
+        if (out->cmpr[i] > d->t1pr) {
+            fuzz_fail("compare value above T1PR", step, (long)out->cmpr[i], (long)d->t1pr);
+        }
+        if (d->telemetry.pwm_on == 0u && out->cmpr[i] != d->t1pr) {
+            fuzz_fail("bridge off but a compare value is not T1PR", step, (long)out->cmpr[i],
+                      (long)d->t1pr);
+        }
+    }
+    if (d->prot.fault != FAULT_NONE && d->telemetry.pwm_on != 0u) {
+        fuzz_fail("PWM on with a latched fault", step, (long)d->prot.fault, 0L);
+    }
+    if (hw_trip != 0u && d->telemetry.pwm_on != 0u) {
+        fuzz_fail("PWM on while the hardware trip input is active", step, 1L, 0L);
+    }
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    drive_config_t cfg;
+    hal_pwm_compare_t out;
+    unsigned long step = 0;
+    uint16_t qep = 0u;
+    size_t pos;
+    int16_t st;
+    id_state_t last_state = ID_IDLE;
+    fault_code_t last_fault = FAULT_NONE;
+
+    if (size < 1u) {
+        return 0;
+    }
+    if (g_trace < 0) {
+        g_trace = (getenv("FUZZ_TRACE") != NULL) ? 1 : 0;
+    }
+    make_config((uint8_t)(data[0] & 3u), &cfg);
+    /* garbage first, as in the F2812's .ebss (not zeroed by _c_int00):
+     * nothing may depend on memory drive_init did not set */
+    memset(&g_drive, 0xA5, sizeof g_drive);
+    st = drive_init(&g_drive, &cfg);
+    if (st != DRIVE_CFG_OK) {
+        fuzz_fail("drive_init rejected a valid configuration", 0, (long)st, 0L);
+    }
+    if (g_drive.t1pr != 5000u) {
+        fuzz_fail("T1PR is not 150 MHz / (2 * 15 kHz)", 0, (long)g_drive.t1pr, 5000L);
+    }
+
+    for (pos = 1; pos + RECORD_LEN <= size && step < MAX_STEPS; pos += RECORD_LEN) {
+        const uint8_t *r = data + pos;
+        uint8_t op = r[0];
+        hal_adc_sample_t adc;
+        uint16_t hw_trip = (uint16_t)((op >> 2) & 1u);
+        uint16_t echo = (uint16_t)((op >> 3) & 1u);
+        unsigned long n = 1ul << (op >> 4);
+        int16_t dq = (int16_t)(int8_t)r[7];
+        unsigned long k;
+
+        if ((op & 3u) != 0u) {
+            static const drive_cmd_t cmds[4] = {DRIVE_CMD_NONE, DRIVE_CMD_START_IDENT,
+                                                DRIVE_CMD_STOP, DRIVE_CMD_RESET_FAULT};
+            drive_command(&g_drive, cmds[op & 3u]);
+            drive_background(&g_drive);
+        }
+        for (k = 0; k < n && step < MAX_STEPS; k++, step++) {
+            adc.vdc_raw = get16(r + 5);
+            if (echo != 0u) {
+                echo_currents(&g_drive, &cfg, dq, &adc, (int16_t)get16(r + 1),
+                              (int16_t)get16(r + 3));
+            } else {
+                adc.ia_raw = get16(r + 1);
+                adc.ib_raw = get16(r + 3);
+            }
+            qep = (uint16_t)(qep + (uint16_t)dq);
+            g_drive.prot.hw_trip = hw_trip;   /* as drive_isr does from hal_pwm_tripped() */
+            drive_step(&g_drive, &adc, qep, &out);
+            check_outputs(&g_drive, &out, hw_trip, step);
+            g_states_seen |= (uint16_t)(1u << ((unsigned)g_drive.seq.state & 15u));
+            if (g_trace != 0 &&
+                (g_drive.seq.state != last_state || g_drive.prot.fault != last_fault)) {
+                last_state = g_drive.seq.state;
+                last_fault = g_drive.prot.fault;
+                printf("ISR %lu: state %u fault %u (i_M ref %.3f, i_T ref %.3f, ia %.3f, "
+                       "ib %.3f, vdc %.3f pu)\n", step, (unsigned)last_state,
+                       (unsigned)last_fault, (double)_IQtoF(g_drive.pi_id.ref),
+                       (double)_IQtoF(g_drive.pi_iq.ref), (double)_IQtoF(g_drive.cur.ia),
+                       (double)_IQtoF(g_drive.cur.ib), (double)_IQtoF(g_drive.bus.vdc));
+            }
+            if ((step % BACKGROUND_DIV) == 0u) {
+                drive_background(&g_drive);
+            }
+        }
+    }
+    return 0;
+}
+
+int fuzz_corpus_check(void)
+{
+    static const char *const names[] = {"IDLE", "CALIBRATE", "MAGNETIZE", "ACCELERATE",
+                                        "SETTLE", "RUN", "FAULT"};
+    unsigned i;
+    int missing = 0;
+    printf("fuzz_drive_step: states reached by the corpus:");
+    for (i = 0; i < sizeof names / sizeof names[0]; i++) {
+        if ((g_states_seen & (1u << i)) != 0u) {
+            printf(" %s", names[i]);
+        } else {
+            missing = 1;
+        }
+    }
+    printf("\n");
+    if (missing != 0) {
+        fprintf(stderr, "fuzz_drive_step: the corpus must reach every state of the sequence\n");
+    }
+    return missing;
+}

@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# Bounded libFuzzer run of the two fuzz targets (tests/fuzz): arbitrary ADC
+# and QEP sequences into the control ISR (fuzz_drive_step) and arbitrary
+# bytes into the INI parser (fuzz_sim_config), under ASan + UBSan.
+#
+#   tools/fuzz.sh [--seconds N] [--math IQ_MATH|FLOAT_MATH] [--build DIR]
+#
+# Builds with clang into DIR (default build/fuzz-iq or build/fuzz-float):
+# the whole core instrumented for coverage (-fsanitize=fuzzer-no-link),
+# ASan + UBSan (MC_SANITIZE), the targets linked with libFuzzer.  Each target
+# runs N seconds (default 60) from the committed corpus
+# (tests/fuzz/corpus/<target>, and host_sim/config for the parser); new
+# inputs go to DIR/corpus/<target>, never into the source tree.  A crash,
+# a sanitizer report or a violated property stops the run with status 1 and
+# leaves the input as DIR/crash-*: add it to tests/fuzz/corpus/<target>/
+# once fixed, and the CTest replay (fuzz_*_corpus) keeps it fixed.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+seconds=60
+math=IQ_MATH
+build=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --seconds) seconds="${2:?--seconds needs a value}"; shift 2 ;;
+    --math) math="${2:?--math needs a value}"; shift 2 ;;
+    --build) build="${2:?--build needs a value}"; shift 2 ;;
+    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
+    *) echo "fuzz.sh: unknown option '$1'" >&2; exit 2 ;;
+  esac
+done
+case "$seconds" in ''|*[!0-9]*) echo "fuzz.sh: --seconds must be a whole number" >&2; exit 2 ;; esac
+case "$math" in
+  IQ_MATH) build="${build:-build/fuzz-iq}" ;;
+  FLOAT_MATH) build="${build:-build/fuzz-float}" ;;
+  *) echo "fuzz.sh: --math must be IQ_MATH or FLOAT_MATH" >&2; exit 2 ;;
+esac
+command -v clang >/dev/null || { echo "fuzz.sh: clang not found (tools/install_deps.sh)" >&2; exit 2; }
+
+cmake -S . -B "$build" -DCMAKE_C_COMPILER=clang -DMATH_TYPE="$math" -DMC_SANITIZE=ON \
+      -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_C_FLAGS=-fsanitize=fuzzer-no-link" >/dev/null
+cmake --build "$build" -j2 --target fuzz_drive_step fuzz_sim_config >"$build/build.log" 2>&1 || {
+  tail -n 40 "$build/build.log" >&2; echo "fuzz.sh: build failed ($build/build.log)" >&2; exit 2; }
+
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:allocator_may_return_null=1"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+
+run() {
+  local target=$1 max_len=$2; shift 2
+  local work="$build/corpus/$target" log="$build/$target.log" rc=0
+  mkdir -p "$work"
+  echo "=== $target ($math): $seconds s"
+  # -timeout: one input must never take 10 s (a hang is a bug); the first
+  # corpus directory receives the new inputs, the others are only read
+  "$build/tests/fuzz/$target" -max_total_time="$seconds" -max_len="$max_len" -timeout=10 \
+      -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$build/" \
+      "$work" "$@" >"$log" 2>&1 || rc=$?
+  grep -E '^(Done|stat::(number_of_executed_units|average_exec_per_sec|new_units_added|peak_rss_mb))' "$log" || true
+  if [ "$rc" -ne 0 ]; then
+    tail -n 60 "$log" >&2
+    echo "fuzz.sh: $target failed (status $rc); input: $(ls "$build"/crash-* "$build"/timeout-* \
+          "$build"/oom-* "$build"/leak-* 2>/dev/null | tr '\n' ' '); log: $log" >&2
+    return 1
+  fi
+}
+
+rm -f "$build"/crash-* "$build"/timeout-* "$build"/oom-* "$build"/leak-*
+# drive inputs: 1 + 8 bytes per record; 4 kB is ~500 records, more than the
+# 16 384 ISRs an input may run.  INI inputs: the real files are ~2 kB.
+run fuzz_drive_step 4097 tests/fuzz/corpus/drive_step
+run fuzz_sim_config 16384 tests/fuzz/corpus/sim_config host_sim/config
+echo "fuzz.sh: no failure in $seconds s per target"
