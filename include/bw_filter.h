@@ -30,7 +30,7 @@
  * exactly 1 (d = 0, z2 = 0 is a fixed point to the bit), and D's small
  * entries are computed and stored with full relative precision (A11 = 1 -
  * 9e-6 would keep only 17 significant bits of its distance to 1).
- * bw_filter_step uses the map (5 IQmath multiplies, one of them the
+ * bw_filter_step uses the map (4 IQmath multiplies and a rounded
  * Q27 -> Q26 change of format, + 1 for dy); bw_filter_step_npass runs the
  * literal predictor + N corrector passes (7 + 5N multiplies) as the
  * reference the map is tested against.
@@ -40,7 +40,10 @@
  * discrete filter's l1 gain (sum of |impulse response|) is < 1.09 for x1
  * and < 1.0 for z2 (Butterworth step overshoot 4.3 %), so |x1| < 7.7 and
  * |z2| < 7, and the deviation |x1 - u| < 14.7 stays inside Q27.  Products
- * are rounded (_IQ30rmpy: round half up): truncation would bias every
+ * are rounded (round half up, bit for bit _IQ30rmpy, computed as the
+ * truncating _IQ29mpy one bit finer + a rounding shift, which costs 5
+ * cycles + 2 ALU operations on the C28x instead of the 22-cycle _IQrmpy
+ * library call): truncation would bias every
  * update by -1/2 LSB, and the filter integrates its increments; with the DC
  * gain of the filter from the increment to x1 (about 1/a + sqrt(2)/a = 580
  * at a = 4.2e-3) that is a steady bias of ~600 LSB Q27 = 70 LSB Q24; with
@@ -66,8 +69,11 @@
 /** Input saturation (pu): keeps the Q27 state in range (see above). */
 #define BW_FILTER_U_MAX 7.0f
 /** Largest a = Wc * Ts accepted (the corrector iteration converges for
- *  a/2 * |eig(Fn)| = a/2 < 1; 0.5 keeps it a fast contraction). */
-#define BW_FILTER_A_MAX 0.5f
+ *  a/2 * |eig(Fn)| = a/2 < 1; 0.3 keeps it a fast contraction and bounds
+ *  |D12|, |D21| <= a, which the one-bit-finer rounded products of
+ *  bw_filter_step need: |D21 (d + c2 z2)| < 25 a < 8).  A cut-off of 700 Hz
+ *  at 15 kHz; the paper's is a = 4.2e-3. */
+#define BW_FILTER_A_MAX 0.3f
 /** Largest number of corrector passes accepted. */
 #define BW_FILTER_N_MAX 50u
 
@@ -112,12 +118,16 @@ bw_filter_status_t bw_filter_init(bw_filter_t *f, float wc_rad_s, uint16_t n_pas
  *  x1 = y0, derivative 0.  Avoids the start-up transient. */
 void bw_filter_reset(bw_filter_t *f, _iq y0);
 
-/** One sample with the precomputed map (the ISR path): 5 multiplies + 1
- *  for dy.  Each row is one small coefficient times one sum,
+/** One sample with the precomputed map (the ISR path): 4 multiplies and
+ *  a rounded format change, + 1 multiply for dy.  Each row is one small coefficient times one sum,
  *      x1 += D12 (z2 + c1 d),   z2 += D21 (d + c2 z2),
  *  so each increment is rounded once (the dead band, below, is then
  *  |d + c2 z2| <= 1/(2|D21|) and |z2 + c1 d| <= 1/(2 D12) LSB27).  Scaling/overflow: see the file comment. */
 void bw_filter_step(bw_filter_t *f);
+
+/** bw_filter_step without the derivative output: state and y only (dy is
+ *  left as it was).  For the filters whose derivative nobody reads. */
+void bw_filter_update(bw_filter_t *f);
 
 /** One sample by the literal predictor + N corrector passes (eqs. 15-18,
  *  method §5): the reference for bw_filter_step.  Same state, inputs and

@@ -24,8 +24,11 @@
  * regression parameters are K1_pu = K1/w_base, K2_pu = K2 V_base/(I_base
  * w_base), K3_pu = K3/(I_base w_base), K4_pu = K4/I_base.
  *
- * Scaling and overflow of ident_regressor_step: products rounded (_IQrmpy:
- * their truncation bias would pass the unit DC gain of the filters); |sin|,
+ * Scaling and overflow of ident_regressor_step: products rounded (their
+ * truncation bias would pass the unit DC gain of the filters), bit for bit
+ * _IQrmpy but computed with the 5-cycle truncating intrinsic one bit finer
+ * (estim_bfp.h: estim_rmpy, valid below 64 pu, wraps beyond as _IQrmpy
+ * does beyond 128 pu; the filters saturate their inputs at 7 pu); |sin|,
  * |cos| <= 1 so |u_M|, |u_T| <= |u_alpha| + |u_beta|; the filters saturate
  * their inputs at +-7 pu (bw_filter.h), so |filtered| < 7.7 and
  * |y1|, |y2| < 16: no wrap in Q24.
@@ -49,7 +52,8 @@ typedef struct {
     _iq y1, y2;            /* Q24 pu/pu time: left-hand sides, eq. 5 */
     _iq i_mf, u_mf;        /* Q24 pu: row 1 regressors */
     _iq i_tf, u_tf, wr_f;  /* Q24 pu: row 2 regressors */
-    /* state: the seven identical filters */
+    /* state: the seven identical filters (only f_im and f_it compute their
+     * .dy output; the other five leave it at 0: bw_filter_update) */
     bw_filter_t f_im, f_it, f_um, f_ut, f_ws_it, f_ws_im, f_wr;
 } ident_regressor_t;
 

@@ -54,7 +54,7 @@
 
 typedef enum {
     IFO_OK = 0,
-    IFO_ERR_BASE,         /* bases NULL or not initialised, or f_base Ts >= 1/128 */
+    IFO_ERR_BASE,         /* bases NULL or not initialised, or f_base Ts not in (1/2000, 1/128) */
     IFO_ERR_TR,           /* Tr not in [10 Ts, 100 t_base] */
     IFO_ERR_IMR_MIN       /* imr_min not in (0, 1], or 2 / (Tr imr_min) > 64 */
 } ifo_status_t;

@@ -33,12 +33,13 @@
  *    so each |phi_j theta_j| < 128 and the prediction needs no wider type.
  *    Its updates are accumulated with error feedback: the part of each
  *    increment below 1/2 LSB24 is kept in theta_res (Q48, |.| <= 2^-25)
- *    and added to the next one.  Without it, theta stops moving once
+ *    and added to the next one (32-bit arithmetic, estim_bfp.h).  Without it, theta stops moving once
  *    |K e| < 1/2 LSB24 (K ~ 1/N): measured on the motor data of the tests
  *    after 1 s, K2 was 1.8e-4 and K3 6e-4 off (relative); with it the
  *    accumulated sum is exact to 1 LSB24.  (FLOAT_MATH: Kahan summation,
  *    for the same reason: a float theta ~ 1 has a 1.2e-7 ulp.)
- *  - innovation e = y - phi' theta: Q24, saturating sum, then clamped to
+ *  - innovation e = y - phi' theta over the nonzero phi_j: Q24,
+ *    saturating sum (32-bit overflow test), then clamped to
  *    +-RLS_E_MAX = 15.99 (counted).
  *  - P: symmetric positive definite, range ~1e12 (p0) down to ~1e-9
  *    (1/(N |phi|^2) after 1e6 samples), entries of very different sizes
@@ -54,31 +55,61 @@
  *    [0.25, 1) are rescaled by a power of 2 and Pe_i adjusted).
  *    Only the upper triangle is computed; it is copied to the lower one,
  *    so Pn is symmetric to the bit (tests check Pn_ij == Pn_ji).
+ *    Invariant: |Pn_ij| <= 1 off the diagonal (clamped, counted: never
+ *    active while P is PD, by Cauchy-Schwarz) and Pn_ii < 1 (< 2 if Pe_i
+ *    is at its limit): it bounds every sum below without saturation.
+ *    Renormalisation costs two compares per diagonal while Pn_ii is in
+ *    its band; the exponent and the rescaling run only when it leaves it.
  *  - scaled regressor psi = 2^(Pe_j - pp) phi_j, Q28, with the block
- *    exponent pp chosen so that max |psi_j| is in [0.5, 1).
- *  - g = Pn psi: Q28, |g_i| <= sum_j |Pn_ij| < 4.      (P phi = 2^(Pe+pp) g)
- *  - q = psi' g: Q27, 0 < q < 16.           (phi' P phi = 2^(2 pp) q)
- *  - den = q + 2^(-2pp) if pp >= 0, else 1 + 2^(2pp) q: Q27, in (0, 17);
- *    s = 2^(2pp) den or den.  den = dm 4^k with dm in [0.25, 1) (Q29),
- *    rho = 1/sqrt(den) = _IQ29isqrt(dm) 2^-k, rho_m in (1, 2] (Q29).
- *  - h = g rho (times 2^pp if pp < 0): Q28, |h_i|^2 <= Pn_ii < 1
- *    (Cauchy-Schwarz), and Pn <- Pn - h h' (Q28*Q28 -> Q30): the square-
- *    root split keeps every intermediate bounded even when s is huge
- *    (P(0) = 1e12) or tiny.
- *  - gain K_i = 2^(Pe_i + ks - k) m_i, m = h rho_m (Q28, |m| < 2),
- *    ks = -pp (pp >= 0) or 0; the update K_i e is formed as m_i e (Q26,
- *    |.| < 32) and shifted by Pe_i + ks - k into Q24 with rounding.
- *  All products are rounded (_IQNrmpy): P and theta integrate their
- *  updates over 1e5..1e6 samples, and truncation would drift them by
- *  -1/2 LSB per operation.  Every shift saturates; every saturation
- *  increments `sat_count` (nothing wraps).  A non-positive q or den, or a
- *  non-positive diagonal of Pn (loss of positive definiteness by rounding),
- *  skips / repairs the update (the row and column of that parameter are
- *  reset to Pn_ii = 0.5 with no correlation) and increments `pd_count`.
+ *    exponent pp = max_j (exponent(phi_j) + Pe_j) over the nonzero phi_j,
+ *    so |psi_j| <= 1 and max |psi_j| >= 1/2.  Zero regressors (one in
+ *    each motor row) stay 0.
+ *  - g = Pn psi: Q28, |g_i| <= 2 + 1 + 1 + 1 < 8.   (P phi = 2^(Pe+pp) g)
+ *  - q = psi' g: Q26, 0 < q < 20.           (phi' P phi = 2^(2 pp) q)
+ *  - den = q + 2^(-2pp) if pp >= 0, else 1 + 2^(2pp) q: Q26, in (0, 21);
+ *    s = 2^(2pp) den or den.  den = dm 4^k with dm in [0.25, 1] (Q29),
+ *    rho = 1/sqrt(den) = _IQ29isqrt(dm) 2^-k, rho_m in [1, 2] (Q29).
+ *  - h = g rho (times 2^pp if pp < 0): Q27, |h_i|^2 <= Pn_ii < 1
+ *    (Cauchy-Schwarz; clamped to +-RLS_H_MAX, counted, only if not PD),
+ *    and Pn <- Pn - h h' (Q27*Q27 -> Q30): the square-root split keeps
+ *    every intermediate bounded even when s is huge (P(0) = 1e12) or tiny.
+ *    The shift 2^(hs - k) is folded once into rho_m when it is a right
+ *    shift (always, except in the first samples of a huge P(0)).
+ *  - theta update K_i e = 2^(Pe_i + ks - k + ne) h_i eps, ks = -pp
+ *    (pp >= 0) or 0, with e normalised first, e = em 2^ne (em Q30,
+ *    |em| in [0.5, 1]), eps = rho_m em (Q29, |eps| <= 2), h_i eps in Q27
+ *    (|.| < 2): ~27 significant bits however small e is; then shifted into
+ *    Q24 by the compensated accumulation above.
+ *  Truncation.  Only the products whose error P or theta would integrate
+ *  are rounded: the P downdate h_i h_j and the terms of q (a truncated q
+ *  shrinks den and over-shoots the downdate when P is huge: with P(0) =
+ *  1e12 that made 196 PD repairs instead of 12).  They are rounded bit for
+ *  bit as _IQNrmpy, but computed as the 5-cycle truncating intrinsic one
+ *  bit finer plus a rounding shift (estim_round_half, estim_bfp.h), not the
+ *  22-cycle _IQNrmpy library call.  Measured on P: truncating h_i h_j
+ *  (bias +1/2 LSB30 per entry per update, i.e. an extra forgetting in the
+ *  nearly singular directions of Pn) moved the paper form's K3' 2.8e-3
+ *  away from the double RLS (bound 2e-3); rounded it is 3e-5.  All other
+ *  products truncate (_IQNmpy): the prediction phi' theta (bias < 3 LSB24
+ *  = 1.8e-7 pu of y, absorbed like a y offset: < 4e-6 of K3), g = Pn psi
+ *  and h = g rho (28 and 27 bits: a gain error of 1e-8..1e-7 relative,
+ *  which changes the weighting, not the fixed point of theta) and h_i eps
+ *  (27 significant bits after normalising e).  Measured: the tests'
+ *  constant-form errors are the same to 3 digits with every product
+ *  rounded, and the closed loop (sim_closed_loop) moves by <= 0.04
+ *  percentage points (1.1 kW Rr -1.91 % truncated, -1.95 % all rounded).
+ *  Every shift saturates; every saturation or clamp increments
+ *  `sat_count` (nothing wraps).  A non-positive q, or a non-positive
+ *  diagonal of Pn (loss of positive definiteness by rounding), skips /
+ *  repairs the update (the row and column of that parameter are reset to
+ *  Pn_ii = 0.5 with no correlation) and increments `pd_count`.
  *
- * Cost per sample (IQ_MATH, constant form): 2 x (4 rmpy prediction, 16 + 4
- * rmpy for g, q, 1 isqrt, 4 + 10 + 4 + 4 rmpy for h, P, m, K e) plus
- * shifts; with forgetting 10 more rmpy.
+ * Cost per row (IQ_MATH, motor rows with 3 of 4 regressors nonzero):
+ * 3 + 16 + 4 + 4 + 10 + 1 + 4 _IQNmpy (prediction, g, q, h, P, eps,
+ * theta), 1 _IQ29isqrt, 5 exponents, ~7 shifts, 4 compensated sums, all
+ * 32-bit; no _IQNrmpy call and no 64-bit operation.  With forgetting,
+ * 10 _IQ30rsmpy more per sample.  Estimated with tools/bench_isr.py: see
+ * BENCHMARKS.md.
  */
 #ifndef RLS_H
 #define RLS_H
@@ -91,6 +122,7 @@
 #define RLS_THETA_MAX 15.99f    /* pu, estimate saturation */
 #define RLS_E_MAX 15.99f        /* pu, innovation clamp */
 #define RLS_PE_LIM 60           /* |Pe_i| bound */
+#define RLS_H_MAX 0.99999999    /* clamp of the square-root gain h (Q28): below 1 */
 
 typedef enum {
     RLS_FORM_CONST = 0,   /* c = 1 pu, theta3 = K3_pu (eq. 7) */
@@ -129,6 +161,7 @@ typedef struct {
     _iq30 Pn[RLS_N][RLS_N];      /* Q30 mantissas, symmetric */
     int16_t Pe[RLS_N];           /* P_ij = 2^(Pe_i + Pe_j) Pn_ij */
     _iq theta_res[RLS_N];        /* theta below 1/2 LSB24 (IQ: Q48; FLOAT: Kahan term) */
+    uint16_t row_next;           /* rls_step_row: 0 = row 1 next, 1 = row 2 next */
 } rls_t;
 
 /**
@@ -143,6 +176,16 @@ rls_status_t rls_init(rls_t *r, rls_form_t form, float p0, float lambda,
 /** One sample: if enable, forgetting + the two rows.  See the file comment
  *  for scaling and overflow. */
 void rls_step(rls_t *r);
+
+/** Half the work of rls_step per call, for a 15 kHz ISR that cannot
+ *  afford both rows: if enable, alternately (forgetting + row 1) and
+ *  row 2, each from the inputs of the call that does it.  Each row is then
+ *  used at half the sample rate; the regression signals are low-pass
+ *  filtered (10 Hz against 15 kHz) so consecutive samples carry almost the
+ *  same information, and tests/estim shows the same convergence bounds.
+ *  lambda then applies per pair of calls.  Use either rls_step or this on
+ *  one instance, not both. */
+void rls_step_row(rls_t *r);
 
 /** One scalar update with row phi (Q24) and measurement y (Q24), no
  *  forgetting (rls_step uses it twice).  Returns the a-priori innovation

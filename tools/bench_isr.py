@@ -62,7 +62,7 @@ FUNC_MODULE = {
     "angle_sincos": "sin/cos", "angle_wrap_pu": "sin/cos",
     "ifo_frame_from_rotor": "orientation (IFO)", "ifo_theta_mid": "orientation (IFO)",
     "ifo_step_slip": "orientation (IFO)",
-    "ident_regressor_step": "regression + Butterworth", "rls_step": "RLS",
+    "ident_regressor_step": "regression + Butterworth", "rls_step": "RLS", "rls_step_row": "RLS",
     "id_sequence_step": "sequence", "ramp_gen_step": "speed ramp + PIs",
     "pi_step": "speed ramp + PIs", "pi_reset": "speed ramp + PIs", "svgen_step": "SVPWM",
 }

@@ -6,8 +6,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+# libclang-rt-14-dev: clang's sanitizer and libFuzzer runtimes (tools/fuzz.sh);
+# only "recommended" by clang, so --no-install-recommends would leave it out
 debs=(cmake make gcc pkg-config libcmocka-dev libinih-dev python3
-      gcc-avr avr-libc simavr clang cppcheck clang-tidy)
+      gcc-avr avr-libc simavr clang cppcheck clang-tidy libclang-rt-14-dev)
 missing=()
 for p in "${debs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

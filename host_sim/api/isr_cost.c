@@ -59,7 +59,7 @@ static fn_row_t g_rows[F_COUNT] = {
     {"protect_step", 0u, {0}}, {"volt_calc_step", 0u, {0}}, {"clarke_step", 0u, {0}},
     {"park_step", 0u, {0}}, {"ifo_frame_from_rotor", 0u, {0}}, {"ifo_theta_mid", 0u, {0}},
     {"ifo_step_slip", 0u, {0}}, {"angle_sincos", 0u, {0}}, {"angle_wrap_pu", 0u, {0}},
-    {"ident_regressor_step", 0u, {0}}, {"rls_step", 0u, {0}}, {"id_sequence_step", 0u, {0}},
+    {"ident_regressor_step", 0u, {0}}, {"rls_step_row", 0u, {0}}, {"id_sequence_step", 0u, {0}},
     {"ramp_gen_step", 0u, {0}}, {"pi_step", 0u, {0}}, {"pi_reset", 0u, {0}},
     {"ipark_step", 0u, {0}}, {"svgen_step", 0u, {0}}};
 
@@ -105,7 +105,7 @@ WRAP_VOID1(park_step, F_PARK, park_t *)
 WRAP_VOID1(ifo_frame_from_rotor, F_IFO_FRAME, ifo_t *)
 WRAP_VOID1(ifo_step_slip, F_IFO_SLIP, ifo_t *)
 WRAP_VOID1(ident_regressor_step, F_REGRESSOR, ident_regressor_t *)
-WRAP_VOID1(rls_step, F_RLS, rls_t *)
+WRAP_VOID1(rls_step_row, F_RLS, rls_t *)
 WRAP_VOID1(id_sequence_step, F_SEQUENCE, id_sequence_t *)
 WRAP_VOID1(ramp_gen_step, F_RAMP, ramp_gen_t *)
 WRAP_VOID1(pi_step, F_PI_STEP, pi_ctrl_t *)

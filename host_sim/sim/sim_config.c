@@ -257,6 +257,9 @@ static int cross_check(const sim_config_t *c, char *err, size_t len)
  * key), a NUL byte silently ends a line, and a read error (a directory given
  * as the file) looks like an empty file.  This reader stops at each of these
  * and says which, so that sim_config_load reports it. */
+/* Characters of the file's path shown in a message (SIM_CONFIG_ERR_LEN 256). */
+#define PATH_SHOWN 96
+
 typedef enum { RD_OK = 0, RD_TOO_LONG, RD_NUL, RD_ERROR } read_status_t;
 
 typedef struct {
@@ -315,6 +318,9 @@ int sim_config_load(const char *path, sim_config_t *cfg, char *err, size_t err_l
     line_reader_t rd;
     size_t i;
     int rc;
+    /* a long path is shown by its end, so that the reason always fits */
+    const char *shown = (strlen(path) > PATH_SHOWN) ? path + strlen(path) - PATH_SHOWN : path;
+    const char *ell = (shown != path) ? "..." : "";
 
     memset(cfg, 0, sizeof *cfg);
     memset(&ctx, 0, sizeof ctx);
@@ -322,7 +328,7 @@ int sim_config_load(const char *path, sim_config_t *cfg, char *err, size_t err_l
     ctx.cfg = cfg;
     rd.f = fopen(path, "r");
     if (rd.f == NULL) {
-        set_err(err, err_len, "%s: cannot open (%s)", path, strerror(errno));
+        set_err(err, err_len, "%s%s: cannot open (%s)", ell, shown, strerror(errno));
         return 1;
     }
     rc = ini_parse_stream(read_line, &rd, on_key, &ctx);
@@ -330,31 +336,31 @@ int sim_config_load(const char *path, sim_config_t *cfg, char *err, size_t err_l
     if (rc != 0) {
         /* an error in a line before the one the reader stopped at */
         if (ctx.err[0] != '\0') {
-            set_err(err, err_len, "%s:%d: %s", path, rc, ctx.err);
+            set_err(err, err_len, "%s%s:%d: %s", ell, shown, rc, ctx.err);
         } else {
-            set_err(err, err_len, "%s:%d: malformed line (expected [section] or key = value)",
-                    path, rc);
+            set_err(err, err_len, "%s%s:%d: malformed line (expected [section] or key = value)",
+                    ell, shown, rc);
         }
         return 1;
     }
     if (rd.status == RD_TOO_LONG) {
-        set_err(err, err_len, "%s:%u: line longer than %d characters", path, rd.line,
+        set_err(err, err_len, "%s%s:%u: line longer than %d characters", ell, shown, rd.line,
                 rd.max_len);
         return 1;
     }
     if (rd.status == RD_NUL) {
-        set_err(err, err_len, "%s:%u: NUL byte (not a text file)", path, rd.line + 1u);
+        set_err(err, err_len, "%s%s:%u: NUL byte (not a text file)", ell, shown, rd.line + 1u);
         return 1;
     }
     if (rd.status == RD_ERROR) {
-        set_err(err, err_len, "%s: read error (%s)", path, strerror(rd.err_no));
+        set_err(err, err_len, "%s%s: read error (%s)", ell, shown, strerror(rd.err_no));
         return 1;
     }
     for (i = 0; i < N_KEYS; i++) {
         if (!ctx.seen[i]) {
             if (k_keys[i].required) {
-                set_err(err, err_len, "%s: missing key '%s.%s' (%s)", path, k_keys[i].section,
-                        k_keys[i].key, k_keys[i].unit);
+                set_err(err, err_len, "%s%s: missing key '%s.%s' (%s)", ell, shown,
+                        k_keys[i].section, k_keys[i].key, k_keys[i].unit);
                 return 1;
             }
             *field(cfg, &k_keys[i]) = k_keys[i].def;
@@ -364,7 +370,7 @@ int sim_config_load(const char *path, sim_config_t *cfg, char *err, size_t err_l
         cfg->target_speed_rpm = cfg->rated_speed_rpm;
     }
     if (cross_check(cfg, ctx.err, sizeof ctx.err) != 0) {
-        set_err(err, err_len, "%s: %s", path, ctx.err);
+        set_err(err, err_len, "%s%s: %s", ell, shown, ctx.err);
         return 1;
     }
     return 0;

@@ -1,15 +1,18 @@
 /**
  * @file estim_bfp.h
  * Private helpers of the identification core (src/estim only): scaling by a
- * power of two, exponent of a value, saturating add.  They are what TI's
+ * power of two, exponent of a value, saturating add, compensated sum, and
+ * a rounded product built on the truncating multiply.  They are what TI's
  * IQmath does not provide (it has no variable shift), used by the block-
- * floating-point covariance of the RLS (rls.h, "scaling plan").
+ * floating-point covariance of the RLS (rls.h, "scaling plan") and by the
+ * Butterworth filters and the regression (rounded products).
  *
  * These are the only places where the IQ_MATH build touches the raw int32
  * mantissa of an _iq; the FLOAT_MATH build does the same thing in float
  * (ldexpf/frexpf), so both builds run the same algorithm.  The IQ build is
- * integer-only and free of UB: left shifts are done as multiplications of a
- * bounded int64, right shifts through iqm_asr64 (floor) of IQmathLib.h.
+ * 32-bit integer only and free of UB: left shifts are multiplications by a
+ * power of two after a range check, right shifts go through estim_asr32
+ * (floor, no shift of a negative value), sums test for overflow first.
  */
 #ifndef ESTIM_BFP_H
 #define ESTIM_BFP_H
@@ -24,6 +27,21 @@
 /** Exponent reported for a zero value (below every real exponent). */
 #define ESTIM_EXP_ZERO ((int16_t)-1000)
 
+/** Forward declaration: see the MATH_TYPE sections below. */
+static inline _iq estim_round_half(_iq y);
+
+/**
+ * _IQrmpy(a, b) (Q GLOBAL_Q, round half up), bit for bit, as the truncating
+ * _IQmpyIQX one bit finer (the 5-cycle intrinsic) + estim_round_half,
+ * instead of the 22-cycle library call.  Valid for |a b| < 2^(30 - GLOBAL_Q)
+ * (64 pu at Q24; beyond, it wraps as _IQrmpy does beyond 128 pu).
+ */
+static inline _iq estim_rmpy(_iq a, _iq b)
+{
+    /* a b 2^-(GLOBAL_Q - 1): a read as Q(GLOBAL_Q - 1), result in Q(GLOBAL_Q + 1) */
+    return estim_round_half(_IQmpyIQX(a, GLOBAL_Q - 1, b, GLOBAL_Q));
+}
+
 /** Saturating increment of an event counter (never wraps to 0). */
 static inline void estim_count(uint32_t *c)
 {
@@ -32,102 +50,165 @@ static inline void estim_count(uint32_t *c)
 
 #if MATH_TYPE == IQ_MATH
 
+/*
+ * Everything below is 32-bit integer arithmetic (the C28x has a 32-bit ALU
+ * and no 64-bit one): no int64_t, no `>>` of a negative value (implementation-
+ * defined in C99), no signed overflow.  Cost on the C28x, portable C as
+ * written: estim_asr32 ~4 cycles, estim_add_sat ~6, estim_ldexp ~10,
+ * estim_exponent 5 compare/shift steps (~25; the CSB instruction, intrinsic
+ * __norm32, would do it in 1 on a target-specific build).
+ */
+
+/** floor(x / 2^r) for any sign, 0 <= r <= 31 (an arithmetic right shift
+ *  written without shifting a negative value: for x < 0, ~x = -x - 1 >= 0
+ *  and floor(x / 2^r) = -(floor(~x / 2^r)) - 1).  No overflow possible. */
+static inline int32_t estim_asr32(int32_t x, int16_t r)
+{
+    if (x >= 0) {
+        return (int32_t)((uint32_t)x >> r);
+    }
+    return -(int32_t)((~(uint32_t)x) >> r) - 1;
+}
+
 /**
  * x * 2^n, with x in Q(qin) and the result in Q(qout) (raw shift by
  * n + qout - qin).  Scaling: exact for left shifts; right shifts round half
- * up (add half an LSB, then floor), so that repeated renormalisation carries
- * no bias.  Overflow: saturates to [INT32_MIN, INT32_MAX] and increments
- * *sat (if sat != NULL).
+ * up (floor(x 2^-r + 1/2)), so that repeated renormalisation carries no
+ * bias.  Overflow: saturates to [INT32_MIN, INT32_MAX] and increments
+ * *sat (if sat != NULL).  32-bit only.
  */
 static inline _iq estim_ldexp(_iq x, int16_t n, int16_t qin, int16_t qout, uint32_t *sat)
 {
-    int32_t sh = (int32_t)n + (int32_t)qout - (int32_t)qin;
-    int64_t v = (int64_t)x;
-    if (x == 0) {
-        return 0;
-    }
-    if (sh >= 0) {
-        if (sh > 32) {
-            sh = 32;                 /* |x| >= 1 raw: saturates anyway */
+    int16_t sh = (int16_t)(n + qout - qin);
+    int32_t t;
+    uint32_t h;
+    if (sh <= 0) {
+        if (sh == 0 || sh < -32) {
+            return (sh == 0) ? x : 0;   /* sh < -32: |x| 2^sh < 1/4 LSB, rounds to 0 */
         }
-        v = v * ((int64_t)1 << sh);  /* |v| < 2^63: no overflow */
-    } else {
-        int32_t r = -sh;
-        if (r > 40) {
-            return 0;                /* |x| < 2^31 raw: rounds to 0 */
+        /* round half up: floor((t + 1) / 2) with t = floor(x 2^(1 - r)),
+         * written as floor(t / 2) + (t odd) so that t + 1 cannot overflow */
+        t = estim_asr32(x, (int16_t)(-sh - 1));
+        return estim_asr32(t, 1) + (int32_t)((uint32_t)t & 1u);
+    }
+    /* left: x 2^sh fits iff -h <= x < h, h = 2^(31-sh), i.e. iff x + h
+     * (modulo 2^32) < 2h: one unsigned compare */
+    h = (sh > 30) ? 0u : ((uint32_t)1 << (31 - sh));
+    if ((uint32_t)x + h >= 2u * h) {          /* (always, for sh > 30) */
+        if (x == 0) {
+            return 0;
         }
-        v = iqm_asr64(v + ((int64_t)1 << (r - 1)), (int)r);
-    }
-    if (v > (int64_t)INT32_MAX) {
         if (sat != 0) { estim_count(sat); }
-        return INT32_MAX;
+        return (x > 0) ? INT32_MAX : INT32_MIN;
     }
-    if (v < (int64_t)INT32_MIN) {
-        if (sat != 0) { estim_count(sat); }
-        return INT32_MIN;
-    }
-    return (_iq)v;
+    return x * (int32_t)((uint32_t)1 << sh);      /* exact, in range (sh <= 30) */
+}
+
+/**
+ * A rounded product from the truncating one: y = floor(2x) in Q(n+1), the
+ * result of _IQ(N-1)mpy(a, b) where _IQNrmpy(a, b) = x in Q(n) is wanted;
+ * returns floor((y + 1) / 2) = floor(x + 1/2), bit-identical to _IQNrmpy
+ * (nested floors: floor((floor(z) + 1) / 2) = floor((z + 1) / 2)).  The
+ * C28x then pays the 5-cycle intrinsic and two ALU operations instead of
+ * the 22-cycle _IQNrmpy library call.  Needs |2x| < 2^31 raw (the caller
+ * states why); written as (y - b) / 2 + b, b = the low bit, so that no sum
+ * can overflow and no negative value is shifted.
+ */
+static inline _iq estim_round_half(_iq y)
+{
+    int32_t b = (int32_t)((uint32_t)y & 1u);
+    return (y - b) / 2 + b;
 }
 
 /**
  * The smallest n with |x| < 2^n, x in Q(q) (so 2^(n-1) <= |x| < 2^n);
- * ESTIM_EXP_ZERO for x == 0.  Portable bit count (<= 32 iterations); on
+ * ESTIM_EXP_ZERO for x == 0.  Binary search on the magnitude: 5 compare/
+ * shift steps whatever the value (the old shift loop took up to 31).  On
  * the C28x this is one CSB (count sign bits) instruction, the compiler's
- * __norm32 intrinsic, which a target build should use here.
+ * __norm32 intrinsic, which a target-specific build could use here.
  */
 static inline int16_t estim_exponent(_iq x, int16_t q)
 {
-    int64_t a = (x < 0) ? -(int64_t)x : (int64_t)x;
-    int16_t bits = 0;
-    if (a == 0) {
+    /* |x| as uint32 (also for INT32_MIN: 2^31) */
+    uint32_t a = (x < 0) ? (0u - (uint32_t)x) : (uint32_t)x;
+    int16_t bits = 1;
+    if (a == 0u) {
         return ESTIM_EXP_ZERO;
     }
-    while (a != 0) {
-        a = a >> 1;          /* a >= 0: well-defined shift */
-        bits++;
-    }
+    if (a >= 0x10000u) { a >>= 16; bits = (int16_t)(bits + 16); }
+    if (a >= 0x100u) { a >>= 8; bits = (int16_t)(bits + 8); }
+    if (a >= 0x10u) { a >>= 4; bits = (int16_t)(bits + 4); }
+    if (a >= 0x4u) { a >>= 2; bits = (int16_t)(bits + 2); }
+    if (a >= 0x2u) { bits = (int16_t)(bits + 1); }
     return (int16_t)(bits - q);
 }
 
-/** a + b in Q(any), saturated to the int32 range; increments *sat then. */
+/** a + b in Q(any), saturated to the int32 range; increments *sat then.
+ *  The overflow test comes first, so the addition itself never overflows
+ *  (32-bit: on the C28x, ADDL with the overflow mode does the same). */
 static inline _iq estim_add_sat(_iq a, _iq b, uint32_t *sat)
 {
-    int64_t s = (int64_t)a + (int64_t)b;
-    if (s > (int64_t)INT32_MAX) { estim_count(sat); return INT32_MAX; }
-    if (s < (int64_t)INT32_MIN) { estim_count(sat); return INT32_MIN; }
-    return (_iq)s;
+    if (b >= 0) {
+        if (a > INT32_MAX - b) { estim_count(sat); return INT32_MAX; }
+    } else if (a < INT32_MIN - b) {
+        estim_count(sat);
+        return INT32_MIN;
+    }
+    return a + b;
 }
 
 /** a - b, saturated to the int32 range; increments *sat then. */
 static inline _iq estim_sub_sat(_iq a, _iq b, uint32_t *sat)
 {
-    int64_t s = (int64_t)a - (int64_t)b;
-    if (s > (int64_t)INT32_MAX) { estim_count(sat); return INT32_MAX; }
-    if (s < (int64_t)INT32_MIN) { estim_count(sat); return INT32_MIN; }
-    return (_iq)s;
+    if (b <= 0) {
+        if (a > INT32_MAX + b) { estim_count(sat); return INT32_MAX; }
+    } else if (a < INT32_MIN + b) {
+        estim_count(sat);
+        return INT32_MIN;
+    }
+    return a - b;
 }
 
 /**
  * Compensated accumulation of small increments (error feedback):
  * *acc (Q24) += d * 2^n, d in Q(qin), keeping the part below 1/2 LSB24 that
- * rounding drops in *res (Q48: |res| <= 2^23 raw = 1/2 LSB24) and adding it
- * back next time, so that the sum of many sub-LSB increments is exact to
- * one LSB24 instead of being lost (the dead zone of a rounded Q24
- * integrator).  Increments of 64 LSB24 or more skip the residual (they
+ * rounding drops in *res (Q48: -2^23 <= res < 2^23 raw, i.e. within
+ * 1/2 LSB24) and adding it back next time, so that the sum of many sub-LSB
+ * increments is exact to one LSB24 instead of being lost (the dead zone of
+ * a rounded Q24 integrator).  *acc + *res is then the exact running sum to
+ * 2^-24 LSB24 per call (the bits of d below Q48 are floored off: after
+ * 10^6 calls < 0.06 LSB24).  Increments of 128 LSB24 or more (whose Q48
+ * form does not fit 32 bits) are added rounded, without the residual (they
  * are far above the resolution).  Overflow: *acc saturates (counted).
+ * 32-bit only.
  */
 static inline void estim_accumulate(_iq *acc, _iq d, int16_t n, int16_t qin, _iq *res,
                                     uint32_t *sat)
 {
-    _iq d48 = estim_ldexp(d, n, qin, 48, NULL);
-    if (d48 > -(_iq)0x40000000 && d48 < (_iq)0x40000000) {
-        int64_t t = (int64_t)d48 + (int64_t)*res;      /* Q48, |t| < 2^31 */
-        int64_t q = iqm_asr64(t + ((int64_t)1 << 23), 24);   /* rounded to Q24 */
-        *res = (_iq)(t - q * ((int64_t)1 << 24));
-        *acc = estim_add_sat(*acc, (_iq)q, sat);
+    int16_t sh = (int16_t)(n + 48 - qin);   /* d raw -> Q48 raw: times 2^sh */
+    int32_t v, w, f;
+    if (d == 0) {
+        return;
+    }
+    if (sh <= 0) {
+        v = (sh < -31) ? ((d < 0) ? -1 : 0) : estim_asr32(d, (int16_t)-sh);   /* Q48, floor */
+    } else if (sh <= 30 &&
+               (uint32_t)d + ((uint32_t)1 << (31 - sh)) < ((uint32_t)2 << (31 - sh))) {
+        v = d * (int32_t)((uint32_t)1 << sh);   /* Q48, exact: -2^(31-sh) <= d < 2^(31-sh) */
     } else {
         *acc = estim_add_sat(*acc, estim_ldexp(d, n, qin, 24, sat), sat);
+        return;
     }
+    /* v = w 2^24 + f, 0 <= f < 2^24: whole LSB24 and the Q48 fraction */
+    w = estim_asr32(v, 24);
+    f = v - w * (int32_t)0x1000000;
+    f = f + *res;                    /* in [-2^23, 2^24 + 2^23): fits */
+    if (f >= (int32_t)0x800000) {    /* keep the residual within 1/2 LSB24 */
+        f = f - (int32_t)0x1000000;
+        w = w + 1;
+    }
+    *res = f;
+    *acc = estim_add_sat(*acc, w, sat);
 }
 
 #else /* FLOAT_MATH: the same operations in float */
@@ -158,6 +239,12 @@ static inline int16_t estim_exponent(_iq x, int16_t q)
     }
     (void)frexpf(x, &e);   /* x = f 2^e, 0.5 <= |f| < 1 */
     return (int16_t)e;
+}
+
+/** FLOAT: the product is exact to float precision; nothing to round. */
+static inline _iq estim_round_half(_iq y)
+{
+    return y;
 }
 
 /** a + b, saturated to the Q GLOBAL_Q range of the IQ build (+-128). */

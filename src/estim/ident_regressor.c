@@ -4,6 +4,8 @@
 
 #include <string.h>
 
+#include "estim_bfp.h"
+
 bw_filter_status_t ident_regressor_init(ident_regressor_t *r, float wc_rad_s,
                                         uint16_t n_pass, float Ts_s,
                                         float w_base_rad_s)
@@ -39,26 +41,28 @@ void ident_regressor_reset(ident_regressor_t *r)
 /* Scaling/overflow: see ident_regressor.h. */
 void ident_regressor_step(ident_regressor_t *r)
 {
-    /* Park rotation at the mid-period angle (method §7 point 1) */
-    r->u_m = _IQrmpy(r->u_alpha, r->cos_mid) + _IQrmpy(r->u_beta, r->sin_mid);   /* Q24*Q24 -> Q24 */
-    r->u_t = _IQrmpy(r->u_beta, r->cos_mid) - _IQrmpy(r->u_alpha, r->sin_mid);   /* Q24*Q24 -> Q24 */
+    /* Park rotation at the mid-period angle (method §7 point 1); rounded
+     * products = _IQrmpy bit for bit (estim_bfp.h), |u| < 64 pu */
+    r->u_m = estim_rmpy(r->u_alpha, r->cos_mid) + estim_rmpy(r->u_beta, r->sin_mid);
+    r->u_t = estim_rmpy(r->u_beta, r->cos_mid) - estim_rmpy(r->u_alpha, r->sin_mid);
 
     r->f_im.u = r->i_m;
     r->f_it.u = r->i_t;
     r->f_um.u = r->u_m;
     r->f_ut.u = r->u_t;
     /* the products are filtered as single signals (method §7 point 2) */
-    r->f_ws_it.u = _IQrmpy(r->ws, r->i_t);     /* Q24*Q24 -> Q24 */
-    r->f_ws_im.u = _IQrmpy(r->ws, r->i_m);     /* Q24*Q24 -> Q24 */
+    r->f_ws_it.u = estim_rmpy(r->ws, r->i_t);     /* Q24*Q24 -> Q24, rounded */
+    r->f_ws_im.u = estim_rmpy(r->ws, r->i_m);     /* Q24*Q24 -> Q24, rounded */
     r->f_wr.u = r->wr;
 
+    /* only i_M and i_T need the derivative output */
     bw_filter_step(&r->f_im);
     bw_filter_step(&r->f_it);
-    bw_filter_step(&r->f_um);
-    bw_filter_step(&r->f_ut);
-    bw_filter_step(&r->f_ws_it);
-    bw_filter_step(&r->f_ws_im);
-    bw_filter_step(&r->f_wr);
+    bw_filter_update(&r->f_um);
+    bw_filter_update(&r->f_ut);
+    bw_filter_update(&r->f_ws_it);
+    bw_filter_update(&r->f_ws_im);
+    bw_filter_update(&r->f_wr);
 
     /* eq. 5 (row 2 with +, method §2) */
     r->y1 = r->f_im.dy - r->f_ws_it.y;

@@ -44,6 +44,11 @@ ifo_status_t ifo_init(ifo_t *f, float Tr_s, const base_values_t *b, float imr_mi
     if (!(b->f_base_Hz * b->Ts_s < 1.0f / 128.0f)) {
         return IFO_ERR_BASE;
     }
+    /* 1/(f_base Ts) is held in Q20 (< 2048): at least 1/2000 of a revolution
+     * per sample at 1 pu speed (e.g. 7.5 Hz base at 15 kHz) */
+    if (!(b->f_base_Hz * b->Ts_s > 1.0f / 2000.0f)) {
+        return IFO_ERR_BASE;
+    }
     f->ts = _IQ(b->Ts_pu);
     f->k_theta = _IQ30(b->f_base_Hz * b->Ts_s);
     f->inv_k_theta = _IQ20(1.0f / (b->f_base_Hz * b->Ts_s));

@@ -137,7 +137,7 @@ static void write_long_lines(void)
     base_with_after("[motor]\n", "long_comment.ini", line, strlen(line));
 
     /* a value of 300 characters (trailing zeros of a valid number) */
-    strcpy(line, "B_Nm_s = 1.");
+    snprintf(line, sizeof line, "B_Nm_s = 1.");
     for (i = strlen(line); i < 300; i++) {
         line[i] = '0';
     }
@@ -152,7 +152,7 @@ static void write_long_lines(void)
     for (i = 1; i < 199; i++) {
         line[i] = '-';
     }
-    strcpy(line + 199, "prop_Nm_s = 5\n");
+    snprintf(line + 199, sizeof line - 199u, "prop_Nm_s = 5\n");
     base_with_after("[load]\n", "smuggled_key.ini", line, strlen(line));
 }
 

@@ -52,6 +52,8 @@
 static drive_t g_drive;         /* large: static, one input at a time */
 static uint16_t g_states_seen;  /* bit n: id_state_t n was reached (corpus check) */
 static int g_trace = -1;        /* FUZZ_TRACE set: print state and fault changes */
+static int g_selftest;          /* FUZZ_SELFTEST set: corrupt one compare value (CTest
+                                   fuzz_drive_step_check_can_fail) */
 
 void fuzz_fail(const char *what, unsigned long step, long value, long limit)
 {
@@ -159,6 +161,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     if (g_trace < 0) {
         g_trace = (getenv("FUZZ_TRACE") != NULL) ? 1 : 0;
+        g_selftest = (getenv("FUZZ_SELFTEST") != NULL) ? 1 : 0;
     }
     make_config((uint8_t)(data[0] & 3u), &cfg);
     /* garbage first, as in the F2812's .ebss (not zeroed by _c_int00):
@@ -200,6 +203,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             qep = (uint16_t)(qep + (uint16_t)dq);
             g_drive.prot.hw_trip = hw_trip;   /* as drive_isr does from hal_pwm_tripped() */
             drive_step(&g_drive, &adc, qep, &out);
+            if (g_selftest != 0 && step == 100u) {
+                out.cmpr[0] = (uint16_t)(g_drive.t1pr + 1u);   /* the check must catch it */
+            }
             check_outputs(&g_drive, &out, hw_trip, step);
             g_states_seen |= (uint16_t)(1u << ((unsigned)g_drive.seq.state & 15u));
             if (g_trace != 0 &&

@@ -285,6 +285,12 @@ static void test_init_errors(void **state)
     /* Ts = 10 ms at 50 Hz: f_base Ts = 0.5 >= 1/128 */
     assert_int_equal(base_values_init(&slow, 20.0f, 34.6f, 50.0f, 2u, 0.01f), BASE_OK);
     assert_int_equal(ifo_init(&f, TR_S, &slow, 0.05f), IFO_ERR_BASE);
+    {
+        /* 1/(f_base Ts) beyond its Q20 range: 1 Hz base at 15 kHz (15000) */
+        base_values_t fine;
+        assert_int_equal(base_values_init(&fine, 20.0f, 34.64f, 1.0f, 2u, TS_S), BASE_OK);
+        assert_int_equal(ifo_init(&f, 0.05f, &fine, 0.05f), IFO_ERR_BASE);
+    }
     assert_int_equal(ifo_init(&f, TR_S, &g_b, 0.0f), IFO_ERR_IMR_MIN);
     assert_int_equal(ifo_init(&f, TR_S, &g_b, 1.5f), IFO_ERR_IMR_MIN);
     assert_int_equal(ifo_init(&f, TR_S, &g_b, NAN), IFO_ERR_IMR_MIN);
