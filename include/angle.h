@@ -39,4 +39,9 @@ _iq angle_wrap_pu(_iq angle_pu);
  */
 void angle_sincos(_iq angle_pu, _iq *s, _iq *c);
 
+/** Signed difference b - a of two angles in [0, 1) (pu), along the shorter
+ *  arc: the result is in [-0.5, 0.5).  Exact (adds or subtracts 1.0 at most
+ *  once); the inputs must already be wrapped. */
+_iq angle_diff_pu(_iq b, _iq a);
+
 #endif /* ANGLE_H */

@@ -23,3 +23,15 @@ void angle_sincos(_iq angle_pu, _iq *s, _iq *c)
     *s = _IQsinPU(a);
     *c = _IQcosPU(a);
 }
+
+_iq angle_diff_pu(_iq b, _iq a)
+{
+    _iq d = b - a;   /* both in [0, 1): the raw difference is in (-1, 1), no overflow */
+
+    if (d >= _IQ(0.5)) {
+        d -= _IQ(1.0);
+    } else if (d < _IQ(-0.5)) {
+        d += _IQ(1.0);
+    }
+    return d;
+}

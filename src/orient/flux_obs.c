@@ -1,6 +1,8 @@
 /* Closed-loop rotor-flux observer (voltage model + current model).  See flux_obs.h. */
 #include "flux_obs.h"
 
+#include "angle.h"
+
 #include <math.h>
 
 #define PSI_MAX _IQ(FLUX_OBS_PSI_MAX)
@@ -21,20 +23,6 @@ static _iq sat_sym(_iq x, _iq m, uint16_t *sat)
         return -m;
     }
     return x;
-}
-
-/* Signed difference b - a of two angles in [0, 1), along the shorter arc:
- * [-0.5, 0.5).  The raw difference is in (-1, 1): no overflow. */
-static _iq angle_diff(_iq b, _iq a)
-{
-    _iq d = b - a;
-
-    if (d >= _IQ(0.5)) {
-        d -= _IQ(1.0);
-    } else if (d < _IQ(-0.5)) {
-        d += _IQ(1.0);
-    }
-    return d;
 }
 
 void flux_obs_reset(flux_obs_t *o)
@@ -272,7 +260,7 @@ void flux_obs_step(flux_obs_t *o)
     /* frame speed from the angle step; Q24 * Q20 -> Q24, |d| <= dth_max
      * keeps |ws| <= 100 (an output limit, hit when the flux angle jumps,
      * e.g. as the flux first appears: not reported in sat) */
-    d = sat_sym(angle_diff(o->theta, o->theta_prev), o->dth_max, &ws_sat);
+    d = sat_sym(angle_diff_pu(o->theta, o->theta_prev), o->dth_max, &ws_sat);
     o->ws = _IQmpyIQX(d, GLOBAL_Q, o->inv_k_theta, 20);
     /* |ws - ws_f| < 200, product < 200 * 0.64: in range; rounded */
     o->ws_f += _IQrmpy(o->kf_ws, o->ws - o->ws_f);
@@ -281,7 +269,7 @@ void flux_obs_step(flux_obs_t *o)
 
 _iq flux_obs_theta_mid(const flux_obs_t *o)
 {
-    _iq m = o->theta_prev + _IQmpy(angle_diff(o->theta, o->theta_prev), _IQ(0.5));
+    _iq m = o->theta_prev + _IQmpy(angle_diff_pu(o->theta, o->theta_prev), _IQ(0.5));
 
     if (m >= _IQ(1.0)) {
         m -= _IQ(1.0);

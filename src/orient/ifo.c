@@ -1,6 +1,8 @@
 /* Indirect field orientation (current model).  See ifo.h. */
 #include "ifo.h"
 
+#include "angle.h"
+
 /* Wrap a Q24 angle that is within one revolution of [0, 1) back into it.
  * Adding or subtracting exactly 1.0 is exact in Q24 and in float. */
 static _iq ifo_wrap(_iq th)
@@ -115,20 +117,6 @@ static void ifo_update_flux(ifo_t *f)
     f->ws = f->wr + f->wslip;
 }
 
-/* Signed difference b - a of two angles in [0, 1), along the shorter arc:
- * [-0.5, 0.5).  The raw difference is in (-1, 1): no overflow. */
-static _iq ifo_angle_diff(_iq b, _iq a)
-{
-    _iq d = b - a;
-
-    if (d >= _IQ(0.5)) {
-        d -= _IQ(1.0);
-    } else if (d < _IQ(-0.5)) {
-        d += _IQ(1.0);
-    }
-    return d;
-}
-
 void ifo_step(ifo_t *f)
 {
     ifo_update_flux(f);
@@ -139,7 +127,7 @@ void ifo_step(ifo_t *f)
 
 _iq ifo_theta_mid(const ifo_t *f)
 {
-    return ifo_wrap(f->theta_prev + _IQmpy(ifo_angle_diff(f->theta, f->theta_prev), _IQ(0.5)));
+    return ifo_wrap(f->theta_prev + _IQmpy(angle_diff_pu(f->theta, f->theta_prev), _IQ(0.5)));
 }
 
 void ifo_frame_from_rotor(ifo_t *f)
@@ -147,7 +135,7 @@ void ifo_frame_from_rotor(ifo_t *f)
     f->theta_prev = f->theta;
     f->theta = ifo_wrap(f->theta_r + f->theta_slip);   /* both in [0, 1): no overflow */
     /* Q24 * Q20 -> Q24; |d| <= 0.5 and 1/(f_base Ts) < 256 keep |result| < 128 */
-    f->ws_frame = _IQmpyIQX(ifo_angle_diff(f->theta, f->theta_prev), GLOBAL_Q,
+    f->ws_frame = _IQmpyIQX(angle_diff_pu(f->theta, f->theta_prev), GLOBAL_Q,
                             f->inv_k_theta, 20);
 }
 
