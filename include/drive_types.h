@@ -59,9 +59,9 @@ struct drive {
     /* sensing */
     phase_current_t cur;
     dc_bus_t bus;
-    qep_speed_t qep;            /* angle, and the speed for the loops (window 16) */
-    qep_speed_t qep_fast;       /* speed over one sample, for the regression: its lag
-                                   (half a period) matches the mid-period voltage */
+    qep_speed_t qep;            /* angle; speed for the loops (window 16); speed over one
+                                   sample for the regression (speed_1: its lag, half a
+                                   period, matches the mid-period voltage) */
     /* control */
     clarke_t clarke;
     park_t park;

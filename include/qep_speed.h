@@ -58,7 +58,7 @@ typedef enum {
     QEP_SPEED_ERR_BASE,        /* bases NULL or not initialised, or pole pairs > 64 */
     QEP_SPEED_ERR_LINES,       /* lines == 0 or > 8192 */
     QEP_SPEED_ERR_WINDOW,      /* window not a power of two in [1, 64] */
-    QEP_SPEED_ERR_RESOLUTION,  /* one count in the window >= 1 pu of speed */
+    QEP_SPEED_ERR_RESOLUTION,  /* one count in the window, or in one sample, >= 1 pu of speed */
     QEP_SPEED_ERR_CUTOFF       /* fc not in (0, 1/(2 Ts)), or a < 1e-4 */
 } qep_speed_status_t;
 
@@ -74,10 +74,16 @@ typedef struct {
     _iq30 k_angle;             /* Q30: 1/cpr, pu of a revolution per count */
     _iq k_speed;               /* Q24: pp / (W cpr Ts f_base), pu speed per count */
     _iq k_filt;                /* Q24: a = 1 - exp(-2 pi fc Ts) */
+    int32_t d_max1;            /* as d_max, for the one-sample difference */
+    _iq k_speed1;              /* Q24: pp / (cpr Ts f_base), pu speed per count in one sample */
     /* outputs */
     _iq theta_mech;            /* Q24, pu of a mechanical revolution, [0, 1) */
     _iq theta_elec;            /* Q24, pu of an electrical revolution, [0, 1) */
     _iq speed_raw;             /* Q24, electrical speed, pu of w_base (window mean) */
+    _iq speed_1;               /* Q24, electrical speed over the last sample alone, pu of
+                                  w_base (lag Ts/2; coarse: k_speed1 per count; the
+                                  identification filters it) - the same value a W = 1
+                                  instance gives as speed_raw */
     _iq speed;                 /* Q24, electrical speed, pu of w_base (filtered) */
     int16_t dir;               /* +1 counting up, -1 down, 0 no count in the window */
     /* state */

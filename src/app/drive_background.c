@@ -8,9 +8,7 @@
  * background reads only while `ready` is 1 and clears it last.  With one
  * producer and one consumer no snapshot is ever read half-written.
  */
-#include "drive_types.h"
-
-#include <string.h>
+#include "drive_internal.h"
 
 static void extract(param_extract_t *p, const drive_snapshot_t *s, uint16_t form)
 {
@@ -50,10 +48,8 @@ static void handle_command(drive_t *d, drive_cmd_t cmd)
          * the ISR: only from IDLE */
         if (d->seq.state == ID_IDLE && d->config_status == DRIVE_CFG_OK &&
             d->prot.fault == FAULT_NONE) {
-            const drive_ident_t *id = &d->ident_cfg;
-            (void)rls_init(&d->rls,
-                           (id->paper_regressor != 0u) ? RLS_FORM_PAPER : RLS_FORM_CONST,
-                           id->rls_p0, id->forgetting, 0.0f, NULL);
+            /* same parameters as drive_init: cannot fail here */
+            (void)drive_rls_start(d);
             d->seq.cal_done = 0u;
             /* the published set stays (last good values) until a new
              * plausible one replaces it; the guard starts afresh */

@@ -11,7 +11,7 @@
  *    Kp = w_sc / gain, Ti = 4 / w_sc (w_sc = 2 pi speed_bw_Hz);
  *  - indirect field orientation with Tr = Lr / Rr of the believed motor.
  */
-#include "drive_types.h"
+#include "drive_internal.h"
 
 #include <math.h>
 #include <string.h>
@@ -50,9 +50,7 @@ static int16_t init_sensing(drive_t *d, const drive_config_t *c, float Ts)
         return 1;
     }
     if (qep_speed_init(&d->qep, c->board.encoder_lines, &d->base, c->control.speed_filter_Hz,
-                       16u) != 0 ||
-        qep_speed_init(&d->qep_fast, c->board.encoder_lines, &d->base,
-                       c->control.speed_filter_Hz, 1u) != 0) {
+                       16u) != 0) {
         return 1;
     }
     d->k.cal_samples = (uint16_t)(0.07f / Ts);   /* ~70 ms of offset averaging */
@@ -106,6 +104,13 @@ static int16_t init_speed_loop(drive_t *d, const drive_config_t *c, float Ts)
     return 0;
 }
 
+rls_status_t drive_rls_start(drive_t *d)
+{
+    const drive_ident_t *id = &d->ident_cfg;
+    return rls_init(&d->rls, (id->paper_regressor != 0u) ? RLS_FORM_PAPER : RLS_FORM_CONST,
+                    id->rls_p0, id->forgetting, 0.0f, NULL);
+}
+
 static int16_t init_identification(drive_t *d, const drive_config_t *c, float Ts)
 {
     const drive_motor_t *m = &c->motor;
@@ -122,8 +127,7 @@ static int16_t init_identification(drive_t *d, const drive_config_t *c, float Ts
         return 1;
     }
     d->ident_cfg = *id;
-    if (rls_init(&d->rls, (id->paper_regressor != 0u) ? RLS_FORM_PAPER : RLS_FORM_CONST,
-                 id->rls_p0, id->forgetting, 0.0f, NULL) != RLS_OK) {
+    if (drive_rls_start(d) != RLS_OK) {
         return 1;
     }
     /* plausibility: a factor of 4 either way of what the controller believes */

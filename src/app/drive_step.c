@@ -34,8 +34,6 @@ static void sense(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count)
     dc_bus_step(&d->bus);
     d->qep.count = qep_count;
     qep_speed_step(&d->qep);
-    d->qep_fast.count = qep_count;
-    qep_speed_step(&d->qep_fast);
 }
 
 static void protect(drive_t *d)
@@ -119,7 +117,7 @@ static void identify(drive_t *d)
     /* the frame angle at the middle of the period in which u was applied */
     angle_sincos(ifo_theta_mid(&d->ifo), &r->sin_mid, &r->cos_mid);
     r->ws = d->ifo.ws_frame;      /* the frame's actual speed over that period */
-    r->wr = d->qep_fast.speed_raw;/* rotor speed over that period */
+    r->wr = d->qep.speed_1;       /* rotor speed over that period */
     ident_regressor_step(r);
 
     d->rls.y1 = r->y1;
@@ -145,6 +143,18 @@ static void identify(drive_t *d)
     theta_guard_step(&d->guard);
 }
 
+/* Hand the last good theta and the filtered i_M to the background
+ * (drive_background.c): data first, the ready flag last. */
+static void take_snapshot(drive_snapshot_t *snap, const drive_t *d)
+{
+    uint16_t i;
+    for (i = 0u; i < RLS_N; i++) {
+        snap->theta[i] = d->guard.theta_good[i];
+    }
+    snap->i_m = d->reg.i_mf;
+    snap->ready = 1u;
+}
+
 static void sequence(drive_t *d)
 {
     id_sequence_t *s = &d->seq;
@@ -155,22 +165,12 @@ static void sequence(drive_t *d)
     s->dit = _IQabs(d->reg.f_it.dy);
     id_sequence_step(s);
     if (s->extract_now != 0u) {
-        uint16_t i;
-        for (i = 0u; i < RLS_N; i++) {
-            d->snap.theta[i] = d->guard.theta_good[i];
-        }
-        d->snap.i_m = d->reg.i_mf;
-        d->snap.ready = 1u;
+        take_snapshot(&d->snap, d);
     }
     if (++d->live_div >= d->k.live_period) {
         d->live_div = 0u;
         if (d->live_snap.ready == 0u) {
-            uint16_t i;
-            for (i = 0u; i < RLS_N; i++) {
-                d->live_snap.theta[i] = d->guard.theta_good[i];
-            }
-            d->live_snap.i_m = d->reg.i_mf;
-            d->live_snap.ready = 1u;
+            take_snapshot(&d->live_snap, d);
         }
     }
 }

@@ -45,6 +45,7 @@ qep_speed_status_t qep_speed_init(qep_speed_t *q, uint16_t encoder_lines,
                                   uint16_t window)
 {
     float k;
+    float k1;
     float a;
 
     q->cpr = 4;
@@ -54,6 +55,8 @@ qep_speed_status_t qep_speed_init(qep_speed_t *q, uint16_t encoder_lines,
     q->k_angle = _IQ30(0.0);
     q->k_speed = _IQ(0.0);
     q->k_filt = _IQ(0.0);
+    q->d_max1 = 0;
+    q->k_speed1 = _IQ(0.0);
     q->count = 0u;
     qep_speed_reset(q, 0u);
 
@@ -73,7 +76,9 @@ qep_speed_status_t qep_speed_init(qep_speed_t *q, uint16_t encoder_lines,
     q->window = window;
     k = (float)b->pole_pairs /
         ((float)window * (float)q->cpr * b->Ts_s * b->f_base_Hz);
-    if (!(k < 1.0f)) {
+    k1 = (float)b->pole_pairs / ((float)q->cpr * b->Ts_s * b->f_base_Hz);
+    /* k <= k1: the one-sample speed needs the finer resolution as well */
+    if (!(k < 1.0f) || !(k1 < 1.0f)) {
         return QEP_SPEED_ERR_RESOLUTION;
     }
     if (!(speed_filter_Hz > 0.0f) || !(speed_filter_Hz < 0.5f / b->Ts_s)) {
@@ -88,7 +93,12 @@ qep_speed_status_t qep_speed_init(qep_speed_t *q, uint16_t encoder_lines,
     if (q->d_max > 32767) {
         q->d_max = 32767;
     }
+    q->d_max1 = (int32_t)(QEP_SPEED_RAW_MAX / k1);
+    if (q->d_max1 > 32767) {
+        q->d_max1 = 32767;
+    }
     q->k_angle = _IQ30(1.0f / (float)q->cpr);
+    q->k_speed1 = _IQ(k1);
     q->k_speed = _IQ(k);
     q->k_filt = _IQ(a);
     return QEP_SPEED_OK;
@@ -108,6 +118,7 @@ void qep_speed_reset(qep_speed_t *q, uint16_t count_now)
     q->theta_mech = _IQ(0.0);
     q->theta_elec = _IQ(0.0);
     q->speed_raw = _IQ(0.0);
+    q->speed_1 = _IQ(0.0);
     q->speed = _IQ(0.0);
     q->dir = 0;
 }
@@ -125,6 +136,10 @@ void qep_speed_step(qep_speed_t *q)
     /* Q30 * count -> Q30 in [0, 1) (cpr <= 32768, see header), -> Q24 */
     q->theta_mech = _IQ30toIQ(_IQ30mpyI32(q->k_angle, q->pos_mech));
     q->theta_elec = _IQ30toIQ(_IQ30mpyI32(q->k_angle, q->pos_elec));
+
+    /* one-sample speed: Q24 * count -> Q24, |.| <= 63 */
+    q->speed_1 = _IQmpyI32(q->k_speed1, (d1 > q->d_max1) ? q->d_max1
+                                        : ((d1 < -q->d_max1) ? -q->d_max1 : d1));
 
     /* hist[head] holds count(k - W); replace it by count(k) */
     dw = qep_diff(q->count, q->hist[q->head]);

@@ -306,6 +306,43 @@ static void test_init_errors(void **state)
     assert_int_equal(qep_speed_init(&q, LINES, &g_b, 100.0f, 1u), QEP_SPEED_OK);
 }
 
+/* speed_1, the one-sample speed of a W = 16 instance, is exactly (to the bit)
+ * the speed_raw of a W = 1 instance fed the same counts: irregular steps of
+ * -40..+40 counts through both wraps of the 16-bit counter and beyond the
+ * saturation (d_max1 = 63 pu / 0.15 pu per count = 420 counts).  And against
+ * the formula: one count in one sample is pp / (cpr Ts f_base) = 0.15 pu. */
+static void test_one_sample_speed(void **state)
+{
+    qep_speed_t q16, q1;
+    uint16_t c = 65500u;
+    uint32_t x = 12345u;
+    int k;
+    (void)state;
+    assert_int_equal(qep_speed_init(&q16, LINES, &g_b, 100.0f, W), QEP_SPEED_OK);
+    assert_int_equal(qep_speed_init(&q1, LINES, &g_b, 100.0f, 1u), QEP_SPEED_OK);
+    qep_speed_reset(&q16, c);
+    qep_speed_reset(&q1, c);
+    for (k = 0; k < 20000; k++) {
+        int32_t step;
+        x = x * 1103515245u + 12345u;
+        step = (int32_t)((x >> 16) % 81u) - 40;
+        if (k == 10000) {
+            step = 1000;   /* beyond d_max1: saturates in both */
+        }
+        c = (uint16_t)((int32_t)c + step);
+        q16.count = c;
+        q1.count = c;
+        qep_speed_step(&q16);
+        qep_speed_step(&q1);
+        assert_true(q16.speed_1 == q1.speed_raw);
+        if (k != 10000) {
+            /* |step| <= 40 counts: within one Q24 LSB per count of the formula */
+            assert_true(fabs(to_d(q16.speed_1) - (double)step * PP / (CPR * (double)TS_S * 50.0)) <=
+                        (fabs((double)step) + 1.0) * LSB + 1e-6 * fabs((double)step));
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -315,6 +352,7 @@ int main(void)
         cmocka_unit_test(test_angle_no_drift),
         cmocka_unit_test(test_saturation),
         cmocka_unit_test(test_init_errors),
+        cmocka_unit_test(test_one_sample_speed),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }
