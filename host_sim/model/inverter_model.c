@@ -81,6 +81,12 @@ inverter_status_t inverter_init(inverter_t *inv, const inverter_params_t *p)
     return INV_OK;
 }
 
+/* s(i): -1..1, linear over |i| < i_band (dead-time transition) */
+static double inv_sgn(const inverter_t *inv, double i_A)
+{
+    return inv_clamp(i_A / inv->p.i_band_A, -1.0, 1.0);
+}
+
 double inverter_bus_voltage_V(const inverter_t *inv, double t_s, double i_dc_A)
 {
     return inv->p.vdc_V + inv->ripple_V * sin(INV_TWO_PI * inv->p.ripple_Hz * t_s) -
@@ -91,6 +97,7 @@ void inverter_step(inverter_t *inv, double t_s, const double duty[3],
                    const double i_abc_A[3])
 {
     double sgn[3];
+    double i_mid_A[3];
     double i_dc = 0.0;
     double vn;
     int x;
@@ -98,23 +105,34 @@ void inverter_step(inverter_t *inv, double t_s, const double duty[3],
     inv->t_s = t_s;
     for (x = 0; x < 3; x++) {
         const double d = isfinite(duty[x]) ? inv_clamp(duty[x], 0.0, 1.0) : 0.0;
+        const double i0 = i_abc_A[x];
+        /* change over this period, extrapolated from the last one */
+        const double di = (inv->started != 0u) ? (i0 - inv->i_A[x]) : 0.0;
+        const double i_mid = i0 + 0.5 * di;
         inv->duty[x] = d;
-        inv->i_A[x] = i_abc_A[x];
-        /* s(i): -1..1, linear over |i| < i_band (dead-time transition) */
-        sgn[x] = inv_clamp(i_abc_A[x] / inv->p.i_band_A, -1.0, 1.0);
+        inv->i_A[x] = i0;
+        /* the conduction drops follow the period-mean current */
+        sgn[x] = inv_sgn(inv, i_mid);
+        i_mid_A[x] = i_mid;
         if ((d > 0.0) && (d < 1.0)) {
-            inv->d_eff[x] = inv_clamp(d - inv->td_frac * sgn[x], 0.0, 1.0);
+            /* the upper switch is on around the middle of the period, from
+             * (1 - d)/2 to (1 + d)/2 Ts: each of the two edges loses or gains
+             * td/2 by the sign of the current at that edge */
+            const double s_edges = 0.5 * (inv_sgn(inv, i0 + 0.5 * (1.0 - d) * di) +
+                                          inv_sgn(inv, i0 + 0.5 * (1.0 + d) * di));
+            inv->d_eff[x] = inv_clamp(d - inv->td_frac * s_edges, 0.0, 1.0);
         } else {
             inv->d_eff[x] = d; /* no switching edge, no dead time */
         }
-        i_dc += inv->d_eff[x] * i_abc_A[x];
+        i_dc += inv->d_eff[x] * i_mid;
     }
+    inv->started = 1u;
     inv->i_dc_A = i_dc;
     /* i_dc does not depend on Vdc, so the bus equation is explicit */
     inv->vdc_V = inverter_bus_voltage_V(inv, t_s + 0.5 * inv->Ts_s, i_dc);
     for (x = 0; x < 3; x++) {
         inv->v_pole_V[x] = inv->d_eff[x] * inv->vdc_V - inv->v_drop_V * sgn[x] -
-                           inv->r_on_ohm * i_abc_A[x];
+                           inv->r_on_ohm * i_mid_A[x];
     }
     vn = (inv->v_pole_V[0] + inv->v_pole_V[1] + inv->v_pole_V[2]) / 3.0;
     for (x = 0; x < 3; x++) {

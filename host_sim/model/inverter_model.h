@@ -16,9 +16,20 @@
  * high and the lower turn-on delay adds td.  With s(i) the transition
  * function below:
  *
- *   d_eff = clamp(d - (td/Ts) s(i), 0, 1)     for 0 < d < 1
+ *   d_eff = clamp(d - (td/Ts) (s(i_on) + s(i_off))/2, 0, 1)   for 0 < d < 1
  *   d_eff = d                                 for d = 0 or d = 1 (no edges)
- *   v_pole = d_eff Vdc - v_drop s(i) - r_on i
+ *   v_pole = d_eff Vdc - v_drop s(i_mid) - r_on i_mid
+ *
+ * Each of the two edges of a period costs or gains td/2 by the sign of the
+ * current AT that edge: the upper switch is on around the middle of the
+ * centre-aligned period, from (1 - d)/2 Ts to (1 + d)/2 Ts, and the current
+ * there is extrapolated from the start-of-period current i0 and its change
+ * over the previous period di:  i_on = i0 + di (1 - d)/2,
+ * i_off = i0 + di (1 + d)/2, i_mid = i0 + di/2.  (The first period after
+ * init takes di = 0.)  Evaluating the sign at the period start instead made
+ * every zero crossing of the current half a period late, a phase error of
+ * the dead-time voltage that the drive cannot compensate: it moved the
+ * 15 kW motor's identified Rr by +1.7 points.
  *
  * i.e. for |i| above the band the pole loses Vdc td/Ts + v_drop when i > 0
  * and gains it when i < 0 (the conducting device, switch or diode, drops
@@ -95,7 +106,8 @@ typedef struct {
     /* inputs (last step) */
     double t_s;            /* period start */
     double duty[3];
-    double i_A[3];
+    double i_A[3];         /* period-start currents */
+    uint16_t started;      /* i_A holds a previous period (for the slope) */
     /* outputs */
     double vdc_V;          /* bus voltage, period average */
     double i_dc_A;         /* DC-link current drawn from the bus, period average */
@@ -115,7 +127,8 @@ void inverter_params_default(inverter_params_t *p);
 inverter_status_t inverter_init(inverter_t *inv, const inverter_params_t *p);
 
 /** One PWM period starting at @p t_s with duties @p duty (clamped to [0, 1])
- *  and phase currents @p i_abc_A (the motor's at the period start). */
+ *  and phase currents @p i_abc_A (the motor's at the period start; the
+ *  previous call's currents give the slope within the period). */
 void inverter_step(inverter_t *inv, double t_s, const double duty[3],
                    const double i_abc_A[3]);
 

@@ -106,9 +106,11 @@ static void test_dead_time_sign_and_size(void **state)
     /* the voltage error seen by the motor opposes the current in every phase */
     CHECK_ABS("dead time: v_an error (V)", inv.v_phase_V[0],
               (-2.0 * (td_v + 0.35) - (td_v + 0.32) - (td_v + 0.33)) / 3.0, 1e-12);
-    /* inside the band the error is proportional to the current (half at i_band/2) */
+    /* inside the band the error is proportional to the current (half at
+     * i_band/2); a fresh bridge, so no current slope from a previous period */
     {
         const double ib[3] = {0.05, -0.05, 0.0};
+        assert_int_equal(inverter_init(&inv, &p), INV_OK);
         inverter_step(&inv, 0.0, d, ib);
         CHECK_ABS("band: i = +i_band/2 -> half loss (V)", inv.v_pole_V[0],
                   27.0 - 0.5 * (td_v + 0.3) - 0.01 * 0.05, 1e-12);
@@ -120,6 +122,7 @@ static void test_dead_time_sign_and_size(void **state)
     {
         const double de[3] = {0.0, 1.0, 0.01};
         const double ie[3] = {-2.0, 2.0, 2.0};
+        assert_int_equal(inverter_init(&inv, &p), INV_OK);   /* no slope */
         inverter_step(&inv, 0.0, de, ie);
         CHECK_ABS("d = 0, i < 0: only the drops (V)", inv.v_pole_V[0], 0.3 + 0.02, 1e-12);
         CHECK_ABS("d = 1, i > 0: only the drops (V)", inv.v_pole_V[1], 54.0 - 0.3 - 0.02, 1e-12);
@@ -161,6 +164,42 @@ static double pwm_tick_duty(uint16_t cmpr, double i_sign, uint16_t td_ticks)
         }
     }
     return (double)high / (double)n;
+}
+
+/* The dead time acts at the two switching edges, (1 -+ d)/2 Ts into the
+ * period, with the sign of the current there; the current is extrapolated
+ * from the change over the previous period.  A current rising by 0.2 A per
+ * period from -0.1 A (band 0.1 A), d = 0.5: the edges see -0.05 A and
+ * +0.05 A, half a loss and half a gain: no dead-time error at all, and the
+ * drop follows the period-mean current, 0 A.  With d = 0.9 the edges are at
+ * -0.09 A and +0.09 A: the same cancellation.  Exact: bound 1e-12 V. */
+static void test_dead_time_at_the_edges(void **state)
+{
+    inverter_t inv;
+    inverter_params_t p;
+    const double d[3] = {0.5, 0.9, 0.5};
+    const double i_prev[3] = {-0.3, -0.3, 0.6};
+    const double i_now[3] = {-0.1, -0.1, 0.2};   /* +0.2, +0.2, -0.4 A per period */
+    const double td_v = 54.0 * 1.0e-6 * 15000.0;
+    (void)state;
+    inverter_params_default(&p);
+    p.r_source_ohm = 0.0;
+    assert_int_equal(inverter_init(&inv, &p), INV_OK);
+    inverter_step(&inv, 0.0, d, i_prev);
+    inverter_step(&inv, 1.0 / 15000.0, d, i_now);
+    CHECK_ABS("edges: crossing mid-period, d 0.5 (V)", inv.v_pole_V[0], 27.0, 1e-12);
+    CHECK_ABS("edges: crossing mid-period, d 0.9 (V)", inv.v_pole_V[1], 0.9 * 54.0, 1e-12);
+    /* phase c falls 0.4 A per period from 0.2 A: edges at +0.1 A and -0.1 A
+     * cancel the dead time, the mean current 0 A carries no drop */
+    CHECK_ABS("edges: falling through zero (V)", inv.v_pole_V[2], 27.0, 1e-12);
+    /* one period later phase a is past the band at both edges (0.15 A,
+     * 0.25 A; mean 0.2 A): the full loss, drop and r_on at the mean current */
+    {
+        const double i_next[3] = {0.1, 0.1, -0.2};
+        inverter_step(&inv, 2.0 / 15000.0, d, i_next);
+        CHECK_ABS("edges: past the band (V)", inv.v_pole_V[0], 27.0 - td_v - 0.3 - 0.01 * 0.2,
+                  1e-12);
+    }
 }
 
 static void test_dead_time_vs_tick_simulation(void **state)
@@ -251,6 +290,7 @@ int main(void)
         cmocka_unit_test(test_ideal_exact),
         cmocka_unit_test(test_common_mode_removal),
         cmocka_unit_test(test_dead_time_sign_and_size),
+        cmocka_unit_test(test_dead_time_at_the_edges),
         cmocka_unit_test(test_dead_time_vs_tick_simulation),
         cmocka_unit_test(test_dc_link),
         cmocka_unit_test(test_cmpr_to_duty),
