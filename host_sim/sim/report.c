@@ -76,6 +76,9 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
     fprintf(f, "  \"max_abs_i_A\": %.6g,\n  \"max_speed_err_rpm_ramp\": %.6g,\n"
                "  \"max_flux_q_over_d\": %.6g,\n  \"final_speed_rpm\": %.6g,\n",
             r->max_abs_i_A, r->max_speed_err_rpm_ramp, r->max_flux_q_over_d, r->final_speed_rpm);
+    fprintf(f, "  \"v_err_along_i_V\": %.6g,\n  \"v_err_across_i_V\": %.6g,\n"
+               "  \"i_mag_steady_A\": %.6g,\n",
+            r->v_err_along_i_V, r->v_err_across_i_V, r->i_mag_steady_A);
     fprintf(f, "  \"faults\": [");
     for (i = 0; i < r->n_faults_seen; i++) {
         fprintf(f, "%s{\"code\": %u, \"name\": \"%s\", \"time_s\": %.7g}", i ? ", " : "",

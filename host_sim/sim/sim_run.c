@@ -132,6 +132,34 @@ static void observe_soak(const drive_t *d, sim_result_t *r, double t)
     }
 }
 
+/* Voltage reconstruction against the bridge (issue 8 item 4): the drive's
+ * alpha-beta voltage of the period that just ended (volt_calc, after this
+ * ISR) minus the plant's period-average voltage of that same period, split
+ * along and across the period-mean current, averaged over the steady state
+ * (SETTLE and RUN: constant speed, so the mean is the bias of the
+ * fundamental).  Along the current it acts as a resistance error. */
+static void observe_voltage(const drive_t *d, const plant_t *p, double V_base_V, sim_result_t *r)
+{
+    const inverter_t *inv = &p->inv;
+    double ia, ib, im, ea, eb;
+    if (d->seq.state != ID_SETTLE && d->seq.state != ID_RUN) {
+        return;
+    }
+    /* period-mean current: start of the period (held by the inverter) and now */
+    ia = 0.5 * (inv->i_A[0] + p->motor.ia_A);
+    ib = 0.5 * ((inv->i_A[1] - inv->i_A[2]) + (p->motor.ib_A - p->motor.ic_A)) / sqrt(3.0);
+    im = sqrt(ia * ia + ib * ib);
+    if (im < 1e-6) {
+        return;
+    }
+    ea = (double)_IQtoF(d->volt.valpha) * V_base_V - inv->v_alpha_V;
+    eb = (double)_IQtoF(d->volt.vbeta) * V_base_V - inv->v_beta_V;
+    r->v_err_along_i_V += (ea * ia + eb * ib) / im;
+    r->v_err_across_i_V += (eb * ia - ea * ib) / im;
+    r->i_mag_steady_A += im;
+    r->n_v_err++;
+}
+
 static void trace_header(FILE *f)
 {
     fprintf(f, "t_s,state,fault,pwm_on,speed_ref_rpm,speed_rpm,speed_meas_rpm,i_m_A,i_t_A,"
@@ -256,6 +284,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
         }
         observe_protection(&drive, res, t);
         observe_soak(&drive, res, t);
+        observe_voltage(&drive, &plant, b->V_base_V, res);
         if (drive.telemetry.params_valid != 0u) {
             sim_params_t pub;
             published_si(b, &drive.telemetry, &pub);
@@ -396,6 +425,11 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
         fprintf(stderr, "\n");
     }
     res->wall_s = (double)(clock() - c0) / CLOCKS_PER_SEC;
+    if (res->n_v_err > 0u) {
+        res->v_err_along_i_V /= (double)res->n_v_err;
+        res->v_err_across_i_V /= (double)res->n_v_err;
+        res->i_mag_steady_A /= (double)res->n_v_err;
+    }
     res->final_speed_rpm = plant.motor.n_rpm;
     res->final_state = drive.telemetry.state;
     res->final_fault = drive.telemetry.fault;

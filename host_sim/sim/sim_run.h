@@ -92,6 +92,11 @@ typedef struct {
     double live_min_pct, live_max_pct; /* live estimates (valid ones, after
                                        publication) relative to truth, worst */
     double max_settled_speed_err_rpm; /* soak: |ref - speed| just before each reversal */
+    /* voltage reconstruction (issue 8 item 4), means over SETTLE and RUN:
+     * drive's voltage minus the bridge's, along / across the current */
+    double v_err_along_i_V, v_err_across_i_V;
+    double i_mag_steady_A;          /* mean current-vector magnitude (peak phase) */
+    uint32_t n_v_err;               /* samples averaged */
 } sim_result_t;
 
 /** Run; returns 0, or non-zero with a message in err (drive_init or a model
