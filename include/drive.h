@@ -81,6 +81,9 @@ void drive_background(drive_t *d);
 void drive_command(drive_t *d, drive_cmd_t cmd);
 /** Set the speed the sequence runs at (pu of w_base; used from ACCELERATE on). */
 void drive_set_speed(drive_t *d, _iq speed_pu);
+/** The frame angle theta_k the last drive_step Park-transformed its currents
+ *  with (pu, [0, 1)): the ifo angle or the observer's, as configured. */
+_iq drive_frame_angle(const drive_t *d);
 /** Copy the telemetry snapshot (safe to call from the background loop). */
 void drive_get_telemetry(const drive_t *d, drive_telemetry_t *t);
 

@@ -44,6 +44,11 @@ typedef struct {
     float vdc_min_V;           /* bus undervoltage trip */
 } drive_board_t;
 
+/** Field orientation (drive_control_t.orientation). */
+#define DRIVE_ORIENT_IFO 0u       /* indirect: encoder angle + slip from the believed Tr (the paper's) */
+#define DRIVE_ORIENT_FLUX_OBS 1u  /* direct: rotor-flux observer (flux_obs.h); above its crossover
+                                     the angle does not depend on Tr */
+
 /** Controller design targets; the gains follow from these and the motor. */
 typedef struct {
     float current_bw_Hz;       /* d/q current-loop bandwidth */
@@ -52,6 +57,7 @@ typedef struct {
     float inertia_kgm2;        /* the speed loop's assumed inertia */
     float speed_ramp_rpm_s;    /* reference ramp rate */
     float speed_filter_Hz;     /* low-pass of the measured speed */
+    uint16_t orientation;      /* DRIVE_ORIENT_IFO (0, default) or DRIVE_ORIENT_FLUX_OBS (1) */
 } drive_control_t;
 
 /** Identification options (method.md sections 3-5). */

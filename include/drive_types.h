@@ -15,6 +15,7 @@
 #include "current_check.h"
 #include "dc_bus.h"
 #include "encoder_check.h"
+#include "flux_obs.h"
 #include "id_sequence.h"
 #include "ident_regressor.h"
 #include "ifo.h"
@@ -40,6 +41,11 @@ typedef struct {
     _iq speed_tol;      /* steady state: |speed error| below, pu */
     uint16_t cal_samples;
     uint16_t live_period;       /* samples between live snapshots */
+    uint16_t orientation;       /* DRIVE_ORIENT_IFO or DRIVE_ORIENT_FLUX_OBS */
+    _iq rls_ws_min;             /* flux observer: the RLS runs only while |ws_f| is above
+                                   this (pu), where the voltage model dominates */
+    _iq psi_min;                /* flux observer: below this |psi_r| (pu) its angle is
+                                   noise; the frame follows the encoder angle instead */
 } drive_consts_t;
 
 /** What the ISR hands to the background for the parameter extraction. */
@@ -68,7 +74,10 @@ struct drive {
     ipark_t ipark;
     pi_ctrl_t pi_speed, pi_id, pi_iq;
     ramp_gen_t speed_ramp;
-    ifo_t ifo;
+    ifo_t ifo;                  /* orientation 0: indirect (not run in mode 1) */
+    flux_obs_t fobs;            /* orientation 1: rotor-flux observer (not run in mode 0) */
+    uint16_t fobs_hold;         /* orientation 1: frame held on the encoder angle (|psi_r| <
+                                   psi_min or magnetising) */
     svgen_t svgen;
     volt_calc_t volt;
     /* identification */

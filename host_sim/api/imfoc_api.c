@@ -308,9 +308,15 @@ int32_t imfoc_get_signals(const imfoc_t *h, imfoc_signals_t *s)
     s->vdc_V = f(d->bus.vdc) * V;
     s->i_m_A = f(d->park.ds) * I;
     s->i_t_A = f(d->park.qs) * I;
-    s->i_mr_A = f(d->ifo.imr) * I;
-    s->theta_e_rad = f(d->ifo.theta) * IMFOC_TWO_PI;
-    s->w_frame_rad_s = f(d->ifo.ws_frame) * h->info.w_base_rad_s;
+    if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
+        /* observer: i_mr = |psi_r| / Lm (pu flux / pu inductance = pu current) */
+        s->i_mr_A = (f(d->fobs.lm) > 0.0) ? f(d->fobs.psi_mag) / f(d->fobs.lm) * I : 0.0;
+        s->w_frame_rad_s = f(d->fobs.ws) * h->info.w_base_rad_s;
+    } else {
+        s->i_mr_A = f(d->ifo.imr) * I;
+        s->w_frame_rad_s = f(d->ifo.ws_frame) * h->info.w_base_rad_s;
+    }
+    s->theta_e_rad = f(drive_frame_angle(d)) * IMFOC_TWO_PI;
     s->u_alpha_V = f(d->volt.valpha) * V;
     s->u_beta_V = f(d->volt.vbeta) * V;
     s->u_m_ref_V = f(d->pi_id.out) * V;

@@ -83,6 +83,7 @@ static const key_spec_t k_keys[] = {
     K("controller", "vdc_min_V", vdc_min_V, REQ, 0, 1, 5000, 0, "V"),
     K("controller", "dead_time_comp", dead_time_comp, OPT, 1, 0, 1, 1, "0/1"),
     K("controller", "dead_time_band_A", dead_time_band_A, OPT, 0.1, 1e-3, 100, 0, "A"),
+    K("controller", "orientation", orientation, OPT, 0, 0, 1, 1, "0 IFO, 1 flux obs."),
     /* [ident] */
     K("ident", "filter_cutoff_Hz", filter_cutoff_Hz, OPT, 10, 0.5, 500, 0, "Hz"),
     K("ident", "euler_passes", euler_passes, OPT, 10, 1, 100, 1, "-"),
@@ -416,6 +417,7 @@ void sim_config_to_drive(const sim_config_t *c, drive_config_t *d)
     d->control.max_torque_current_A = (float)c->max_torque_current_A;
     d->control.speed_ramp_rpm_s = (float)c->speed_ramp_rpm_s;
     d->control.speed_filter_Hz = (float)c->speed_filter_Hz;
+    d->control.orientation = (uint16_t)c->orientation;
 
     d->ident.filter_wc_rad_s = (float)(2.0 * M_PI * c->filter_cutoff_Hz);
     d->ident.euler_passes = (uint16_t)c->euler_passes;

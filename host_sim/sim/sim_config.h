@@ -41,6 +41,7 @@ typedef struct {
     double current_bw_Hz, speed_bw_Hz, inertia_kgm2, max_torque_current_A;
     double speed_ramp_rpm_s, speed_filter_Hz, magnetizing_current_A;
     double overcurrent_A, vdc_max_V, vdc_min_V, dead_time_comp, dead_time_band_A;
+    double orientation;     /* 0: indirect (IFO), 1: rotor-flux observer (drive_config.h) */
     /* [ident] */
     double filter_cutoff_Hz, euler_passes, paper_regressor, rls_p0, forgetting;
     double magnetize_s, target_speed_rpm, rls_tail_s;

@@ -306,8 +306,8 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
         {
             double ia = fabs(m->ia_A), ib = fabs(m->ib_A), ic = fabs(m->ic_A);
             double imax = fmax(ia, fmax(ib, ic));
-            /* the frame angle of this sample, theta_k (ifo_frame_from_rotor) */
-            double th = (double)_IQtoF(drive.ifo.theta) * 2.0 * M_PI;
+            /* the frame angle of this sample, theta_k (ifo or observer) */
+            double th = (double)_IQtoF(drive_frame_angle(&drive)) * 2.0 * M_PI;
             double pd, pq;
             uint16_t state = drive.telemetry.state;
             motor_rotor_flux_dq(m, th, &pd, &pq);

@@ -14,6 +14,21 @@
  *                     frame angle is the encoder angle plus the slip angle)
  *   9. modulation     inverse Park at the middle of period k+1, SVPWM
  *
+ * Orientation (drive_control_t.orientation, fixed at drive_init):
+ *   0 IFO       as above (the paper's; steps 4 and 8 run the ifo module).
+ *   1 observer  step 4 runs the rotor-flux observer (flux_obs.h) on the
+ *               Clarke currents, the voltage of the period that just ended
+ *               (the one the regression uses) and the encoder angle, and
+ *               Parks with its angle; step 5 rotates the voltage at its
+ *               mid-period angle and uses its angle step as w_s, and the RLS
+ *               updates only while |w_s| > 10 w_c (drive_init.c: where the
+ *               voltage model dominates and the angle does not depend on Tr);
+ *               until the magnetisation ends the frame is held on the
+ *               encoder angle (drive_frame_angle); step 7
+ *               decouples with its filtered w_s and (Lm/Lr)|psi_r|; step 8 is
+ *               empty; the observer is reset when the magnetisation starts.
+ *               In mode 0 the observer does not run (no cost).
+ *
  * No float, no division but the documented _IQdiv calls inside the modules.
  */
 #include "drive_types.h"
@@ -23,6 +38,14 @@
 static void set_outputs_off(drive_t *d, hal_pwm_compare_t *out)
 {
     out->cmpr[0] = out->cmpr[1] = out->cmpr[2] = d->t1pr;   /* upper switches off */
+}
+
+_iq drive_frame_angle(const drive_t *d)
+{
+    if (d->k.orientation != DRIVE_ORIENT_FLUX_OBS) {
+        return d->ifo.theta;
+    }
+    return (d->fobs_hold != 0u) ? d->qep.theta_elec : d->fobs.theta;
 }
 
 static void sense(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count)
@@ -99,10 +122,33 @@ static void transform_currents(drive_t *d)
     clarke_step(&d->clarke);
     d->park.alpha = d->clarke.alpha;
     d->park.beta = d->clarke.beta;
-    /* frame angle theta_k = encoder angle + integrated slip (ifo.h) */
-    d->ifo.theta_r = d->qep.theta_elec;
-    ifo_frame_from_rotor(&d->ifo);
-    angle_sincos(d->ifo.theta, &d->park.sine, &d->park.cosine);
+    if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
+        /* frame angle theta_k = the observer's rotor-flux angle at this
+         * sample; u: the mean voltage of the period that just ended (0 while
+         * the bridge was off), exactly what the regression uses */
+        flux_obs_t *o = &d->fobs;
+        o->i_alpha = d->clarke.alpha;
+        o->i_beta = d->clarke.beta;
+        o->u_alpha = d->volt.valpha;
+        o->u_beta = d->volt.vbeta;
+        o->theta_r = d->qep.theta_elec;
+        flux_obs_step(o);
+        /* the frame stays on the encoder angle (as ifo at standstill, slip 0)
+         * while the flux is near zero (its angle is noise) and through the
+         * magnetisation (state of the last sample): a flux rise is a
+         * transient the voltage model integrates with its Rs error, which
+         * the correction removes only over ~1/w_c (believed Rs +30 %: the
+         * observer flux reversed 7 ms into the magnetisation).  The current
+         * builds the flux along the encoder angle, so the observer's angle
+         * agrees with it when the acceleration starts. */
+        d->fobs_hold = (uint16_t)(o->psi_mag < d->k.psi_min || d->seq.state == ID_MAGNETIZE);
+        angle_sincos(drive_frame_angle(d), &d->park.sine, &d->park.cosine);
+    } else {
+        /* frame angle theta_k = encoder angle + integrated slip (ifo.h) */
+        d->ifo.theta_r = d->qep.theta_elec;
+        ifo_frame_from_rotor(&d->ifo);
+        angle_sincos(d->ifo.theta, &d->park.sine, &d->park.cosine);
+    }
     park_step(&d->park);
 }
 
@@ -110,13 +156,26 @@ static void transform_currents(drive_t *d)
 static void identify(drive_t *d)
 {
     ident_regressor_t *r = &d->reg;
+    uint16_t rls_on = d->seq.rls_on;
+
     r->i_m = d->park.ds;
     r->i_t = d->park.qs;
     r->u_alpha = d->volt.valpha;
     r->u_beta = d->volt.vbeta;
-    /* the frame angle at the middle of the period in which u was applied */
-    angle_sincos(ifo_theta_mid(&d->ifo), &r->sin_mid, &r->cos_mid);
-    r->ws = d->ifo.ws_frame;      /* the frame's actual speed over that period */
+    /* the frame angle at the middle of the period in which u was applied,
+     * and the frame's actual speed over that period */
+    if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
+        angle_sincos(flux_obs_theta_mid(&d->fobs), &r->sin_mid, &r->cos_mid);
+        r->ws = d->fobs.ws;
+        /* below ~10 w_c the current model (the believed Tr) steers the
+         * angle: learn only where it does not (flux_obs.h) */
+        if (d->fobs_hold != 0u || _IQabs(d->fobs.ws_f) < d->k.rls_ws_min) {
+            rls_on = 0u;
+        }
+    } else {
+        angle_sincos(ifo_theta_mid(&d->ifo), &r->sin_mid, &r->cos_mid);
+        r->ws = d->ifo.ws_frame;
+    }
     r->wr = d->qep.speed_1;       /* rotor speed over that period */
     ident_regressor_step(r);
 
@@ -127,7 +186,7 @@ static void identify(drive_t *d)
     d->rls.i_tf = r->i_tf;
     d->rls.u_tf = r->u_tf;
     d->rls.wr_f = r->wr_f;
-    d->rls.enable = d->seq.rls_on;
+    d->rls.enable = rls_on;
     /* one regression row per ISR, alternating (rls.h): halves the RLS cost
      * (BENCHMARKS.md: 11 668 -> 8 651 cycles per ISR) */
     rls_step_row(&d->rls);
@@ -163,7 +222,16 @@ static void sequence(drive_t *d)
     s->speed_err = _IQabs(d->speed_ramp.out - d->qep.speed);
     s->dim = _IQabs(d->reg.f_im.dy);
     s->dit = _IQabs(d->reg.f_it.dy);
-    id_sequence_step(s);
+    {
+        id_state_t before = s->state;
+        id_sequence_step(s);
+        if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS && s->state == ID_MAGNETIZE &&
+            before != ID_MAGNETIZE) {
+            /* demagnetised machine: start both models from zero flux (the
+             * voltage model has integrated offsets while the bridge was off) */
+            flux_obs_reset(&d->fobs);
+        }
+    }
     if (s->extract_now != 0u) {
         take_snapshot(&d->snap, d);
     }
@@ -192,14 +260,27 @@ static void control(drive_t *d)
         pi_reset(&d->pi_speed);
     }
 
-    /* decoupling feed-forward (rotor-flux frame steady-state voltages) */
-    d->pi_id.ref = s->im_cmd;
-    d->pi_id.fbk = d->park.ds;
-    d->pi_id.ff = -_IQmpy(d->ifo.ws, _IQmpy(d->k.sigma_ls, d->park.qs));
-    d->pi_iq.ref = i_t_ref;
-    d->pi_iq.fbk = d->park.qs;
-    d->pi_iq.ff = _IQmpy(d->ifo.ws, _IQmpy(d->k.sigma_ls, d->park.ds) +
-                                        _IQmpy(d->k.lm2_lr, d->ifo.imr));
+    /* decoupling feed-forward (rotor-flux frame steady-state voltages):
+     * u_d = -w_s sigma Ls i_T, u_q = w_s (sigma Ls i_M + (Lm/Lr) psi_r);
+     * IFO: (Lm/Lr) psi_r = (Lm^2/Lr) i_mr; observer: (Lm/Lr) |psi_r|
+     * (Q24 * Q24 -> Q24, both < 1 pu) */
+    {
+        _iq ws;
+        _iq emf_flux;
+        if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
+            ws = (d->fobs_hold != 0u) ? d->qep.speed_raw : d->fobs.ws_f;
+            emf_flux = _IQmpy(d->fobs.lm_lr, d->fobs.psi_mag);
+        } else {
+            ws = d->ifo.ws;
+            emf_flux = _IQmpy(d->k.lm2_lr, d->ifo.imr);
+        }
+        d->pi_id.ref = s->im_cmd;
+        d->pi_id.fbk = d->park.ds;
+        d->pi_id.ff = -_IQmpy(ws, _IQmpy(d->k.sigma_ls, d->park.qs));
+        d->pi_iq.ref = i_t_ref;
+        d->pi_iq.fbk = d->park.qs;
+        d->pi_iq.ff = _IQmpy(ws, _IQmpy(d->k.sigma_ls, d->park.ds) + emf_flux);
+    }
     pi_step(&d->pi_id);
     pi_step(&d->pi_iq);
 }
@@ -223,6 +304,9 @@ static uint16_t check_current(drive_t *d)
 
 static void orient(drive_t *d)
 {
+    if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
+        return;   /* the observer ran at the Park transform */
+    }
     d->ifo.i_m = d->park.ds;
     d->ifo.i_t = d->park.qs;
     d->ifo.wr = d->qep.speed_raw;   /* 8-sample lag instead of ~31: orientation during acceleration */
@@ -233,7 +317,14 @@ static void modulate(drive_t *d, hal_pwm_compare_t *out)
 {
     /* the voltage computed now is applied over period k+1; rotate it at the
      * middle of that period: theta_k + 1.5 w_s Ts */
-    _iq theta = angle_wrap_pu(d->ifo.theta + _IQmpy(d->ifo.ws, d->k.three_half_step));
+    _iq theta;
+    if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
+        /* observer: theta_k + 1.5 ws_f Ts (ws_f: ws without the current noise) */
+        _iq ws = (d->fobs_hold != 0u) ? d->qep.speed_raw : d->fobs.ws_f;
+        theta = angle_wrap_pu(drive_frame_angle(d) + _IQmpy(ws, d->k.three_half_step));
+    } else {
+        theta = angle_wrap_pu(d->ifo.theta + _IQmpy(d->ifo.ws, d->k.three_half_step));
+    }
     angle_sincos(theta, &d->ipark.sine, &d->ipark.cosine);
     d->ipark.ds = d->pi_id.out;
     d->ipark.qs = d->pi_iq.out;
@@ -312,6 +403,7 @@ void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
     d->on_next = pwm_on;
     telemetry(d, pwm_on);
 }
+
 
 void drive_isr(drive_t *d)
 {
