@@ -145,9 +145,10 @@ static void observe_voltage(const drive_t *d, const plant_t *p, double V_base_V,
     if (d->seq.state != ID_SETTLE && d->seq.state != ID_RUN) {
         return;
     }
-    /* period-mean current: start of the period (held by the inverter) and now */
-    ia = 0.5 * (inv->i_A[0] + p->motor.ia_A);
-    ib = 0.5 * ((inv->i_A[1] - inv->i_A[2]) + (p->motor.ib_A - p->motor.ic_A)) / sqrt(3.0);
+    /* period-mean current: the start of the period (phase currents held by
+     * the inverter, Clarke-transformed) and now (the motor's state vector) */
+    ia = 0.5 * (inv->i_A[0] + p->motor.i_alpha_A);
+    ib = 0.5 * ((inv->i_A[1] - inv->i_A[2]) / sqrt(3.0) + p->motor.i_beta_A);
     im = sqrt(ia * ia + ib * ib);
     if (im < 1e-6) {
         return;

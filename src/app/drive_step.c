@@ -48,6 +48,17 @@ _iq drive_frame_angle(const drive_t *d)
     return (d->fobs_hold != 0u) ? d->qep.theta_elec : d->fobs.theta;
 }
 
+/* The frame speed for decoupling and the modulation angle (pu): ifo's w_s,
+ * or the observer's low-passed ws_f (ws carries the current noise through
+ * sigma Ls i), or the rotor speed while the frame is held on the encoder. */
+static _iq frame_speed(const drive_t *d)
+{
+    if (d->k.orientation != DRIVE_ORIENT_FLUX_OBS) {
+        return d->ifo.ws;
+    }
+    return (d->fobs_hold != 0u) ? d->qep.speed_raw : d->fobs.ws_f;
+}
+
 static void sense(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count)
 {
     d->cur.ia_raw = adc->ia_raw;
@@ -142,13 +153,12 @@ static void transform_currents(drive_t *d)
          * builds the flux along the encoder angle, so the observer's angle
          * agrees with it when the acceleration starts. */
         d->fobs_hold = (uint16_t)(o->psi_mag < d->k.psi_min || d->seq.state == ID_MAGNETIZE);
-        angle_sincos(drive_frame_angle(d), &d->park.sine, &d->park.cosine);
     } else {
         /* frame angle theta_k = encoder angle + integrated slip (ifo.h) */
         d->ifo.theta_r = d->qep.theta_elec;
         ifo_frame_from_rotor(&d->ifo);
-        angle_sincos(d->ifo.theta, &d->park.sine, &d->park.cosine);
     }
+    angle_sincos(drive_frame_angle(d), &d->park.sine, &d->park.cosine);
     park_step(&d->park);
 }
 
@@ -222,15 +232,13 @@ static void sequence(drive_t *d)
     s->speed_err = _IQabs(d->speed_ramp.out - d->qep.speed);
     s->dim = _IQabs(d->reg.f_im.dy);
     s->dit = _IQabs(d->reg.f_it.dy);
-    {
-        id_state_t before = s->state;
-        id_sequence_step(s);
-        if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS && s->state == ID_MAGNETIZE &&
-            before != ID_MAGNETIZE) {
-            /* demagnetised machine: start both models from zero flux (the
-             * voltage model has integrated offsets while the bridge was off) */
-            flux_obs_reset(&d->fobs);
-        }
+    id_sequence_step(s);
+    if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS && s->state == ID_MAGNETIZE &&
+        s->t_state == 0u) {
+        /* just entered (t_state restarts at 0 on entry): demagnetised
+         * machine, start both models from zero flux (the voltage model has
+         * integrated offsets while the bridge was off) */
+        flux_obs_reset(&d->fobs);
     }
     if (s->extract_now != 0u) {
         take_snapshot(&d->snap, d);
@@ -265,15 +273,10 @@ static void control(drive_t *d)
      * IFO: (Lm/Lr) psi_r = (Lm^2/Lr) i_mr; observer: (Lm/Lr) |psi_r|
      * (Q24 * Q24 -> Q24, both < 1 pu) */
     {
-        _iq ws;
-        _iq emf_flux;
-        if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
-            ws = (d->fobs_hold != 0u) ? d->qep.speed_raw : d->fobs.ws_f;
-            emf_flux = _IQmpy(d->fobs.lm_lr, d->fobs.psi_mag);
-        } else {
-            ws = d->ifo.ws;
-            emf_flux = _IQmpy(d->k.lm2_lr, d->ifo.imr);
-        }
+        const _iq ws = frame_speed(d);
+        const _iq emf_flux = (d->k.orientation == DRIVE_ORIENT_FLUX_OBS)
+                                 ? _IQmpy(d->fobs.lm_lr, d->fobs.psi_mag)
+                                 : _IQmpy(d->k.lm2_lr, d->ifo.imr);
         d->pi_id.ref = s->im_cmd;
         d->pi_id.fbk = d->park.ds;
         d->pi_id.ff = -_IQmpy(ws, _IQmpy(d->k.sigma_ls, d->park.qs));
@@ -317,14 +320,8 @@ static void modulate(drive_t *d, hal_pwm_compare_t *out)
 {
     /* the voltage computed now is applied over period k+1; rotate it at the
      * middle of that period: theta_k + 1.5 w_s Ts */
-    _iq theta;
-    if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
-        /* observer: theta_k + 1.5 ws_f Ts (ws_f: ws without the current noise) */
-        _iq ws = (d->fobs_hold != 0u) ? d->qep.speed_raw : d->fobs.ws_f;
-        theta = angle_wrap_pu(drive_frame_angle(d) + _IQmpy(ws, d->k.three_half_step));
-    } else {
-        theta = angle_wrap_pu(d->ifo.theta + _IQmpy(d->ifo.ws, d->k.three_half_step));
-    }
+    const _iq theta = angle_wrap_pu(drive_frame_angle(d) +
+                                    _IQmpy(frame_speed(d), d->k.three_half_step));
     angle_sincos(theta, &d->ipark.sine, &d->ipark.cosine);
     d->ipark.ds = d->pi_id.out;
     d->ipark.qs = d->pi_iq.out;
@@ -403,7 +400,6 @@ void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
     d->on_next = pwm_on;
     telemetry(d, pwm_on);
 }
-
 
 void drive_isr(drive_t *d)
 {

@@ -126,6 +126,13 @@ static void test_lm_not_below_ls(void **state)
     expect_error(NULL, "[controller]\nLm_error_pct = 50", "Lm_error_pct");
 }
 
+/* orientation is 0 (indirect) or 1 (rotor-flux observer) */
+static void test_orientation_out_of_range(void **state)
+{
+    (void)state;
+    expect_error(NULL, "[controller]\norientation = 2", "controller.orientation");
+}
+
 static void test_bus_too_low(void **state)
 {
     (void)state;
@@ -175,7 +182,8 @@ int main(void)
         cmocka_unit_test(test_unknown_key),         cmocka_unit_test(test_unknown_section),
         cmocka_unit_test(test_missing_key),         cmocka_unit_test(test_negative_resistance),
         cmocka_unit_test(test_zero_pole_pairs),     cmocka_unit_test(test_fractional_pole_pairs),
-        cmocka_unit_test(test_lm_not_below_ls),     cmocka_unit_test(test_bus_too_low),
+        cmocka_unit_test(test_lm_not_below_ls),     cmocka_unit_test(test_orientation_out_of_range),
+        cmocka_unit_test(test_bus_too_low),
         cmocka_unit_test(test_not_a_number),        cmocka_unit_test(test_duplicate_key),
         cmocka_unit_test(test_malformed_line),      cmocka_unit_test(test_missing_file),
     };

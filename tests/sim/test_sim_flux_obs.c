@@ -112,15 +112,14 @@ static void test_rr_minus_30(void **state)
 }
 
 /* Bad input: an orientation other than 0 or 1 reaching drive_init is
- * refused (field orientation), the PWM never on; the INI key is range
- * checked and named. */
+ * refused (field orientation), the PWM never on.  (The INI key's range
+ * check is in test_sim_config.c.) */
 static void test_bad_orientation(void **state)
 {
     sim_config_t cfg = g_base;
     sim_options_t opt;
     sim_result_t res;
     char err[256];
-    FILE *f;
     (void)state;
     memset(&opt, 0, sizeof opt);
     opt.quiet = 1u;
@@ -128,25 +127,6 @@ static void test_bad_orientation(void **state)
     cfg.orientation = 2.0;
     assert_int_not_equal(sim_run(&cfg, &opt, &res, err, sizeof err), 0);
     assert_non_null(strstr(err, drive_cfg_status_str(DRIVE_CFG_ORIENTATION)));
-
-    f = fopen("flux_obs_bad_orientation.ini", "w");
-    assert_non_null(f);
-    {
-        FILE *src = fopen(MC_CONFIG_DIR "/paper_motor.ini", "r");
-        char line[256];
-        assert_non_null(src);
-        while (fgets(line, sizeof line, src) != NULL) {
-            fputs(line, f);
-            if (strncmp(line, "[controller]", 12) == 0) {
-                fputs("orientation = 2\n", f);
-            }
-        }
-        fclose(src);
-    }
-    fclose(f);
-    assert_int_not_equal(sim_config_load("flux_obs_bad_orientation.ini", &cfg, err, sizeof err), 0);
-    assert_non_null(strstr(err, "orientation"));
-    remove("flux_obs_bad_orientation.ini");
 }
 
 int main(void)
