@@ -11,7 +11,16 @@
  *                 (out of the leg) the lower diode conducts during the dead
  *                 time and the pole loses vdc td/Ts, plus the device drop
  *                 v_drop; while i_x < 0 it gains the same.
- *   compensated:  p_x = vdc d_x - sgn(i_x) (vdc td/Ts + v_drop)
+ *   compensated:  p_x = vdc d_x - sgn(i_x) v_drop
+ *                       - (sgn(i_x1) + sgn(i_x2)) vdc td/(2 Ts)   (0 < d_x < 1)
+ *                 where i_x1, i_x2 are the currents at the two switching
+ *                 edges, (1 - d_x)/2 and (1 + d_x)/2 into the period; with
+ *                 the current linear over the period (mid value i_x, change
+ *                 di_x from the two samples that bound it),
+ *                 i_x1,2 = i_x -+ (d_x/2) di_x.  Near a zero crossing the
+ *                 two edges can see opposite signs: half the dead-time error.
+ *                 A leg clamped at d = 0 or 1 does not switch: drop only.
+ *                 (With di = 0 this is sgn(i_x) (vdc td/Ts + v_drop).)
  * sgn() has a linear zone: sgn(i) = sat(i / i_thresh, -1, 1), so that noise
  * near a zero crossing does not make the estimate chatter (and the average
  * error there, which does shrink near zero current, is followed smoothly).
@@ -58,11 +67,14 @@ typedef struct {
     _iq db;            /* phase b, Q24, [0, 1] */
     _iq dc;            /* phase c, Q24, [0, 1] */
     _iq vdc;           /* DC bus during that period, pu of V_base, Q24, [0, 16] */
-    _iq ia;            /* phase-a current, pu, Q24, |.| <= 32 */
+    _iq ia;            /* phase-a current in mid-period, pu, Q24, |.| <= 32 */
     _iq ib;            /* phase-b current, pu, Q24, |.| <= 32 */
+    _iq dia;           /* change of ia over the period (end - start), pu, Q24, |.| <= 32 */
+    _iq dib;           /* change of ib over the period, pu, Q24, |.| <= 32 */
     /* parameters */
     uint16_t comp_enable; /* 1: dead-time / drop compensation on */
     _iq dt_frac;       /* td / Ts, Q24, [0, 0.25] */
+    _iq dt_half;       /* td / (2 Ts): the error of one edge, Q24 */
     _iq v_drop;        /* device forward drop, pu of V_base, Q24, [0, 1] */
     _iq i_thresh;      /* half-width of the linear zone of sgn(), pu, Q24 */
     _iq16 inv_i_thresh;/* 1 / i_thresh, Q16, [1, 2000] */
@@ -95,5 +107,16 @@ volt_calc_status_t volt_calc_init(volt_calc_t *v, float dead_time_s, float Ts_s,
  * sgn() is saturated to [-1, 1].
  */
 void volt_calc_step(volt_calc_t *v);
+
+/**
+ * Dead-time and drop feed-forward for the modulator: the alpha-beta voltage
+ * the bridge will lose in a period whose phase currents are ia, ib (and
+ * -ia-ib), so that the reference plus this is what the duties must ask for.
+ * Same sgn() and constants as the reconstruction; zero with comp_enable 0.
+ * Scaling: |e_x| <= 5 pu, sums <= 15, Q24*Q30 -> Q24; no overflow for
+ * vdc in [0, 16] pu.
+ */
+void volt_calc_feedforward(const volt_calc_t *v, _iq vdc, _iq ia, _iq ib,
+                           _iq *dalpha, _iq *dbeta);
 
 #endif /* VOLT_CALC_H */

@@ -96,6 +96,18 @@ double inverter_bus_voltage_V(const inverter_t *inv, double t_s, double i_dc_A)
 void inverter_step(inverter_t *inv, double t_s, const double duty[3],
                    const double i_abc_A[3])
 {
+    double di[3];
+    int x;
+    for (x = 0; x < 3; x++) {
+        /* change over this period, extrapolated from the last one */
+        di[x] = (inv->started != 0u) ? (i_abc_A[x] - inv->i_A[x]) : 0.0;
+    }
+    inverter_step_slope(inv, t_s, duty, i_abc_A, di);
+}
+
+void inverter_step_slope(inverter_t *inv, double t_s, const double duty[3],
+                         const double i_abc_A[3], const double di_A[3])
+{
     double sgn[3];
     double i_mid_A[3];
     double i_dc = 0.0;
@@ -106,8 +118,7 @@ void inverter_step(inverter_t *inv, double t_s, const double duty[3],
     for (x = 0; x < 3; x++) {
         const double d = isfinite(duty[x]) ? inv_clamp(duty[x], 0.0, 1.0) : 0.0;
         const double i0 = i_abc_A[x];
-        /* change over this period, extrapolated from the last one */
-        const double di = (inv->started != 0u) ? (i0 - inv->i_A[x]) : 0.0;
+        const double di = isfinite(di_A[x]) ? di_A[x] : 0.0;
         const double i_mid = i0 + 0.5 * di;
         inv->duty[x] = d;
         inv->i_A[x] = i0;

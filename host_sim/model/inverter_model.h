@@ -132,6 +132,13 @@ inverter_status_t inverter_init(inverter_t *inv, const inverter_params_t *p);
 void inverter_step(inverter_t *inv, double t_s, const double duty[3],
                    const double i_abc_A[3]);
 
+/** The same with the change of each phase current over this period given
+ *  (@p di_A: end minus start, A), e.g. from a first pass of the motor over
+ *  the period, so that the current at each switching edge is interpolated
+ *  rather than extrapolated. */
+void inverter_step_slope(inverter_t *inv, double t_s, const double duty[3],
+                         const double i_abc_A[3], const double di_A[3]);
+
 /** Instantaneous bus voltage at time @p t_s with DC-link current @p i_dc_A
  *  (e.g. for the ADC sample of the bus at the period start). */
 double inverter_bus_voltage_V(const inverter_t *inv, double t_s, double i_dc_A);

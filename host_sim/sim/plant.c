@@ -191,9 +191,27 @@ void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_
         i_abc[0] = m->ia_A;
         i_abc[1] = m->ib_A;
         i_abc[2] = m->ic_A;
-        inverter_step(&p->inv, p->t_s, duty, i_abc);
-        motor_step(m, p->inv.v_alpha_V * p->vdc_scale, p->inv.v_beta_V * p->vdc_scale, p->Ts_s,
-                   p->substeps);
+        {
+            /* two passes: the dead time of each switching edge follows the
+             * current at that edge, which depends on the voltage of this
+             * very period.  Pass 1 extrapolates the current's change from
+             * the last period; pass 2 redoes the period with the change pass
+             * 1 produced (interpolation between its two ends). */
+            const motor_t m0 = *m;
+            const inverter_t inv0 = p->inv;
+            double di[3];
+            inverter_step(&p->inv, p->t_s, duty, i_abc);
+            motor_step(m, p->inv.v_alpha_V * p->vdc_scale, p->inv.v_beta_V * p->vdc_scale,
+                       p->Ts_s, p->substeps);
+            di[0] = m->ia_A - i_abc[0];
+            di[1] = m->ib_A - i_abc[1];
+            di[2] = m->ic_A - i_abc[2];
+            *m = m0;
+            p->inv = inv0;
+            inverter_step_slope(&p->inv, p->t_s, duty, i_abc, di);
+            motor_step(m, p->inv.v_alpha_V * p->vdc_scale, p->inv.v_beta_V * p->vdc_scale,
+                       p->Ts_s, p->substeps);
+        }
         p->i_dc_A = p->inv.i_dc_A;
         if (p->short_L_H > 0.0) {
             /* legs a and b drive the short: its current integrates the mean

@@ -117,6 +117,12 @@ static void voltage_model(drive_t *d)
      * the mean of its two end samples (Q24 + Q24 in range: |i| <= 1 pu) */
     d->volt.ia = _IQmpy(d->cur.ia + d->ia_prev, _IQ(0.5));
     d->volt.ib = _IQmpy(d->cur.ib + d->ib_prev, _IQ(0.5));
+    /* and its change over the period places the current at each switching
+     * edge (volt_calc.h); Q24 - Q24, |.| <= 2 pu */
+    d->volt.dia = d->cur.ia - d->ia_prev;
+    d->volt.dib = d->cur.ib - d->ib_prev;
+    d->ia_prev2 = d->ia_prev;
+    d->ib_prev2 = d->ib_prev;
     d->ia_prev = d->cur.ia;
     d->ib_prev = d->cur.ib;
     volt_calc_step(&d->volt);
@@ -326,8 +332,17 @@ static void modulate(drive_t *d, hal_pwm_compare_t *out)
     d->ipark.ds = d->pi_id.out;
     d->ipark.qs = d->pi_iq.out;
     ipark_step(&d->ipark);
-    d->svgen.ualpha = d->ipark.alpha;
-    d->svgen.ubeta = d->ipark.beta;
+    {
+        /* dead-time feed-forward for period k+1: the phase currents in its
+         * middle, extrapolated 1.5 periods from the last two samples
+         * (Q24, |.| <= 4 pu) */
+        _iq ff_a, ff_b;
+        const _iq ia = d->cur.ia + _IQmpy(d->cur.ia - d->ia_prev2, _IQ(1.5));
+        const _iq ib = d->cur.ib + _IQmpy(d->cur.ib - d->ib_prev2, _IQ(1.5));
+        volt_calc_feedforward(&d->volt, d->bus.vdc, ia, ib, &ff_a, &ff_b);
+        d->svgen.ualpha = d->ipark.alpha + ff_a;
+        d->svgen.ubeta = d->ipark.beta + ff_b;
+    }
     d->svgen.vdc = d->bus.vdc;
     svgen_step(&d->svgen);
     out->cmpr[0] = d->svgen.cmpr[0];

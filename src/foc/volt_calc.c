@@ -23,6 +23,7 @@ volt_calc_status_t volt_calc_init(volt_calc_t *v, float dead_time_s, float Ts_s,
 
     v->comp_enable = comp_enable;
     v->dt_frac = _IQ(dt_frac);
+    v->dt_half = _IQ(0.5f * dt_frac);
     v->v_drop = _IQ(drop_pu);
     v->i_thresh = _IQ(i_thresh_pu);
     v->inv_i_thresh = _IQ16(1.0f / i_thresh_pu);
@@ -40,6 +41,21 @@ static _iq volt_calc_sgn(const volt_calc_t *v, _iq i)
     return _IQsat(_IQmpyIQX(ic, GLOBAL_Q, v->inv_i_thresh, 16), _IQ(1.0), _IQ(-1.0));
 }
 
+/* Mean pole-voltage error of one leg over the period (see volt_calc_step).
+ * A leg that does not switch (d = 0 or 1) has no edge and no dead time.
+ * Q24 products, each |.| <= 4 pu; sum <= 5 pu. */
+static _iq volt_calc_leg_error(const volt_calc_t *v, _iq i_mid, _iq di, _iq d,
+                               _iq v_dt_half)
+{
+    _iq e = _IQmpy(volt_calc_sgn(v, i_mid), v->v_drop);
+    if (d > _IQ(0.0) && d < _IQ(1.0)) {
+        const _iq half_di = _IQmpy(_IQmpy(d, _IQ(0.5)), di);   /* (d/2) di, Q24 */
+        e += _IQmpy(volt_calc_sgn(v, i_mid - half_di) + volt_calc_sgn(v, i_mid + half_di),
+                    v_dt_half);
+    }
+    return e;
+}
+
 void volt_calc_step(volt_calc_t *v)
 {
     /* Pole voltages: Q24*Q24 -> Q24, truncated, in [0, 16] */
@@ -49,14 +65,17 @@ void volt_calc_step(volt_calc_t *v)
     _iq cm;
 
     if (v->comp_enable != 0u) {
-        /* Expected average pole-voltage error while the current flows out
-         * of the leg: vdc td/Ts + v_drop.  Q24*Q24 -> Q24, <= 4 + 1 pu. */
-        const _iq verr = _IQmpy(v->vdc, v->dt_frac) + v->v_drop;
-        const _iq ic = _IQ(0.0) - v->ia - v->ib;   /* |.| <= 64 */
-        /* Q24*Q24 -> Q24, |.| <= 5 */
-        pa -= _IQmpy(volt_calc_sgn(v, v->ia), verr);
-        pb -= _IQmpy(volt_calc_sgn(v, v->ib), verr);
-        pc -= _IQmpy(volt_calc_sgn(v, ic), verr);
+        /* Dead time: each of the two switching edges of a centre-aligned
+         * period, at (1 -+ d)/2 Ts, loses (current out of the leg) or gains
+         * vdc td/2 by the sign of the current at that edge; with the current
+         * linear over the period, i_edge = i_mid -+ (d/2) di.  The device
+         * drop follows the period-mean current.  Q24*Q24 -> Q24 products,
+         * |vdc td/Ts| <= 4, |(d/2) di| <= 32, |i_edge| <= 64 pu. */
+        const _iq v_dt_half = _IQmpy(v->vdc, v->dt_half);
+        pa -= volt_calc_leg_error(v, v->ia, v->dia, v->da, v_dt_half);
+        pb -= volt_calc_leg_error(v, v->ib, v->dib, v->db, v_dt_half);
+        pc -= volt_calc_leg_error(v, _IQ(0.0) - v->ia - v->ib,
+                                  _IQ(0.0) - v->dia - v->dib, v->dc, v_dt_half);
     }
 
     /* Common mode of the floating star: (pa + pb + pc)/3, sum <= 63.
@@ -69,4 +88,27 @@ void volt_calc_step(volt_calc_t *v)
     v->valpha = v->va;
     /* vbeta = (vb - vc)/sqrt(3), Q24*Q30 -> Q24; |vb - vc| = |pb - pc| <= 26 */
     v->vbeta = _IQmpyIQX(v->vb - v->vc, GLOBAL_Q, FOC_ONE_BY_SQRT3_Q30, 30);
+}
+
+/* Scaling/overflow: see volt_calc.h. */
+void volt_calc_feedforward(const volt_calc_t *v, _iq vdc, _iq ia, _iq ib,
+                           _iq *dalpha, _iq *dbeta)
+{
+    _iq ea, eb, ec, cm;
+    if (v->comp_enable == 0u) {
+        *dalpha = _IQ(0.0);
+        *dbeta = _IQ(0.0);
+        return;
+    }
+    {
+        /* the pole error of a leg carrying i_x: vdc td/Ts + v_drop, <= 5 pu */
+        const _iq verr = _IQmpy(vdc, v->dt_frac) + v->v_drop;
+        ea = _IQmpy(volt_calc_sgn(v, ia), verr);
+        eb = _IQmpy(volt_calc_sgn(v, ib), verr);
+        ec = _IQmpy(volt_calc_sgn(v, _IQ(0.0) - ia - ib), verr);
+    }
+    /* floating star: remove the common mode; Clarke (amplitude-invariant) */
+    cm = _IQmpyIQX(ea + eb + ec, GLOBAL_Q, FOC_ONE_THIRD_Q30, 30);
+    *dalpha = ea - cm;
+    *dbeta = _IQmpyIQX(eb - ec, GLOBAL_Q, FOC_ONE_BY_SQRT3_Q30, 30);
 }

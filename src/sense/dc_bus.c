@@ -43,8 +43,9 @@ dc_bus_status_t dc_bus_init(dc_bus_t *d, float vdc_full_scale_V, const base_valu
 
 void dc_bus_step(dc_bus_t *d)
 {
-    /* raw * 2^-16: exact Q24 in [0, 1); Q24*Q24 -> Q24 (< 64) */
-    d->vdc = _IQmpy(d->k_scale, _IQmpyI32(DC_BUS_RAW_TO_FRAC, (int32_t)d->vdc_raw));
+    /* (raw + 8) * 2^-16, the centre of the code (dc_bus.h): exact Q24 in
+     * [0, 1.0002); Q24*Q24 -> Q24 (< 64) */
+    d->vdc = _IQmpy(d->k_scale, _IQmpyI32(DC_BUS_RAW_TO_FRAC, (int32_t)d->vdc_raw + 8));
     if (d->primed == 0u) {
         d->vdc_filt = d->vdc;
         d->primed = 1u;

@@ -43,26 +43,46 @@ static void test_init(void **state)
 }
 
 /* The formula, in double, with the module's stored constants (their
- * quantisation is checked in test_init): pole_x = vdc d_x - sgn(i_x) verr,
- * verr = vdc td/Ts + v_drop, sgn(i) = sat(i / i_thresh, +-1). */
+ * quantisation is checked in test_init): each switching leg (0 < d < 1)
+ *   pole_x = vdc d_x - sgn(i_x) v_drop
+ *            - (sgn(i_x - d_x di_x / 2) + sgn(i_x + d_x di_x / 2)) vdc td/(2 Ts)
+ * (the currents at the two edges of a centre-aligned period), a clamped leg
+ * only the drop; sgn(i) = sat(i / i_thresh, +-1); ic = -ia - ib. */
 static double sgn_lin(double i, double th, double inv)
 {
     const double ic = fmin(fmax(i, -th), th);
     return fmin(fmax(ic * inv, -1.0), 1.0);
 }
 
+static void leg_inputs(const volt_calc_t *v, double d[3], double i[3], double di[3])
+{
+    d[0] = iq2d(v->da);
+    d[1] = iq2d(v->db);
+    d[2] = iq2d(v->dc);
+    i[0] = iq2d(v->ia);
+    i[1] = iq2d(v->ib);
+    i[2] = -i[0] - i[1];
+    di[0] = iq2d(v->dia);
+    di[1] = iq2d(v->dib);
+    di[2] = -di[0] - di[1];
+}
+
 static void reference(const volt_calc_t *v, double out[5])
 {
     const double vdc = iq2d(v->vdc);
-    const double d[3] = { iq2d(v->da), iq2d(v->db), iq2d(v->dc) };
-    const double i[3] = { iq2d(v->ia), iq2d(v->ib), -iq2d(v->ia) - iq2d(v->ib) };
-    const double verr = vdc * iq2d(v->dt_frac) + iq2d(v->v_drop);
-    double p[3], m;
+    const double th = iq2d(v->i_thresh), inv = (double)_IQ16toF(v->inv_i_thresh);
+    double d[3], i[3], di[3], p[3], m;
     int x;
+    leg_inputs(v, d, i, di);
     for (x = 0; x < 3; x++) {
         p[x] = vdc * d[x];
         if (v->comp_enable) {
-            p[x] -= sgn_lin(i[x], iq2d(v->i_thresh), (double)_IQ16toF(v->inv_i_thresh)) * verr;
+            p[x] -= sgn_lin(i[x], th, inv) * iq2d(v->v_drop);
+            if (d[x] > 0.0 && d[x] < 1.0) {
+                p[x] -= (sgn_lin(i[x] - 0.5 * d[x] * di[x], th, inv) +
+                         sgn_lin(i[x] + 0.5 * d[x] * di[x], th, inv)) *
+                        vdc * iq2d(v->dt_half);
+            }
         }
     }
     m = (p[0] + p[1] + p[2]) / 3.0;
@@ -74,27 +94,39 @@ static void reference(const volt_calc_t *v, double out[5])
 }
 
 /* Bounds.  IQ_MATH: each pole is a truncated product (< 1 LSB); with the
- * compensation it also carries the truncation of vdc td/Ts (1 LSB, times
- * |sgn| <= 1), of i/i_thresh (1 LSB, times verr pu) and of sgn * verr
- * (1 LSB): P = 3 + verr LSB (1 without compensation).  The common mode
- * averages three poles and adds its own truncation (1 LSB) and the Q30
- * constant's (sum * 2^-30 < 0.05 LSB): va, vb, vc, valpha within 2P + 1.05;
- * vbeta = (vb - vc)/sqrt3 within 2P/sqrt3 + 1.03.  FLOAT_MATH: ~6
- * roundings of quantities <= 16 + verr: 8 FLT_EPSILON * (vdc + verr). */
+ * compensation it also carries the truncations of vdc td/(2Ts) (1 LSB,
+ * times |sum of sgn| <= 2), of i/i_thresh (1 LSB, times verr pu), of
+ * sgn * v_drop and of sum * vdc td/(2Ts) (1 LSB each): 5 + verr LSB.  The
+ * edge currents i -+ (d/2) di carry the truncations of d/2 (1 LSB, times
+ * |di|) and of the product (1 LSB); through sgn's slope 1/i_thresh and the
+ * weight vdc td/(2Ts) that is E = 2 (1 + |di|) inv vdc td/(2Ts) LSB more.
+ * P = 5 + verr + E (1 without compensation).  The common mode averages
+ * three poles and adds its own truncation (1 LSB) and the Q30 constant's
+ * (sum * 2^-30 < 0.05 LSB): va, vb, vc, valpha within 2P + 1.05; vbeta =
+ * (vb - vc)/sqrt3 within 2P/sqrt3 + 1.03.  FLOAT_MATH: ~8 roundings of
+ * quantities <= 16 + verr, plus the rounding of the edge currents
+ * (|i| + |di|) eps through the same slope. */
 static void check(volt_calc_t *v, double *worst)
 {
-    double ref[5];
+    double ref[5], d[3], i[3], di[3];
     const double vdc = iq2d(v->vdc);
     const double verr = v->comp_enable ? vdc * iq2d(v->dt_frac) + iq2d(v->v_drop) : 0.0;
-    const double P = v->comp_enable ? 3.0 + verr : 1.0;
+    const double slope = (double)_IQ16toF(v->inv_i_thresh) * vdc * iq2d(v->dt_half);
+    double E = 0.0, Ef = 0.0, P;
     int x;
+    leg_inputs(v, d, i, di);
+    for (x = 0; x < 3; x++) {
+        E = fmax(E, 2.0 * (1.0 + fabs(di[x])) * slope);
+        Ef = fmax(Ef, 4.0 * (fabs(i[x]) + fabs(di[x])) * slope);
+    }
+    P = v->comp_enable ? 5.0 + verr + E : 1.0;
     volt_calc_step(v);
     reference(v, ref);
     {
         const _iq now[5] = { v->va, v->vb, v->vc, v->valpha, v->vbeta };
         for (x = 0; x < 5; x++) {
-            const double b = (x < 4) ? foc_tol(2.0 * P + 1.05, 8.0, vdc + verr)
-                                     : foc_tol(2.0 * P / SQRT3 + 1.03, 8.0, vdc + verr);
+            const double b = (x < 4) ? foc_tol(2.0 * P + 1.05, 10.0 + Ef, vdc + verr)
+                                     : foc_tol(2.0 * P / SQRT3 + 1.03, 10.0 + Ef, vdc + verr);
             const double e = fabs(iq2d(now[x]) - ref[x]);
             if (e > b) {
                 print_error("x=%d got %.10f ref %.10f err %.3g bound %.3g\n", x, iq2d(now[x]), ref[x], e, b);
@@ -127,6 +159,9 @@ static void test_formula_random(void **state)
         v.vdc = d2iq(foc_rng_uniform(&r, 0.0, 16.0));
         v.ia = d2iq(foc_rng_uniform(&r, -isc, isc));
         v.ib = d2iq(foc_rng_uniform(&r, -isc, isc));
+        /* the change over the period: none, or up to a few thresholds */
+        v.dia = (k % 8 < 4) ? _IQ(0.0) : d2iq(foc_rng_uniform(&r, -3.0 * (double)th, 3.0 * (double)th));
+        v.dib = (k % 8 < 4) ? _IQ(0.0) : d2iq(foc_rng_uniform(&r, -3.0 * (double)th, 3.0 * (double)th));
         check(&v, en ? &worst1 : &worst0);
     }
     print_message("foc_volt_calc random: worst error %.3g pu without, %.3g pu with compensation\n",
@@ -214,6 +249,101 @@ static void test_compensation_physics(void **state)
     assert_true(fabs((iq2d(on.vc) - iq2d(off.vc)) - (0.5 * verr)) <= 2.0 * bnd);
 }
 
+/* Physics at a zero crossing inside the period.  Phase a: mid-period
+ * current +0.05 pu rising by 0.4 pu over the period, d = 0.5: the edges at
+ * Ts/4 and 3Ts/4 see -0.05 and +0.15 pu (beyond the 0.02 threshold), so the
+ * first edge gains vdc td/(2Ts) and the second loses it: no net dead-time
+ * error, only the drop (current positive on average).  The same current
+ * held constant loses the whole vdc td/Ts + v_drop.  A leg clamped at
+ * d = 1 has no edge: only the drop. */
+static void test_edge_currents(void **state)
+{
+    const double vdc = SQRT3, dtf = 0.03, drop = 0.05;
+    volt_calc_t v, off;
+    double e_cross, e_held, e_clamped, bnd;
+    (void)state;
+    assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, 0.05f, 0.02f, 1u), VOLT_CALC_OK);
+    assert_int_equal(volt_calc_init(&off, 2e-6f, TS_S, 0.05f, 0.02f, 0u), VOLT_CALC_OK);
+    v.da = off.da = d2iq(0.5);
+    v.db = off.db = d2iq(0.5);
+    v.dc = off.dc = d2iq(0.5);
+    v.vdc = off.vdc = d2iq(vdc);
+    /* ib = ic = -0.025: both beyond the threshold with no change, so their
+     * errors are equal and cancel in va (common mode); va then shows
+     * 2/3 of phase a's pole error */
+    v.ia = off.ia = d2iq(0.05);
+    v.ib = off.ib = d2iq(-0.025);
+    v.dia = d2iq(0.4);
+    v.dib = d2iq(-0.2);
+    volt_calc_step(&v);
+    volt_calc_step(&off);
+    /* phase b: -0.025 -+ 0.05: edges at +0.025 and -0.075 -> sgn +1, -1 */
+    e_cross = iq2d(v.va) - iq2d(off.va);
+    bnd = foc_tol(40.0, 64.0, 1.0);
+    /* pole errors: a -drop, b 0 (drop sgn(-0.025) = -1 -> +drop), c = -a-b:
+     * ic = -0.025, dic = -0.2 -> edges +0.025, -0.075: +drop */
+    assert_true(fabs(e_cross - (2.0 / 3.0 * (-drop) - 1.0 / 3.0 * (drop + drop))) <= bnd);
+    v.dia = _IQ(0.0);
+    v.dib = _IQ(0.0);
+    volt_calc_step(&v);
+    e_held = iq2d(v.va) - iq2d(off.va);
+    /* held: a loses verr, b and c gain verr */
+    assert_true(fabs(e_held - (-(vdc * dtf + drop) * (2.0 / 3.0 + 2.0 / 3.0))) <= bnd);
+    /* clamped leg a (d = 1), currents held: a loses only the drop */
+    v.da = off.da = d2iq(1.0);
+    volt_calc_step(&v);
+    volt_calc_step(&off);
+    e_clamped = iq2d(v.va) - iq2d(off.va);
+    assert_true(fabs(e_clamped - (2.0 / 3.0 * (-drop) - 2.0 / 3.0 * (vdc * dtf + drop))) <= bnd);
+}
+
+/* Feed-forward round trip: duties that ask for reference + feedforward,
+ * reconstructed with the same (held) currents, give back the reference:
+ * the compensation and the reconstruction use one model.  Currents beyond
+ * and inside the linear zone; sine-triangle duties d = 1/2 + v/vdc.  Bound:
+ * the reconstruction bound (P = 5 + verr, di = 0) plus the feed-forward's
+ * own truncations (4 LSB) and the duties' (1 LSB times vdc). */
+static void test_feedforward_round_trip(void **state)
+{
+    static const double cur[][2] = { { 0.8, -0.3 }, { 0.01, -0.5 }, { -0.004, 0.007 } };
+    const double vdc = SQRT3;
+    volt_calc_t v;
+    size_t k;
+    (void)state;
+    assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, 0.05f, 0.02f, 1u), VOLT_CALC_OK);
+    for (k = 0; k < sizeof cur / sizeof cur[0]; k++) {
+        const double ua = 0.31, ub = -0.42;
+        _iq ffa, ffb;
+        double fa, fb, pa, pb, pc, bnd;
+        volt_calc_feedforward(&v, d2iq(vdc), d2iq(cur[k][0]), d2iq(cur[k][1]), &ffa, &ffb);
+        fa = ua + iq2d(ffa);
+        fb = ub + iq2d(ffb);
+        /* inverse Clarke of the compensated reference */
+        pa = fa;
+        pb = -0.5 * fa + 0.5 * SQRT3 * fb;
+        pc = -0.5 * fa - 0.5 * SQRT3 * fb;
+        v.da = d2iq(0.5 + pa / vdc);
+        v.db = d2iq(0.5 + pb / vdc);
+        v.dc = d2iq(0.5 + pc / vdc);
+        v.vdc = d2iq(vdc);
+        v.ia = d2iq(cur[k][0]);
+        v.ib = d2iq(cur[k][1]);
+        v.dia = _IQ(0.0);
+        v.dib = _IQ(0.0);
+        volt_calc_step(&v);
+        bnd = foc_tol(2.0 * (5.0 + 0.11) + 1.05 + 4.0 + 2.0 * vdc, 32.0, vdc);
+        assert_true(fabs(iq2d(v.valpha) - ua) <= bnd);
+        assert_true(fabs(iq2d(v.vbeta) - ub) <= bnd);
+    }
+    /* compensation off: zero feed-forward */
+    assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, 0.05f, 0.02f, 0u), VOLT_CALC_OK);
+    {
+        _iq ffa, ffb;
+        volt_calc_feedforward(&v, d2iq(vdc), _IQ(0.5), _IQ(-0.5), &ffa, &ffb);
+        assert_true(ffa == _IQ(0.0) && ffb == _IQ(0.0));
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -221,6 +351,8 @@ int main(void)
         cmocka_unit_test(test_formula_random),
         cmocka_unit_test(test_edges),
         cmocka_unit_test(test_compensation_physics),
+        cmocka_unit_test(test_edge_currents),
+        cmocka_unit_test(test_feedforward_round_trip),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -166,6 +166,35 @@ static double pwm_tick_duty(uint16_t cmpr, double i_sign, uint16_t td_ticks)
     return (double)high / (double)n;
 }
 
+/* inverter_step_slope: the change over the period given rather than
+ * extrapolated (the plant's second pass).  From rest (no previous period,
+ * so inverter_step would assume no change): phase a at -0.15 A rising
+ * 0.4 A over the period, d = 0.5, band 0.1 A: edges at -0.05 A (s = -0.5)
+ * and +0.15 A (s = +1), mean s = +0.25: the pole loses a quarter of
+ * vdc td/Ts; the drop and r_on follow the mean current +0.05 A (s = 0.5).
+ * inverter_step from rest sees -0.15 A at both edges: a full gain.
+ * Exact: bound 1e-12 V. */
+static void test_dead_time_given_slope(void **state)
+{
+    inverter_t a, b;
+    inverter_params_t p;
+    const double d[3] = {0.5, 0.5, 0.5};
+    const double i0[3] = {-0.15, 0.5, -0.35};
+    const double di[3] = {0.4, 0.0, -0.4};
+    const double td_v = 54.0 * 1.0e-6 * 15000.0;
+    (void)state;
+    inverter_params_default(&p);
+    p.r_source_ohm = 0.0;
+    assert_int_equal(inverter_init(&a, &p), INV_OK);
+    assert_int_equal(inverter_init(&b, &p), INV_OK);
+    inverter_step_slope(&a, 0.0, d, i0, di);
+    inverter_step(&b, 0.0, d, i0);
+    CHECK_ABS("slope given: crossing (V)", a.v_pole_V[0],
+              27.0 - 0.25 * td_v - 0.5 * 0.3 - 0.01 * 0.05, 1e-12);
+    CHECK_ABS("slope extrapolated from rest (V)", b.v_pole_V[0],
+              27.0 + td_v + 0.3 * 1.0 + 0.01 * 0.15, 1e-12);
+}
+
 /* The dead time acts at the two switching edges, (1 -+ d)/2 Ts into the
  * period, with the sign of the current there; the current is extrapolated
  * from the change over the previous period.  A current rising by 0.2 A per
@@ -291,6 +320,7 @@ int main(void)
         cmocka_unit_test(test_common_mode_removal),
         cmocka_unit_test(test_dead_time_sign_and_size),
         cmocka_unit_test(test_dead_time_at_the_edges),
+        cmocka_unit_test(test_dead_time_given_slope),
         cmocka_unit_test(test_dead_time_vs_tick_simulation),
         cmocka_unit_test(test_dc_link),
         cmocka_unit_test(test_cmpr_to_duty),

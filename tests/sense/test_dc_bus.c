@@ -46,7 +46,8 @@ static void test_scaling(void **state)
 
     assert_int_equal(dc_bus_init(&d, V_FS, &g_b, 100.0f), DC_BUS_OK);
     for (code = 0u; code < 4096u; code++) {
-        double want = (double)(code << 4) / 65520.0 * (double)V_FS / vb;
+        /* the centre of the code: (raw + 8) / 65520 (dc_bus.h) */
+        double want = ((double)(code << 4) + 8.0) / 65520.0 * (double)V_FS / vb;
         d.vdc_raw = (uint16_t)(code << 4);
         dc_bus_step(&d);
         if (!(fabs(to_d(d.vdc) - want) <= 8.0 * LSB)) {
@@ -55,8 +56,8 @@ static void test_scaling(void **state)
         }
         assert_int_equal(d.rail, (code == 4095u) ? 1 : 0);
     }
-    /* code 4095 reads exactly V_fs: 100 V = 2.88675 pu (8 LSB as above) */
-    assert_true(fabs(to_d(d.vdc) - 100.0 / 34.6410161513775) <= 8.0 * LSB);
+    /* code 4095 reads V_fs (4095.5 / 4095): 100.0122 V = 2.88710 pu (8 LSB as above) */
+    assert_true(fabs(to_d(d.vdc) - 100.0 * 4095.5 / 4095.0 / 34.6410161513775) <= 8.0 * LSB);
 }
 
 /* Step 30 V -> 60 V after priming: vdc_filt(k) against
