@@ -31,14 +31,21 @@ volt_calc_status_t volt_calc_init(volt_calc_t *v, float dead_time_s, float Ts_s,
 }
 
 /* sgn(i) with a linear zone of half-width i_thresh: sat(i / i_thresh, +-1).
- * i is clamped to +-i_thresh first, so the Q24*Q16 -> Q24 product is within
- * +-1 (+ the rounding of 1/i_thresh), then saturated to exactly +-1.  The
- * inverse is Q16 so that a narrow zone (down to 0.0005 pu: a large drive's
- * dead-time transition of a few tenths of an ampere) is representable. */
+ * Outside the zone (the common case: every leg but one near its zero
+ * crossing) exactly +-1 by two compares, no product.  Inside, the
+ * Q24*Q16 -> Q24 product is within +-1 (+ the rounding of 1/i_thresh) and
+ * saturated to +-1.  The inverse is Q16 so that a narrow zone (down to
+ * 0.0005 pu: a large drive's dead-time transition of a few tenths of an
+ * ampere) is representable. */
 static _iq volt_calc_sgn(const volt_calc_t *v, _iq i)
 {
-    const _iq ic = _IQsat(i, v->i_thresh, -v->i_thresh);
-    return _IQsat(_IQmpyIQX(ic, GLOBAL_Q, v->inv_i_thresh, 16), _IQ(1.0), _IQ(-1.0));
+    if (i >= v->i_thresh) {
+        return _IQ(1.0);
+    }
+    if (i <= -v->i_thresh) {
+        return _IQ(-1.0);
+    }
+    return _IQsat(_IQmpyIQX(i, GLOBAL_Q, v->inv_i_thresh, 16), _IQ(1.0), _IQ(-1.0));
 }
 
 /* Mean pole-voltage error of one leg over the period (see volt_calc_step).

@@ -50,8 +50,13 @@ static void test_init(void **state)
  * only the drop; sgn(i) = sat(i / i_thresh, +-1); ic = -ia - ib. */
 static double sgn_lin(double i, double th, double inv)
 {
-    const double ic = fmin(fmax(i, -th), th);
-    return fmin(fmax(ic * inv, -1.0), 1.0);
+    if (i >= th) {
+        return 1.0;
+    }
+    if (i <= -th) {
+        return -1.0;
+    }
+    return fmin(fmax(i * inv, -1.0), 1.0);
 }
 
 static void leg_inputs(const volt_calc_t *v, double d[3], double i[3], double di[3])
