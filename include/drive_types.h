@@ -96,7 +96,6 @@ struct drive {
     _iq duty_last[3];           /* computed at k-2, applied in the period just ended */
     uint16_t on_next, on_last;  /* bridge switching in those periods */
     _iq ia_prev, ib_prev;       /* phase currents of the previous sample, pu */
-    _iq ia_prev2, ib_prev2;     /* and of the one before, pu */
 
     drive_snapshot_t snap;      /* ISR -> background: the steady-state extraction */
     drive_snapshot_t live_snap; /* ISR -> background: running estimates, 100 Hz */

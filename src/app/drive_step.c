@@ -121,8 +121,6 @@ static void voltage_model(drive_t *d)
      * edge (volt_calc.h); Q24 - Q24, |.| <= 2 pu */
     d->volt.dia = d->cur.ia - d->ia_prev;
     d->volt.dib = d->cur.ib - d->ib_prev;
-    d->ia_prev2 = d->ia_prev;
-    d->ib_prev2 = d->ib_prev;
     d->ia_prev = d->cur.ia;
     d->ib_prev = d->cur.ib;
     volt_calc_step(&d->volt);
@@ -334,11 +332,11 @@ static void modulate(drive_t *d, hal_pwm_compare_t *out)
     ipark_step(&d->ipark);
     {
         /* dead-time feed-forward for period k+1: the phase currents in its
-         * middle, extrapolated 1.5 periods from the last two samples
-         * (Q24, |.| <= 4 pu) */
+         * middle, extrapolated 1.5 periods on the change over the last one
+         * (voltage_model's volt.dia/dib; Q24, |.| <= 4 pu) */
         _iq ff_a, ff_b;
-        const _iq ia = d->cur.ia + _IQmpy(d->cur.ia - d->ia_prev2, _IQ(1.5));
-        const _iq ib = d->cur.ib + _IQmpy(d->cur.ib - d->ib_prev2, _IQ(1.5));
+        const _iq ia = d->cur.ia + _IQmpy(d->volt.dia, _IQ(1.5));
+        const _iq ib = d->cur.ib + _IQmpy(d->volt.dib, _IQ(1.5));
         volt_calc_feedforward(&d->volt, d->bus.vdc, ia, ib, &ff_a, &ff_b);
         d->svgen.ualpha = d->ipark.alpha + ff_a;
         d->svgen.ubeta = d->ipark.beta + ff_b;
