@@ -45,6 +45,12 @@ typedef struct {
     uint32_t rls_sat_count;  /* RLS saturation events (rls_t.sat_count), never wraps */
     uint32_t theta_rejects;  /* RLS samples whose theta the guard rejected (theta_guard.h) */
     uint16_t publish_rejects;/* extractions that were implausible and not published */
+    /* issue 8: adaptation and drift tracking (orientation 1 only) */
+    uint16_t pass;           /* identification pass under way or last done (1, 2, ...) */
+    uint16_t track_valid;    /* 1 while Rr_track / Tr_track follow the motor (RUN, tracking on) */
+    _iq Rs_dc;               /* Rs measured at standstill (end of magnetisation), pu; 0: none */
+    _iq sigma_ls_dc;         /* sigma Ls measured at standstill, pu of L_base; 0: none */
+    _iq Rr_track, Tr_track;  /* tracked rotor resistance (pu of Z_base) and Tr (pu time) */
 } drive_telemetry_t;
 
 /** drive_init results: 0 or the first configuration field found bad. */

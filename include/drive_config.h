@@ -70,6 +70,15 @@ typedef struct {
     float magnetize_time_s;    /* pre-magnetisation, >= 5 Tr */
     float target_speed_rpm;    /* speed the sequence accelerates to */
     float rls_tail_s;          /* the RLS runs this long after the ramp ends */
+    /* beyond the paper (issue 8); every one needs orientation = DRIVE_ORIENT_FLUX_OBS
+     * except passes = 1 and the zeros, which keep the paper's sequence */
+    uint16_t passes;           /* identification passes, 1..4 (0 = 1): from the 2nd on each
+                                  starts with the previous pass's parameters in the observer
+                                  and the controller (decelerate, accelerate again) */
+    uint16_t standstill_rs;    /* 1: Rs from u_M / i_M at the end of the magnetisation, given
+                                  to the observer before the first acceleration */
+    uint16_t track_rr;         /* 1: track Rr (and Tr) in RUN from the observer's slip */
+    float track_memory_s;      /* tracker's forgetting time constant, s (0.2 .. 20) */
 } drive_ident_t;
 
 typedef struct {

@@ -30,6 +30,8 @@
 #include "rls.h"
 #include "svgen.h"
 #include "theta_guard.h"
+#include "standstill_z.h"
+#include "tr_track.h"
 #include "volt_calc.h"
 
 /** Gains and constants derived once by drive_init (pu, Q24). */
@@ -55,6 +57,36 @@ typedef struct {
     uint16_t ready;     /* set by the ISR, cleared by the background */
 } drive_snapshot_t;
 
+/** Background -> ISR: a pass's extracted parameters (pu), one-slot mailbox
+ *  as drive_snapshot_t (the background writes while ready = 0, sets ready
+ *  last; the ISR reads while ready = 1 and clears it last). */
+typedef struct {
+    _iq rs, lm, lr, ls, tr;   /* Q24 pu (tr: pu time) */
+    uint16_t valid;           /* 0: the extraction was implausible (keep the old model) */
+    uint16_t ready;
+} drive_adapt_mail_t;
+
+/** Parameter adaptation (issue 8): standstill Rs, the model handed from
+ *  pass to pass, the Rr/Tr tracker's feed.  All pu, Q24. */
+#define DRIVE_ADAPT_NP 5u   /* rs, lm, lr, ls, tr */
+typedef struct {
+    /* configuration (drive_adapt_init) */
+    uint16_t passes, standstill_rs, track_rr;
+    _iq rs_lo, rs_hi;         /* plausible standstill Rs (a factor 4 of the believed) */
+    _iq blend_step;           /* Q24 fraction per sample: the blend lasts DRIVE_ADAPT_BLEND_S */
+    _iq kp_per_sls;           /* current-loop kp per pu of sigma Ls (kp = w_c sigma Ls) */
+    _iq ki_per_rs;            /* current-loop ki per pu of Rs (ki = w_c Ts Rs) */
+    _iq tr_rate;              /* largest relative change of the applied Tr per tracker tick */
+    uint16_t ssz_gap;         /* samples of DC between the sigma Ls test and the Rs reading */
+    /* the model in use (the observer's values) and the blend towards a new one */
+    _iq from[DRIVE_ADAPT_NP], to[DRIVE_ADAPT_NP];
+    _iq frac;                 /* Q24 blend position 0..1 */
+    uint16_t blending;
+    _iq lr;                   /* Lr of the last identification (Rr_track = Lr / Tr) */
+    uint16_t track_armed;     /* the tracker has its start value (final pass in) */
+    uint16_t prev_state;      /* id_state_t of the last sample */
+} drive_adapt_t;
+
 struct drive {
     base_values_t base;
     drive_consts_t k;
@@ -76,6 +108,8 @@ struct drive {
     ramp_gen_t speed_ramp;
     ifo_t ifo;                  /* orientation 0: indirect (not run in mode 1) */
     flux_obs_t fobs;            /* orientation 1: rotor-flux observer (not run in mode 0) */
+    uint16_t run_ifo;           /* orientation 1, RUN with tracking: control frame from ifo with
+                                   the tracked Tr (drive_adapt.c) */
     uint16_t fobs_hold;         /* orientation 1: frame held on the encoder angle (|psi_r| <
                                    psi_min or magnetising) */
     svgen_t svgen;
@@ -83,6 +117,8 @@ struct drive {
     /* identification */
     ident_regressor_t reg;
     rls_t rls;
+    rls_t rls_start;            /* the RLS as drive_rls_start leaves it: copied in at the start
+                                   of each further pass (no float in the ISR) */
     param_extract_t pex;
     id_sequence_t seq;
     protect_t prot;
@@ -96,6 +132,11 @@ struct drive {
     _iq duty_last[3];           /* computed at k-2, applied in the period just ended */
     uint16_t on_next, on_last;  /* bridge switching in those periods */
     _iq ia_prev, ib_prev;       /* phase currents of the previous sample, pu */
+
+    drive_adapt_t adapt;        /* issue 8: model adaptation between passes, tracking */
+    drive_adapt_mail_t adapt_mail;  /* background -> ISR: each pass's parameters */
+    tr_track_t track;           /* Rr/Tr tracker in RUN (track_rr) */
+    standstill_z_t ssz;         /* standstill sigma Ls (standstill_rs) */
 
     drive_snapshot_t snap;      /* ISR -> background: the steady-state extraction */
     drive_snapshot_t live_snap; /* ISR -> background: running estimates, 100 Hz */

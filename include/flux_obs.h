@@ -125,6 +125,7 @@ typedef struct {
     _iq30 ts30;             /* Q30, Ts, pu time (flux integration) */
     _iq wc;                 /* Q24, crossover w_c, pu of w_base */
     _iq g;                  /* Q24, w_c Ts (per-sample gain of the correction states) */
+    _iq inv_wc;             /* Q24, 1 / w_c (flux_obs_set_rs_dc), at most 100 pu */
     _iq kf_ws;              /* Q24, 1 - exp(-2 pi f_ws Ts): ws low-pass coefficient */
     _iq20 inv_k_theta;      /* Q20, 1 / (f_base Ts): pu speed per revolution per sample */
     _iq dth_max;            /* Q24, largest angle step converted to ws (|ws| <= 100 pu) */
@@ -163,6 +164,24 @@ void flux_obs_reset(flux_obs_t *o);
 
 /** Rs in pu (e.g. identified).  Rejects (old value kept) outside [0, 4]. */
 flux_obs_status_t flux_obs_set_rs(flux_obs_t *o, _iq rs_pu);
+
+/**
+ * Rs changed at DC steady state (standstill after >= 5 Tr of constant
+ * current), and the observer re-seated on the DC solution: psi_s on the
+ * current model's stator flux (Lm/Lr) psi_r,cm + sigma Ls i (at DC the
+ * current model weighs 1, H_c(0) = 1), and the correction holding what the
+ * voltage model needs at DC, u_c = Rs i - u (y = u_c / w_c, z = 3 y), so
+ * that the next sample continues without a transient.  Whatever the
+ * voltage model did with the old Rs (believed Rs +30 %: its flux reversed
+ * 7 ms into the magnetisation) is discarded.  @p u_alpha.. @p i_beta: the
+ * DC voltage and current (pu; low-pass filtered by the caller: a sample of
+ * the instantaneous ones carries ripple and noise that u_c would then hold
+ * as an offset).  Rejects (nothing changed) Rs outside [0, 4]; inputs are
+ * saturated as in flux_obs_step and the re-seated states at their bounds
+ * (sat set).
+ */
+flux_obs_status_t flux_obs_set_rs_dc(flux_obs_t *o, _iq rs_pu, _iq u_alpha, _iq u_beta,
+                                     _iq i_alpha, _iq i_beta);
 
 /**
  * Tr in pu time.  As ifo_set_tr: Ts/Tr by _IQdiv, kf by its Taylor series

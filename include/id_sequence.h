@@ -13,6 +13,18 @@
  *        -> RUN (parameters extracted and published; RLS off)
  *   any  -> FAULT (from the protections; PWM off) ; STOP -> IDLE
  *
+ * Several passes (issue 8, beyond the paper; passes > 1): the extraction at
+ * the end of SETTLE then leads, while pass < passes, to
+ *        -> REFINE (speed ramps down to refine_speed; the drive blends the
+ *                   pass's parameters into its observer and controller and
+ *                   says so with adapt_ready; RLS off)
+ *        -> ACCELERATE again (pass + 1; rls_restart: the RLS starts afresh,
+ *                   now in a frame computed with the identified model)
+ * so each pass identifies with a better controller than the last: with the
+ * believed model 30 % off, the first pass is a few % off, the next within
+ * the accuracy of a controller that knows the motor.  passes = 1 is the
+ * paper's sequence, unchanged.
+ *
  * It decides only; the drive applies its outputs.  Times are counted in ISR
  * samples (uint32_t, so > 3 days at 15 kHz before a wrap).
  */
@@ -29,8 +41,11 @@ typedef enum {
     ID_ACCELERATE,
     ID_SETTLE,
     ID_RUN,
-    ID_FAULT
+    ID_FAULT,
+    ID_REFINE      /* between passes (passes > 1); after FAULT so the codes 0..6 keep their meaning */
 } id_state_t;
+
+#define ID_PASSES_MAX 4u
 
 typedef struct {
     /* inputs (set by the drive each sample) */
@@ -40,6 +55,7 @@ typedef struct {
     _iq speed_err;            /* |speed ref - speed|, pu, Q24 */
     _iq dim;                  /* |d i_M/dt| filtered, pu/pu-time, Q24 */
     _iq dit;                  /* |d i_T/dt| filtered, pu/pu-time, Q24 */
+    uint16_t adapt_ready;     /* REFINE: the drive has applied the last pass's parameters */
     /* parameters (id_sequence_init) */
     uint32_t magnetize_samples;
     uint32_t settle_min_samples;   /* least time in SETTLE */
@@ -50,6 +66,8 @@ typedef struct {
     _iq didt_tol;             /* steady: |di/dt| below, pu/pu-time */
     _iq im_ref;               /* magnetising current reference, pu */
     _iq speed_target;         /* pu */
+    uint16_t passes;          /* 1 .. ID_PASSES_MAX (id_sequence_set_passes) */
+    _iq refine_speed;         /* REFINE speed, pu, as a fraction of speed_target (Q24) */
     /* outputs */
     id_state_t state;
     uint16_t pwm_on;          /* the bridge should switch */
@@ -60,6 +78,9 @@ typedef struct {
     uint16_t settle_timeout;  /* SETTLE ended by its time limit, not by steadiness */
     _iq im_cmd;               /* i_M reference to apply, pu */
     _iq speed_cmd;            /* speed target for the ramp, pu */
+    uint16_t pass;            /* 1 .. passes: the pass under way (or last done) */
+    uint16_t rls_restart;     /* one-sample pulse: ACCELERATE of pass >= 2 entered */
+    uint16_t magnetize_end;   /* one-sample pulse: the last sample of MAGNETIZE (flux settled) */
     /* state */
     uint32_t t_state;         /* samples in the current state */
     uint32_t t_steady;        /* consecutive steady samples */
@@ -76,6 +97,10 @@ int16_t id_sequence_init(id_sequence_t *s, float Ts_s, float magnetize_s,
                          float settle_min_s, float settle_hold_s, float settle_max_s,
                          float rls_tail_s,
                          _iq speed_tol, _iq didt_tol, _iq im_ref, _iq speed_target);
+/** Passes (1 .. ID_PASSES_MAX) and the REFINE speed as a fraction of the
+ *  target speed (0 .. 1).  Returns 0, or 1 (nothing changed) if out of range.
+ *  id_sequence_init sets 1 pass. */
+int16_t id_sequence_set_passes(id_sequence_t *s, uint16_t passes, _iq refine_fraction);
 void id_sequence_start(id_sequence_t *s);   /* background context */
 void id_sequence_stop(id_sequence_t *s);    /* background context */
 /** Leave FAULT for IDLE (the caller has checked the cause is gone). */

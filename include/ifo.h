@@ -140,4 +140,14 @@ _iq ifo_theta_mid(const ifo_t *f);
 void ifo_frame_from_rotor(ifo_t *f);
 void ifo_step_slip(ifo_t *f);
 
+/**
+ * Take over from another frame without a jump (encoder-angle mode): with
+ * theta_r set to this sample's rotor angle, the slip angle becomes
+ * theta_frame - theta_r, so ifo_frame_from_rotor() continues from
+ * @p theta_frame, and imr = @p imr_pu (the flux the other frame saw, in
+ * magnetising-current pu).  theta_prev = theta (ws_frame 0 for this sample).
+ * Angles in [0, 1) pu; imr_pu clamped to [0, 4].
+ */
+void ifo_align(ifo_t *f, _iq theta_frame, _iq imr_pu);
+
 #endif /* IFO_H */

@@ -92,6 +92,15 @@ void pi_reset(pi_ctrl_t *p);
 pi_status_t pi_set_limits(pi_ctrl_t *p, _iq out_min, _iq out_max);
 
 /**
+ * Change the gains at run time (e.g. scaled by identified parameters).  No
+ * float: callable from the ISR; e_max = min(64, 64/kp) by _IQdiv.  Rejects
+ * (and leaves everything unchanged) kp outside [0, 100] or ki outside [0, 1].
+ * The integrator is kept (bumpless: the output moves only by the
+ * proportional path's change).
+ */
+pi_status_t pi_set_gains(pi_ctrl_t *p, _iq kp, _iq ki);
+
+/**
  * One sample.  Scaling: all Q24; kp*e is truncated (_IQmpy, within 1 LSB
  * below the exact product), ki*e rounded (_IQrmpy, within 1/2 LSB, no bias),
  * so unsaturated the output is within 1.5 LSB of the exact kp e + ui + ff of

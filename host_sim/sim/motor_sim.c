@@ -27,7 +27,9 @@ static void usage(FILE *f)
             "  --config FILE      INI file (default host_sim/config/paper_motor.ini)\n"
             "  --scenario NAME    start (default: standstill to rated speed under load),\n"
             "                     reversal (then to -rated speed), load_steps (then a load step),\n"
-            "                     soak (then reversals every 4 s, a load step 2 s after each)\n"
+            "                     soak (then reversals every 4 s, a load step 2 s after each),\n"
+            "                     drift (then the rotor resistance rises while the load\n"
+            "                     changes: [drift] keys; for [ident] track_rr = 1)\n"
             "  --duration S       simulated seconds (default: long enough for the scenario)\n"
             "  --out DIR          write DIR/trace.csv and DIR/report.json (created if missing)\n"
             "  --fault NAME@T     inject at T seconds: hall_gain (=rel. error, default 0.2),\n"
@@ -246,6 +248,7 @@ int main(int argc, char **argv)
                config, sim_scenario_name(opt.scenario), res.duration_s, res.wall_s,
                res.wall_s > 0 ? res.duration_s / res.wall_s : 0.0);
         report_print_table(stdout, &res);
+        report_print_adaptation(stdout, &res);
         printf("final speed %.1f r/min, state %u, fault %u, PWM %s\n", res.final_speed_rpm,
                res.final_state, res.final_fault, res.final_pwm_on ? "on" : "off");
         if (out_dir != NULL) {

@@ -31,6 +31,37 @@ static void json_string(FILE *f, const char *s)
     fputc('"', f);
 }
 
+/* A number, or null where the run has none to give (a negative figure or
+ * a zero Rs_dc mean "none": see sim_result_t). */
+static void json_num_or_null(FILE *f, const char *name, double v, int present)
+{
+    if (present) {
+        fprintf(f, "  \"%s\": %.6g,\n", name, v);
+    } else {
+        fprintf(f, "  \"%s\": null,\n", name);
+    }
+}
+
+/* The adaptation telemetry and the drift scenario's figures (issue 8). */
+static void json_adaptation(FILE *f, const sim_result_t *r)
+{
+    fprintf(f, "  \"pass\": %u,\n", r->final_pass);
+    json_num_or_null(f, "Rs_dc_ohm", r->Rs_dc_ohm, r->Rs_dc_ohm != 0.0);
+    json_num_or_null(f, "drift_t_start_s", r->drift_t_start_s, r->drift_t_start_s >= 0.0);
+    fprintf(f, "  \"track_samples\": %u,\n", (unsigned)r->track_samples);
+    json_num_or_null(f, "track_err_lag0_pct", r->track_err_lag0_pct, r->track_err_lag0_pct >= 0.0);
+    json_num_or_null(f, "track_best_lag_s", r->track_best_lag_s, r->track_best_lag_s >= 0.0);
+    json_num_or_null(f, "track_err_best_lag_pct", r->track_err_best_lag_pct,
+                     r->track_err_best_lag_pct >= 0.0);
+    json_num_or_null(f, "drift_max_q_over_d", r->drift_max_q_over_d, r->drift_max_q_over_d >= 0.0);
+    json_num_or_null(f, "drift_max_q_over_d_20ms", r->drift_max_q_over_d_20ms,
+                     r->drift_max_q_over_d_20ms >= 0.0);
+    json_num_or_null(f, "drift_speed_ripple_rpm", r->drift_speed_ripple_rpm,
+                     r->drift_speed_ripple_rpm >= 0.0);
+    json_num_or_null(f, "drift_rr_true_end_ohm", r->drift_rr_true_end_ohm,
+                     r->drift_rr_true_end_ohm >= 0.0);
+}
+
 static const char *fault_name(uint16_t code)
 {
     static const char *const names[] = {"none", "overcurrent", "bus_overvoltage",
@@ -79,6 +110,7 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
     fprintf(f, "  \"v_err_along_i_V\": %.6g,\n  \"v_err_across_i_V\": %.6g,\n"
                "  \"i_mag_steady_A\": %.6g,\n",
             r->v_err_along_i_V, r->v_err_across_i_V, r->i_mag_steady_A);
+    json_adaptation(f, r);
     fprintf(f, "  \"faults\": [");
     for (i = 0; i < r->n_faults_seen; i++) {
         fprintf(f, "%s{\"code\": %u, \"name\": \"%s\", \"time_s\": %.7g}", i ? ", " : "",
@@ -110,4 +142,43 @@ void report_print_table(FILE *f, const sim_result_t *r)
             r->t_accel_start_s, r->t_published_s,
             r->settle_timeout ? " (steady state not confirmed: settle time-out)" : "",
             r->converge_s);
+}
+
+/* A figure of the drift window as text: "none" where it has none. */
+static const char *figure(char *buf, size_t len, const char *fmt, double v)
+{
+    if (v < 0.0) {
+        return "none";
+    }
+    (void)snprintf(buf, len, fmt, v);
+    return buf;
+}
+
+void report_print_adaptation(FILE *f, const sim_result_t *r)
+{
+    char qd[32], qd20[32], sp[32];
+    if (r->final_pass > 1u) {
+        fprintf(f, "identification passes: %u\n", r->final_pass);
+    }
+    if (r->Rs_dc_ohm != 0.0) {
+        fprintf(f, "standstill Rs %.4f ohm (%+.2f %%)\n", r->Rs_dc_ohm,
+                100.0 * (r->Rs_dc_ohm - r->truth.Rs_ohm) / r->truth.Rs_ohm);
+    }
+    if (r->drift_t_start_s < 0.0) {
+        return;
+    }
+    fprintf(f, "\ndrift from %.2f s: true Rr %.4f -> %.4f ohm; max |psi_q/psi_d| %s "
+               "(20 ms mean %s); speed error up to %s r/min\n",
+            r->drift_t_start_s, r->truth.Rr_ohm, r->drift_rr_true_end_ohm,
+            figure(qd, sizeof qd, "%.4f", r->drift_max_q_over_d),
+            figure(qd20, sizeof qd20, "%.4f", r->drift_max_q_over_d_20ms),
+            figure(sp, sizeof sp, "%.1f", r->drift_speed_ripple_rpm));
+    if (r->track_samples == 0u) {
+        fprintf(f, "tracked Rr: no valid sample in the window (track_valid never set)\n");
+        return;
+    }
+    fprintf(f, "tracked Rr: %u valid samples (100 Hz); worst error %.2f %% at lag 0, "
+               "%.2f %% at the best lag %.1f s\n",
+            (unsigned)r->track_samples, r->track_err_lag0_pct, r->track_err_best_lag_pct,
+            r->track_best_lag_s);
 }

@@ -14,5 +14,8 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
                       const sim_options_t *opt, const sim_result_t *r);
 /** Print the Table-1-like comparison and the run figures. */
 void report_print_table(FILE *f, const sim_result_t *r);
+/** Print the passes, the standstill Rs and the drift window's figures, where
+ *  the run has them (nothing for the paper's sequence). */
+void report_print_adaptation(FILE *f, const sim_result_t *r);
 
 #endif /* REPORT_H */

@@ -93,6 +93,15 @@ static const key_spec_t k_keys[] = {
     K("ident", "magnetize_s", magnetize_s, OPT, 0.3, 0.001, 100, 0, "s"),
     K("ident", "rls_tail_s", rls_tail_s, OPT, 0.3, 0, 3, 0, "s after the ramp"),
     K("ident", "target_speed_rpm", target_speed_rpm, OPT, -1, -1, 1e5, 0, "r/min (-1: rated)"),
+    K("ident", "passes", ident_passes, OPT, 1, 1, 4, 1, "-"),
+    K("ident", "standstill_rs", standstill_rs, OPT, 0, 0, 1, 1, "0/1"),
+    K("ident", "track_rr", track_rr, OPT, 0, 0, 1, 1, "0/1"),
+    K("ident", "track_memory_s", track_memory_s, OPT, 1.0, 0.2, 20, 0, "s"),
+    /* [drift] the thermal-drift scenario (--scenario drift), times after publication */
+    K("drift", "rr_rise_pct", drift_rr_rise_pct, OPT, 40, 0, 100, 0, "% of motor.Rr_ohm"),
+    K("drift", "ramp_s", drift_ramp_s, OPT, 60, 1, 600, 0, "s"),
+    K("drift", "start_s", drift_start_s, OPT, 2, 0, 60, 0, "s after RUN"),
+    K("drift", "load_period_s", drift_load_period_s, OPT, 5, 0.5, 60, 0, "s per load level"),
     /* [simulation] */
     K("simulation", "pwm_freq_Hz", pwm_freq_Hz, OPT, 15000, 1000, 50000, 0, "Hz"),
     K("simulation", "sysclk_Hz", sysclk_Hz, OPT, 150e6, 1e6, 1e9, 0, "Hz"),
@@ -201,6 +210,29 @@ static double rated_voltage_need_V(const sim_config_t *c)
     return sqrt(ud * ud + uq * uq);
 }
 
+/* The adaptation and tracking features work in the observer's frame only
+ * (drive_config.h): with indirect orientation the drive would refuse them,
+ * so the file is refused first, naming the key. */
+static int check_observer_features(const sim_config_t *c, char *err, size_t len)
+{
+    /* each key, its value, and the value that keeps the paper's sequence */
+    const char *const key[3] = {"ident.passes", "ident.standstill_rs", "ident.track_rr"};
+    const double v[3] = {c->ident_passes, c->standstill_rs, c->track_rr};
+    const double paper[3] = {1.0, 0.0, 0.0};
+    unsigned i;
+    if (c->orientation == 1.0) {
+        return 0;
+    }
+    for (i = 0; i < 3u; i++) {
+        if (v[i] != paper[i]) {
+            set_err(err, len, "key '%s' = %g needs controller.orientation = 1 (rotor-flux "
+                    "observer)", key[i], v[i]);
+            return 1;
+        }
+    }
+    return 0;
+}
+
 static int cross_check(const sim_config_t *c, char *err, size_t len)
 {
     double ipk = sqrt(2.0) * c->rated_current_A;
@@ -249,7 +281,7 @@ static int cross_check(const sim_config_t *c, char *err, size_t len)
                 c->magnetize_s, 5.0 * (c->Lm_H + c->Llr_H) / c->Rr_ohm);
         return 1;
     }
-    return 0;
+    return check_observer_features(c, err, len);
 }
 
 /* Line reader for inih (ini_parse_stream).  inih's own reader is fgets into
@@ -427,6 +459,10 @@ void sim_config_to_drive(const sim_config_t *c, drive_config_t *d)
     d->ident.magnetize_time_s = (float)c->magnetize_s;
     d->ident.target_speed_rpm = (float)c->target_speed_rpm;
     d->ident.rls_tail_s = (float)c->rls_tail_s;
+    d->ident.passes = (uint16_t)c->ident_passes;
+    d->ident.standstill_rs = (uint16_t)c->standstill_rs;
+    d->ident.track_rr = (uint16_t)c->track_rr;
+    d->ident.track_memory_s = (float)c->track_memory_s;
 }
 
 void sim_config_print_keys(void)

@@ -45,6 +45,13 @@ typedef struct {
     /* [ident] */
     double filter_cutoff_Hz, euler_passes, paper_regressor, rls_p0, forgetting;
     double magnetize_s, target_speed_rpm, rls_tail_s;
+    /* beyond the paper (issue 8), each but the defaults needs orientation 1 */
+    double ident_passes;    /* identification passes 1..4 */
+    double standstill_rs;   /* 1: Rs measured at standstill before the first acceleration */
+    double track_rr;        /* 1: Rr tracked in RUN */
+    double track_memory_s;  /* the tracker's forgetting time constant */
+    /* [drift]: the thermal-drift scenario (sim_run.h, SCEN_DRIFT) */
+    double drift_rr_rise_pct, drift_ramp_s, drift_start_s, drift_load_period_s;
     /* [simulation] */
     double pwm_freq_Hz, sysclk_Hz, substeps;
 } sim_config_t;

@@ -7,12 +7,13 @@
 #include <string.h>
 #include <time.h>
 
+#include "drift.h"
 #include "drive_types.h"
 #include "hal_host.h"
 
 #define BACKGROUND_DIV 15u   /* background loop at 1 kHz */
 
-static const char *const k_scen[] = {"start", "reversal", "load_steps", "soak"};
+static const char *const k_scen[] = {"start", "reversal", "load_steps", "soak", "drift"};
 
 int sim_scenario_parse(const char *name, sim_scenario_t *out)
 {
@@ -168,7 +169,67 @@ static void trace_header(FILE *f)
                "Rs_ohm,Rr_ohm,Lm_H,Lr_H,psi_r_Wb,Tr_s,est_valid,"
                "K1,K2,K3,K4,"
                /* appended (tools/batch_ls.py): the RLS regression, pu, method §2 */
-               "rls_on,y1,y2,i_mf,u_mf,i_tf,u_tf,wr_f\n");
+               "rls_on,y1,y2,i_mf,u_mf,i_tf,u_tf,wr_f,"
+               /* appended (issue 8): the plant's Rr, the drive's tracking and
+                * adaptation telemetry */
+               "Rr_true_ohm,Rr_track_ohm,track_valid,pass,Rs_dc_ohm\n");
+}
+
+/* The appended columns of a trace row, and its end. */
+static void trace_row_adaptation(FILE *f, const drive_t *d, const plant_t *p)
+{
+    const drive_telemetry_t *t = &d->telemetry;
+    double z = d->base.Z_base_ohm;
+    fprintf(f, ",%.6g,%.6g,%u,%u,%.6g\n", p->motor.p.Rr_ohm, (double)_IQtoF(t->Rr_track) * z,
+            t->track_valid, t->pass, (double)_IQtoF(t->Rs_dc) * z);
+}
+
+/* Simulated time when none is given: calibration, magnetisation, the ramp
+ * and the longest SETTLE (3 s), once per pass (a later pass slows down and
+ * accelerates again), then what the scenario does after the identification.
+ * The drift scenario ends earlier, when its window is over (sim_run). */
+static double default_duration_s(const sim_config_t *c, sim_scenario_t s)
+{
+    double ident = 0.1 + c->magnetize_s + c->target_speed_rpm / c->speed_ramp_rpm_s + 3.2;
+    double d = ident * c->ident_passes;
+    if (s == SCEN_DRIFT) {
+        return d + c->drift_start_s + c->drift_ramp_s + DRIFT_TAIL_S;
+    }
+    return (s != SCEN_START) ? d + 2.5 : d;
+}
+
+/* The identification is complete: RUN after the last pass (a sequence of
+ * several passes may go through RUN between them; pass 0 is a firmware
+ * without passes, i.e. one). */
+static int ident_complete(const drive_t *d, const sim_config_t *c)
+{
+    double pass = (d->telemetry.pass == 0u) ? 1.0 : (double)d->telemetry.pass;
+    return d->telemetry.state == ID_RUN && pass >= c->ident_passes;
+}
+
+/* The drift scenario in one PWM period: start it when the identification
+ * is complete, set the plant's Rr and load, observe the window.  The motor
+ * model derives nothing from Rr (it reads p.Rr_ohm in every derivative), so
+ * setting it between two periods is exactly a step of the parameter. */
+static void drift_period(drift_t *dr, const drive_t *d, const sim_config_t *c, plant_t *p,
+                         double t, double psi_d, double psi_q)
+{
+    if (dr->t0_s < 0.0 && ident_complete(d, c)) {
+        drift_begin(dr, t);
+    }
+    p->motor.p.Rr_ohm = drift_rr_ohm(dr, t);
+    p->extra_load_Nm = drift_extra_load_Nm(dr, t);
+    if (drift_in_window(dr, t)) {
+        drift_obs_t o;
+        o.psi_d_Wb = psi_d;
+        o.psi_q_Wb = psi_q;
+        o.speed_err_rpm =
+            (double)_IQtoF(d->speed_ramp.out) * d->base.n_base_rpm - p->motor.n_rpm;
+        o.rr_true_ohm = p->motor.p.Rr_ohm;
+        o.rr_track_ohm = (double)_IQtoF(d->telemetry.Rr_track) * d->base.Z_base_ohm;
+        o.track_valid = d->telemetry.track_valid;
+        drift_observe(dr, &o);
+    }
 }
 
 int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res, char *err,
@@ -181,6 +242,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     hal_pwm_compare_t active;
     FILE *trace = NULL;
     live_row_t *rows = NULL;
+    drift_t drift;
     size_t n_rows = 0, cap_rows;
     int16_t st;
     uint64_t k, n_steps, trace_div;
@@ -216,14 +278,8 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     active = port.cmp;
 
     Ts = 1.0 / cfg->pwm_freq_Hz;
-    duration = opt->duration_s;
-    if (duration <= 0.0) {
-        /* calibration, magnetisation, ramp, and the longest SETTLE (3 s) */
-        duration = 0.1 + cfg->magnetize_s + cfg->target_speed_rpm / cfg->speed_ramp_rpm_s + 3.2;
-        if (opt->scenario != SCEN_START) {
-            duration += 2.5;
-        }
-    }
+    duration = (opt->duration_s > 0.0) ? opt->duration_s
+                                       : default_duration_s(cfg, opt->scenario);
     res->duration_s = duration;
     n_steps = (uint64_t)(duration / Ts + 0.5);
     trace_div = (uint64_t)(cfg->pwm_freq_Hz / ((opt->trace_rate_Hz > 0.0) ? opt->trace_rate_Hz
@@ -237,11 +293,17 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
         snprintf(err, err_len, "out of memory");
         return 3;
     }
+    if (drift_init(&drift, cfg, (opt->scenario == SCEN_DRIFT) ? duration : 0.0) != 0) {
+        snprintf(err, err_len, "out of memory");
+        free(rows);
+        return 3;
+    }
     if (opt->trace_path != NULL) {
         trace = fopen(opt->trace_path, "w");
         if (trace == NULL) {
             snprintf(err, err_len, "cannot write %s", opt->trace_path);
             free(rows);
+            drift_free(&drift);
             return 4;
         }
         trace_header(trace);
@@ -259,6 +321,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     for (k = 0; k < n_steps; k++) {
         double t = (double)k * Ts;
         const motor_t *m = &plant.motor;
+        double psi_d, psi_q;   /* true rotor flux in the drive's frame, this sample */
         unsigned i;
 
         for (i = 0; i < opt->n_faults; i++) {
@@ -312,6 +375,8 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
             double pd, pq;
             uint16_t state = drive.telemetry.state;
             motor_rotor_flux_dq(m, th, &pd, &pq);
+            psi_d = pd;
+            psi_q = pq;
             if (imax > res->max_abs_i_A) {
                 res->max_abs_i_A = imax;
             }
@@ -357,7 +422,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                 fprintf(trace,
                         "%.5f,%u,%u,%u,%.3f,%.3f,%.3f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.5f,"
                         "%.5f,%.6f,%.6f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%u,%.6g,%.6g,%.6g,%.6g,"
-                        "%u,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g\n",
+                        "%u,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g",
                         t, state, drive.telemetry.fault, drive.telemetry.pwm_on,
                         (double)_IQtoF(drive.speed_ramp.out) * rpm_per_pu, m->n_rpm,
                         (double)_IQtoF(drive.qep.speed) * rpm_per_pu,
@@ -374,6 +439,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                         (double)_IQtoF(drive.reg.y2), (double)_IQtoF(drive.reg.i_mf),
                         (double)_IQtoF(drive.reg.u_mf), (double)_IQtoF(drive.reg.i_tf),
                         (double)_IQtoF(drive.reg.u_tf), (double)_IQtoF(drive.reg.wr_f));
+                trace_row_adaptation(trace, &drive, &plant);
             }
         }
 
@@ -401,6 +467,13 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
             plant.extra_load_Nm = (t < t_soak_load + 1.0 && t >= t_soak_load)
                                       ? 0.5 * (cfg->load_const_Nm + cfg->load_fan_Nm)
                                       : 0.0;
+        }
+        if (opt->scenario == SCEN_DRIFT) {
+            drift_period(&drift, &drive, cfg, &plant, t, psi_d, psi_q);
+            if (opt->duration_s <= 0.0 && drift.t0_s >= 0.0 && t >= drift_end_s(&drift)) {
+                res->duration_s = t;   /* the default run ends with the window */
+                break;
+            }
         }
         if (t_run >= 0.0 && !scen_done) {
             if (opt->scenario == SCEN_REVERSAL && t >= t_run + 0.5) {
@@ -441,6 +514,9 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     res->theta_rejects = drive.guard.reject_count;
     res->publish_rejects = drive.telemetry.publish_rejects;
     res->identified = drive.telemetry.params_valid;
+    res->final_pass = drive.telemetry.pass;
+    res->Rs_dc_ohm = (double)_IQtoF(drive.telemetry.Rs_dc) * b->Z_base_ohm;
+    drift_figures(&drift, res);
     if (res->identified) {
         to_si(b, &drive.pex, &res->ident);
         res->error_pct.Rs_ohm = pct(res->ident.Rs_ohm, res->truth.Rs_ohm);
@@ -454,6 +530,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
         }
     }
     free(rows);
+    drift_free(&drift);
     if (trace != NULL) {
         /* a full disk must not pass for a complete trace */
         int write_failed = ferror(trace);

@@ -18,8 +18,13 @@
 
 /* SCEN_SOAK: after the identification, repeated speed reversals
  * (+-target every 4 s) and load steps (+50 % of the rated load for 1 s,
- * 2 s after each reversal): the long-run test of issue 6. */
-typedef enum { SCEN_START = 0, SCEN_REVERSAL, SCEN_LOAD_STEPS, SCEN_SOAK } sim_scenario_t;
+ * 2 s after each reversal): the long-run test of issue 6.
+ * SCEN_DRIFT: after the identification, the rotor resistance rises as the
+ * rotor warms while the load changes ([drift] keys, drift.h): the test of
+ * the drive's Rr tracking (issue 8 item 3). */
+typedef enum {
+    SCEN_START = 0, SCEN_REVERSAL, SCEN_LOAD_STEPS, SCEN_SOAK, SCEN_DRIFT
+} sim_scenario_t;
 
 /** A command given to the drive at a time (as from the telemetry link). */
 typedef struct {
@@ -97,6 +102,20 @@ typedef struct {
     double v_err_along_i_V, v_err_across_i_V;
     double i_mag_steady_A;          /* mean current-vector magnitude (peak phase) */
     uint32_t n_v_err;               /* samples averaged */
+    /* adaptation (issue 8), telemetry at the end */
+    uint16_t final_pass;            /* identification pass under way or last done */
+    double Rs_dc_ohm;               /* standstill Rs; 0: none measured */
+    /* drift scenario (SCEN_DRIFT), over the window from the drift start to the
+     * end of the run; -1: none (no window, no valid tracked sample) */
+    double drift_t_start_s;         /* -1: the drift never started */
+    uint32_t track_samples;         /* 100 Hz samples with track_valid */
+    double track_err_lag0_pct;      /* max |Rr_track(t) - Rr(t)| / Rr(t), % */
+    double track_best_lag_s;        /* the lag L in 0..3 s that minimises ... */
+    double track_err_best_lag_pct;  /* ... max |Rr_track(t) - Rr(t - L)| / Rr(t - L), % */
+    double drift_max_q_over_d;      /* max |psi_rq/psi_rd| */
+    double drift_max_q_over_d_20ms; /* max |20 ms mean of psi_rq/psi_rd| */
+    double drift_speed_ripple_rpm;  /* max |speed ref - speed| */
+    double drift_rr_true_end_ohm;   /* the plant's Rr at the end */
 } sim_result_t;
 
 /** Run; returns 0, or non-zero with a message in err (drive_init or a model
@@ -104,7 +123,7 @@ typedef struct {
 int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res, char *err,
             unsigned err_len);
 
-/** Parse "start" | "reversal" | "load_steps" | "soak". Returns 0 or -1. */
+/** Parse "start" | "reversal" | "load_steps" | "soak" | "drift". Returns 0 or -1. */
 int sim_scenario_parse(const char *name, sim_scenario_t *out);
 const char *sim_scenario_name(sim_scenario_t s);
 

@@ -8,6 +8,7 @@
  * background reads only while `ready` is 1 and clears it last.  With one
  * producer and one consumer no snapshot is ever read half-written.
  */
+#include "drive_adapt.h"
 #include "drive_internal.h"
 
 static void extract(param_extract_t *p, const drive_snapshot_t *s, uint16_t form)
@@ -86,6 +87,7 @@ void drive_background(drive_t *d)
     if (d->snap.ready != 0u) {
         extract(&d->pex, &d->snap, d->rls.form);
         publish(&d->telemetry, &d->pex);
+        drive_adapt_post(d, &d->pex);   /* the next pass (or the tracker) starts from it */
         d->snap.ready = 0u;
     }
     if (d->live_snap.ready != 0u) {

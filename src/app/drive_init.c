@@ -13,6 +13,7 @@
  *    (orientation = 1) the rotor-flux observer with the believed Rs,
  *    sigma Ls, Lr/Lm and Tr (flux_obs.h), crossover FOBS_WC_HZ.
  */
+#include "drive_adapt.h"
 #include "drive_internal.h"
 
 #include <math.h>
@@ -121,8 +122,11 @@ static int16_t init_speed_loop(drive_t *d, const drive_config_t *c, float Ts)
 rls_status_t drive_rls_start(drive_t *d)
 {
     const drive_ident_t *id = &d->ident_cfg;
-    return rls_init(&d->rls, (id->paper_regressor != 0u) ? RLS_FORM_PAPER : RLS_FORM_CONST,
-                    id->rls_p0, id->forgetting, 0.0f, NULL);
+    rls_status_t st = rls_init(&d->rls, (id->paper_regressor != 0u) ? RLS_FORM_PAPER
+                                                                    : RLS_FORM_CONST,
+                               id->rls_p0, id->forgetting, 0.0f, NULL);
+    d->rls_start = d->rls;   /* each further pass starts from this copy */
+    return st;
 }
 
 static int16_t init_identification(drive_t *d, const drive_config_t *c, float Ts)
@@ -274,6 +278,9 @@ int16_t drive_init(drive_t *d, const drive_config_t *c)
             return DRIVE_CFG_SEQUENCE;
         }
         if (r != 0) {
+            return DRIVE_CFG_IDENT;
+        }
+        if (drive_adapt_init(d, c, Ts) != 0) {
             return DRIVE_CFG_IDENT;
         }
     }

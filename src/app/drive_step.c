@@ -34,15 +34,25 @@
 #include "drive_types.h"
 
 #include "angle.h"
+#include "drive_adapt.h"
 
 static void set_outputs_off(drive_t *d, hal_pwm_compare_t *out)
 {
     out->cmpr[0] = out->cmpr[1] = out->cmpr[2] = d->t1pr;   /* upper switches off */
 }
 
+/* 1 while the control frame is the ifo's: orientation 0, or orientation 1
+ * in RUN with a tracked Tr (drive_adapt.c: the observer then runs on as the
+ * tracker's Tr-independent reference, and the quieter current-model frame
+ * carries the control). */
+static uint16_t ifo_frame(const drive_t *d)
+{
+    return (uint16_t)(d->k.orientation != DRIVE_ORIENT_FLUX_OBS || d->run_ifo != 0u);
+}
+
 _iq drive_frame_angle(const drive_t *d)
 {
-    if (d->k.orientation != DRIVE_ORIENT_FLUX_OBS) {
+    if (ifo_frame(d) != 0u) {
         return d->ifo.theta;
     }
     return (d->fobs_hold != 0u) ? d->qep.theta_elec : d->fobs.theta;
@@ -53,7 +63,7 @@ _iq drive_frame_angle(const drive_t *d)
  * sigma Ls i), or the rotor speed while the frame is held on the encoder. */
 static _iq frame_speed(const drive_t *d)
 {
-    if (d->k.orientation != DRIVE_ORIENT_FLUX_OBS) {
+    if (ifo_frame(d) != 0u) {
         return d->ifo.ws;
     }
     return (d->fobs_hold != 0u) ? d->qep.speed_raw : d->fobs.ws_f;
@@ -157,9 +167,10 @@ static void transform_currents(drive_t *d)
          * builds the flux along the encoder angle, so the observer's angle
          * agrees with it when the acceleration starts. */
         d->fobs_hold = (uint16_t)(o->psi_mag < d->k.psi_min || d->seq.state == ID_MAGNETIZE);
-    } else {
+    }
+    d->ifo.theta_r = d->qep.theta_elec;
+    if (ifo_frame(d) != 0u) {
         /* frame angle theta_k = encoder angle + integrated slip (ifo.h) */
-        d->ifo.theta_r = d->qep.theta_elec;
         ifo_frame_from_rotor(&d->ifo);
     }
     angle_sincos(drive_frame_angle(d), &d->park.sine, &d->park.cosine);
@@ -178,12 +189,19 @@ static void identify(drive_t *d)
     r->u_beta = d->volt.vbeta;
     /* the frame angle at the middle of the period in which u was applied,
      * and the frame's actual speed over that period */
-    if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
+    if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS && d->fobs_hold != 0u) {
+        /* the frame is held on the encoder angle (magnetisation, no flux):
+         * the voltage in that same frame (the standstill Rs needs it; the
+         * RLS is off); the frame turns with the rotor */
+        angle_sincos(d->qep.theta_elec, &r->sin_mid, &r->cos_mid);
+        r->ws = d->qep.speed_1;
+        rls_on = 0u;
+    } else if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
         angle_sincos(flux_obs_theta_mid(&d->fobs), &r->sin_mid, &r->cos_mid);
         r->ws = d->fobs.ws;
         /* below ~10 w_c the current model (the believed Tr) steers the
          * angle: learn only where it does not (flux_obs.h) */
-        if (d->fobs_hold != 0u || _IQabs(d->fobs.ws_f) < d->k.rls_ws_min) {
+        if (_IQabs(d->fobs.ws_f) < d->k.rls_ws_min) {
             rls_on = 0u;
         }
     } else {
@@ -278,9 +296,8 @@ static void control(drive_t *d)
      * (Q24 * Q24 -> Q24, both < 1 pu) */
     {
         const _iq ws = frame_speed(d);
-        const _iq emf_flux = (d->k.orientation == DRIVE_ORIENT_FLUX_OBS)
-                                 ? _IQmpy(d->fobs.lm_lr, d->fobs.psi_mag)
-                                 : _IQmpy(d->k.lm2_lr, d->ifo.imr);
+        const _iq emf_flux = (ifo_frame(d) == 0u) ? _IQmpy(d->fobs.lm_lr, d->fobs.psi_mag)
+                                                   : _IQmpy(d->k.lm2_lr, d->ifo.imr);
         d->pi_id.ref = s->im_cmd;
         d->pi_id.fbk = d->park.ds;
         d->pi_id.ff = -_IQmpy(ws, _IQmpy(d->k.sigma_ls, d->park.qs));
@@ -311,7 +328,7 @@ static uint16_t check_current(drive_t *d)
 
 static void orient(drive_t *d)
 {
-    if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
+    if (ifo_frame(d) == 0u) {
         return;   /* the observer ran at the Park transform */
     }
     d->ifo.i_m = d->park.ds;
@@ -382,6 +399,7 @@ void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
     transform_currents(d);
     identify(d);
     sequence(d);
+    drive_adapt_step(d);
     pwm_on = (uint16_t)(d->seq.pwm_on != 0u && d->prot.fault == FAULT_NONE);
     if (pwm_on != 0u) {
         control(d);

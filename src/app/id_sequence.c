@@ -29,6 +29,20 @@ int16_t id_sequence_init(id_sequence_t *s, float Ts_s, float magnetize_s,
     s->im_ref = im_ref;
     s->speed_target = speed_target;
     s->state = ID_IDLE;
+    s->passes = 1u;
+    s->pass = 1u;
+    return 0;
+}
+
+int16_t id_sequence_set_passes(id_sequence_t *s, uint16_t passes, _iq refine_fraction)
+{
+    if (passes < 1u || passes > ID_PASSES_MAX || refine_fraction < _IQ(0.0) ||
+        refine_fraction > _IQ(1.0)) {
+        return 1;
+    }
+    s->passes = passes;
+    /* Q24 * Q24 -> Q24, |speed_target| < 2 pu: no overflow */
+    s->refine_speed = _IQmpy(s->speed_target, refine_fraction);
     return 0;
 }
 
@@ -53,6 +67,8 @@ static void enter(id_sequence_t *s, id_state_t next)
 void id_sequence_step(id_sequence_t *s)
 {
     s->extract_now = 0u;
+    s->rls_restart = 0u;
+    s->magnetize_end = 0u;
     if (s->fault != 0u) {
         if (s->state != ID_FAULT) {
             enter(s, ID_FAULT);
@@ -68,6 +84,7 @@ void id_sequence_step(id_sequence_t *s)
     switch (s->state) {
     case ID_IDLE:
         if (s->start_req != 0u) {
+            s->pass = 1u;
             enter(s, ID_CALIBRATE);
         }
         break;
@@ -78,6 +95,7 @@ void id_sequence_step(id_sequence_t *s)
         break;
     case ID_MAGNETIZE:
         if (s->t_state >= s->magnetize_samples) {
+            s->magnetize_end = 1u;
             enter(s, ID_ACCELERATE);
         }
         break;
@@ -93,14 +111,27 @@ void id_sequence_step(id_sequence_t *s)
         if (s->t_state >= s->settle_min_samples && s->t_steady >= s->settle_hold_samples) {
             s->settle_timeout = 0u;
             s->extract_now = 1u;
-            enter(s, ID_RUN);
         } else if (s->t_state >= s->settle_max_samples) {
             s->settle_timeout = 1u;
             s->extract_now = 1u;
-            enter(s, ID_RUN);
+        } else {
+            /* still waiting */
+        }
+        if (s->extract_now != 0u) {
+            enter(s, (s->pass < s->passes) ? ID_REFINE : ID_RUN);
         }
         break;
     }
+    case ID_REFINE:
+        /* ramp_done refers to refine_speed here: control ran with it since
+         * the entry; settle_min_samples lets the parameters blend in */
+        if (s->t_state >= s->settle_min_samples && s->ramp_done != 0u &&
+            s->adapt_ready != 0u) {
+            s->pass++;
+            s->rls_restart = 1u;
+            enter(s, ID_ACCELERATE);
+        }
+        break;
     case ID_RUN:
     case ID_FAULT:
     default:
@@ -110,12 +141,17 @@ void id_sequence_step(id_sequence_t *s)
 
     /* outputs as a function of the (new) state */
     s->pwm_on = (uint16_t)(s->state == ID_MAGNETIZE || s->state == ID_ACCELERATE ||
-                           s->state == ID_SETTLE || s->state == ID_RUN);
+                           s->state == ID_SETTLE || s->state == ID_RUN ||
+                           s->state == ID_REFINE);
     s->calibrating = (uint16_t)(s->state == ID_CALIBRATE);
     s->speed_loop_on = (uint16_t)(s->state == ID_ACCELERATE || s->state == ID_SETTLE ||
-                                  s->state == ID_RUN);
+                                  s->state == ID_RUN || s->state == ID_REFINE);
     s->rls_on = (uint16_t)(s->state == ID_ACCELERATE ||
                            (s->state == ID_SETTLE && s->t_state <= s->rls_tail_samples));
     s->im_cmd = (s->pwm_on != 0u) ? s->im_ref : _IQ(0.0);
-    s->speed_cmd = (s->speed_loop_on != 0u) ? s->speed_target : _IQ(0.0);
+    if (s->speed_loop_on == 0u) {
+        s->speed_cmd = _IQ(0.0);
+    } else {
+        s->speed_cmd = (s->state == ID_REFINE) ? s->refine_speed : s->speed_target;
+    }
 }

@@ -15,6 +15,21 @@ static int pi_limits_ok(float lo, float hi)
     return (lo >= -PI_OUT_MAX_PU) && (hi <= PI_OUT_MAX_PU) && (lo < hi);
 }
 
+pi_status_t pi_set_gains(pi_ctrl_t *p, _iq kp, _iq ki)
+{
+    if (!(kp >= _IQ(0.0) && kp <= _IQ(PI_KP_MAX))) {
+        return PI_ERR_KP;
+    }
+    if (!(ki >= _IQ(0.0) && ki <= _IQ(PI_KI_MAX))) {
+        return PI_ERR_KI;
+    }
+    /* 64 / kp for kp > 1: Q24 / Q24 -> Q24 in (0.64, 64), < 1 LSB */
+    p->e_max = (kp <= _IQ(1.0)) ? _IQ(PI_UP_MAX_PU) : _IQdiv(_IQ(PI_UP_MAX_PU), kp);
+    p->kp = kp;
+    p->ki = ki;
+    return PI_OK;
+}
+
 pi_status_t pi_init(pi_ctrl_t *p, float kp, float ki, float out_min, float out_max)
 {
     memset(p, 0, sizeof *p);

@@ -51,7 +51,7 @@ static void zero_params(flux_obs_t *o)
     o->rs = o->lm = o->sigma_ls = o->lr_lm = o->lm_lr = _IQ(0.0);
     o->tr = o->kf = o->ts = _IQ(0.0);
     o->ts30 = _IQ30(0.0);
-    o->wc = o->g = o->kf_ws = _IQ(0.0);
+    o->wc = o->g = o->kf_ws = o->inv_wc = _IQ(0.0);
     o->inv_k_theta = _IQ20(0.0);
     o->dth_max = _IQ(0.0);
 }
@@ -122,6 +122,7 @@ flux_obs_status_t flux_obs_init(flux_obs_t *o, const base_values_t *b, float Rs_
     }
     o->wc = _IQ(wc_pu);
     o->g = _IQ(wc_pu * b->Ts_pu);
+    o->inv_wc = _IQ(fminf(1.0f / wc_pu, 100.0f));
     o->kf_ws = _IQ(1.0f - expf(-x_ws));
     return FLUX_OBS_OK;
 }
@@ -132,6 +133,49 @@ flux_obs_status_t flux_obs_set_rs(flux_obs_t *o, _iq rs_pu)
         return FLUX_OBS_ERR_RS;
     }
     o->rs = rs_pu;
+    return FLUX_OBS_OK;
+}
+
+/* One axis of the DC re-seat: psi_s on the current model, the correction
+ * holding u_c = Rs i - u (flux_obs_set_rs_dc). */
+static void reseat_axis(const flux_obs_t *o, _iq psi_cm, _iq i, _iq u, _iq *psis, _iq *z,
+                        _iq *y, uint16_t *sat)
+{
+    /* |lm_lr psi_cm| <= 64, |sigma Ls i| <= 16: < 128, then bounded */
+    *psis = sat_sym(_IQmpy(o->lm_lr, psi_cm) + _IQmpy(o->sigma_ls, i), PSI_MAX, sat);
+    /* |Rs i| <= 16, |u| <= 4; saturated at 1 pu before the 1/w_c (<= 100)
+     * product: a real DC voltage error is a few % */
+    *y = sat_sym(_IQmpy(sat_sym(_IQmpy(o->rs, i) - u, _IQ(1.0), sat), o->inv_wc), Y_MAX, sat);
+    *z = sat_sym(_IQmpy(_IQ(3.0), *y), Z_MAX, sat);
+}
+
+flux_obs_status_t flux_obs_set_rs_dc(flux_obs_t *o, _iq rs_pu, _iq u_alpha, _iq u_beta,
+                                     _iq i_alpha, _iq i_beta)
+{
+    uint16_t sat = 0u;
+
+    if (!(rs_pu >= _IQ(0.0) && rs_pu <= _IQ(FLUX_OBS_RS_MAX))) {
+        return FLUX_OBS_ERR_RS;
+    }
+    o->rs = rs_pu;
+    u_alpha = sat_sym(u_alpha, IN_MAX, &sat);
+    u_beta = sat_sym(u_beta, IN_MAX, &sat);
+    i_alpha = sat_sym(i_alpha, IN_MAX, &sat);
+    i_beta = sat_sym(i_beta, IN_MAX, &sat);
+    reseat_axis(o, o->psi_cm_alpha, i_alpha, u_alpha, &o->psis_alpha, &o->z_alpha, &o->y_alpha,
+                &sat);
+    reseat_axis(o, o->psi_cm_beta, i_beta, u_beta, &o->psis_beta, &o->z_beta, &o->y_beta, &sat);
+    o->uc_alpha = _IQmpy(o->wc, o->y_alpha);
+    o->uc_beta = _IQmpy(o->wc, o->y_beta);
+    /* the output continues from the re-seated flux (= the current model's
+     * rotor flux), at standstill: no angle step enters ws or ws_f */
+    o->psi_alpha = o->psi_cm_alpha;
+    o->psi_beta = o->psi_cm_beta;
+    o->psi_mag = _IQmag(o->psi_alpha, o->psi_beta);
+    o->theta = _IQatan2PU(o->psi_beta, o->psi_alpha);
+    o->theta_prev = o->theta;
+    o->ws = o->ws_f = _IQ(0.0);
+    o->sat = sat;
     return FLUX_OBS_OK;
 }
 

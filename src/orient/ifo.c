@@ -145,3 +145,14 @@ void ifo_step_slip(ifo_t *f)
     /* Q24 * Q30 -> Q24 (truncated), wrapped modulo one revolution */
     f->theta_slip = ifo_wrap(f->theta_slip + _IQmpyIQX(f->wslip, GLOBAL_Q, f->k_theta, 30));
 }
+
+void ifo_align(ifo_t *f, _iq theta_frame, _iq imr_pu)
+{
+    /* both in [0, 1): the difference in (-1, 1), wrapped exactly */
+    f->theta_slip = ifo_wrap(ifo_wrap(theta_frame) - ifo_wrap(f->theta_r));
+    f->theta = ifo_wrap(theta_frame);
+    f->theta_prev = f->theta;
+    f->ws_frame = _IQ(0.0);
+    f->imr = _IQsat(imr_pu, _IQ(4.0), _IQ(0.0));
+    f->imr_low = (uint16_t)(f->imr < f->imr_min);
+}

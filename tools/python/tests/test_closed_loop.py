@@ -11,7 +11,7 @@ def test_identification_converges_on_numpy_plant(paper_run):
     assert r["published"], f"no published parameters, state {r['state']}"
     assert r["state"] == "RUN"
     # Bound 0.5 %: with an ideal inverter and sensors the only imperfection is
-    # the 12-bit ADC (README: 0.04 % with ideal sensors in motor_sim; 0.13 %
+    # the 12-bit ADC (README: 0.21 % with ideal sensors in motor_sim; 0.22 %
     # measured here, worst Rr/Tr).  A real fault (voltage timing off by one
     # period, wrong frame angle) costs several percent (README table).
     for k in PARAM_NAMES:

@@ -1,0 +1,109 @@
+/**
+ * @file standstill_z.h
+ * Standstill measurement of the transient inductance sigma Ls (issue 8,
+ * beyond the paper): a small sinusoid added to the i_M reference at the end
+ * of the magnetisation, and the M-axis impedance at that frequency found by
+ * correlating u_M and i_M with the injection's sine and cosine over a whole
+ * number of periods (a lock-in).
+ *
+ * Why.  The rotor-flux observer's angle above its crossover depends on Rs
+ * and sigma Ls only (flux_obs.h).  Rs comes from the DC part of the same
+ * test (drive_adapt.c).  sigma Ls can be identified by the RLS (1/K2), but
+ * only in a frame computed with sigma Ls: with the believed Lm 30 % low
+ * the first pass's sigma Ls came out 4.7 % low and further passes moved it
+ * by only 0.4 % each (measured, paper motor).  Measured here it is
+ * independent of the frame, of Lm, Lr and (to 0.2 %) of Tr.
+ *
+ * Model (method §1 at w = 0, M axis only; the rotor at standstill):
+ *     Z(jw) = Rs + jw Ls + w^2 Lm^2 / (Rr + jw Lr)
+ *     Im Z / w = sigma Ls + (Lm^2/Lr) / (1 + (w Tr)^2)
+ * so sigma Ls = Im Z / w - c, with c = (Lm^2/Lr)/(1 + (w Tr)^2) from the
+ * believed motor (w Tr = 25 on the paper motor at 200 Hz: c is 0.15 % of
+ * sigma Ls, so a 30 % error in it costs 0.05 %).  No torque: the current
+ * stays on the M axis; the dead-time error stays constant because the
+ * injection (15 % of i_M) never takes a phase current through zero.
+ *
+ * Timing: u_M of sample k is the mean voltage over the period k-1 -> k; it
+ * is paired with the mean of i_M(k-1) and i_M(k), the same instant, so the
+ * half-period between sampling and averaging cancels in U/I.
+ *
+ * Scaling and overflow (Q24): the references sin/cos/N (|.| <= 1/N) are
+ * formed once per sample; each product u sin/N, i sin/N is rounded
+ * (_IQrmpy, error +-0.5 LSB, not biased), so the sums over N samples stay
+ * below max|u|, max|i| (inputs saturated at +-4 pu) and their rounding
+ * error is ~sqrt(N)/2 LSB (1e-5 of the phasor on the paper motor).  The
+ * result: X = Im(U/I) = (Uc Is - Us Ic)/(Is^2 + Ic^2) by one _IQdiv, only
+ * if |I|^2 is above (amplitude/4)^2 (else invalid: the current did not
+ * follow); sigma Ls = X / w - c, valid only in (0, 4] pu.
+ */
+#ifndef STANDSTILL_Z_H
+#define STANDSTILL_Z_H
+
+#include <stdint.h>
+#include "IQmathLib.h"
+
+#define STANDSTILL_Z_IN_MAX 4.0f
+
+typedef enum {
+    STANDSTILL_Z_OK = 0,
+    STANDSTILL_Z_ERR_FREQ,     /* fewer than 8 samples per period, w not in [0.01, 30] pu, or Ts, f_base not > 0 */
+    STANDSTILL_Z_ERR_CYCLES,   /* periods not in [4, 200], or the window over 65535 samples */
+    STANDSTILL_Z_ERR_AMPL,     /* amplitude not in (0, 0.5] pu */
+    STANDSTILL_Z_ERR_CORR      /* rotor-branch correction NaN, < 0 or > 1 pu */
+} standstill_z_status_t;
+
+typedef struct {
+    /* inputs */
+    _iq u_m;                /* Q24 pu: M voltage over the period that just ended */
+    _iq i_m;                /* Q24 pu: M current sampled now */
+    /* parameters */
+    _iq ampl;               /* Q24 pu: injection amplitude */
+    _iq inv_n;              /* Q24: 1 / (samples in the window) */
+    _iq rev_step;           /* Q24: revolutions per sample, 1 / samples per period */
+    _iq w;                  /* Q24: w_inj, pu of w_base, in [0.01, 30] */
+    _iq inv_w;              /* Q24: 1 / w_inj */
+    _iq corr;               /* Q24 pu: rotor-branch term c subtracted */
+    uint16_t per_period;    /* samples per injection period */
+    uint16_t lead;          /* samples injected before the sums start (loop transient) */
+    uint16_t window;        /* samples summed (whole periods) */
+    /* outputs */
+    _iq i_add;              /* Q24 pu: add to the i_M reference this sample */
+    _iq x;                  /* Q24 pu: Im Z (diagnostic) */
+    _iq r;                  /* Q24 pu: Re Z (diagnostic: Rs + Rr (Lm/Lr)^2 (wTr)^2/(1+(wTr)^2)) */
+    _iq sigma_ls;           /* Q24 pu of L_base: the result */
+    uint16_t done;          /* 1 once the window is complete */
+    uint16_t valid;         /* 1 if done and the result is plausible */
+    /* state */
+    _iq us, uc, is, ic;     /* Q24 phasor sums */
+    _iq i_prev;
+    uint16_t k;             /* samples since the start */
+    uint16_t ph;            /* sample within the period */
+    uint16_t running;
+} standstill_z_t;
+
+/** @p Ts_s sample period, @p f_base_Hz frequency base, @p f_Hz wanted
+ *  injection frequency (rounded to a whole number of samples per period),
+ *  @p cycles periods summed (plus one lead period), @p ampl_pu amplitude,
+ *  @p corr_pu the rotor-branch term (Lm^2/Lr)/(1+(w Tr)^2) of the believed
+ *  motor at that frequency (standstill_z_corr). */
+standstill_z_status_t standstill_z_init(standstill_z_t *z, float Ts_s, float f_base_Hz,
+                                        float f_Hz, uint16_t cycles, float ampl_pu,
+                                        float corr_pu);
+
+/** The injection frequency actually used (after rounding), Hz. */
+float standstill_z_freq_Hz(const standstill_z_t *z, float Ts_s);
+
+/** The rotor-branch term for a motor (SI in, pu of L_base out). */
+float standstill_z_corr(float f_Hz, float Lm_H, float Lr_H, float Rr_ohm, float L_base_H);
+
+/** Total samples the test needs (lead + window). */
+uint16_t standstill_z_samples(const standstill_z_t *z);
+
+/** Start (sums cleared, outputs invalid). */
+void standstill_z_start(standstill_z_t *z);
+
+/** One sample while running: i_add for this sample; at the end of the
+ *  window the result (done = 1, then i_add = 0 and nothing more). */
+void standstill_z_step(standstill_z_t *z);
+
+#endif /* STANDSTILL_Z_H */

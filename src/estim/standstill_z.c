@@ -1,0 +1,150 @@
+/* Standstill lock-in measurement of sigma Ls.  See standstill_z.h. */
+#include "standstill_z.h"
+
+#include <math.h>
+
+#define TWO_PI_F 6.28318530717958647692f
+
+static _iq sat_in(_iq x)
+{
+    return _IQsat(x, _IQ(STANDSTILL_Z_IN_MAX), -_IQ(STANDSTILL_Z_IN_MAX));
+}
+
+standstill_z_status_t standstill_z_init(standstill_z_t *z, float Ts_s, float f_base_Hz,
+                                        float f_Hz, uint16_t cycles, float ampl_pu,
+                                        float corr_pu)
+{
+    float per;
+    float f;
+    float w_pu;
+    uint32_t window;
+
+    z->ampl = z->inv_n = z->rev_step = z->inv_w = z->w = z->corr = _IQ(0.0);
+    z->per_period = z->lead = z->window = 0u;
+    z->running = 0u;
+    standstill_z_start(z);
+    z->running = 0u;
+    if (!(Ts_s > 0.0f) || !(f_base_Hz > 0.0f) || !(f_Hz > 0.0f)) {
+        return STANDSTILL_Z_ERR_FREQ;
+    }
+    per = floorf(1.0f / (f_Hz * Ts_s) + 0.5f);
+    if (!(per >= 8.0f && per <= 4096.0f)) {
+        return STANDSTILL_Z_ERR_FREQ;
+    }
+    window = (uint32_t)cycles * (uint32_t)per;
+    if (cycles < 4u || cycles > 200u || window + (uint32_t)per > 65535u) {
+        return STANDSTILL_Z_ERR_CYCLES;
+    }
+    if (!(ampl_pu > 0.0f && ampl_pu <= 0.5f)) {
+        return STANDSTILL_Z_ERR_AMPL;
+    }
+    if (!(corr_pu >= 0.0f && corr_pu <= 1.0f)) {
+        return STANDSTILL_Z_ERR_CORR;
+    }
+    f = 1.0f / (per * Ts_s);
+    w_pu = f / f_base_Hz;
+    if (!(w_pu >= 0.01f && w_pu <= 30.0f)) {
+        return STANDSTILL_Z_ERR_FREQ;
+    }
+    z->per_period = (uint16_t)per;
+    z->lead = (uint16_t)per;                /* one period for the current loop to follow */
+    z->window = (uint16_t)window;
+    z->ampl = _IQ(ampl_pu);
+    z->inv_n = _IQ(1.0f / (float)window);
+    z->rev_step = _IQ(1.0f / per);
+    z->inv_w = _IQ(1.0f / w_pu);
+    z->w = _IQ(w_pu);
+    z->corr = _IQ(corr_pu);
+    return STANDSTILL_Z_OK;
+}
+
+float standstill_z_freq_Hz(const standstill_z_t *z, float Ts_s)
+{
+    return (z->per_period > 0u) ? 1.0f / ((float)z->per_period * Ts_s) : 0.0f;
+}
+
+float standstill_z_corr(float f_Hz, float Lm_H, float Lr_H, float Rr_ohm, float L_base_H)
+{
+    float wtr = TWO_PI_F * f_Hz * Lr_H / Rr_ohm;
+    return (Lm_H * Lm_H / Lr_H) / (1.0f + wtr * wtr) / L_base_H;
+}
+
+uint16_t standstill_z_samples(const standstill_z_t *z)
+{
+    return (uint16_t)(z->lead + z->window);
+}
+
+void standstill_z_start(standstill_z_t *z)
+{
+    z->us = z->uc = z->is = z->ic = _IQ(0.0);
+    z->i_prev = _IQ(0.0);
+    z->i_add = z->x = z->r = z->sigma_ls = _IQ(0.0);
+    z->k = z->ph = 0u;
+    z->done = z->valid = 0u;
+    z->running = (uint16_t)(z->window > 0u);
+}
+
+/* The impedance from the four sums (see the header). */
+static void finish(standstill_z_t *z)
+{
+    /* |sums| <= 4 (inputs bounded, weights 1/N): products < 16 */
+    _iq den = _IQmpy(z->is, z->is) + _IQmpy(z->ic, z->ic);
+    _iq num_x = _IQmpy(z->uc, z->is) - _IQmpy(z->us, z->ic);
+    _iq num_r = _IQmpy(z->us, z->is) + _IQmpy(z->uc, z->ic);
+    /* the current phasor (half the amplitude) at least a quarter of the
+     * commanded one: |I|^2 >= (ampl / 8)^2 */
+    _iq den_min = _IQmpy(_IQmpy(z->ampl, z->ampl), _IQ(1.0 / 64.0));
+
+    z->running = 0u;
+    z->done = 1u;
+    z->i_add = _IQ(0.0);
+    if (!(den > den_min) || !(_IQabs(num_x) < _IQmpy(den, _IQ(100.0))) ||
+        !(_IQabs(num_r) < _IQmpy(den, _IQ(100.0)))) {
+        return;   /* invalid: no current, or an impedance beyond 100 pu */
+    }
+    z->x = _IQdiv(num_x, den);
+    z->r = _IQdiv(num_r, den);
+    /* sigma Ls = x / w <= 4 pu  <=>  x <= 4 w (w <= 30: 4 w < 128), so
+     * the product x inv_w stays below 4 */
+    if (!(z->x > _IQ(0.0)) || !(z->x <= _IQmpy(_IQ(4.0), z->w))) {
+        return;
+    }
+    z->sigma_ls = _IQmpy(z->x, z->inv_w) - z->corr;
+    z->valid = (uint16_t)(z->sigma_ls > _IQ(0.0) && z->sigma_ls <= _IQ(4.0));
+}
+
+void standstill_z_step(standstill_z_t *z)
+{
+    _iq s;
+    _iq c;
+    _iq im;
+
+    if (z->running == 0u) {
+        z->i_add = _IQ(0.0);
+        return;
+    }
+    /* phase = ph / per_period revolutions, from an integer counter: no
+     * accumulated rounding, exactly periodic */
+    s = _IQsinPU(_IQmpyI32(z->rev_step, (int32_t)z->ph));
+    c = _IQcosPU(_IQmpyI32(z->rev_step, (int32_t)z->ph));
+    im = sat_in(z->i_m);
+    if (z->k >= z->lead) {
+        _iq sn = _IQmpy(s, z->inv_n);
+        _iq cn = _IQmpy(c, z->inv_n);
+        _iq u = sat_in(z->u_m);
+        /* mean of i(k-1), i(k): the instant of u (header); |.| <= 4 */
+        _iq i_mid = _IQmpy(im + z->i_prev, _IQ(0.5));
+        z->us += _IQrmpy(u, sn);
+        z->uc += _IQrmpy(u, cn);
+        z->is += _IQrmpy(i_mid, sn);
+        z->ic += _IQrmpy(i_mid, cn);
+    }
+    z->i_prev = im;
+    z->i_add = _IQmpy(z->ampl, s);
+    if (++z->ph >= z->per_period) {
+        z->ph = 0u;
+    }
+    if (++z->k >= (uint16_t)(z->lead + z->window)) {
+        finish(z);
+    }
+}
