@@ -51,6 +51,9 @@ typedef struct {
     _iq Rs_dc;               /* Rs measured at standstill (end of magnetisation), pu; 0: none */
     _iq sigma_ls_dc;         /* sigma Ls measured at standstill, pu of L_base; 0: none */
     _iq Rr_track, Tr_track;  /* tracked rotor resistance (pu of Z_base) and Tr (pu time) */
+    uint16_t params_tracked; /* 1: the published Rs is the standstill one and Rr, Tr the tracked
+                                ones (each background pass while track_valid); Lm, Lr, psi_r
+                                stay the RLS's */
 } drive_telemetry_t;
 
 /** drive_init results: 0 or the first configuration field found bad. */

@@ -63,6 +63,7 @@ typedef struct {
 typedef struct {
     _iq rs, lm, lr, ls, tr;   /* Q24 pu (tr: pu time) */
     uint16_t valid;           /* 0: the extraction was implausible (keep the old model) */
+    uint16_t full;            /* 1: all six parameters; 0: the magnetic part only (lm, lr, ls) */
     uint16_t ready;
 } drive_adapt_mail_t;
 
@@ -72,6 +73,8 @@ typedef struct {
 typedef struct {
     /* configuration (drive_adapt_init) */
     uint16_t passes, standstill_rs, track_rr;
+    uint16_t fused;           /* standstill_rs and track_rr: Rs from standstill, Rr and Tr from
+                                 the tracker, only Lm, Lr, psi_r from the RLS */
     _iq rs_lo, rs_hi;         /* plausible standstill Rs (a factor 4 of the believed) */
     _iq blend_step;           /* Q24 fraction per sample: the blend lasts DRIVE_ADAPT_BLEND_S */
     _iq kp_per_sls;           /* current-loop kp per pu of sigma Ls (kp = w_c sigma Ls) */
@@ -135,6 +138,9 @@ struct drive {
 
     drive_adapt_t adapt;        /* issue 8: model adaptation between passes, tracking */
     drive_adapt_mail_t adapt_mail;  /* background -> ISR: each pass's parameters */
+    param_extract_t pex_mag;    /* background, fused mode: Lm, Lr, psi_r alone (K2, K4) */
+    _iq fused_lm, fused_lr, fused_psi;   /* background, fused mode: the last good magnetic set */
+    uint16_t fused_ready;
     tr_track_t track;           /* Rr/Tr tracker in RUN (track_rr) */
     standstill_z_t ssz;         /* standstill sigma Ls (standstill_rs) */
 

@@ -85,9 +85,9 @@
 #define FLUX_OBS_LM_MAX 16.0f
 #define FLUX_OBS_SIGMA_LS_MAX 4.0f
 #define FLUX_OBS_LR_LM_MAX 4.0f
-/** Tr range: at least 10 samples (kf series, as ifo), at most 100 pu. */
+/** Tr range: at least 10 samples (kf series, as ifo), at most 120 pu (Q24 holds < 128). */
 #define FLUX_OBS_TR_MIN_SAMPLES 10.0f
-#define FLUX_OBS_TR_MAX_PU 100.0f
+#define FLUX_OBS_TR_MAX_PU 120.0f
 /** State bounds (pu): psi_s (and the error e), and the correction states
  *  z, y.  At DC z = 3 y and u_c = w_c y: |u_c| <= 10 w_c (0.6 pu at 3 Hz),
  *  far above the offsets it has to cancel. */
@@ -103,7 +103,7 @@ typedef enum {
     FLUX_OBS_ERR_BASE,    /* bases NULL or not initialised, or f_base Ts not in (1/2000, 1/128) */
     FLUX_OBS_ERR_RS,      /* Rs not in [0, 4] pu */
     FLUX_OBS_ERR_L,       /* not 0 < Lm < Lr, Lm < Ls, Lm <= 16, Lr/Lm <= 4, sigma Ls in (0, 4] */
-    FLUX_OBS_ERR_TR,      /* Tr not in [10 Ts, 100] pu */
+    FLUX_OBS_ERR_TR,      /* Tr not in [10 Ts, 120] pu */
     FLUX_OBS_ERR_WC,      /* w_c not in (0, 1] pu, or w_c Ts > 0.05 */
     FLUX_OBS_ERR_WS_LPF   /* ws low-pass corner f not > 0 or 2 pi f Ts > 1 */
 } flux_obs_status_t;
@@ -186,7 +186,7 @@ flux_obs_status_t flux_obs_set_rs_dc(flux_obs_t *o, _iq rs_pu, _iq u_alpha, _iq 
 /**
  * Tr in pu time.  As ifo_set_tr: Ts/Tr by _IQdiv, kf by its Taylor series
  * to x^5/120 (x = Ts/Tr <= 0.1: error < 1.4e-9).  Rejects (old value kept)
- * outside [10 Ts, 100].
+ * outside [10 Ts, 120].
  */
 flux_obs_status_t flux_obs_set_tr(flux_obs_t *o, _iq tr_pu);
 

@@ -46,7 +46,7 @@
 /** Tr must be at least this many samples (keeps kf's series exact to 1e-9). */
 #define IFO_TR_MIN_SAMPLES 10.0f
 /** Largest accepted Tr, pu time (Q24 headroom). */
-#define IFO_TR_MAX_PU 100.0f
+#define IFO_TR_MAX_PU 120.0f
 /** |i_T| is at most the sensor full scale, well below this (pu); the slip
  *  bound I_T_MAX / (Tr imr_min) is checked against IFO_SLIP_MAX at init. */
 #define IFO_I_T_MAX 2.0f
@@ -55,7 +55,7 @@
 typedef enum {
     IFO_OK = 0,
     IFO_ERR_BASE,         /* bases NULL or not initialised, or f_base Ts not in (1/2000, 1/128) */
-    IFO_ERR_TR,           /* Tr not in [10 Ts, 100 t_base] */
+    IFO_ERR_TR,           /* Tr not in [10 Ts, 120 t_base] */
     IFO_ERR_IMR_MIN       /* imr_min not in (0, 1], or 2 / (Tr imr_min) > 64 */
 } ifo_status_t;
 
@@ -95,7 +95,7 @@ ifo_status_t ifo_init(ifo_t *f, float Tr_s, const base_values_t *b, float imr_mi
  * Change Tr (pu time, e.g. from the identification).  No float: 1/Tr and
  * Ts/Tr by _IQdiv, kf = 1 - exp(-x) by its Taylor series to x^5/120
  * (x = Ts/Tr <= 0.1: truncation error < x^6/720 = 1.4e-9, below 1 LSB).
- * Rejects (and keeps the old Tr) if Tr < 10 Ts, Tr > 100 or if the slip
+ * Rejects (and keeps the old Tr) if Tr < 10 Ts, Tr > 120 or if the slip
  * bound 2 / (Tr imr_min) would exceed 64 pu.
  */
 ifo_status_t ifo_set_tr(ifo_t *f, _iq tr_pu);

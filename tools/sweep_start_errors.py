@@ -103,7 +103,7 @@ def rr_error_pct(tr_pct, lm_pct, lm_h, llr_h):
     return 100.0 * ((lm_h * (1.0 + lm_pct / 100.0) + llr_h) / (lr * (1.0 + tr_pct / 100.0)) - 1.0)
 
 
-def run_case(exe, base_text, extra, case, lm_h, llr_h, tmp):
+def run_case(exe, base_text, extra, case, lm_h, llr_h, tmp, duration_s=0.0):
     """One motor_sim run; returns a row dict."""
     tr, lm, rs = case
     rr = rr_error_pct(tr, lm, lm_h, llr_h)
@@ -121,8 +121,10 @@ def run_case(exe, base_text, extra, case, lm_h, llr_h, tmp):
            "message": ""}
     for k in PARAMS:
         row["err_" + k] = float("nan")
-    p = subprocess.run([str(exe), "--config", str(ini), "--quiet", "--out", str(d)],
-                       capture_output=True, text=True)
+    cmd = [str(exe), "--config", str(ini), "--quiet", "--out", str(d)]
+    if duration_s > 0:
+        cmd += ["--duration", f"{duration_s:g}"]
+    p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode != 0:
         row["status"] = "config_error" if p.returncode == 1 else f"failed rc={p.returncode}"
         msg = p.stderr.strip().splitlines()[-1] if p.stderr.strip() else ""
@@ -137,7 +139,10 @@ def run_case(exe, base_text, extra, case, lm_h, llr_h, tmp):
     if not row["published"]:
         row["status"] = "not_published"
         return row
-    e = rep["error_pct"]
+    # what the drive publishes at the end of the run: the RLS set, or with
+    # [ident] track_rr = 1 the standstill Rs and the tracked Rr, Tr
+    e = rep.get("published_end_error_pct") or rep["error_pct"]
+    row["tracked"] = bool(rep.get("params_tracked"))
     for k in PARAMS:
         row["err_" + k] = e[k]
     worst = max(PARAMS, key=lambda k: abs(e[k]))
@@ -276,6 +281,9 @@ def parse_args(argv):
     ap.add_argument("--set", action="append", default=[], metavar="SECTION.KEY=VALUE",
                     help="extra key for every run (repeatable)")
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--duration", type=float, default=0.0,
+                    help="simulated seconds per run (default: motor_sim's; with tracking "
+                         "give the tracker time to converge after the last pass)")
     ap.add_argument("--out", default=str(ROOT / "out" / "sweep"))
     return ap.parse_args(fixed)
 
@@ -318,7 +326,8 @@ def main(argv):
           f"{', ' + ', '.join(a.set) if a.set else ''}), {a.jobs} at a time")
     with tempfile.TemporaryDirectory(prefix="sweep_") as tmp:
         with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
-            rows = list(pool.map(lambda c: run_case(exe, base, extra, c, lm_h, llr_h, tmp),
+            rows = list(pool.map(lambda c: run_case(exe, base, extra, c, lm_h, llr_h, tmp,
+                                                    a.duration),
                                  cases))
     print_table(rows)
     print_summary(rows)

@@ -100,9 +100,16 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
     if (r->identified) {
         json_params(f, "identified", &r->ident, 0);
         json_params(f, "error_pct", &r->error_pct, 0);
+        /* what the drive publishes at the end: the RLS set above or, with
+         * tracking, the standstill Rs and the tracked Rr, Tr (issue 8) */
+        json_params(f, "published_end", &r->published_end, 0);
+        json_params(f, "published_end_error_pct", &r->published_end_error_pct, 0);
+        fprintf(f, "  \"params_tracked\": %s,\n", r->params_tracked ? "true" : "false");
     } else {
         /* nothing was published: no numbers that could be mistaken for a result */
-        fprintf(f, "  \"identified\": null,\n  \"error_pct\": null,\n");
+        fprintf(f, "  \"identified\": null,\n  \"error_pct\": null,\n"
+                   "  \"published_end\": null,\n  \"published_end_error_pct\": null,\n"
+                   "  \"params_tracked\": false,\n");
     }
     fprintf(f, "  \"max_abs_i_A\": %.6g,\n  \"max_speed_err_rpm_ramp\": %.6g,\n"
                "  \"max_flux_q_over_d\": %.6g,\n  \"final_speed_rpm\": %.6g,\n",

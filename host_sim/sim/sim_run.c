@@ -380,7 +380,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
             if (imax > res->max_abs_i_A) {
                 res->max_abs_i_A = imax;
             }
-            if (state == ID_ACCELERATE && prev_state != ID_ACCELERATE) {
+            if (state == ID_ACCELERATE && prev_state != ID_ACCELERATE && res->t_accel_start_s < 0.0) {
                 res->t_accel_start_s = t;
             }
             if ((state == ID_ACCELERATE || state == ID_SETTLE || state == ID_RUN) && pd > 1e-6) {
@@ -518,6 +518,15 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     res->Rs_dc_ohm = (double)_IQtoF(drive.telemetry.Rs_dc) * b->Z_base_ohm;
     drift_figures(&drift, res);
     if (res->identified) {
+        sim_params_t *e = &res->published_end_error_pct;
+        published_si(b, &drive.telemetry, &res->published_end);
+        res->params_tracked = drive.telemetry.params_tracked;
+        e->Rs_ohm = pct(res->published_end.Rs_ohm, res->truth.Rs_ohm);
+        e->Rr_ohm = pct(res->published_end.Rr_ohm, res->truth.Rr_ohm);
+        e->Lm_H = pct(res->published_end.Lm_H, res->truth.Lm_H);
+        e->Lr_H = pct(res->published_end.Lr_H, res->truth.Lr_H);
+        e->psi_r_Wb = pct(res->published_end.psi_r_Wb, res->truth.psi_r_Wb);
+        e->Tr_s = pct(res->published_end.Tr_s, res->truth.Tr_s);
         to_si(b, &drive.pex, &res->ident);
         res->error_pct.Rs_ohm = pct(res->ident.Rs_ohm, res->truth.Rs_ohm);
         res->error_pct.Rr_ohm = pct(res->ident.Rr_ohm, res->truth.Rr_ohm);

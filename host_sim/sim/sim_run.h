@@ -82,6 +82,10 @@ typedef struct {
                                        (after the ISR): must be 0 */
     double t_first_published_s;     /* -1: never */
     sim_params_t published_first;   /* the published set when it first appeared */
+    sim_params_t published_end;     /* the published set at the end of the run (issue 8: with
+                                       tracking, Rs standstill, Rr and Tr tracked) */
+    sim_params_t published_end_error_pct;   /* against the truth at the start of RUN */
+    uint16_t params_tracked;        /* the end set carries the tracked values */
     uint16_t published_changed;     /* a published value changed after that */
     double max_cur_check_pu;        /* largest filtered current-tracking error */
     double t_max_cur_check_s;       /* when */

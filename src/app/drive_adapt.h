@@ -15,7 +15,8 @@ int16_t drive_adapt_init(drive_t *d, const drive_config_t *c, float Ts);
 void drive_adapt_step(drive_t *d);
 
 /** Background, after an extraction at the end of a pass: post the result
- *  to the ISR (dropped if the mailbox is still full). */
-void drive_adapt_post(drive_t *d, const param_extract_t *p);
+ *  to the ISR (dropped if the mailbox is still full).  @p full: 1 for
+ *  param_extract_step's set, 0 for param_extract_magnetic's (Lm, Lr only). */
+void drive_adapt_post(drive_t *d, const param_extract_t *p, uint16_t full);
 
 #endif /* DRIVE_ADAPT_H */

@@ -41,6 +41,63 @@ static void publish(drive_telemetry_t *t, const param_extract_t *p)
     t->params_valid = 1u;
 }
 
+/* With the tracker valid (RUN, track_rr), the published set takes the
+ * estimates that are well conditioned for each parameter (issue 8): Rs
+ * from the standstill test (independent of the frame), Rr and Tr from the
+ * tracker (the slip in the observer's frame: an angle error delta moves it
+ * by ~2 delta, against ~w_r Tr delta for the RLS's K3, w_r Tr = 81 on the
+ * 15 kW motor), Lm, Lr, psi_r from the RLS (K2, K4: the large back-EMF
+ * terms).  Each value is one aligned 32-bit word the ISR writes whole. */
+static void publish_tracked(drive_t *d)
+{
+    drive_telemetry_t *t = &d->telemetry;
+    if (t->track_valid == 0u) {
+        return;
+    }
+    if (d->adapt.fused != 0u) {
+        /* every value from its well-conditioned source, or nothing */
+        if (d->fused_ready == 0u || t->Rs_dc == _IQ(0.0)) {
+            return;
+        }
+        t->Lm = d->fused_lm;
+        t->Lr = d->fused_lr;
+        t->psi_r = d->fused_psi;
+    } else if (t->params_valid == 0u) {
+        return;
+    } else {
+        /* the RLS's Lm, Lr, psi_r (and Rs, unless measured) stay */
+    }
+    if (t->Rs_dc != _IQ(0.0)) {
+        t->Rs = t->Rs_dc;
+    }
+    t->Rr = t->Rr_track;
+    t->Tr = t->Tr_track;
+    t->params_tracked = 1u;
+    t->params_valid = 1u;
+}
+
+/* After a pass's extraction: in fused mode keep the magnetic part (from the
+ * full set, or from K2, K4 alone when K1, K3 made the full one implausible),
+ * and hand the model to the ISR for the next pass or the tracker. */
+static void after_extraction(drive_t *d)
+{
+    const param_extract_t *p = &d->pex;
+    uint16_t full = d->pex.valid;
+
+    if (d->adapt.fused != 0u && full == 0u) {
+        d->pex_mag = d->pex;   /* limits and inputs; the outputs are recomputed */
+        param_extract_magnetic(&d->pex_mag);
+        p = &d->pex_mag;
+    }
+    if (d->adapt.fused != 0u && p->valid != 0u) {
+        d->fused_lm = p->Lm;
+        d->fused_lr = p->Lr;
+        d->fused_psi = p->psi_r;
+        d->fused_ready = 1u;
+    }
+    drive_adapt_post(d, p, full);   /* the next pass (or the tracker) starts from it */
+}
+
 static void handle_command(drive_t *d, drive_cmd_t cmd)
 {
     switch (cmd) {
@@ -55,6 +112,7 @@ static void handle_command(drive_t *d, drive_cmd_t cmd)
             /* the published set stays (last good values) until a new
              * plausible one replaces it; the guard starts afresh */
             theta_guard_reset(&d->guard);
+            d->fused_ready = 0u;
             id_sequence_start(&d->seq);
         }
         break;
@@ -86,14 +144,17 @@ void drive_background(drive_t *d)
 
     if (d->snap.ready != 0u) {
         extract(&d->pex, &d->snap, d->rls.form);
-        publish(&d->telemetry, &d->pex);
-        drive_adapt_post(d, &d->pex);   /* the next pass (or the tracker) starts from it */
+        if (d->adapt.fused == 0u) {
+            publish(&d->telemetry, &d->pex);
+        }   /* fused mode publishes once the tracker is valid (publish_tracked) */
+        after_extraction(d);
         d->snap.ready = 0u;
     }
     if (d->live_snap.ready != 0u) {
         extract(&d->live, &d->live_snap, d->rls.form);
         d->live_snap.ready = 0u;
     }
+    publish_tracked(d);
 }
 
 void drive_command(drive_t *d, drive_cmd_t cmd) { d->pending_cmd = cmd; }

@@ -136,3 +136,35 @@ void param_extract_step(param_extract_t *p)
     p->status = (uint16_t)st;
     p->valid = (st == PARAM_OK) ? 1u : 0u;
 }
+
+void param_extract_magnetic(param_extract_t *p)
+{
+    param_status_t st = PARAM_OK;
+    _iq K2 = p->theta[1], K4 = p->theta[3];
+    _iq inv_k2, a;
+
+    p->Rs = _IQ(0.0); p->Rr = _IQ(0.0); p->Lm = _IQ(0.0);
+    p->Lr = _IQ(0.0); p->psi_r = _IQ(0.0); p->Tr = _IQ(0.0); p->K3p = _IQ(0.0);
+    if (p->i_m < p->i_m_min) {
+        st = PARAM_ERR_IM;
+    }
+    if (st == PARAM_OK && K2 <= _IQ(0.0)) {
+        st = PARAM_ERR_K2;
+    }
+    inv_k2 = pe_div(_IQ(1.0), K2, PARAM_ERR_K2, &st);
+    a = pe_div(-K4, pe_mul(K2, p->i_m, &st), PARAM_ERR_DIV, &st);
+    if (st == PARAM_OK && a <= _IQ(0.0)) {
+        st = PARAM_ERR_SQRT;
+    }
+    if (st == PARAM_OK) {
+        _iq lr = inv_k2 + a;
+        p->Lr = lr;
+        p->Lm = _IQsqrt(pe_mul(a, lr, &st));
+        p->psi_r = pe_mul(p->Lm, p->i_m, &st);
+    }
+    pe_check(p->Lm, p->Lm_lim, PARAM_ERR_LM, &st);
+    pe_check(p->Lr, p->Lr_lim, PARAM_ERR_LR, &st);
+    pe_check(p->psi_r, p->psi_lim, PARAM_ERR_PSI, &st);
+    p->status = (uint16_t)st;
+    p->valid = (st == PARAM_OK) ? 1u : 0u;
+}

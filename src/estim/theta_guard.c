@@ -25,6 +25,16 @@ theta_guard_status_t theta_guard_init(theta_guard_t *g, const float k_nom[RLS_N]
         g->hi[i] = _IQ(hi);
         g->sign[i] = k_sign[i];
     }
+    g->required = 0xFu;
+    return THETA_GUARD_OK;
+}
+
+theta_guard_status_t theta_guard_set_required(theta_guard_t *g, uint16_t mask)
+{
+    if (mask == 0u || (mask & ~0xFu) != 0u) {
+        return THETA_GUARD_ERR_ARG;
+    }
+    g->required = mask;
     return THETA_GUARD_OK;
 }
 
@@ -44,7 +54,7 @@ static uint16_t plausible(const theta_guard_t *g)
     for (i = 0u; i < RLS_N; i++) {
         /* |theta| < 16 pu (RLS saturation), so negating cannot wrap */
         _iq m = (g->sign[i] > 0) ? g->theta[i] : -g->theta[i];
-        if (m < g->lo[i] || m > g->hi[i]) {
+        if (((g->required >> i) & 1u) != 0u && (m < g->lo[i] || m > g->hi[i])) {
             return 0u;
         }
     }

@@ -308,7 +308,7 @@ static void test_init_errors(void **state)
     {
         _iq kf = f.kf, inv = f.inv_tr, tr = f.tr;
         assert_int_equal(ifo_set_tr(&f, _IQ(0.1)), IFO_ERR_TR);      /* < 10 Ts */
-        assert_int_equal(ifo_set_tr(&f, _IQ(101.0)), IFO_ERR_TR);
+        assert_int_equal(ifo_set_tr(&f, _IQ(121.0)), IFO_ERR_TR);
         assert_int_equal(ifo_set_tr(&f, _IQ(-6.0)), IFO_ERR_TR);
         assert_true(f.kf == kf && f.inv_tr == inv && f.tr == tr);
         /* Tr +10 %: kf and 1/Tr move accordingly */

@@ -119,11 +119,13 @@ static void test_fractional_pole_pairs(void **state)
     expect_error("pole_pairs", "pole_pairs = 2.5", "motor.pole_pairs");
 }
 
-static void test_lm_not_below_ls(void **state)
+static void test_lm_error_out_of_range(void **state)
 {
     (void)state;
-    /* the believed Lm 50 % high exceeds Ls = Lm + Lls (Lls = 0.44 Lm) */
-    expect_error(NULL, "[controller]\nLm_error_pct = 50", "Lm_error_pct");
+    /* a believed Lm of 5 % of the true one is below the key's range (-90 %);
+     * a believed Lm above the true Ls is a wrong nameplate and accepted
+     * (the believed Ls keeps the leakage) */
+    expect_error(NULL, "[controller]\nLm_error_pct = -95", "Lm_error_pct");
 }
 
 /* orientation is 0 (indirect) or 1 (rotor-flux observer) */
@@ -182,7 +184,7 @@ int main(void)
         cmocka_unit_test(test_unknown_key),         cmocka_unit_test(test_unknown_section),
         cmocka_unit_test(test_missing_key),         cmocka_unit_test(test_negative_resistance),
         cmocka_unit_test(test_zero_pole_pairs),     cmocka_unit_test(test_fractional_pole_pairs),
-        cmocka_unit_test(test_lm_not_below_ls),     cmocka_unit_test(test_orientation_out_of_range),
+        cmocka_unit_test(test_lm_error_out_of_range),     cmocka_unit_test(test_orientation_out_of_range),
         cmocka_unit_test(test_bus_too_low),
         cmocka_unit_test(test_not_a_number),        cmocka_unit_test(test_duplicate_key),
         cmocka_unit_test(test_malformed_line),      cmocka_unit_test(test_missing_file),
