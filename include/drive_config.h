@@ -75,9 +75,12 @@ typedef struct {
     uint16_t passes;           /* identification passes, 1..4 (0 = 1): from the 2nd on each
                                   starts with the previous pass's parameters in the observer
                                   and the controller (decelerate, accelerate again) */
-    uint16_t standstill_rs;    /* 1: Rs from u_M / i_M at the end of the magnetisation, given
-                                  to the observer before the first acceleration */
-    uint16_t track_rr;         /* 1: track Rr (and Tr) in RUN from the observer's slip */
+    uint16_t standstill;       /* 1: standstill tests at the end of the magnetisation: Rs from
+                                  u_M / i_M, sigma Ls from a small sinusoid on i_M; given to
+                                  the observer and the current loops before the first
+                                  acceleration */
+    uint16_t track_rr;         /* 1: track Rr (and Tr) in RUN from the observer's slip; with
+                                  standstill = 1 the published set is fused (drive_adapt.c) */
     float track_memory_s;      /* tracker's forgetting time constant, s (0.2 .. 20) */
 } drive_ident_t;
 

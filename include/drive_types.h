@@ -72,8 +72,8 @@ typedef struct {
 #define DRIVE_ADAPT_NP 5u   /* rs, lm, lr, ls, tr */
 typedef struct {
     /* configuration (drive_adapt_init) */
-    uint16_t passes, standstill_rs, track_rr;
-    uint16_t fused;           /* standstill_rs and track_rr: Rs from standstill, Rr and Tr from
+    uint16_t passes, standstill, track_rr;
+    uint16_t fused;           /* standstill and track_rr: Rs from standstill, Rr and Tr from
                                  the tracker, only Lm, Lr, psi_r from the RLS */
     _iq rs_lo, rs_hi;         /* plausible standstill Rs (a factor 4 of the believed) */
     _iq blend_step;           /* Q24 fraction per sample: the blend lasts DRIVE_ADAPT_BLEND_S */
@@ -142,7 +142,7 @@ struct drive {
     _iq fused_lm, fused_lr, fused_psi;   /* background, fused mode: the last good magnetic set */
     uint16_t fused_ready;
     tr_track_t track;           /* Rr/Tr tracker in RUN (track_rr) */
-    standstill_z_t ssz;         /* standstill sigma Ls (standstill_rs) */
+    standstill_z_t ssz;         /* standstill sigma Ls (standstill) */
 
     drive_snapshot_t snap;      /* ISR -> background: the steady-state extraction */
     drive_snapshot_t live_snap; /* ISR -> background: running estimates, 100 Hz */

@@ -39,7 +39,7 @@
  *  P_max 4 <= 16 and den in [lambda, 17]; K = P phi / den by _IQdiv (den
  *  >= 0.9: no overflow, < 1 LSB); theta clamped to [theta_min, theta_max]
  *  (counted in sat_count: the tracker never leaves the plausible range);
- *  P = P / den by _IQdiv, kept in [P_MIN_LSB, P_max].  Products rounded
+ *  P = P / den by _IQdiv, kept in [1e-6, P_max].  Products rounded
  *  (_IQrmpy) where they are accumulated (filters, theta).
  */
 #ifndef TR_TRACK_H

@@ -94,7 +94,7 @@ static const key_spec_t k_keys[] = {
     K("ident", "rls_tail_s", rls_tail_s, OPT, 0.3, 0, 3, 0, "s after the ramp"),
     K("ident", "target_speed_rpm", target_speed_rpm, OPT, -1, -1, 1e5, 0, "r/min (-1: rated)"),
     K("ident", "passes", ident_passes, OPT, 1, 1, 4, 1, "-"),
-    K("ident", "standstill_rs", standstill_rs, OPT, 0, 0, 1, 1, "0/1"),
+    K("ident", "standstill", standstill, OPT, 0, 0, 1, 1, "0/1"),
     K("ident", "track_rr", track_rr, OPT, 0, 0, 1, 1, "0/1"),
     K("ident", "track_memory_s", track_memory_s, OPT, 1.0, 0.2, 20, 0, "s"),
     /* [drift] the thermal-drift scenario (--scenario drift), times after publication */
@@ -216,8 +216,8 @@ static double rated_voltage_need_V(const sim_config_t *c)
 static int check_observer_features(const sim_config_t *c, char *err, size_t len)
 {
     /* each key, its value, and the value that keeps the paper's sequence */
-    const char *const key[3] = {"ident.passes", "ident.standstill_rs", "ident.track_rr"};
-    const double v[3] = {c->ident_passes, c->standstill_rs, c->track_rr};
+    const char *const key[3] = {"ident.passes", "ident.standstill", "ident.track_rr"};
+    const double v[3] = {c->ident_passes, c->standstill, c->track_rr};
     const double paper[3] = {1.0, 0.0, 0.0};
     unsigned i;
     if (c->orientation == 1.0) {
@@ -460,7 +460,7 @@ void sim_config_to_drive(const sim_config_t *c, drive_config_t *d)
     d->ident.target_speed_rpm = (float)c->target_speed_rpm;
     d->ident.rls_tail_s = (float)c->rls_tail_s;
     d->ident.passes = (uint16_t)c->ident_passes;
-    d->ident.standstill_rs = (uint16_t)c->standstill_rs;
+    d->ident.standstill = (uint16_t)c->standstill;
     d->ident.track_rr = (uint16_t)c->track_rr;
     d->ident.track_memory_s = (float)c->track_memory_s;
 }

@@ -47,7 +47,7 @@ typedef struct {
     double magnetize_s, target_speed_rpm, rls_tail_s;
     /* beyond the paper (issue 8), each but the defaults needs orientation 1 */
     double ident_passes;    /* identification passes 1..4 */
-    double standstill_rs;   /* 1: Rs measured at standstill before the first acceleration */
+    double standstill;   /* 1: Rs measured at standstill before the first acceleration */
     double track_rr;        /* 1: Rr tracked in RUN */
     double track_memory_s;  /* the tracker's forgetting time constant */
     /* [drift]: the thermal-drift scenario (sim_run.h, SCEN_DRIFT) */

@@ -25,7 +25,7 @@
  *     and ifo (encoder angle + slip on that Tr) becomes the control frame
  *     (quieter than the observer's angle, which carries the current noise
  *     through sigma Ls i); the observer runs on as the tracker's reference.
- *  4. fused mode (standstill_rs and track_rr): the published set takes Rs
+ *  4. fused mode (standstill and track_rr): the published set takes Rs
  *     from the standstill test, Rr and Tr from the tracker and only Lm, Lr,
  *     psi_r from the RLS (drive_background.c), and the RLS is judged on K2
  *     and K4 alone (theta_guard_set_required): on a motor with a large
@@ -68,16 +68,16 @@ int16_t drive_adapt_init(drive_t *d, const drive_config_t *c, float Ts)
     float it_pu = c->control.max_torque_current_A / b->I_base_A;
 
     a->passes = passes;
-    a->standstill_rs = id->standstill_rs;
+    a->standstill = id->standstill;
     a->track_rr = id->track_rr;
-    a->fused = (uint16_t)(id->standstill_rs != 0u && id->track_rr != 0u);
+    a->fused = (uint16_t)(id->standstill != 0u && id->track_rr != 0u);
     if (a->fused != 0u && theta_guard_set_required(&d->guard, 0xAu) != THETA_GUARD_OK) {
         return 1;   /* K2 (bit 1) and K4 (bit 3): what the magnetic extraction uses */
     }
-    if (passes > ID_PASSES_MAX || id->standstill_rs > 1u || id->track_rr > 1u) {
+    if (passes > ID_PASSES_MAX || id->standstill > 1u || id->track_rr > 1u) {
         return 1;
     }
-    if ((passes > 1u || id->standstill_rs != 0u || id->track_rr != 0u) &&
+    if ((passes > 1u || id->standstill != 0u || id->track_rr != 0u) &&
         c->control.orientation != DRIVE_ORIENT_FLUX_OBS) {
         return 1;   /* each needs the Tr-independent observer frame */
     }
@@ -87,7 +87,7 @@ int16_t drive_adapt_init(drive_t *d, const drive_config_t *c, float Ts)
         return 1;
     }
     a->ssz_gap = (uint16_t)(SSZ_GAP_S / Ts + 0.5f);
-    if (id->standstill_rs != 0u) {
+    if (id->standstill != 0u) {
         float f = fminf(SSZ_F_OF_BW * c->control.current_bw_Hz, SSZ_F_MAX_HZ);
         float im_pu = m->magnetizing_current_A / b->I_base_A;
         if (standstill_z_init(&d->ssz, Ts, b->f_base_Hz, f, SSZ_CYCLES, SSZ_AMPL_OF_IM * im_pu,
@@ -344,10 +344,11 @@ void drive_adapt_step(drive_t *d)
     drive_adapt_t *a = &d->adapt;
     uint16_t st = (uint16_t)d->seq.state;
 
+    d->telemetry.pass = d->seq.pass;
     if (d->k.orientation != DRIVE_ORIENT_FLUX_OBS) {
         return;
     }
-    if (a->standstill_rs != 0u) {
+    if (a->standstill != 0u) {
         standstill_test(d);
     }
     if (st == (uint16_t)ID_REFINE && a->prev_state != (uint16_t)ID_REFINE) {
@@ -369,7 +370,6 @@ void drive_adapt_step(drive_t *d)
     if (a->track_armed != 0u) {
         track(d);
     }
-    d->telemetry.pass = d->seq.pass;
     a->prev_state = st;
 }
 

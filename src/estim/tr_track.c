@@ -3,7 +3,7 @@
 
 #include <math.h>
 
-#define P_MIN_LSB ((_iq)16)   /* P never reaches 0: it would freeze theta */
+#define P_MIN _IQ(1.0e-6)   /* P never reaches 0 (it would freeze theta); 16 LSB in Q24 */
 
 static _iq clamp(_iq x, _iq lo, _iq hi, uint32_t *count)
 {
@@ -102,8 +102,8 @@ static void rls_update(tr_track_t *t)
     t->p = _IQdiv(t->p, den);
     if (t->p > t->p_max) {
         t->p = t->p_max;
-    } else if (t->p < P_MIN_LSB) {
-        t->p = P_MIN_LSB;
+    } else if (t->p < P_MIN) {
+        t->p = P_MIN;
     } else {
         /* in range */
     }

@@ -537,7 +537,7 @@ static void test_setters(void **state)
     assert_int_equal(flux_obs_set_rs(&o, _IQ(4.5)), FLUX_OBS_ERR_RS);
     assert_true(o.rs == ref.rs);
     assert_int_equal(flux_obs_set_tr(&o, _IQmpy(o.ts, _IQ(5.0))), FLUX_OBS_ERR_TR);
-    assert_int_equal(flux_obs_set_tr(&o, _IQ(120.0)), FLUX_OBS_ERR_TR);
+    assert_int_equal(flux_obs_set_tr(&o, _IQ(121.0)), FLUX_OBS_ERR_TR);
     assert_int_equal(flux_obs_set_tr(&o, _IQ(-1.0)), FLUX_OBS_ERR_TR);
     assert_true(o.kf == ref.kf && o.tr == ref.tr);
     assert_int_equal(flux_obs_set_inductances(&o, _IQ(1.0), _IQ(0.9), _IQ(1.1)), FLUX_OBS_ERR_L);
@@ -563,7 +563,7 @@ static void test_init_errors(void **state)
         {RS_OHM, LS_H, 5.0f * LM_H, LM_H, TR_S, WC_HZ, WS_LPF_HZ, FLUX_OBS_ERR_L},
         {RS_OHM, LS_H, LR_H, 0.0f, TR_S, WC_HZ, WS_LPF_HZ, FLUX_OBS_ERR_L},
         {RS_OHM, LS_H, LR_H, LM_H, 1e-4f, WC_HZ, WS_LPF_HZ, FLUX_OBS_ERR_TR},    /* < 10 Ts */
-        {RS_OHM, LS_H, LR_H, LM_H, 1.0f, WC_HZ, WS_LPF_HZ, FLUX_OBS_ERR_TR},     /* > 100 pu */
+        {RS_OHM, LS_H, LR_H, LM_H, 1.0f, WC_HZ, WS_LPF_HZ, FLUX_OBS_ERR_TR},     /* > 120 pu */
         {RS_OHM, LS_H, LR_H, LM_H, TR_S, 0.0f, WS_LPF_HZ, FLUX_OBS_ERR_WC},
         {RS_OHM, LS_H, LR_H, LM_H, TR_S, 60.0f, WS_LPF_HZ, FLUX_OBS_ERR_WC},     /* > f_base */
         {RS_OHM, LS_H, LR_H, LM_H, TR_S, WC_HZ, 0.0f, FLUX_OBS_ERR_WS_LPF},
