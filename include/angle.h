@@ -39,6 +39,31 @@ _iq angle_wrap_pu(_iq angle_pu);
  */
 void angle_sincos(_iq angle_pu, _iq *s, _iq *c);
 
+/** Largest |d| (pu of a revolution) that angle_sincos_step() rotates by;
+ *  beyond it the sin/cos come from the absolute angle. */
+#define ANGLE_STEP_MAX_PU 0.03125f
+
+/**
+ * sin and cos of a + d (pu), given sin a = @p s and cos a = @p c: a
+ * rotation by the small angle d, x = 2 pi d,
+ *     cos x = 1 - (x^2/2)(1 - x^2/12),  sin x = x (1 - (x^2/6)(1 - x^2/20)),
+ *     *s2 = s cos x + c sin x,  *c2 = c cos x - s sin x,
+ * 11 multiplies instead of the wrap and two table look-ups of
+ * angle_sincos() (the drive's modulation angle theta_k + 1.5 w_s Ts and the
+ * regression's mid-period angle theta_k - step/2 are such small steps from
+ * the Park angle).  If |d| > ANGLE_STEP_MAX_PU, *s2, *c2 =
+ * angle_sincos(@p a_pu + @p d_pu) instead (an angle that jumped; wrapped
+ * there, so a in [0, 1) and |d| < 1 need no wrap here).
+ *
+ * Accuracy (|d| <= 1/32 rev, x <= 0.196 rad): series error below x^6/720 =
+ * 8e-8 (1.3 LSB of Q24) in cos x and x^7/5040 in sin x; each of the 11
+ * products truncates (< 1 LSB); against double sin/cos(a_new), within
+ * 4 LSB plus the error of the input pair (tests/foc/test_foc_park.c).  The
+ * result can exceed 1 by a few LSB; it stays < 1.01 in magnitude (products
+ * of |.| <= 1.01 stay in Q24).  In FLOAT_MATH the same formulas in float.
+ */
+void angle_sincos_step(_iq s, _iq c, _iq a_pu, _iq d_pu, _iq *s2, _iq *c2);
+
 /** Signed difference b - a of two angles in [0, 1) (pu), along the shorter
  *  arc: the result is in [-0.5, 0.5).  Exact (adds or subtracts 1.0 at most
  *  once); the inputs must already be wrapped. */

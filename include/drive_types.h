@@ -138,7 +138,6 @@ struct drive {
 
     drive_adapt_t adapt;        /* issue 8: model adaptation between passes, tracking */
     drive_adapt_mail_t adapt_mail;  /* background -> ISR: each pass's parameters */
-    param_extract_t pex_mag;    /* background, fused mode: Lm, Lr, psi_r alone (K2, K4) */
     _iq fused_lm, fused_lr, fused_psi;   /* background, fused mode: the last good magnetic set */
     uint16_t fused_ready;
     tr_track_t track;           /* Rr/Tr tracker in RUN (track_rr) */

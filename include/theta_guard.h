@@ -40,7 +40,8 @@ typedef struct {
     /* parameters: accepted magnitude band of each K (Q24, pu, positive) */
     _iq lo[RLS_N], hi[RLS_N];
     int16_t sign[RLS_N];     /* +1 / -1 */
-    uint16_t required;       /* bit i set: K(i+1) must be in its band (init: all four) */
+    uint16_t required;       /* bit i set: K(i+1) must be in its band (init: all four); a K
+                                not required has the band [-16, 16] (any theta) */
     /* outputs */
     _iq theta_good[RLS_N];   /* Q24 pu: last good theta (0 until the first) */
     uint16_t good;           /* 1 once a good theta was seen since the last reset */
@@ -53,7 +54,7 @@ typedef struct {
 theta_guard_status_t theta_guard_init(theta_guard_t *g, const float k_nom[RLS_N], float span);
 /** Which K must be plausible for a theta to be taken (bit i: K(i+1)), a
  *  non-empty subset of 0xF; returns THETA_GUARD_ERR_ARG (nothing changed)
- *  otherwise.  The drive's fused mode (issue 8) needs only K2 and K4: it
+ *  otherwise.  One way: a K released stays released until theta_guard_init.  The drive's fused mode (issue 8) needs only K2 and K4: it
  *  takes Rs, Rr, Tr from elsewhere, and on a motor with a large w_r Tr the
  *  RLS's K1, K3 are the ill-conditioned ones. */
 theta_guard_status_t theta_guard_set_required(theta_guard_t *g, uint16_t mask);

@@ -26,8 +26,11 @@ repeated [section] at the end (the simulator reads a repeated section as a
 continuation of the first).
 
 Usage: sweep_start_errors.py [--exe MOTOR_SIM] [--config INI] [--grid=-30,0,30]
+                             [--adaptive] [--compare] [--duration S]
                              [--set SECTION.KEY=VALUE]... [--jobs N] [--out DIR]
-e.g.   .venv/bin/python tools/sweep_start_errors.py --set controller.orientation=1
+e.g.   .venv/bin/python tools/sweep_start_errors.py --adaptive --compare
+       (the issue-8 sequence and, on the same cases, the paper's; one table
+       and one row of panels each)
 
 Exit status 0 when the sweep ran (whatever the runs found: this is a study,
 not a test), 1 for bad options or a missing simulator or config.
@@ -48,6 +51,13 @@ SHORT = {"Rs_ohm": "Rs", "Rr_ohm": "Rr", "Lm_H": "Lm", "Lr_H": "Lr", "psi_r_Wb":
          "Tr_s": "Tr"}
 SWEPT = ("Rs_error_pct", "Lm_error_pct", "Rr_error_pct")   # [controller], set by the sweep
 BOUND_PCT = 3.0
+# the issue-8 sequence (README): observer, standstill Rs and sigma Ls, two
+# passes, Rr/Tr tracking with the fused published set
+ADAPTIVE = {("controller", "orientation"): "1", ("ident", "standstill"): "1",
+            ("ident", "passes"): "2", ("ident", "track_rr"): "1"}
+# the paper's sequence: indirect orientation on the nameplate, one pass
+PAPER = {("controller", "orientation"): "0", ("ident", "standstill"): "0",
+         ("ident", "passes"): "1", ("ident", "track_rr"): "0"}
 
 SECTION_RE = re.compile(r"^\s*\[([^\]]*)\]")
 KEY_RE = re.compile(r"^([^\s=;#][^=]*?)\s*[=:]\s*(.*)$")
@@ -101,6 +111,19 @@ def rr_error_pct(tr_pct, lm_pct, lm_h, llr_h):
     """Believed Rr error that, with the believed Lm, gives the wanted Tr error."""
     lr = lm_h + llr_h
     return 100.0 * ((lm_h * (1.0 + lm_pct / 100.0) + llr_h) / (lr * (1.0 + tr_pct / 100.0)) - 1.0)
+
+
+def adaptive_duration_s(cfg):
+    """Simulated time of an adaptive run: two passes (motor_sim's own
+    default per pass: calibration, magnetisation, ramp, 3.2 s) and 6 s of
+    tracking for the fused set to be published (the tracker is valid 1 s
+    into RUN and starts from the RLS's Tr)."""
+    text = cfg.read_text()
+    mag = float(ini_value(text, "ident", "magnetize_s") or 0.3)
+    rated = float(ini_value(text, "motor", "rated_speed_rpm"))
+    target = float(ini_value(text, "ident", "target_speed_rpm") or rated)
+    ramp = float(ini_value(text, "controller", "speed_ramp_rpm_s"))
+    return 2.0 * (0.1 + mag + target / ramp + 3.2) + 6.0
 
 
 def run_case(exe, base_text, extra, case, lm_h, llr_h, tmp, duration_s=0.0):
@@ -196,7 +219,7 @@ def print_summary(rows):
 
 
 def write_csv(rows, path):
-    cols = ["tr_err_pct", "lm_err_pct", "rs_err_pct", "rr_err_pct", "status", "published",
+    cols = ["sequence", "tr_err_pct", "lm_err_pct", "rs_err_pct", "rr_err_pct", "status", "published",
             "worst_param", "worst_abs_pct"] + ["err_" + k for k in PARAMS] + \
            ["max_flux_q_over_d", "converge_s", "faults", "message"]
     with path.open("w", newline="") as f:
@@ -206,7 +229,9 @@ def write_csv(rows, path):
             w.writerow({c: r[c] for c in cols})
 
 
-def plot(rows, grid, title, path):
+def plot(rowsets, grid, title, path):
+    """rowsets: [(label, rows)], one row of panels each (one panel per Rs
+    error)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -214,16 +239,39 @@ def plot(rows, grid, title, path):
     import numpy as np
     from matplotlib.colors import TwoSlopeNorm
 
-    by = {(r["tr_err_pct"], r["lm_err_pct"], r["rs_err_pct"]): r for r in rows}
-    pub = [r["worst_abs_pct"] for r in rows if r["published"]]
+    pub = [r["worst_abs_pct"] for _, rows in rowsets for r in rows if r["published"]]
     vmax = min(max([2.0 * BOUND_PCT] + pub), 10.0 * BOUND_PCT)
     norm = TwoSlopeNorm(vmin=0.0, vcenter=BOUND_PCT, vmax=vmax)
     cmap = plt.get_cmap("RdYlGn_r").copy()
     cmap.set_bad("0.8")
     n = len(grid)
-    fig, axes = plt.subplots(1, n, figsize=(3.6 * n + 1.2, 4.2), squeeze=False)
+    fig, axes = plt.subplots(len(rowsets), n, figsize=(3.6 * n + 1.2, 4.2 * len(rowsets)),
+                             squeeze=False)
+    fig.subplots_adjust(hspace=0.45)
     im = None
-    for ax, rs in zip(axes[0], grid):
+    for row_axes, (label, rows) in zip(axes, rowsets):
+        im = plot_row(row_axes, label, rows, grid, cmap, norm, plt, np) or im
+    cb = fig.colorbar(im, ax=axes.ravel().tolist(),
+                      extend="max" if max(pub, default=0) > vmax else "neither")
+    cb.set_label("worst parameter error / %  (number: worst %, parameter)")
+    cb.ax.axhline(BOUND_PCT, color="k", lw=2)
+    # the norm gives 0..3 % half the bar: ticks by the percent below, by a
+    # round step above
+    step = max(1.0, float(np.ceil((vmax - BOUND_PCT) / 4.0)))
+    ticks = [0.0, 1.0, 2.0, BOUND_PCT] + list(np.arange(BOUND_PCT + step, vmax + 1e-9, step))
+    cb.set_ticks(ticks, labels=[f"{BOUND_PCT:g} % bound" if t == BOUND_PCT else f"{t:g}"
+                                for t in ticks])
+    fig.suptitle(title, fontsize=10)
+    fig.savefig(path, dpi=110, bbox_inches="tight")
+    plt.close(fig)
+
+
+def plot_row(row_axes, label, rows, grid, cmap, norm, plt, np):
+    """One row of panels (one per Rs error); returns the last image."""
+    by = {(r["tr_err_pct"], r["lm_err_pct"], r["rs_err_pct"]): r for r in rows}
+    n = len(grid)
+    im = None
+    for ax, rs in zip(row_axes, grid):
         z = np.full((n, n), np.nan)
         for i, lm in enumerate(grid):
             for j, tr in enumerate(grid):
@@ -245,21 +293,9 @@ def plot(rows, grid, title, path):
         ax.set_xticks(range(n), [f"{g:+g}" for g in grid])
         ax.set_yticks(range(n), [f"{g:+g}" for g in grid])
         ax.set_xlabel("believed Tr error / %")
-        ax.set_title(f"believed Rs error {rs:+g} %")
-    axes[0][0].set_ylabel("believed Lm error / %")
-    cb = fig.colorbar(im, ax=axes[0].tolist(), extend="max" if max(pub, default=0) > vmax else
-                      "neither")
-    cb.set_label("worst parameter error / %  (number: worst %, parameter)")
-    cb.ax.axhline(BOUND_PCT, color="k", lw=2)
-    # the norm gives 0..3 % half the bar: ticks by the percent below, by a
-    # round step above
-    step = max(1.0, float(np.ceil((vmax - BOUND_PCT) / 4.0)))
-    ticks = [0.0, 1.0, 2.0, BOUND_PCT] + list(np.arange(BOUND_PCT + step, vmax + 1e-9, step))
-    cb.set_ticks(ticks, labels=[f"{BOUND_PCT:g} % bound" if t == BOUND_PCT else f"{t:g}"
-                                for t in ticks])
-    fig.suptitle(title, fontsize=10)
-    fig.savefig(path, dpi=110, bbox_inches="tight")
-    plt.close(fig)
+        ax.set_title(f"{label}\nbelieved Rs error {rs:+g} %", fontsize=9)
+    row_axes[0].set_ylabel("believed Lm error / %")
+    return im
 
 
 # ---------------------------------------------------------------- main
@@ -280,6 +316,12 @@ def parse_args(argv):
     ap.add_argument("--grid", default="-30,0,30", help="errors in %%, for Tr, Lm and Rs alike")
     ap.add_argument("--set", action="append", default=[], metavar="SECTION.KEY=VALUE",
                     help="extra key for every run (repeatable)")
+    ap.add_argument("--adaptive", action="store_true",
+                    help="the issue-8 sequence: " + ", ".join(f"{k[0]}.{k[1]}={v}"
+                                                              for k, v in ADAPTIVE.items()))
+    ap.add_argument("--compare", action="store_true",
+                    help="also run the paper's sequence on every case (issue 8 item 5): "
+                         "a second table and a second row of panels")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--duration", type=float, default=0.0,
                     help="simulated seconds per run (default: motor_sim's; with tracking "
@@ -313,7 +355,10 @@ def main(argv):
         raise SystemExit(f"sweep: no simulator at {exe} (build it, or give --exe)")
     if not cfg.is_file():
         raise SystemExit(f"sweep: no config {cfg}")
-    extra = parse_sets(a.set)
+    extra = dict(ADAPTIVE) if a.adaptive else {}
+    extra.update(parse_sets(a.set))
+    if a.adaptive and a.duration <= 0:
+        a.duration = adaptive_duration_s(cfg)
     base = cfg.read_text()
     merged = ini_merge(base, extra)
     try:
@@ -322,22 +367,33 @@ def main(argv):
         raise SystemExit(f"sweep: {cfg} has no numeric [motor] Lm_H and Llr_H")
     orient = ini_value(merged, "controller", "orientation") or "0"
     cases = [(tr, lm, rs) for rs in grid for lm in grid for tr in grid]
-    print(f"sweep: {len(cases)} runs of {exe} on {cfg} (orientation {orient}"
-          f"{', ' + ', '.join(a.set) if a.set else ''}), {a.jobs} at a time")
-    with tempfile.TemporaryDirectory(prefix="sweep_") as tmp:
-        with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
-            rows = list(pool.map(lambda c: run_case(exe, base, extra, c, lm_h, llr_h, tmp,
-                                                    a.duration),
-                                 cases))
-    print_table(rows)
-    print_summary(rows)
+    label = ("adaptive sequence" if a.adaptive else f"orientation {orient}") + \
+        (" (" + ", ".join(a.set) + ")" if a.set else "")
+    runs = [(label, extra)]
+    if a.compare:
+        paper = dict(extra)
+        paper.update(PAPER)
+        runs.append(("paper's sequence", paper))
+    rowsets = []
+    for name, over in runs:
+        print(f"sweep: {len(cases)} runs of {exe} on {cfg}, {name}, {a.jobs} at a time")
+        with tempfile.TemporaryDirectory(prefix="sweep_") as tmp:
+            with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
+                rows = list(pool.map(lambda c, o=over: run_case(exe, base, o, c, lm_h, llr_h,
+                                                                tmp, a.duration), cases))
+        for r in rows:
+            r["sequence"] = name
+        print_table(rows)
+        print_summary(rows)
+        rowsets.append((name, rows))
+    rows = [r for _, rs in rowsets for r in rs]
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
     write_csv(rows, out / "sweep.csv")
-    n_ok = sum(r["status"] == "ok" for r in rows)
-    title = (f"{cfg.name}, orientation {orient}{' (' + ', '.join(a.set) + ')' if a.set else ''}: "
-             f"{n_ok} of {len(rows)} within {BOUND_PCT:g} %  (grey X: nothing published)")
-    plot(rows, grid, title, out / "sweep.png")
+    title = f"{cfg.name}: " + ";  ".join(
+        f"{name}: {sum(r['status'] == 'ok' for r in rs)} of {len(rs)} within {BOUND_PCT:g} %"
+        for name, rs in rowsets) + "  (grey X: nothing published)"
+    plot(rowsets, grid, title, out / "sweep.png")
     print(f"wrote {out / 'sweep.csv'} and {out / 'sweep.png'}")
     return 0
 

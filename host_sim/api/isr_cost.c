@@ -204,7 +204,8 @@ int main(int argc, char **argv)
 
     /* at most 10 s of simulated time to reach ACCELERATE and measure */
     for (k = 0; k < 150000u && measured < n_isr; k++) {
-        int in_accel = (drive.seq.state == ID_ACCELERATE && drive.seq.rls_on != 0u);
+        /* the RLS actually updating (orientation 1 gates it above 0.6 pu) */
+        int in_accel = (drive.seq.state == ID_ACCELERATE && drive.rls.enable != 0u);
         if (in_accel && !g_measuring) {
             __gcov_reset();
             g_measuring = 1;

@@ -157,9 +157,6 @@ static void take_mail(drive_t *d)
     uint16_t i;
     uint16_t st = (uint16_t)d->seq.state;
 
-    if (m->ready == 0u) {
-        return;
-    }
     if (m->valid != 0u && (st == (uint16_t)ID_REFINE || st == (uint16_t)ID_RUN)) {
         a->to[P_RS] = m->rs;
         a->to[P_LM] = m->lm;
@@ -348,29 +345,35 @@ void drive_adapt_step(drive_t *d)
     if (d->k.orientation != DRIVE_ORIENT_FLUX_OBS) {
         return;
     }
-    if (a->standstill != 0u) {
+    /* every test below is cheap while nothing happens (ACCELERATE, where the
+     * RLS makes the ISR's worst case, runs only the compares) */
+    if (a->standstill != 0u && (st == (uint16_t)ID_MAGNETIZE || d->seq.magnetize_end != 0u)) {
         standstill_test(d);
     }
-    if (st == (uint16_t)ID_REFINE && a->prev_state != (uint16_t)ID_REFINE) {
-        d->seq.adapt_ready = 0u;
-    }
-    if (st != (uint16_t)ID_RUN) {
-        a->track_armed = 0u;
-        d->telemetry.track_valid = 0u;
-        d->run_ifo = 0u;
+    if (st != a->prev_state) {
+        if (st == (uint16_t)ID_REFINE) {
+            d->seq.adapt_ready = 0u;
+        }
+        if (st != (uint16_t)ID_RUN) {
+            a->track_armed = 0u;
+            d->telemetry.track_valid = 0u;
+            d->run_ifo = 0u;
+        }
+        a->prev_state = st;
     }
     if (d->seq.rls_restart != 0u) {
         d->rls = d->rls_start;
         theta_guard_reset(&d->guard);
     }
-    take_mail(d);
+    if (d->adapt_mail.ready != 0u) {
+        take_mail(d);
+    }
     if (a->blending != 0u) {
         blend(d);
     }
     if (a->track_armed != 0u) {
         track(d);
     }
-    a->prev_state = st;
 }
 
 void drive_adapt_post(drive_t *d, const param_extract_t *p, uint16_t full)

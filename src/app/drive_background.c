@@ -81,13 +81,14 @@ static void publish_tracked(drive_t *d)
  * and hand the model to the ISR for the next pass or the tracker. */
 static void after_extraction(drive_t *d)
 {
+    param_extract_t mag;
     const param_extract_t *p = &d->pex;
     uint16_t full = d->pex.valid;
 
     if (d->adapt.fused != 0u && full == 0u) {
-        d->pex_mag = d->pex;   /* limits and inputs; the outputs are recomputed */
-        param_extract_magnetic(&d->pex_mag);
-        p = &d->pex_mag;
+        mag = d->pex;   /* limits and inputs; the outputs are recomputed */
+        param_extract_magnetic(&mag);
+        p = &mag;
     }
     if (d->adapt.fused != 0u && p->valid != 0u) {
         d->fused_lm = p->Lm;

@@ -45,7 +45,7 @@ static void set_outputs_off(drive_t *d, hal_pwm_compare_t *out)
  * in RUN with a tracked Tr (drive_adapt.c: the observer then runs on as the
  * tracker's Tr-independent reference, and the quieter current-model frame
  * carries the control). */
-static uint16_t ifo_frame(const drive_t *d)
+static inline uint16_t ifo_frame(const drive_t *d)
 {
     return (uint16_t)(d->k.orientation != DRIVE_ORIENT_FLUX_OBS || d->run_ifo != 0u);
 }
@@ -191,13 +191,19 @@ static void identify(drive_t *d)
      * and the frame's actual speed over that period */
     if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS && d->fobs_hold != 0u) {
         /* the frame is held on the encoder angle (magnetisation, no flux):
-         * the voltage in that same frame (the standstill Rs needs it; the
-         * RLS is off); the frame turns with the rotor */
-        angle_sincos(d->qep.theta_elec, &r->sin_mid, &r->cos_mid);
+         * the voltage in that same frame, the Park's (the standstill Rs
+         * needs it; the RLS is off); the frame turns with the rotor */
+        r->sin_mid = d->park.sine;
+        r->cos_mid = d->park.cosine;
         r->ws = d->qep.speed_1;
         rls_on = 0u;
-    } else if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
-        angle_sincos(flux_obs_theta_mid(&d->fobs), &r->sin_mid, &r->cos_mid);
+    } else if (ifo_frame(d) == 0u) {
+        /* the observer's frame: theta_k - step/2 from the Park's sin/cos
+         * (angle.h) */
+        const flux_obs_t *o = &d->fobs;
+        angle_sincos_step(d->park.sine, d->park.cosine, o->theta,
+                          -_IQmpy(angle_diff_pu(o->theta, o->theta_prev), _IQ(0.5)),
+                          &r->sin_mid, &r->cos_mid);
         r->ws = d->fobs.ws;
         /* below ~10 w_c the current model (the believed Tr) steers the
          * angle: learn only where it does not (flux_obs.h) */
@@ -205,7 +211,11 @@ static void identify(drive_t *d)
             rls_on = 0u;
         }
     } else {
-        angle_sincos(ifo_theta_mid(&d->ifo), &r->sin_mid, &r->cos_mid);
+        /* ifo's frame (orientation 0, or RUN on the tracked Tr; the RLS
+         * runs in neither of the latter) */
+        angle_sincos_step(d->park.sine, d->park.cosine, d->ifo.theta,
+                          -_IQmpy(angle_diff_pu(d->ifo.theta, d->ifo.theta_prev), _IQ(0.5)),
+                          &r->sin_mid, &r->cos_mid);
         r->ws = d->ifo.ws_frame;
     }
     r->wr = d->qep.speed_1;       /* rotor speed over that period */
@@ -341,9 +351,10 @@ static void modulate(drive_t *d, hal_pwm_compare_t *out)
 {
     /* the voltage computed now is applied over period k+1; rotate it at the
      * middle of that period: theta_k + 1.5 w_s Ts */
-    const _iq theta = angle_wrap_pu(drive_frame_angle(d) +
-                                    _IQmpy(frame_speed(d), d->k.three_half_step));
-    angle_sincos(theta, &d->ipark.sine, &d->ipark.cosine);
+    const _iq step = _IQmpy(frame_speed(d), d->k.three_half_step);
+    /* from the Park's sin/cos of theta_k by the small step (angle.h) */
+    angle_sincos_step(d->park.sine, d->park.cosine, drive_frame_angle(d), step,
+                      &d->ipark.sine, &d->ipark.cosine);
     d->ipark.ds = d->pi_id.out;
     d->ipark.qs = d->pi_iq.out;
     ipark_step(&d->ipark);

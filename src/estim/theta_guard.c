@@ -31,8 +31,18 @@ theta_guard_status_t theta_guard_init(theta_guard_t *g, const float k_nom[RLS_N]
 
 theta_guard_status_t theta_guard_set_required(theta_guard_t *g, uint16_t mask)
 {
+    uint16_t i;
     if (mask == 0u || (mask & ~0xFu) != 0u) {
         return THETA_GUARD_ERR_ARG;
+    }
+    /* a K that is not required gets the whole range of the RLS's theta
+     * (|theta| <= RLS_THETA_MAX < 16, either sign): the per-sample check
+     * stays two compares per K, with no mask test in the ISR */
+    for (i = 0u; i < RLS_N; i++) {
+        if ((mask & (uint16_t)(1u << i)) == 0u) {
+            g->lo[i] = -_IQ(16.0);
+            g->hi[i] = _IQ(16.0);
+        }
     }
     g->required = mask;
     return THETA_GUARD_OK;
@@ -54,7 +64,7 @@ static uint16_t plausible(const theta_guard_t *g)
     for (i = 0u; i < RLS_N; i++) {
         /* |theta| < 16 pu (RLS saturation), so negating cannot wrap */
         _iq m = (g->sign[i] > 0) ? g->theta[i] : -g->theta[i];
-        if (((g->required >> i) & 1u) != 0u && (m < g->lo[i] || m > g->hi[i])) {
+        if (m < g->lo[i] || m > g->hi[i]) {
             return 0u;
         }
     }

@@ -12,7 +12,7 @@
 #define IN_MAX _IQ(FLUX_OBS_IN_MAX)
 
 /* Limit x to [-m, m]; *sat set when it had to. */
-static _iq sat_sym(_iq x, _iq m, uint16_t *sat)
+static inline _iq sat_sym(_iq x, _iq m, uint16_t *sat)
 {
     if (x > m) {
         *sat = 1u;
