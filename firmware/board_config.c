@@ -41,6 +41,8 @@ const drive_config_t g_board_config = {
         .inertia_kgm2 = 1.0e-3f,
         .speed_ramp_rpm_s = 1400.0f,
         .speed_filter_Hz = 100.0f,
+        .orientation = DRIVE_ORIENT_IFO,   /* the paper's; DRIVE_ORIENT_FLUX_OBS for a
+                                              nameplate that is not trusted (README, issue 8) */
     },
     .ident = {
         .filter_wc_rad_s = 62.831853f, /* 2 pi 10 Hz (method §5) */
@@ -50,5 +52,12 @@ const drive_config_t g_board_config = {
         .forgetting = 1.0f,
         .magnetize_time_s = 0.3f,      /* >= 5 Tr = 99 ms */
         .target_speed_rpm = 1400.0f,
+        /* the paper's sequence; with .orientation = DRIVE_ORIENT_FLUX_OBS the adaptive one
+         * is .standstill = 1u, .passes = 2u, .track_rr = 1u (README: within 3 % from a
+         * nameplate 30 % off, Rr tracked as the rotor warms) */
+        .passes = 1u,
+        .standstill = 0u,
+        .track_rr = 0u,
+        .track_memory_s = 1.0f,
     },
 };

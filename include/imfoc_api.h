@@ -53,7 +53,7 @@ extern "C" {
 #endif
 
 /** Bumped whenever a struct below changes layout (wrappers check it). */
-#define IMFOC_API_VERSION 1
+#define IMFOC_API_VERSION 2   /* 2: the issue-8 signals at the end of imfoc_signals_t */
 
 typedef struct imfoc imfoc_t;   /* opaque: one firmware instance */
 
@@ -136,6 +136,13 @@ typedef struct {
     /* parameters: live (from the running RLS, 100 Hz) and published */
     double live_Rs_ohm, live_Rr_ohm, live_Lm_H, live_Lr_H, live_psi_r_Wb, live_Tr_s;
     double Rs_ohm, Rr_ohm, Lm_H, Lr_H, psi_r_Wb, Tr_s;
+    /* issue 8: adaptation and tracking (0 when not measured / not valid) */
+    uint16_t pass;                 /* identification pass */
+    uint16_t track_valid;          /* Rr_track, Tr_track follow the motor */
+    uint16_t params_tracked;       /* the published set is the fused one */
+    double Rs_dc_ohm;              /* standstill Rs */
+    double sigma_ls_dc_H;          /* standstill sigma Ls */
+    double Rr_track_ohm, Tr_track_s;   /* tracked */
 } imfoc_signals_t;
 
 /** IMFOC_API_VERSION of the library (compare with the header's). */

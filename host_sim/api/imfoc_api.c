@@ -346,5 +346,12 @@ int32_t imfoc_get_signals(const imfoc_t *h, imfoc_signals_t *s)
     s->Lr_H = pp[3];
     s->psi_r_Wb = pp[4];
     s->Tr_s = pp[5];
+    s->pass = d->telemetry.pass;
+    s->track_valid = d->telemetry.track_valid;
+    s->params_tracked = d->telemetry.params_tracked;
+    s->Rs_dc_ohm = f(d->telemetry.Rs_dc) * d->base.Z_base_ohm;
+    s->sigma_ls_dc_H = f(d->telemetry.sigma_ls_dc) * d->base.L_base_H;
+    s->Rr_track_ohm = f(d->telemetry.Rr_track) * d->base.Z_base_ohm;
+    s->Tr_track_s = f(d->telemetry.Tr_track) * d->base.t_base_s;
     return IMFOC_OK;
 }

@@ -1,7 +1,9 @@
 /* foc_park: angle_wrap_pu, angle_sincos, park_t and ipark_t against
  * double-precision references computed here from the same quantised
  * inputs; the park -> ipark round trip; the range edges. */
+#include <math.h>
 #include <stdarg.h>
+#include <stdio.h>
 #include <stddef.h>
 #include <setjmp.h>
 #include <cmocka.h>
@@ -136,6 +138,46 @@ static void check_park_ipark(_iq al, _iq be, _iq s, _iq c, double *worst)
     if (e1 > *worst) { *worst = e1; }
 }
 
+/* angle_sincos_step (angle.h): sin/cos of a + d from those of a by the
+ * small-angle rotation, against double sin/cos(2 pi (a + d)) for random a
+ * and |d| up to the 1/32 rev limit.  Bound: the input pair's own error
+ * (angle_sincos: <= 1 LSB each, test_sincos) carried through the rotation
+ * (<= 1.01 x 2 LSB), the series error (cos: x^6/720 = 1.3 LSB at the
+ * limit), and the 11 truncated products (< 1 LSB each on the result):
+ * 6 LSB in IQ_MATH; 16 float eps in FLOAT_MATH.  Beyond the limit the
+ * absolute angle is used: bit-identical to angle_sincos(a + d). */
+static void test_sincos_step(void **state)
+{
+    foc_rng_t r = { 0x51DE5EEDu };
+    double worst = 0.0;
+    int k;
+    (void)state;
+    for (k = 0; k < 100000; k++) {
+        const double ad = foc_rng_uniform(&r, 0.0, 0.999999);
+        const double dd = foc_rng_uniform(&r, -ANGLE_STEP_MAX_PU, ANGLE_STEP_MAX_PU);
+        const _iq a = d2iq(ad), d = d2iq(dd);
+        const double th = 2.0 * FOC_PI * (iq2d(a) + iq2d(d));
+        _iq s, c, s2, c2;
+        double e;
+        angle_sincos(a, &s, &c);
+        angle_sincos_step(s, c, a, d, &s2, &c2);
+        e = fmax(fabs(iq2d(s2) - sin(th)), fabs(iq2d(c2) - cos(th)));
+        worst = fmax(worst, e);
+        assert_true(e <= foc_tol(6.0, 16.0, 1.0));
+    }
+    printf("angle_sincos_step: worst error %.3g over 1e5 steps, |d| <= 1/32 rev\n", worst);
+    for (k = 0; k < 1000; k++) {
+        const _iq a = d2iq(foc_rng_uniform(&r, 0.0, 0.999999));
+        const _iq d = d2iq((k & 1) ? foc_rng_uniform(&r, 0.032, 0.99)
+                                   : -foc_rng_uniform(&r, 0.032, 0.99));
+        _iq s, c, s2, c2, s3, c3;
+        angle_sincos(a, &s, &c);
+        angle_sincos_step(s, c, a, d, &s2, &c2);
+        angle_sincos(a + d, &s3, &c3);
+        assert_true(s2 == s3 && c2 == c3);
+    }
+}
+
 static void test_park_ipark_random(void **state)
 {
     foc_rng_t r = { 0xC0FFEEu };
@@ -239,6 +281,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_wrap),
         cmocka_unit_test(test_sincos),
+        cmocka_unit_test(test_sincos_step),
         cmocka_unit_test(test_park_ipark_random),
         cmocka_unit_test(test_park_edges),
         cmocka_unit_test(test_rotation_and_round_trip),

@@ -177,6 +177,34 @@ static int setup(void **state)
     return 0;
 }
 
+/* The issue-8 options need the observer: with orientation 0 (the paper
+ * file's default) each is refused naming its key; out-of-range values of
+ * the new keys name theirs; the adaptive set with orientation 1 loads. */
+static void test_adaptation_keys(void **state)
+{
+    sim_config_t cfg;
+    char err[SIM_CONFIG_ERR_LEN];
+    char path[] = "/tmp/mc_cfg_test_XXXXXX";
+    int fd;
+    (void)state;
+    expect_error(NULL, "[ident]\npasses = 2", "ident.passes");
+    expect_error(NULL, "[ident]\nstandstill = 1", "ident.standstill");
+    expect_error(NULL, "[ident]\ntrack_rr = 1", "ident.track_rr");
+    expect_error(NULL, "[controller]\norientation = 1\n[ident]\npasses = 5", "passes");
+    expect_error(NULL, "[controller]\norientation = 1\n[ident]\npasses = 1.5", "passes");
+    expect_error(NULL, "[ident]\ntrack_memory_s = 0.1", "track_memory_s");
+    expect_error(NULL, "[drift]\nrr_rise_pct = 150", "rr_rise_pct");
+    expect_error(NULL, "[drift]\nramp_s = 0", "ramp_s");
+    fd = mkstemp(path);
+    assert_true(fd >= 0);
+    write_variant(path, NULL, "[controller]\norientation = 1\n[ident]\nstandstill = 1\n"
+                              "passes = 2\ntrack_rr = 1\ntrack_memory_s = 2");
+    assert_int_equal(sim_config_load(path, &cfg, err, sizeof err), 0);
+    assert_true(cfg.ident_passes == 2.0 && cfg.standstill == 1.0 && cfg.track_rr == 1.0 &&
+                cfg.track_memory_s == 2.0);
+    remove(path);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -185,7 +213,7 @@ int main(void)
         cmocka_unit_test(test_missing_key),         cmocka_unit_test(test_negative_resistance),
         cmocka_unit_test(test_zero_pole_pairs),     cmocka_unit_test(test_fractional_pole_pairs),
         cmocka_unit_test(test_lm_error_out_of_range),     cmocka_unit_test(test_orientation_out_of_range),
-        cmocka_unit_test(test_bus_too_low),
+        cmocka_unit_test(test_bus_too_low),         cmocka_unit_test(test_adaptation_keys),
         cmocka_unit_test(test_not_a_number),        cmocka_unit_test(test_duplicate_key),
         cmocka_unit_test(test_malformed_line),      cmocka_unit_test(test_missing_file),
     };

@@ -7,7 +7,7 @@ import ctypes as C
 import os
 from pathlib import Path
 
-API_VERSION = 1
+API_VERSION = 2
 LIB_NAME = "libimfoc.so"
 
 # tools/python/imfoc/_lib.py -> the repository root
@@ -54,7 +54,11 @@ class Signals(C.Structure):
                 [(n, C.c_double) for n in _SIGNAL_REG] +
                 [("rls_updates", C.c_uint32)] +
                 [("live_" + n, C.c_double) for n in PARAM_NAMES] +
-                [(n, C.c_double) for n in PARAM_NAMES])
+                [(n, C.c_double) for n in PARAM_NAMES] +
+                # issue 8 (API version 2)
+                [(n, C.c_uint16) for n in ("pass_", "track_valid", "params_tracked")] +
+                [(n, C.c_double) for n in ("Rs_dc_ohm", "sigma_ls_dc_H", "Rr_track_ohm",
+                                           "Tr_track_s")])
 
 
 def find_library():
