@@ -65,6 +65,8 @@ FUNC_MODULE = {
     "ident_regressor_step": "regression + Butterworth", "rls_step": "RLS", "rls_step_row": "RLS",
     "id_sequence_step": "sequence", "ramp_gen_step": "speed ramp + PIs",
     "pi_step": "speed ramp + PIs", "pi_reset": "speed ramp + PIs", "svgen_step": "SVPWM",
+    "flux_obs_step": "orientation (observer)", "angle_sincos_step": "sin/cos",
+    "tr_track_step": "adaptation (issue 8)", "standstill_z_step": "adaptation (issue 8)",
 }
 # source file of src/ -> module (others: "drive_step glue + other")
 FILE_MODULE = {
@@ -76,6 +78,8 @@ FILE_MODULE = {
     "bw_filter.c": "regression + Butterworth", "rls.c": "RLS", "estim_bfp.h": "RLS",
     "id_sequence.c": "sequence", "ramp_gen.c": "speed ramp + PIs",
     "pi_ctrl.c": "speed ramp + PIs", "svgen.c": "SVPWM",
+    "flux_obs.c": "orientation (observer)", "tr_track.c": "adaptation (issue 8)",
+    "standstill_z.c": "adaptation (issue 8)", "drive_adapt.c": "adaptation (issue 8)",
 }
 GLUE = "drive_step glue + other"
 

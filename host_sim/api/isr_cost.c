@@ -51,7 +51,9 @@ typedef struct {
 enum {
     F_PHASE_CURRENT, F_DC_BUS, F_QEP_SPEED, F_PROTECT, F_VOLT_CALC, F_CLARKE, F_PARK,
     F_IFO_FRAME, F_IFO_MID, F_IFO_SLIP, F_ANGLE_SINCOS, F_ANGLE_WRAP, F_REGRESSOR, F_RLS,
-    F_SEQUENCE, F_RAMP, F_PI_STEP, F_PI_RESET, F_IPARK, F_SVGEN, F_COUNT
+    F_SEQUENCE, F_RAMP, F_PI_STEP, F_PI_RESET, F_IPARK, F_SVGEN,
+    /* issue 8 (orientation 1, adaptation) */
+    F_FLUX_OBS, F_ANGLE_STEP, F_TR_TRACK, F_STANDSTILL_Z, F_COUNT
 };
 
 static fn_row_t g_rows[F_COUNT] = {
@@ -61,7 +63,8 @@ static fn_row_t g_rows[F_COUNT] = {
     {"ifo_step_slip", 0u, {0}}, {"angle_sincos", 0u, {0}}, {"angle_wrap_pu", 0u, {0}},
     {"ident_regressor_step", 0u, {0}}, {"rls_step_row", 0u, {0}}, {"id_sequence_step", 0u, {0}},
     {"ramp_gen_step", 0u, {0}}, {"pi_step", 0u, {0}}, {"pi_reset", 0u, {0}},
-    {"ipark_step", 0u, {0}}, {"svgen_step", 0u, {0}}};
+    {"ipark_step", 0u, {0}}, {"svgen_step", 0u, {0}}, {"flux_obs_step", 0u, {0}},
+    {"angle_sincos_step", 0u, {0}}, {"tr_track_step", 0u, {0}}, {"standstill_z_step", 0u, {0}}};
 
 static int g_measuring;
 static int g_depth;                /* wrapped calls nest (a module calling angle_*) */
@@ -112,6 +115,9 @@ WRAP_VOID1(pi_step, F_PI_STEP, pi_ctrl_t *)
 WRAP_VOID1(pi_reset, F_PI_RESET, pi_ctrl_t *)
 WRAP_VOID1(ipark_step, F_IPARK, ipark_t *)
 WRAP_VOID1(svgen_step, F_SVGEN, svgen_t *)
+WRAP_VOID1(flux_obs_step, F_FLUX_OBS, flux_obs_t *)
+WRAP_VOID1(tr_track_step, F_TR_TRACK, tr_track_t *)
+WRAP_VOID1(standstill_z_step, F_STANDSTILL_Z, standstill_z_t *)
 
 _iq __real_ifo_theta_mid(const ifo_t *f);
 _iq __wrap_ifo_theta_mid(const ifo_t *f);
@@ -142,6 +148,15 @@ void __wrap_angle_sincos(_iq a, _iq *s, _iq *c)
     pre(F_ANGLE_SINCOS);
     __real_angle_sincos(a, s, c);
     post(F_ANGLE_SINCOS);
+}
+
+void __real_angle_sincos_step(_iq s, _iq c, _iq a, _iq d, _iq *s2, _iq *c2);
+void __wrap_angle_sincos_step(_iq s, _iq c, _iq a, _iq d, _iq *s2, _iq *c2);
+void __wrap_angle_sincos_step(_iq s, _iq c, _iq a, _iq d, _iq *s2, _iq *c2)
+{
+    pre(F_ANGLE_STEP);
+    __real_angle_sincos_step(s, c, a, d, s2, c2);
+    post(F_ANGLE_STEP);
 }
 
 static void print_vec(const uint64_t *v)

@@ -16,7 +16,8 @@
  *
  * Input format (little-endian), chosen so that short inputs reach deep
  * states: a run of samples is one 8-byte record with a repeat count.
- *   byte 0       configuration variant (bits 0-1, see make_config)
+ *   byte 0       configuration variant (bits 0-1, see make_config; bit 2: the
+ *                adaptive sequence of issue 8 on top)
  *   records      [op][ia:2][ib:2][vdc:2][dq:1]
  *     op bits 0-1  command before the run: none, start, stop, reset fault
  *     op bit  2    PDPINTA (hardware trip) level during the run
@@ -67,14 +68,26 @@ void fuzz_fail(const char *what, unsigned long step, long value, long limit)
  *   1  0.1 s magnetisation, a 0.1 s ramp to 1350 r/min (= 6 QEP counts per
  *      period: 6 * 15e3 / 4000 * 60), so that SETTLE and RUN come early
  *   2  as 1, with the paper's regressor (eq. 9) and forgetting 0.995
- *   3  as 1, without dead-time compensation and with a 0.5 s RLS tail */
+ *   3  as 1, without dead-time compensation and with a 0.5 s RLS tail
+ *   + 4  (bit 2) any of them with orientation 1, standstill tests, two
+ *        passes and tracking (0.3 s magnetisation: the standstill test) */
 static void make_config(uint8_t variant, drive_config_t *c)
 {
     *c = g_board_config;
-    if (variant == 0u) {
+    if ((variant & 4u) != 0u) {
+        /* bit 2: the adaptive sequence of issue 8 on top of the variant
+         * (observer, standstill tests, two passes, tracking); its
+         * standstill test needs the 0.3 s magnetisation */
+        c->control.orientation = DRIVE_ORIENT_FLUX_OBS;
+        c->ident.standstill = 1u;
+        c->ident.passes = 2u;
+        c->ident.track_rr = 1u;
+    }
+    if ((variant & 3u) == 0u) {
         return;
     }
-    c->ident.magnetize_time_s = 0.1f;   /* >= 5 Tr = 99 ms */
+    variant = (uint8_t)(variant & 3u);
+    c->ident.magnetize_time_s = (c->ident.standstill != 0u) ? 0.3f : 0.1f;   /* >= 5 Tr = 99 ms */
     c->ident.target_speed_rpm = 1350.0f;
     c->control.speed_ramp_rpm_s = 13500.0f;
     if (variant == 2u) {
@@ -163,7 +176,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         g_trace = (getenv("FUZZ_TRACE") != NULL) ? 1 : 0;
         g_selftest = (getenv("FUZZ_SELFTEST") != NULL) ? 1 : 0;
     }
-    make_config((uint8_t)(data[0] & 3u), &cfg);
+    make_config((uint8_t)(data[0] & 7u), &cfg);
     /* garbage first, as in the F2812's .ebss (not zeroed by _c_int00):
      * nothing may depend on memory drive_init did not set */
     memset(&g_drive, 0xA5, sizeof g_drive);

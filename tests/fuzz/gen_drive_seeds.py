@@ -48,12 +48,27 @@ def identification(variant, perturb=0):
     return s
 
 
+def identification_adaptive(variant):
+    """The adaptive sequence (variant bit 2): the 0.3 s magnetisation with
+    the standstill test (4608 samples), the ramp, the first pass's settling,
+    REFINE and the second pass, then RUN with the tracker."""
+    flags = ECHO
+    s = bytes([variant]) + CAL
+    s += rec(log2n=12, flags=flags) + rec(log2n=9, flags=flags)
+    for dq in range(1, 7):
+        s += rec(log2n=8, dq=dq, flags=flags)
+    s += rec(log2n=14, dq=6, flags=flags)
+    s += rec(CMD_STOP, 10, dq=3, flags=flags)
+    return s
+
+
 def main(out):
     os.makedirs(out, exist_ok=True)
     seeds = {
         "ident_variant1": identification(1),
         "ident_variant2_offset": identification(2, perturb=-40),
         "ident_variant3": identification(3),
+        "ident_adaptive": identification_adaptive(5),
         # board configuration: 0.3 s magnetisation, then an overcurrent in phase a
         "overcurrent_then_reset": bytes([0]) + CAL + rec(log2n=12, flags=ECHO)
         + rec(log2n=4, ia=0x7000, flags=ECHO) + rec(log2n=2) + rec(CMD_RESET, 4)
