@@ -112,7 +112,8 @@ void ifo_reset(ifo_t *f, _iq theta0);
  * |ws| < 128; with f_base Ts < 1/128 (checked at init) the angle
  * increment is below one revolution, so one conditional +-1
  * wraps theta exactly into [0, 1) (the wrap is an exact integer operation
- * in Q24, exact in float too).  The increment is truncated (< 1 LSB per
+ * in Q24; in float theta - 1 is exact, theta + 1 of a small negative theta
+ * rounds to the float grid near 1, ~1e-7).  The increment is truncated (< 1 LSB per
  * sample, 6e-8 of a revolution).
  */
 void ifo_step(ifo_t *f);

@@ -27,14 +27,18 @@
  * is paired with the mean of i_M(k-1) and i_M(k), the same instant, so the
  * half-period between sampling and averaging cancels in U/I.
  *
- * Scaling and overflow (Q24): the references sin/cos/N (|.| <= 1/N) are
- * formed once per sample; each product u sin/N, i sin/N is rounded
- * (_IQrmpy, error +-0.5 LSB, not biased), so the sums over N samples stay
- * below max|u|, max|i| (inputs saturated at +-4 pu) and their rounding
- * error is ~sqrt(N)/2 LSB (1e-5 of the phasor on the paper motor).  The
- * result: X = Im(U/I) = (Uc Is - Us Ic)/(Is^2 + Ic^2) by one _IQdiv, only
- * if |I|^2 is above (amplitude/4)^2 (else invalid: the current did not
- * follow); sigma Ls = X / w - c, valid only in (0, 4] pu.
+ * Scaling and overflow (Q24): the weights 16 sin/N, 16 cos/N (|.| <= 16/N)
+ * are formed once per sample, rounded (a truncated weight is biased by
+ * -1/2 LSB and lets the DC of u and i leak into the phasors); each product
+ * u w, i w is rounded (_IQrmpy, +-0.5 LSB, not biased); the sums stay below
+ * 4 * 16 = 64 for inputs saturated at +-4 pu, and the factor 16 keeps 4
+ * more bits of the phasors for the final products.  Rounding over the
+ * window: up to N/2 LSB for an exactly periodic input (the errors repeat
+ * each period), ~sqrt(N)/2 LSB for a noisy one.  The result:
+ * X = Im(U/I) = (Uc Is - Us Ic)/(Is^2 + Ic^2) by one _IQdiv, only if every
+ * phasor sum is below 7.9 (each product < 64) and |I|^2 is above
+ * 4 ampl^2 (a current amplitude of at least ampl/4), else invalid;
+ * sigma Ls = X / w - c, valid only in (0, 4] pu.
  */
 #ifndef STANDSTILL_Z_H
 #define STANDSTILL_Z_H
@@ -58,7 +62,7 @@ typedef struct {
     _iq i_m;                /* Q24 pu: M current sampled now */
     /* parameters */
     _iq ampl;               /* Q24 pu: injection amplitude */
-    _iq inv_n;              /* Q24: 1 / (samples in the window) */
+    _iq inv_n;              /* Q24: 16 / (samples in the window): the sums' weight */
     _iq rev_step;           /* Q24: revolutions per sample, 1 / samples per period */
     _iq w;                  /* Q24: w_inj, pu of w_base, in [0.01, 30] */
     _iq inv_w;              /* Q24: 1 / w_inj */

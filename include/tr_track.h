@@ -88,7 +88,7 @@ typedef struct {
 } tr_track_t;
 
 /**
- * Constants once (float): @p Ts_pu sample period in pu time, @p decim RLS
+ * Constants once (float): @p Ts_s sample period in seconds, @p decim RLS
  * decimation (1..64), @p lpf_Hz low-pass corner with @p Ts_s, @p memory_s
  * forgetting time constant (lambda = 1 - decim Ts_s / memory_s),
  * @p phi_min_pu least |psi x i| for an update, plausible 1/Tr range

@@ -219,6 +219,110 @@ static void test_init_rejects(void **state)
     assert_int_equal(q.valid, 0);
 }
 
+/* param_extract_magnetic (fused mode): Lm, Lr, psi_r from K2, K4, i_M only.
+ * (1) For the check (both forms) it gives what param_extract_step gives:
+ *     the same a = -K4/(K2 i_M), Lr = 1/K2 + a, Lm = sqrt(a Lr), psi = Lm
+ *     i_M, so the same values within 1 LSB (IQ: the same operations in the
+ *     same order, bit-identical; FLOAT too); Rs, Rr, Tr and K3p are 0 even
+ *     when the struct held a previous result.  Against the formulas in
+ *     double on the quantised inputs: 8 LSB + 2e-6 relative
+ *     (check_reference's budget, fewer operations here).
+ * (2) A theta that param_extract_step rejects for K1 or K3 (K3' < 0: Tr
+ *     undefined; K1 20x: Rs out of range) is valid here, with the same
+ *     Lm, Lr, psi_r as (1) (K1, theta3 are not used: bit-identical).
+ * (3) Each of its status codes, valid = 0. */
+static void test_magnetic(void **state)
+{
+    param_extract_t *p = &fx.p;
+    param_extract_t q;
+    int paper;
+    (void)state;
+
+    for (paper = 0; paper <= 1; paper++) {
+        double K2, K4, im, a, Lr, Lm, psi;
+        load(p, paper, fx.K1, fx.K2, fx.K3p, fx.K4, fx.im);
+        param_extract_step(p);
+        assert_int_equal(p->valid, 1);
+        q = *p;                                  /* holds step's Rs, Rr, Tr, K3p */
+        param_extract_magnetic(&q);
+        assert_int_equal(q.status, PARAM_OK);
+        assert_int_equal(q.valid, 1);
+#define SAME(x) assert_true(fabs(iq_to_d(q.x) - iq_to_d(p->x)) <= LSB24)
+        SAME(Lm); SAME(Lr); SAME(psi_r);
+#undef SAME
+        assert_true(q.Rs == _IQ(0.0) && q.Rr == _IQ(0.0) && q.Tr == _IQ(0.0) && q.K3p == _IQ(0.0));
+        K2 = iq_to_d(q.theta[1]); K4 = iq_to_d(q.theta[3]); im = iq_to_d(q.i_m);
+        a = -K4 / (K2 * im);
+        Lr = 1.0 / K2 + a;
+        Lm = sqrt(a * Lr);
+        psi = Lm * im;
+#define NEAR(x, ref) assert_true(fabs(iq_to_d(x) - (ref)) <= 8.0 * LSB24 + 2e-6 * fabs(ref))
+        NEAR(q.Lm, Lm); NEAR(q.Lr, Lr); NEAR(q.psi_r, psi);
+#undef NEAR
+        print_message("magnetic (%s): Lm %.7f Lr %.7f psi %.7f pu (double %.7f %.7f %.7f)\n",
+                      paper ? "paper" : "const", iq_to_d(q.Lm), iq_to_d(q.Lr), iq_to_d(q.psi_r),
+                      Lm, Lr, psi);
+
+        /* (2) K3' < 0: step invalid (K3), magnetic valid and unchanged */
+        load(&q, paper, fx.K1, fx.K2, -fx.K3p, fx.K4, fx.im);
+        param_extract_step(&q);
+        assert_int_equal(q.status, PARAM_ERR_K3);
+        assert_int_equal(q.valid, 0);
+        param_extract_magnetic(&q);
+        assert_int_equal(q.status, PARAM_OK);
+        assert_int_equal(q.valid, 1);
+        assert_true(q.Lm == p->Lm && q.Lr == p->Lr && q.psi_r == p->psi_r);
+        /* K1 20x: step's Rs out of range, magnetic valid */
+        load(&q, paper, fx.K1 * 20.0, fx.K2, fx.K3p, fx.K4, fx.im);
+        param_extract_step(&q);
+        assert_int_equal(q.status, PARAM_ERR_RS);
+        param_extract_magnetic(&q);
+        assert_int_equal(q.valid, 1);
+        assert_true(q.Lm == p->Lm && q.Lr == p->Lr && q.psi_r == p->psi_r);
+    }
+
+    /* (3) the status codes */
+#define EXPECT_MAG(st)                                                         \
+    do {                                                                       \
+        param_extract_magnetic(p);                                             \
+        assert_int_equal(p->status, (st));                                     \
+        assert_int_equal(p->valid, 0);                                         \
+    } while (0)
+    load(p, 1, fx.K1, fx.K2, fx.K3p, fx.K4, 0.4);                 /* i_M < 0.5 A */
+    EXPECT_MAG(PARAM_ERR_IM);
+    load(p, 1, fx.K1, -fx.K2, fx.K3p, fx.K4, fx.im);
+    EXPECT_MAG(PARAM_ERR_K2);
+    load(p, 1, fx.K1, 0.0, fx.K3p, fx.K4, fx.im);
+    EXPECT_MAG(PARAM_ERR_K2);
+    p->theta[1] = d_to_iq(1e-3);                                  /* 1/K2 = 1000 pu */
+    EXPECT_MAG(PARAM_ERR_K2);
+    load(p, 1, fx.K1, fx.K2, fx.K3p, fx.K4, fx.im);
+    p->theta[1] = d_to_iq(0.0100);                                /* a = 610 pu */
+    p->theta[3] = d_to_iq(-2.0);
+    EXPECT_MAG(PARAM_ERR_DIV);
+    load(p, 1, fx.K1, fx.K2, fx.K3p, -fx.K4, fx.im);              /* a < 0 */
+    EXPECT_MAG(PARAM_ERR_SQRT);
+    load(p, 1, fx.K1, fx.K2, fx.K3p, 0.0, fx.im);                 /* a = 0 */
+    EXPECT_MAG(PARAM_ERR_SQRT);
+    load(p, 1, fx.K1, fx.K2, fx.K3p, fx.K4, fx.im);               /* a Lr = 12 x 112 */
+    p->theta[1] = d_to_iq(0.0100);
+    p->theta[3] = d_to_iq(-0.01 * 0.328125 * 12.0);
+    EXPECT_MAG(PARAM_ERR_OVERFLOW);
+    /* K4 / 100: Lm 0.46 mH < 1 mH (Lr 4.8 mH in range; K3' irrelevant) */
+    load(p, 1, fx.K1, fx.K2, -1.0, fx.K4 / 100.0, fx.im);
+    EXPECT_MAG(PARAM_ERR_LM);
+    /* K2, K4 / 20: Lr 0.0994 H > 0.06 (Lm 0.021 H in range) */
+    load(p, 1, fx.K1, fx.K2 / 20.0, fx.K3p, fx.K4 / 20.0, fx.im);
+    EXPECT_MAG(PARAM_ERR_LR);
+    /* i_M, K4 x 12: a, Lr, Lm unchanged, psi_r 0.5 Wb > 0.2 */
+    load(p, 1, fx.K1, fx.K2, fx.K3p, fx.K4 * 12.0, fx.im * 12.0);
+    EXPECT_MAG(PARAM_ERR_PSI);
+#undef EXPECT_MAG
+    load(p, 1, fx.K1, fx.K2, fx.K3p, fx.K4, fx.im);
+    param_extract_magnetic(p);
+    assert_int_equal(p->valid, 1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -226,6 +330,7 @@ int main(void)
         cmocka_unit_test(test_reference_const_form),
         cmocka_unit_test(test_rejections),
         cmocka_unit_test(test_init_rejects),
+        cmocka_unit_test(test_magnetic),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -216,6 +216,92 @@ static void test_theta_guard(void **state)
     assert_int_equal(g.good, 0u);
 }
 
+/* theta_guard_set_required (issue 8, fused mode: only K2 and K4 judged).
+ * A theta with K1 of the wrong sign and K3 negative (K2, K4 plausible) is
+ * rejected with all four required, taken once the mask is K2|K4 (0xA),
+ * including its implausible K1, K3 as they are; K2 or K4 out of band is
+ * still rejected.  A released K accepts the whole RLS range (+-16 pu).
+ * Bad masks (0, bits above 0xF) are refused with nothing changed; a
+ * released K stays released when the mask widens again (the header: until
+ * theta_guard_init), and theta_guard_init restores all four. */
+static void test_theta_guard_required(void **state)
+{
+    theta_guard_t g, before;
+    const float k_nom[RLS_N] = {-0.842f, 2.12f, 0.107f, -0.308f};
+    static const uint16_t bad_masks[] = {0x0u, 0x10u, 0x1Au, 0x8000u, 0xFFFFu};
+    uint16_t i;
+    (void)state;
+    assert_int_equal(theta_guard_init(&g, k_nom, 8.0f), THETA_GUARD_OK);
+    assert_int_equal(g.required, 0xFu);
+    g.updated = 1u;
+    g.theta[0] = _IQ(0.5);                 /* K1 > 0: wrong sign */
+    g.theta[1] = _IQ(2.12f * 1.1f);
+    g.theta[2] = _IQ(-0.05);               /* K3 < 0 (15 kW, Lm 30 % low) */
+    g.theta[3] = _IQ(-0.308f * 0.9f);
+    theta_guard_step(&g);
+    assert_int_equal(g.good, 0u);
+    assert_int_equal(g.held, 1u);
+    assert_int_equal(g.reject_count, 1u);
+
+    /* bad masks: refused, nothing changed */
+    before = g;
+    for (i = 0u; i < sizeof bad_masks / sizeof bad_masks[0]; i++) {
+        assert_int_equal(theta_guard_set_required(&g, bad_masks[i]), THETA_GUARD_ERR_ARG);
+        assert_memory_equal(&g, &before, sizeof g);
+    }
+
+    assert_int_equal(theta_guard_set_required(&g, 0xAu), THETA_GUARD_OK);
+    assert_int_equal(g.required, 0xAu);
+    theta_guard_step(&g);
+    assert_int_equal(g.good, 1u);
+    assert_int_equal(g.held, 0u);
+    for (i = 0u; i < RLS_N; i++) {
+        assert_true(g.theta_good[i] == g.theta[i]);
+    }
+    /* released: anything in the RLS range */
+    g.theta[0] = _IQ(15.9);
+    g.theta[2] = _IQ(-15.9);
+    theta_guard_step(&g);
+    assert_int_equal(g.held, 0u);
+    assert_true(g.theta_good[0] == _IQ(15.9) && g.theta_good[2] == _IQ(-15.9));
+    /* still required: K2 9x too large, K4 of the wrong sign */
+    g.theta[1] = _IQ(2.12f * 9.0f);
+    theta_guard_step(&g);
+    assert_int_equal(g.held, 1u);
+    assert_true(g.theta_good[1] == _IQ(2.12f * 1.1f));
+    g.theta[1] = _IQ(2.12f);
+    g.theta[3] = _IQ(0.308f);
+    theta_guard_step(&g);
+    assert_int_equal(g.held, 1u);
+    assert_int_equal(g.reject_count, 3u);
+    g.theta[3] = _IQ(-0.308f);
+    theta_guard_step(&g);
+    assert_int_equal(g.held, 0u);
+
+    /* widening the mask again: the released K1, K3 stay released */
+    assert_int_equal(theta_guard_set_required(&g, 0xFu), THETA_GUARD_OK);
+    g.theta[0] = _IQ(0.5);
+    theta_guard_step(&g);
+    assert_int_equal(g.held, 0u);
+    /* theta_guard_init restores the four bands */
+    assert_int_equal(theta_guard_init(&g, k_nom, 8.0f), THETA_GUARD_OK);
+    g.updated = 1u;
+    g.theta[0] = _IQ(0.5);
+    g.theta[1] = _IQ(2.12f);
+    g.theta[2] = _IQ(0.107f);
+    g.theta[3] = _IQ(-0.308f);
+    theta_guard_step(&g);
+    assert_int_equal(g.held, 1u);
+    g.theta[0] = _IQ(-0.842f);
+    theta_guard_step(&g);
+    assert_int_equal(g.held, 0u);
+    /* a single-K mask (K2 only) */
+    assert_int_equal(theta_guard_set_required(&g, 0x2u), THETA_GUARD_OK);
+    g.theta[3] = _IQ(0.308f);
+    theta_guard_step(&g);
+    assert_int_equal(g.held, 0u);
+}
+
 /* Priority (protect.h) and the strict restart condition. */
 static void test_protect_priority_and_clear(void **state)
 {
@@ -293,6 +379,7 @@ int main(void)
         cmocka_unit_test(test_encoder_jump_and_wrap),
         cmocka_unit_test(test_current_check),
         cmocka_unit_test(test_theta_guard),
+        cmocka_unit_test(test_theta_guard_required),
         cmocka_unit_test(test_protect_priority_and_clear),
         cmocka_unit_test(test_healthy_runs_margin),
     };

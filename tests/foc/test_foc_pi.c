@@ -361,6 +361,91 @@ static void test_random_steps(void **state)
     }
 }
 
+/* pi_set_gains: e_max = min(64, 64/kp) by _IQdiv, as pi_init computes it
+ * in float; the integrator kept (bumpless); rejections change nothing.
+ * e_max against the exact 64 / kp of the stored (Q24) kp: _IQdiv
+ * truncates, < 1 LSB (FLOAT: one division, 0.5 ulp of 64/kp <= 2^-18, i.e.
+ * 4 FLT_EPSILON relative).  Against pi_init's e_max for the same float
+ * gain: pi_init divides the float kp in float (0.5 ulp of 64/kp: up to
+ * 64/kp * 2^-24 pu = e_max LSB) and truncates to Q24 (1 LSB), and the two
+ * see kp differing by the Q24 truncation of kp (< 1 LSB: 64/kp^2 LSB in
+ * e_max): bound (e_max + 64/kp^2 + 2) LSB.  For kp a power of two (2, 4,
+ * 64) every step is exact: the two agree within 1 LSB. */
+static void test_set_gains(void **state)
+{
+    static const double kps[] = { 0.0, 0.5, 1.0, 1.0001, 2.0, 3.3, 4.0, 17.7, 64.0, 99.9, 100.0 };
+    pi_ctrl_t p, q, before;
+    size_t i;
+    double max_diff = 0.0;
+    (void)state;
+    for (i = 0; i < sizeof kps / sizeof kps[0]; i++) {
+        const double kp = kps[i];
+        double em, want, tol_init;
+        assert_int_equal(pi_init(&p, (float)kp, 0.01f, -1.0f, 1.0f), PI_OK);
+        assert_int_equal(pi_init(&q, 1.0f, 0.5f, -1.0f, 1.0f), PI_OK);
+        assert_int_equal(pi_set_gains(&q, p.kp, p.ki), PI_OK);
+        assert_true(q.kp == p.kp && q.ki == p.ki);
+        em = iq2d(q.e_max);
+        want = (iq2d(p.kp) <= 1.0) ? 64.0 : 64.0 / iq2d(p.kp);
+#if MATH_TYPE == IQ_MATH
+        assert_true(em <= want && want - em < FOC_LSB);
+#else
+        assert_true(fabs(em - want) <= 4.0 * (double)FLT_EPSILON * want);
+#endif
+        tol_init = (kp == 2.0 || kp == 4.0 || kp == 64.0 || kp <= 1.0)
+                       ? foc_tol(1.0, 1.0, 1.0)
+                       : foc_tol(want + 64.0 / (kp * kp) + 2.0, 4.0, want);
+        if (!(fabs(em - iq2d(p.e_max)) <= tol_init)) {
+            print_error("kp %.4f: e_max %.9f (set_gains) %.9f (init), diff %.2f LSB\n", kp, em,
+                        iq2d(p.e_max), (em - iq2d(p.e_max)) * 16777216.0);
+            fail();
+        }
+        max_diff = fmax(max_diff, fabs(em - iq2d(p.e_max)));
+    }
+    print_message("set_gains: e_max vs pi_init's, max |diff| %.3g pu (%.1f LSB24)\n", max_diff,
+                  max_diff * 16777216.0);
+
+    /* bumpless: build up the integrator, change the gains, the integrator
+     * and the output stay; the next step is the analytic kp' e + ui + ki' e
+     * + ff (unsaturated; IQ: kp e truncated 1 LSB, ki e rounded 0.5 LSB;
+     * FLOAT: 3 roundings of values < 1) */
+    assert_int_equal(pi_init(&p, 2.0f, 0.01f, -2.0f, 2.0f), PI_OK);
+    p.ref = d2iq(0.3);
+    p.fbk = d2iq(0.1);
+    p.ff = d2iq(0.05);
+    {
+        int k;
+        double ui, e, want;
+        for (k = 0; k < 50; k++) {
+            pi_step(&p);
+        }
+        before = p;
+        assert_int_equal(pi_set_gains(&p, d2iq(1.5), d2iq(0.02)), PI_OK);
+        assert_true(p.ui == before.ui && p.out == before.out && p.sat == before.sat);
+        assert_true(p.out_min == before.out_min && p.out_max == before.out_max);
+        ui = iq2d(p.ui);
+        e = iq2d(p.ref) - iq2d(p.fbk);
+        pi_step(&p);
+        want = iq2d(p.kp) * e + ui + iq2d(p.ki) * e + iq2d(p.ff);
+        assert_true(fabs(iq2d(p.out) - want) <= foc_tol(1.5, 3.0, 1.0));
+        assert_true(fabs(iq2d(p.ui) - (ui + iq2d(p.ki) * e)) <= foc_tol(0.5, 2.0, 1.0));
+    }
+
+    /* rejected: kp outside [0, 100], ki outside [0, 1]; nothing changes */
+    before = p;
+    assert_int_equal(pi_set_gains(&p, d2iq(-1e-6), d2iq(0.01)), PI_ERR_KP);
+    assert_int_equal(pi_set_gains(&p, d2iq(100.0001), d2iq(0.01)), PI_ERR_KP);
+    assert_int_equal(pi_set_gains(&p, d2iq(1.0), d2iq(-1e-6)), PI_ERR_KI);
+    assert_int_equal(pi_set_gains(&p, d2iq(1.0), d2iq(1.0001)), PI_ERR_KI);
+    assert_int_equal(pi_set_gains(&p, d2iq(101.0), d2iq(2.0)), PI_ERR_KP);   /* kp checked first */
+    assert_memory_equal(&p, &before, sizeof p);
+    /* the edges are accepted */
+    assert_int_equal(pi_set_gains(&p, d2iq(100.0), d2iq(1.0)), PI_OK);
+    assert_true(fabs(iq2d(p.e_max) - 0.64) <= foc_tol(1.0, 4.0, 1.0));
+    assert_int_equal(pi_set_gains(&p, d2iq(0.0), d2iq(0.0)), PI_OK);
+    assert_true(iq2d(p.e_max) == 64.0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -371,6 +456,7 @@ int main(void)
         cmocka_unit_test(test_integrator_limit),
         cmocka_unit_test(test_set_limits),
         cmocka_unit_test(test_random_steps),
+        cmocka_unit_test(test_set_gains),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -630,6 +630,113 @@ static void test_extreme_inputs(void **state)
     assert_true(o.psis_alpha == _IQ(0.0) && o.z_beta == _IQ(0.0) && o.psirr_d == _IQ(0.0));
 }
 
+/* ---- DC re-seat (flux_obs_set_rs_dc) -------------------------------------- */
+
+/* Standstill magnetisation with the believed Rs 30 % high: a constant
+ * current of 0.328 pu at 30 deg (both axes), u = Rs_true i, the rotor at
+ * 0.3 rev, for 0.3 s (15 Tr: the current model is at Lm i within e^-15 =
+ * 3e-7), while the voltage model's error -0.3 Rs i pulls psi_s off (the
+ * blend removes it only as e^{-w_c t} (w_c t)^2: still visible at 0.3 s).
+ * Then flux_obs_set_rs_dc(true Rs, u, i):
+ *  - at once: psi (output) = psi_cm, exactly (IQ: the same integers; the
+ *    doc: "the output continues from the re-seated flux (= the current
+ *    model's rotor flux)"), |psi| by _IQmag (0.5 LSB), theta by
+ *    _IQatan2PU (0.52 LSB), theta_prev = theta, ws = ws_f = 0; psi_cm
+ *    against Lm i in double: the rounded current-model recursion settles
+ *    within 0.5/kf = 149 LSB on each rotor axis (211 LSB in magnitude),
+ *    Lm i and the rotation back to the stationary frame truncated (< 4
+ *    LSB), the inputs quantised (< 1), e^-15 Lm |i| = 2 LSB: bound 220 LSB
+ *    (the angle: 220 LSB / (2 pi |psi|) = 92 LSB of a revolution, + 1);
+ *  - the re-seated states: psi_s = (Lm/Lr) psi_cm + sigma Ls i (2 products,
+ *    2 LSB), y = (Rs i - u)/w_c, z = 3 y: here Rs i - u is only the Q24
+ *    rounding of u and of Rs i (< 2 LSB), so |y| <= 2 LSB / w_c + 1 =
+ *    35 LSB and |u_c| <= 3 LSB;
+ *  - continuing at DC with the true Rs for 2000 samples (1.3 crossover
+ *    time constants past the peak below), the flux stays put: what moves
+ *    it is the truncation of Ts e (-0.5 LSB per sample, a voltage of 0.5
+ *    LSB / Ts_pu = 24 LSB that the old integral state had compensated and
+ *    the re-seat discarded) plus the 2 LSB residual of u_c, through
+ *    H_e/s: the flux error of a voltage step eps is eps t (1 + w_c t)
+ *    e^{-w_c t}, at most 0.84 eps / w_c, times Lr/Lm = 1.44 for psi_r:
+ *    0.84 * 26 / 0.06 * 1.44 = 524 LSB; bound 600 LSB (1e-4 of |psi|).
+ *    FLOAT: no truncation bias; within the same bound.
+ * Rejected Rs (< 0, > 4): nothing changes (the whole struct). */
+static void test_set_rs_dc(void **state)
+{
+    const double lsb = ldexp(1.0, -24);
+    const double im = ID_PU, ang = PI / 6.0;
+    const double complex i = im * cexp(J * ang);
+    const double complex u = g_m.rs * i;
+    flux_obs_t o, before;
+    double complex psi_cm, psi0, drift_before;
+    double max_move = 0.0;
+    uint32_t k;
+    _iq rs_true = _IQ(g_m.rs);
+    (void)state;
+
+    obs_init(&o, 1.3, 1.0);
+    for (k = 1u; k <= 4500u; k++) {
+        obs_feed(&o, i, u, 0.3 * 2.0 * PI);
+    }
+    psi_cm = to_d(o.psi_cm_alpha) + J * to_d(o.psi_cm_beta);
+    drift_before = obs_psi(&o) - psi_cm;
+
+    /* rejected: nothing changes */
+    before = o;
+    assert_int_equal(flux_obs_set_rs_dc(&o, _IQ(-0.01), o.u_alpha, o.u_beta, o.i_alpha, o.i_beta),
+                     FLUX_OBS_ERR_RS);
+    assert_int_equal(flux_obs_set_rs_dc(&o, _IQ(4.01), o.u_alpha, o.u_beta, o.i_alpha, o.i_beta),
+                     FLUX_OBS_ERR_RS);
+    assert_memory_equal(&o, &before, sizeof o);
+
+    assert_int_equal(flux_obs_set_rs_dc(&o, rs_true, o.u_alpha, o.u_beta, o.i_alpha, o.i_beta),
+                     FLUX_OBS_OK);
+    print_message("set_rs_dc: before |psi - psi_cm| %.4f pu; psi_cm err vs Lm i %.1f LSB;"
+                  " y (%.1f, %.1f) LSB, u_c (%.1f, %.1f) LSB\n",
+                  cabs(drift_before), cabs(psi_cm - g_m.lm * i) / lsb, to_d(o.y_alpha) / lsb,
+                  to_d(o.y_beta) / lsb, to_d(o.uc_alpha) / lsb, to_d(o.uc_beta) / lsb);
+    /* the voltage model had drifted (the reason for the re-seat) */
+    assert_true(cabs(drift_before) > 0.01);
+    assert_true(o.rs == rs_true);
+    assert_int_equal(o.sat, 0);
+    assert_true(o.psi_alpha == o.psi_cm_alpha && o.psi_beta == o.psi_cm_beta);
+    assert_true(fabs(to_d(o.psi_mag) - cabs(psi_cm)) <= 0.5 * lsb + 1e-7);
+    assert_true(fabs(to_d(o.theta) - to_d(_IQatan2PU(o.psi_cm_beta, o.psi_cm_alpha))) <= 0.0);
+    assert_true(o.theta_prev == o.theta);
+    assert_true(o.ws == _IQ(0.0) && o.ws_f == _IQ(0.0));
+    /* independent: the current model at DC is Lm i, its angle that of i */
+    assert_true(cabs(psi_cm - g_m.lm * i) <= 220.0 * lsb);
+    assert_true(fabs(to_d(o.theta) - ang / (2.0 * PI)) <= (220.0 / (2.0 * PI * cabs(g_m.lm * i)) + 1.0) * lsb);
+    /* the re-seated states */
+    assert_true(cabs(to_d(o.psis_alpha) + J * to_d(o.psis_beta) -
+                     ((g_m.lm / g_m.lr) * psi_cm + g_m.sls * i)) <= 4.0 * lsb + 1e-6 * cabs(psi_cm));
+    assert_true(fabs(to_d(o.y_alpha)) <= 35.0 * lsb && fabs(to_d(o.y_beta)) <= 35.0 * lsb);
+    assert_true(fabs(to_d(o.z_alpha) - 3.0 * to_d(o.y_alpha)) <= lsb);
+    assert_true(fabs(to_d(o.z_beta) - 3.0 * to_d(o.y_beta)) <= lsb);
+    assert_true(fabs(to_d(o.uc_alpha)) <= 3.0 * lsb && fabs(to_d(o.uc_beta)) <= 3.0 * lsb);
+
+    /* continue at DC with the true Rs: the flux stays put */
+    psi0 = obs_psi(&o);
+    for (k = 1u; k <= 2000u; k++) {
+        double mv;
+        obs_feed(&o, i, u, 0.3 * 2.0 * PI);
+        mv = cabs(obs_psi(&o) - psi0);
+        max_move = (mv > max_move) ? mv : max_move;
+        assert_int_equal(o.sat, 0);
+    }
+    print_message("set_rs_dc: flux moved at most %.1f LSB over 2000 samples; ws %.2e\n",
+                  max_move / lsb, to_d(o.ws));
+    assert_true(max_move <= 600.0 * lsb);
+    assert_true(fabs(to_d(o.ws_f)) <= 1e-4);
+
+    /* saturation: a DC voltage far off (u 10 pu, clamped to 4): Rs i - u
+     * clamped to 1 pu, y = 1/w_c = 16.7 -> 10 (Y_MAX), z = 30 (Z_MAX), sat */
+    assert_int_equal(flux_obs_set_rs_dc(&o, rs_true, _IQ(-10.0), _IQ(0.0), o.i_alpha, o.i_beta),
+                     FLUX_OBS_OK);
+    assert_int_equal(o.sat, 1);
+    assert_true(o.y_alpha == _IQ(FLUX_OBS_Y_MAX) && o.z_alpha == _IQ(FLUX_OBS_Z_MAX));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -641,6 +748,7 @@ int main(void)
         cmocka_unit_test(test_setters),
         cmocka_unit_test(test_init_errors),
         cmocka_unit_test(test_extreme_inputs),
+        cmocka_unit_test(test_set_rs_dc),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -361,6 +361,109 @@ static void test_encoder_angle_mode(void **state)
     assert_true(fabs(to_d(f.ws) - (wr + wslip)) <= 2.0 * LSB);
 }
 
+/* ifo_align: taking over from another frame (the flux observer's) in
+ * encoder-angle mode.  With theta_r set, ifo_align(theta_frame, imr) and
+ * then ifo_frame_from_rotor() on the same sample give theta = theta_frame
+ * (IQ: exactly, integer wraps; FLOAT: the difference theta_frame -
+ * theta_r, the sum theta_r + slip and their +-1 wraps each round to 24
+ * bits of a value below 2: 4 * 2^-24), theta_prev = theta, ws_frame = 0.
+ * imr is set, clamped to [0, 4], and imr_low follows it.  Cases across the
+ * 0/1 wrap both ways.  Afterwards the slip integrates as before
+ * (test_encoder_angle_mode's reference and bound, started from the
+ * aligned slip theta_frame - theta_r). */
+static void test_align(void **state)
+{
+    static const double cases[][2] = {
+        /* theta_r, theta_frame */
+        {0.37, 0.81}, {0.81, 0.37}, {0.999, 0.001}, {0.001, 0.999}, {0.0, 0.0},
+        {0.5, 0.5}, {0.99999994, 0.0}, {0.0, 0.99999994}, {0.25, 0.7500001},
+    };
+#if MATH_TYPE == IQ_MATH
+    const double tol = 0.0;
+#else
+    const double tol = 4.0 * LSB;
+#endif
+    ifo_t f;
+    uint32_t c;
+    double d_max = 0.0;
+    (void)state;
+
+    assert_int_equal(ifo_init(&f, TR_S, &g_b, 0.05f), IFO_OK);
+    for (c = 0u; c < sizeof cases / sizeof cases[0]; c++) {
+        double d;
+        /* some history first: a magnetised frame turning with slip */
+        ifo_reset(&f, _IQ(0.0));
+        f.imr = _IQ(0.33);
+        f.i_m = _IQ(0.33);
+        f.i_t = _IQ(0.25);
+        f.wr = _IQ(0.5);
+        for (int n = 1; n <= 100; n++) {
+            f.theta_r = _IQ(fmod(0.5 * 50.0 * (double)TS_S * n, 1.0));
+            ifo_frame_from_rotor(&f);
+            ifo_step_slip(&f);
+        }
+        f.theta_r = _IQ(cases[c][0]);
+        ifo_align(&f, _IQ(cases[c][1]), _IQ(0.3));
+        assert_true(f.theta == _IQ(cases[c][1]) && f.theta_prev == f.theta);
+        assert_true(f.ws_frame == _IQ(0.0));
+        assert_true(to_d(f.theta_slip) >= 0.0 && to_d(f.theta_slip) < 1.0);
+        ifo_frame_from_rotor(&f);
+        d = fabs(to_d(f.theta) - to_d(_IQ(cases[c][1])));
+        d = fmin(d, 1.0 - d);
+        if (!(d <= tol)) {
+            print_error("theta_r %.8f frame %.8f: theta %.8f (%.2f LSB off)\n", cases[c][0],
+                        cases[c][1], to_d(f.theta), d / LSB);
+            fail();
+        }
+        d_max = fmax(d_max, d);
+        assert_true(to_d(f.theta) >= 0.0 && to_d(f.theta) < 1.0);
+        assert_true(fabs(to_d(f.ws_frame)) <= tol * 300.0 + 1e-12);
+        assert_true(f.imr == _IQ(0.3));
+        assert_int_equal(f.imr_low, 0);
+    }
+
+    print_message("align: max |theta - theta_frame| after frame_from_rotor %.2f LSB\n", d_max / LSB);
+
+    /* imr clamped to [0, 4]; imr_low follows imr_min (0.05) */
+    f.theta_r = _IQ(0.2);
+    ifo_align(&f, _IQ(0.4), _IQ(5.0));
+    assert_true(f.imr == _IQ(4.0));
+    assert_int_equal(f.imr_low, 0);
+    ifo_align(&f, _IQ(0.4), _IQ(-0.2));
+    assert_true(f.imr == _IQ(0.0));
+    assert_int_equal(f.imr_low, 1);
+    ifo_align(&f, _IQ(0.4), _IQ(0.03));
+    assert_true(f.imr == _IQ(0.03));
+    assert_int_equal(f.imr_low, 1);
+
+    /* then the slip integrates as before: rotor at 0.9 pu, i_T 0.25 */
+    {
+        const double wr = 0.9, k = 50.0 * (double)TS_S;
+        double slip_ref, wslip = 0.0;
+        int n;
+        ifo_align(&f, _IQ(0.95), _IQ(0.33));
+        slip_ref = fmod(to_d(_IQ(0.95)) - to_d(_IQ(0.2)) + 1.0, 1.0);
+        f.i_m = _IQ(0.33);
+        f.i_t = _IQ(0.25);
+        f.wr = _IQ(wr);
+        for (n = 0; n <= 3000; n++) {
+            double th_r = fmod(0.2 + wr * k * n, 1.0);
+            double d;
+            f.theta_r = _IQ(th_r);
+            ifo_frame_from_rotor(&f);
+            d = fabs(to_d(f.theta) - fmod(to_d(f.theta_r) + slip_ref, 1.0));
+            d = fmin(d, 1.0 - d);
+            assert_true(d <= (double)(n + 2) * LSB + tol);
+            ifo_step_slip(&f);
+            wslip = to_d(f.wslip);
+            slip_ref = fmod(slip_ref + wslip * k, 1.0);
+        }
+        /* and the flux model ran from the aligned imr (steady: i_m = imr) */
+        assert_true(fabs(to_d(f.imr) - 0.33) <= 2.0 * LSB);
+        assert_true(wslip > 0.12 && wslip < 0.125);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -372,6 +475,7 @@ int main(void)
         cmocka_unit_test(test_theta_mid),
         cmocka_unit_test(test_init_errors),
         cmocka_unit_test(test_encoder_angle_mode),
+        cmocka_unit_test(test_align),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }
