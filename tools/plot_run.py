@@ -51,8 +51,9 @@ def plot_run(d, out):
     ax[2].set_ylabel("$\\psi_{rq}/\\psi_{rd}$ / %")
     ax[2].set_ylim(-5, 5)
     ax[3].plot(t, d["state"], drawstyle="steps-post")
-    ax[3].set_yticks(range(7))
-    ax[3].set_yticklabels(["idle", "calibrate", "magnetize", "accelerate", "settle", "run", "fault"])
+    ax[3].set_yticks(range(8))
+    ax[3].set_yticklabels(["idle", "calibrate", "magnetize", "accelerate", "settle", "run", "fault",
+                           "refine"])
     ax[3].set_xlabel("time / s")
     fig.tight_layout()
     fig.savefig(out, dpi=110)
@@ -65,14 +66,25 @@ def plot_parameters(d, truth, out):
     fig, axes = plt.subplots(3, 2, figsize=(10, 9), sharex=True)
     for ax, (key, label) in zip(axes.flat, PARAMS):
         y = np.where(valid, d[key], np.nan)
-        ax.plot(t, y, label="identified")
+        ax.plot(t, y, label="identified (RLS)")
+        # issue 8: the tracked Rr, Tr and the standstill Rs, where the run has them
+        names = d.dtype.names
+        if key in ("Rr_ohm", "Tr_s") and "track_valid" in names and np.any(d["track_valid"] > 0):
+            col = "Rr_track_ohm" if key == "Rr_ohm" else "Tr_track_s"
+            if col in names:
+                ax.plot(t, np.where(d["track_valid"] > 0, d[col], np.nan), label="tracked")
+        if key == "Rs_ohm" and "Rs_dc_ohm" in names and np.any(d["Rs_dc_ohm"] > 0):
+            ax.plot(t, np.where(d["Rs_dc_ohm"] > 0, d["Rs_dc_ohm"], np.nan), label="standstill")
         if truth and key in truth:
             ax.axhline(truth[key], color="k", ls="--", lw=1, label="true")
             lo, hi = 0.8 * truth[key], 1.2 * truth[key]
             ax.set_ylim(min(lo, hi), max(lo, hi))
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
-    axes[0, 0].legend(loc="upper right")
+    for ax in axes.flat:
+        if len(ax.get_lines()) > 2:
+            ax.legend(loc="lower right", fontsize=8)
+    axes[0, 0].legend(loc="upper right", fontsize=8)
     for ax in axes[-1]:
         ax.set_xlabel("time / s")
     fig.suptitle("Online RLS identification (true value dashed, y-range +-20 %)")

@@ -143,6 +143,17 @@ void report_print_table(FILE *f, const sim_result_t *r)
             e->Rr_ohm, e->Lm_H, e->Lr_H, e->psi_r_Wb, e->Tr_s);
     fprintf(f, "%-12s %+10.2f %+10.2f %+10.2f %+10.2f %+10.2f %+10.2f\n", "error %", p->Rs_ohm,
             p->Rr_ohm, p->Lm_H, p->Lr_H, p->psi_r_Wb, p->Tr_s);
+    if (r->params_tracked) {
+        /* issue 8: what the drive publishes at the end (standstill Rs,
+         * tracked Rr and Tr, the RLS's Lm, Lr, psi_r) */
+        const sim_params_t *q = &r->published_end, *qe = &r->published_end_error_pct;
+        fprintf(f, "%-12s %10.4f %10.4f %10.5f %10.5f %10.5f %10.5f\n", "published", q->Rs_ohm,
+                q->Rr_ohm, q->Lm_H, q->Lr_H, q->psi_r_Wb, q->Tr_s);
+        fprintf(f, "%-12s %+10.2f %+10.2f %+10.2f %+10.2f %+10.2f %+10.2f\n", "error %",
+                qe->Rs_ohm, qe->Rr_ohm, qe->Lm_H, qe->Lr_H, qe->psi_r_Wb, qe->Tr_s);
+        fprintf(f, "(identified: the RLS at the end of the last pass; published: Rs from the "
+                   "standstill test, Rr and Tr tracked, Lm, Lr, psi_r from the RLS)\n");
+    }
     fprintf(f, "\nacceleration started at %.3f s; parameters published at %.3f s%s;\n"
                "all estimates within 2 %% of their final values %.3f s after the start of the "
                "acceleration.\n",

@@ -172,7 +172,7 @@ static void trace_header(FILE *f)
                "rls_on,y1,y2,i_mf,u_mf,i_tf,u_tf,wr_f,"
                /* appended (issue 8): the plant's Rr, the drive's tracking and
                 * adaptation telemetry */
-               "Rr_true_ohm,Rr_track_ohm,track_valid,pass,Rs_dc_ohm\n");
+               "Rr_true_ohm,Rr_track_ohm,track_valid,pass,Rs_dc_ohm,Tr_track_s\n");
 }
 
 /* The appended columns of a trace row, and its end. */
@@ -180,8 +180,9 @@ static void trace_row_adaptation(FILE *f, const drive_t *d, const plant_t *p)
 {
     const drive_telemetry_t *t = &d->telemetry;
     double z = d->base.Z_base_ohm;
-    fprintf(f, ",%.6g,%.6g,%u,%u,%.6g\n", p->motor.p.Rr_ohm, (double)_IQtoF(t->Rr_track) * z,
-            t->track_valid, t->pass, (double)_IQtoF(t->Rs_dc) * z);
+    fprintf(f, ",%.6g,%.6g,%u,%u,%.6g,%.6g\n", p->motor.p.Rr_ohm, (double)_IQtoF(t->Rr_track) * z,
+            t->track_valid, t->pass, (double)_IQtoF(t->Rs_dc) * z,
+            (double)_IQtoF(t->Tr_track) * d->base.t_base_s);
 }
 
 /* Simulated time when none is given: calibration, magnetisation, the ramp
