@@ -80,6 +80,7 @@ FILE_MODULE = {
     "pi_ctrl.c": "speed ramp + PIs", "svgen.c": "SVPWM",
     "flux_obs.c": "orientation (observer)", "tr_track.c": "adaptation (issue 8)",
     "standstill_z.c": "adaptation (issue 8)", "drive_adapt.c": "adaptation (issue 8)",
+    "iq_rmpy.h": "rounded products (iq_rmpy)",
 }
 GLUE = "drive_step glue + other"
 
@@ -174,7 +175,10 @@ def run_isr_cost(build, config, isrs):
 
 
 def gcov_lines(objdir):
-    """{source path: {line: count}} of the measured window, src/ only."""
+    """{source path: {line: count}} of the measured window, src/ and the core's
+    headers (include/: their inline functions).  A header's inline functions
+    are compiled into every unit that includes it: its counts are summed over
+    the units (each .c file is in one unit only)."""
     gcov = shutil.which("gcov")
     if gcov is None:
         raise SystemExit("bench_isr: gcov not found")
@@ -189,11 +193,11 @@ def gcov_lines(objdir):
                 path = Path(f["file"])
                 if not path.is_absolute():
                     path = (gcda.parent / path).resolve()
-                if ROOT / "src" not in path.parents:
+                if ROOT / "src" not in path.parents and ROOT / "include" not in path.parents:
                     continue
                 d = out.setdefault(path, {})
                 for ln in f["lines"]:
-                    d[ln["line_number"]] = max(d.get(ln["line_number"], 0), ln["count"])
+                    d[ln["line_number"]] = d.get(ln["line_number"], 0) + ln["count"]
     return out
 
 

@@ -232,16 +232,18 @@ static void identify(drive_t *d)
     /* one regression row per ISR, alternating (rls.h): halves the RLS cost
      * (BENCHMARKS.md: 11 668 -> 8 651 cycles per ISR) */
     rls_step_row(&d->rls);
-    /* safeguard: the snapshots take the last good theta (theta_guard.h) */
-    {
+    /* safeguard: the snapshots take the last good theta (theta_guard.h),
+     * judged once per completed pair of rows (row 2 just done: the same
+     * sample rate as rls_step's, and half the ISRs' cost) */
+    if (d->rls.row_next == 0u) {
         uint16_t i;
         for (i = 0u; i < RLS_N; i++) {
             d->guard.theta[i] = d->rls.theta[i];
         }
+        d->guard.updated = d->rls.enable;
+        d->guard.windup_hold = d->rls.windup_hold;
+        theta_guard_step(&d->guard);
     }
-    d->guard.updated = d->rls.enable;
-    d->guard.windup_hold = d->rls.windup_hold;
-    theta_guard_step(&d->guard);
 }
 
 /* Hand the last good theta and the filtered i_M to the background

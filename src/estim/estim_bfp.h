@@ -19,6 +19,7 @@
 
 #include <stdint.h>
 #include "IQmathLib.h"
+#include "iq_rmpy.h"
 
 #if MATH_TYPE == FLOAT_MATH
 #include <math.h>
@@ -27,20 +28,8 @@
 /** Exponent reported for a zero value (below every real exponent). */
 #define ESTIM_EXP_ZERO ((int16_t)-1000)
 
-/** Forward declaration: see the MATH_TYPE sections below. */
-static inline _iq estim_round_half(_iq y);
-
-/**
- * _IQrmpy(a, b) (Q GLOBAL_Q, round half up), bit for bit, as the truncating
- * _IQmpyIQX one bit finer (the 5-cycle intrinsic) + estim_round_half,
- * instead of the 22-cycle library call.  Valid for |a b| < 2^(30 - GLOBAL_Q)
- * (64 pu at Q24; beyond, it wraps as _IQrmpy does beyond 128 pu).
- */
-static inline _iq estim_rmpy(_iq a, _iq b)
-{
-    /* a b 2^-(GLOBAL_Q - 1): a read as Q(GLOBAL_Q - 1), result in Q(GLOBAL_Q + 1) */
-    return estim_round_half(_IQmpyIQX(a, GLOBAL_Q - 1, b, GLOBAL_Q));
-}
+/* The rounded product (formerly estim_rmpy here) is iq_rmpy,
+ * shared with the observer: include/iq_rmpy.h. */
 
 /** Saturating increment of an event counter (never wraps to 0). */
 static inline void estim_count(uint32_t *c)
@@ -104,21 +93,6 @@ static inline _iq estim_ldexp(_iq x, int16_t n, int16_t qin, int16_t qout, uint3
     return x * (int32_t)((uint32_t)1 << sh);      /* exact, in range (sh <= 30) */
 }
 
-/**
- * A rounded product from the truncating one: y = floor(2x) in Q(n+1), the
- * result of _IQ(N-1)mpy(a, b) where _IQNrmpy(a, b) = x in Q(n) is wanted;
- * returns floor((y + 1) / 2) = floor(x + 1/2), bit-identical to _IQNrmpy
- * (nested floors: floor((floor(z) + 1) / 2) = floor((z + 1) / 2)).  The
- * C28x then pays the 5-cycle intrinsic and two ALU operations instead of
- * the 22-cycle _IQNrmpy library call.  Needs |2x| < 2^31 raw (the caller
- * states why); written as (y - b) / 2 + b, b = the low bit, so that no sum
- * can overflow and no negative value is shifted.
- */
-static inline _iq estim_round_half(_iq y)
-{
-    int32_t b = (int32_t)((uint32_t)y & 1u);
-    return (y - b) / 2 + b;
-}
 
 /**
  * The smallest n with |x| < 2^n, x in Q(q) (so 2^(n-1) <= |x| < 2^n);
@@ -241,11 +215,6 @@ static inline int16_t estim_exponent(_iq x, int16_t q)
     return (int16_t)e;
 }
 
-/** FLOAT: the product is exact to float precision; nothing to round. */
-static inline _iq estim_round_half(_iq y)
-{
-    return y;
-}
 
 /** a + b, saturated to the Q GLOBAL_Q range of the IQ build (+-128). */
 static inline _iq estim_add_sat(_iq a, _iq b, uint32_t *sat)

@@ -43,16 +43,16 @@ void ident_regressor_step(ident_regressor_t *r)
 {
     /* Park rotation at the mid-period angle (method §7 point 1); rounded
      * products = _IQrmpy bit for bit (estim_bfp.h), |u| < 64 pu */
-    r->u_m = estim_rmpy(r->u_alpha, r->cos_mid) + estim_rmpy(r->u_beta, r->sin_mid);
-    r->u_t = estim_rmpy(r->u_beta, r->cos_mid) - estim_rmpy(r->u_alpha, r->sin_mid);
+    r->u_m = iq_rmpy(r->u_alpha, r->cos_mid) + iq_rmpy(r->u_beta, r->sin_mid);
+    r->u_t = iq_rmpy(r->u_beta, r->cos_mid) - iq_rmpy(r->u_alpha, r->sin_mid);
 
     r->f_im.u = r->i_m;
     r->f_it.u = r->i_t;
     r->f_um.u = r->u_m;
     r->f_ut.u = r->u_t;
     /* the products are filtered as single signals (method §7 point 2) */
-    r->f_ws_it.u = estim_rmpy(r->ws, r->i_t);     /* Q24*Q24 -> Q24, rounded */
-    r->f_ws_im.u = estim_rmpy(r->ws, r->i_m);     /* Q24*Q24 -> Q24, rounded */
+    r->f_ws_it.u = iq_rmpy(r->ws, r->i_t);     /* Q24*Q24 -> Q24, rounded */
+    r->f_ws_im.u = iq_rmpy(r->ws, r->i_m);     /* Q24*Q24 -> Q24, rounded */
     r->f_wr.u = r->wr;
 
     /* only i_M and i_T need the derivative output */

@@ -176,7 +176,7 @@ void rls_forget(rls_t *r)
  * (Q27), |h_i| clamped below 1 so |h_i h_j| < 1 and the P update stays in
  * (-2, 2) (Q30) before its clamp.  Multiplies truncate (_IQNmpy, the C28x
  * intrinsic, not the _IQNrmpy library call) except the terms of q and the
- * P downdate, rounded through estim_round_half; why, in rls.h
+ * P downdate, rounded through iq_round_half; why, in rls.h
  * ("Truncation").  32-bit integer arithmetic only (estim_bfp.h).
  */
 _iq rls_update_row(rls_t *r, const _iq phi_in[RLS_N], _iq y)
@@ -228,8 +228,8 @@ _iq rls_update_row(rls_t *r, const _iq phi_in[RLS_N], _iq y)
     /* q = psi' g, rounded (a truncated q would shrink den and over-shoot the
      * downdate of P when P is huge): each term Q28*Q28 -> Q27 (|.| < 16),
      * rounded to Q26 = _IQ30rmpy, bit for bit */
-    q = estim_round_half(_IQ29mpy(psi[0], g[0])) + estim_round_half(_IQ29mpy(psi[1], g[1]))
-      + estim_round_half(_IQ29mpy(psi[2], g[2])) + estim_round_half(_IQ29mpy(psi[3], g[3]));
+    q = iq_round_half(_IQ29mpy(psi[0], g[0])) + iq_round_half(_IQ29mpy(psi[1], g[1]))
+      + iq_round_half(_IQ29mpy(psi[2], g[2])) + iq_round_half(_IQ29mpy(psi[3], g[3]));
     if (q <= _IQ26(0.0)) {
         estim_count(&r->pd_count);           /* Pn not PD along psi */
         return e;
@@ -275,9 +275,9 @@ _iq rls_update_row(rls_t *r, const _iq phi_in[RLS_N], _iq y)
      * -> Q31 (|.| < 1 fits), rounded to Q30 = _IQ24rmpy, bit for bit; so
      * Pn_ij - h_i h_j is in (-2, 2). */
     for (i = 0; i < RLS_N; i++) {
-        r->Pn[i][i] = r->Pn[i][i] - estim_round_half(_IQ23mpy(h[i], h[i]));
+        r->Pn[i][i] = r->Pn[i][i] - iq_round_half(_IQ23mpy(h[i], h[i]));
         for (j = (int16_t)(i + 1); j < RLS_N; j++) {
-            r->Pn[i][j] = rls_clamp_off(r, r->Pn[i][j] - estim_round_half(_IQ23mpy(h[i], h[j])));
+            r->Pn[i][j] = rls_clamp_off(r, r->Pn[i][j] - iq_round_half(_IQ23mpy(h[i], h[j])));
             r->Pn[j][i] = r->Pn[i][j];
         }
     }

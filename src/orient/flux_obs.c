@@ -2,6 +2,7 @@
 #include "flux_obs.h"
 
 #include "angle.h"
+#include "iq_rmpy.h"
 
 #include <math.h>
 
@@ -229,7 +230,8 @@ flux_obs_status_t flux_obs_set_inductances(flux_obs_t *o, _iq lm_pu, _iq lr_pu, 
 /* The correction C(s) for one axis, in the scaled states z = w_c int(e),
  * y = u_c / w_c: z += g e, y += g (3 e + z - 3 y).  Products Q24*Q24 -> Q24
  * rounded (a truncated product would bias the integrators by -0.5 LSB per
- * sample).  e is limited to +-8 pu (a real error is below 1 pu; |e| < 88
+ * sample), by iq_rmpy: |g e| <= 0.05 * 8 and |g drive| <= 0.05 * 84, inside
+ * its 64 pu range.  e is limited to +-8 pu (a real error is below 1 pu; |e| < 88
  * before the limit: |lm_lr psi_cm| <= 64, |sigma Ls i| <= 16, |psi_s| <= 8),
  * so |3 e + z - 3 y| <= 24 + 30 + 30 < 128. */
 static void correct_axis(const flux_obs_t *o, _iq e, _iq *z, _iq *y, uint16_t *sat)
@@ -238,9 +240,9 @@ static void correct_axis(const flux_obs_t *o, _iq e, _iq *z, _iq *y, uint16_t *s
     _iq drive;
 
     e = sat_sym(e, E_MAX, sat);
-    zn = sat_sym(*z + _IQrmpy(o->g, e), Z_MAX, sat);
+    zn = sat_sym(*z + iq_rmpy(o->g, e), Z_MAX, sat);
     drive = _IQmpy(_IQ(3.0), e) + zn - _IQmpy(_IQ(3.0), *y);
-    *y = sat_sym(*y + _IQrmpy(o->g, drive), Y_MAX, sat);
+    *y = sat_sym(*y + iq_rmpy(o->g, drive), Y_MAX, sat);
     *z = zn;
 }
 
@@ -273,9 +275,10 @@ void flux_obs_step(flux_obs_t *o)
     ird = _IQmpy(c, ia) + _IQmpy(s, ib);
     irq = _IQmpy(c, ib) - _IQmpy(s, ia);
     /* first-order hold: Lm times the mean of i^r(k-1), i^r(k); |Lm i| <= 64,
-     * |psi^r| settles inside it; rounded products (kf ~ 3e-3: no drift) */
-    o->psirr_d += _IQrmpy(o->kf, _IQmpy(o->lm, _IQmpy(ird + o->irr_d_prev, _IQ(0.5))) - o->psirr_d);
-    o->psirr_q += _IQrmpy(o->kf, _IQmpy(o->lm, _IQmpy(irq + o->irr_q_prev, _IQ(0.5))) - o->psirr_q);
+     * |psi^r| settles inside it; rounded products (kf ~ 3e-3: no drift) by
+     * iq_rmpy: kf <= 0.1 (Tr >= 10 Ts), so |product| <= 12.8 */
+    o->psirr_d += iq_rmpy(o->kf, _IQmpy(o->lm, _IQmpy(ird + o->irr_d_prev, _IQ(0.5))) - o->psirr_d);
+    o->psirr_q += iq_rmpy(o->kf, _IQmpy(o->lm, _IQmpy(irq + o->irr_q_prev, _IQ(0.5))) - o->psirr_q);
     o->irr_d_prev = ird;
     o->irr_q_prev = irq;
     o->i_alpha_prev = ia;
