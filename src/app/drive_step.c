@@ -8,7 +8,9 @@
  *   3. voltage model  the voltage applied in period k-1 (duties of sample k-2)
  *   4. Clarke, Park   at the frame angle theta_k
  *   5. identification regression signals and RLS update (method §2-§5)
- *   6. sequence       identification state machine
+ *   6. sequence       identification state machine; adaptation (issue 8,
+ *                     drive_adapt.c: standstill tests, the model of each
+ *                     pass, the Rr/Tr tracker)
  *   7. control        speed ramp + PI, current PIs with decoupling
  *   8. orientation    i_mr, slip, slip angle (indirect, current model; the
  *                     frame angle is the encoder angle plus the slip angle)
@@ -27,6 +29,9 @@
  *               encoder angle (drive_frame_angle); step 7
  *               decouples with its filtered w_s and (Lm/Lr)|psi_r|; step 8 is
  *               empty; the observer is reset when the magnetisation starts.
+ *               In RUN with tracking (run_ifo) the control frame is ifo's,
+ *               on the tracked Tr (steps 4 and 8 as mode 0), while the
+ *               observer runs on as the tracker's reference.
  *               In mode 0 the observer does not run (no cost).
  *
  * No float, no division but the documented _IQdiv calls inside the modules.
@@ -177,6 +182,17 @@ static void transform_currents(drive_t *d)
     park_step(&d->park);
 }
 
+/* sin/cos of the frame angle at the middle of the period that just ended,
+ * theta_k - (theta_k - theta_k-1)/2, from the Park's sin/cos of theta_k by
+ * the small-angle step (angle.h; |step| < 0.5 rev: Q24 product in range). */
+static void mid_period_sincos(const drive_t *d, _iq theta, _iq theta_prev,
+                              ident_regressor_t *r)
+{
+    angle_sincos_step(d->park.sine, d->park.cosine, theta,
+                      -_IQmpy(angle_diff_pu(theta, theta_prev), _IQ(0.5)), &r->sin_mid,
+                      &r->cos_mid);
+}
+
 /* Regression signals and RLS (method §2, §3, §5; §7 points 1-2). */
 static void identify(drive_t *d)
 {
@@ -198,12 +214,8 @@ static void identify(drive_t *d)
         r->ws = d->qep.speed_1;
         rls_on = 0u;
     } else if (ifo_frame(d) == 0u) {
-        /* the observer's frame: theta_k - step/2 from the Park's sin/cos
-         * (angle.h) */
-        const flux_obs_t *o = &d->fobs;
-        angle_sincos_step(d->park.sine, d->park.cosine, o->theta,
-                          -_IQmpy(angle_diff_pu(o->theta, o->theta_prev), _IQ(0.5)),
-                          &r->sin_mid, &r->cos_mid);
+        /* the observer's frame */
+        mid_period_sincos(d, d->fobs.theta, d->fobs.theta_prev, r);
         r->ws = d->fobs.ws;
         /* below ~10 w_c the current model (the believed Tr) steers the
          * angle: learn only where it does not (flux_obs.h) */
@@ -211,11 +223,9 @@ static void identify(drive_t *d)
             rls_on = 0u;
         }
     } else {
-        /* ifo's frame (orientation 0, or RUN on the tracked Tr; the RLS
-         * runs in neither of the latter) */
-        angle_sincos_step(d->park.sine, d->park.cosine, d->ifo.theta,
-                          -_IQmpy(angle_diff_pu(d->ifo.theta, d->ifo.theta_prev), _IQ(0.5)),
-                          &r->sin_mid, &r->cos_mid);
+        /* ifo's frame (orientation 0, or RUN on the tracked Tr, where the
+         * RLS does not run) */
+        mid_period_sincos(d, d->ifo.theta, d->ifo.theta_prev, r);
         r->ws = d->ifo.ws_frame;
     }
     r->wr = d->qep.speed_1;       /* rotor speed over that period */
