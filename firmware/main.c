@@ -124,6 +124,7 @@ int main(void)
             last_tlm = now;
             drive_get_telemetry(&g_drive, &tl);
             (void)telemetry_send(&g_tlm, &tl, isr_load_max());
+            (void)telemetry_send_adapt(&g_tlm, &tl);
             gpio_fault_led((tl.fault != 0u || hal_pwm_tripped() != 0u) ? 1u : 0u);
         }
 

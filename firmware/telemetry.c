@@ -44,24 +44,21 @@ void telemetry_init(telemetry_t *t)
     memset(t, 0, sizeof *t);
 }
 
-uint16_t telemetry_send(telemetry_t *t, const drive_telemetry_t *s, uint16_t isr_load)
+/* One frame: '$', the type letter, the 16-bit fields (4 hex digits each),
+ * the Q24 fields (8 each), '*', the XOR checksum of the characters between
+ * '$' and '*', CR LF.  Queued whole or dropped (counted). */
+static uint16_t send_frame(telemetry_t *t, uint16_t type, const uint16_t *u, uint16_t nu,
+                           const _iq *q, uint16_t nq)
 {
     uint16_t f[TLM_FRAME_MAX];
     uint16_t n = 0u, i, ck = 0u;
-    const _iq q[TLM_Q24_FIELDS] = {
-        s->speed, s->speed_ref, s->i_m, s->i_t, s->vdc,
-        s->Rs, s->Rr, s->Lm, s->Lr, s->psi_r, s->Tr
-    };
 
     f[n++] = (uint16_t)'$';
-    f[n++] = (uint16_t)'T';
-    n = put_hex(f, n, t->seq, 4u);
-    n = put_hex(f, n, s->state, 4u);
-    n = put_hex(f, n, s->fault, 4u);
-    n = put_hex(f, n, s->pwm_on, 4u);
-    n = put_hex(f, n, s->params_valid, 4u);
-    n = put_hex(f, n, isr_load, 4u);
-    for (i = 0u; i < TLM_Q24_FIELDS; i++) {
+    f[n++] = type;
+    for (i = 0u; i < nu; i++) {
+        n = put_hex(f, n, u[i], 4u);
+    }
+    for (i = 0u; i < nq; i++) {
         n = put_hex(f, n, tlm_q24(q[i]), 8u);
     }
     for (i = 1u; i < n; i++) {
@@ -83,6 +80,23 @@ uint16_t telemetry_send(telemetry_t *t, const drive_telemetry_t *s, uint16_t isr
     }
     t->seq++;
     return 1u;
+}
+
+uint16_t telemetry_send(telemetry_t *t, const drive_telemetry_t *s, uint16_t isr_load)
+{
+    const uint16_t u[6] = {t->seq, s->state, s->fault, s->pwm_on, s->params_valid, isr_load};
+    const _iq q[TLM_Q24_FIELDS] = {
+        s->speed, s->speed_ref, s->i_m, s->i_t, s->vdc,
+        s->Rs, s->Rr, s->Lm, s->Lr, s->psi_r, s->Tr
+    };
+    return send_frame(t, (uint16_t)'T', u, 6u, q, TLM_Q24_FIELDS);
+}
+
+uint16_t telemetry_send_adapt(telemetry_t *t, const drive_telemetry_t *s)
+{
+    const uint16_t u[4] = {t->seq, s->pass, s->track_valid, s->params_tracked};
+    const _iq q[TLM_ADAPT_Q24_FIELDS] = {s->Rs_dc, s->sigma_ls_dc, s->Rr_track, s->Tr_track};
+    return send_frame(t, (uint16_t)'A', u, 4u, q, TLM_ADAPT_Q24_FIELDS);
 }
 
 uint16_t telemetry_tx_pop(telemetry_t *t, uint16_t *c)

@@ -15,6 +15,13 @@
  *                 (value = (int32)hex / 2^24; bases in base_values.h)
  *   CK            2 hex digits: XOR of every character between '$' and '*'
  *
+ *   $A,<seq>,<pass>,<track_valid>,<tracked>,<Rs_dc>,<sigma_ls_dc>,<Rr_track>,
+ *      <Tr_track>*<CK>\r\n                       (issue 8, after each $T)
+ *
+ *   seq .. tracked  4 hex digits (frame counter, identification pass, 0/1
+ *                   tracker valid, 0/1 the published set is the fused one)
+ *   Rs_dc .. Tr_track  8 hex digits, Q24 pu as above (0: not measured)
+ *
  * Commands to the drive, same framing:  $C,<c>*<CK>\r\n  with c =
  *   S start the identification sequence   X stop
  *   R reset a latched fault               D arm the data-log trigger
@@ -29,9 +36,10 @@
 #include <stdint.h>
 #include "drive.h"
 
-#define TLM_TX_SIZE   512u    /* > 3 frames of 146 characters */
+#define TLM_TX_SIZE   512u    /* > 2 pairs of $T (136) and $A (63 characters) */
 #define TLM_RX_SIZE   16u
 #define TLM_Q24_FIELDS 11u
+#define TLM_ADAPT_Q24_FIELDS 4u
 
 typedef enum {
     TLM_CMD_NONE = 0,
@@ -56,6 +64,10 @@ typedef struct {
 void telemetry_init(telemetry_t *t);
 /** Queue one $T frame.  Returns 1 if queued, 0 if dropped. */
 uint16_t telemetry_send(telemetry_t *t, const drive_telemetry_t *s, uint16_t isr_load);
+/** Queue one $A frame (issue 8: pass, track_valid, params_tracked; Rs_dc,
+ *  sigma_ls_dc, Rr_track, Tr_track in Q24).  Returns 1 if queued, 0 if
+ *  dropped.  The $T format is unchanged. */
+uint16_t telemetry_send_adapt(telemetry_t *t, const drive_telemetry_t *s);
 /** Next character to transmit; returns 0 when the ring is empty. */
 uint16_t telemetry_tx_pop(telemetry_t *t, uint16_t *c);
 /** Feed one received character; returns a command when a valid $C frame

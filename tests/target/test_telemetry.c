@@ -71,6 +71,42 @@ static void test_frame_round_trip(void **state)
     assert_int_equal(s_t.seq, 1u);
 }
 
+/* $A (issue 8): the adaptation fields after their own header, the same
+ * framing and checksum as $T; it counts in the same sequence. */
+static void test_adapt_frame(void **state)
+{
+    drive_telemetry_t d;
+    char buf[256];
+    unsigned f[4], ck;
+    unsigned q[TLM_ADAPT_Q24_FIELDS];
+    int n;
+    size_t len;
+    (void)state;
+    telemetry_init(&s_t);
+    memset(&d, 0, sizeof d);
+    d.pass = 2u; d.track_valid = 1u; d.params_tracked = 1u;
+    d.Rs_dc = _IQ(0.59375); d.sigma_ls_dc = _IQ(0.859375);
+    d.Rr_track = _IQ(0.25); d.Tr_track = _IQ(6.25);
+    assert_int_equal(telemetry_send(&s_t, &d, 0u), 1);
+    (void)drain(&s_t, buf, sizeof buf);
+    assert_int_equal(telemetry_send_adapt(&s_t, &d), 1);
+    len = drain(&s_t, buf, sizeof buf);
+    assert_int_equal(len, strlen(buf));
+    assert_int_equal(len, 63u);   /* 2 + 4*5 + 4*9 + 5 characters */
+    n = sscanf(buf, "$A,%4x,%4x,%4x,%4x,%8x,%8x,%8x,%8x*%2x\r\n", &f[0], &f[1], &f[2], &f[3],
+               &q[0], &q[1], &q[2], &q[3], &ck);
+    assert_int_equal(n, 9);
+    assert_int_equal(f[0], 1u);   /* the second frame of this link */
+    assert_int_equal(f[1], 2u); assert_int_equal(f[2], 1u); assert_int_equal(f[3], 1u);
+    /* dyadic values: exact in both builds */
+    assert_int_equal((int32_t)q[0], 9961472);     /* 0.59375 * 2^24 */
+    assert_int_equal((int32_t)q[1], 14417920);    /* 0.859375 * 2^24 */
+    assert_int_equal((int32_t)q[2], 4194304);
+    assert_int_equal((int32_t)q[3], 104857600);   /* 6.25 * 2^24 */
+    assert_int_equal(ck, nmea_ck(buf));
+    assert_int_equal(s_t.seq, 2u);
+}
+
 static void test_ring_full_drops_whole_frames(void **state)
 {
     drive_telemetry_t d;
@@ -134,6 +170,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_frame_round_trip),
+        cmocka_unit_test(test_adapt_frame),
         cmocka_unit_test(test_ring_full_drops_whole_frames),
         cmocka_unit_test(test_commands),
     };
