@@ -18,7 +18,9 @@
  *     the current-loop gains (kp = w_c sigma Ls, ki = w_c Ts Rs) move to it
  *     linearly over DRIVE_ADAPT_BLEND_S (the safe blend), each target first
  *     limited to a factor 2 of the value in use (the rate limit per pass);
- *     an implausible extraction leaves the model as it is.
+ *     an implausible extraction leaves the model as it is.  Held: Rs and
+ *     sigma Ls when measured at standstill (the RLS's own come through the
+ *     frame computed with them: a loop), Tr when the tracker is on.
  *  3. tracking (track_rr): in RUN the tracker (tr_track.h) follows 1/Tr
  *     from the observer's slip; the observer's current model and ifo take
  *     the tracked Tr, its change limited to DRIVE_ADAPT_TR_RATE per second,
