@@ -3,16 +3,18 @@
 
 #include <math.h>
 
+#include "estim_bfp.h"
+
 #define P_MIN _IQ(1.0e-6)   /* P never reaches 0 (it would freeze theta); 16 LSB in Q24 */
 
 static _iq clamp(_iq x, _iq lo, _iq hi, uint32_t *count)
 {
     if (x > hi) {
-        if (*count < 0xFFFFFFFFu) { (*count)++; }
+        estim_count(count);
         return hi;
     }
     if (x < lo) {
-        if (*count < 0xFFFFFFFFu) { (*count)++; }
+        estim_count(count);
         return lo;
     }
     return x;
@@ -107,9 +109,7 @@ static void rls_update(tr_track_t *t)
     } else {
         /* in range */
     }
-    if (t->n_updates < 0xFFFFFFFFu) {
-        t->n_updates++;
-    }
+    estim_count(&t->n_updates);
 }
 
 void tr_track_step(tr_track_t *t)
