@@ -114,6 +114,11 @@ static void handle_command(drive_t *d, drive_cmd_t cmd)
              * plausible one replaces it; the guard starts afresh */
             theta_guard_reset(&d->guard);
             d->fused_ready = 0u;
+            /* this run's standstill test decides (an old measurement must
+             * not stand in for one that fails now); the ISR writes them
+             * only at the end of the magnetisation, not in IDLE */
+            d->telemetry.Rs_dc = _IQ(0.0);
+            d->telemetry.sigma_ls_dc = _IQ(0.0);
             id_sequence_start(&d->seq);
         }
         break;
