@@ -92,6 +92,16 @@
  *  z, y.  At DC z = 3 y and u_c = w_c y: |u_c| <= 10 w_c (0.6 pu at 3 Hz),
  *  far above the offsets it has to cancel. */
 #define FLUX_OBS_PSI_MAX 8.0f
+/** Bound of the current-model target Lm i^r (pu): |i^r| can reach
+ *  4 sqrt(2) (both inputs at FLUX_OBS_IN_MAX) and Lm 16, so Lm i^r is
+ *  saturated here and psi^r (a low-pass of it) stays inside it: the
+ *  low-pass increment target - psi^r is then below 2 x 60 = 120 < 128. */
+#define FLUX_OBS_PSI_CM_MAX 60.0f
+/** Largest |ws| (pu of w_base): the angle step is limited to this speed
+ *  (50 times rated frequency: only an angle jump, e.g. the flux vanishing
+ *  when the bridge turns off, reaches it).  ws_f, a low-pass of ws, stays
+ *  inside it, so ws - ws_f is below 100 < 128 (Q24). */
+#define FLUX_OBS_WS_MAX 50.0f
 #define FLUX_OBS_Z_MAX 30.0f
 #define FLUX_OBS_Y_MAX 10.0f
 /** Largest g = w_c Ts and largest crossover (pu of w_base). */
@@ -128,7 +138,7 @@ typedef struct {
     _iq inv_wc;             /* Q24, 1 / w_c (flux_obs_set_rs_dc), at most 100 pu */
     _iq kf_ws;              /* Q24, 1 - exp(-2 pi f_ws Ts): ws low-pass coefficient */
     _iq20 inv_k_theta;      /* Q20, 1 / (f_base Ts): pu speed per revolution per sample */
-    _iq dth_max;            /* Q24, largest angle step converted to ws (|ws| <= 100 pu) */
+    _iq dth_max;            /* Q24, largest angle step converted to ws (|ws| <= FLUX_OBS_WS_MAX) */
     /* outputs */
     _iq psi_alpha, psi_beta;        /* Q24, rotor flux (observer), pu of psi_base */
     _iq psi_mag;                    /* Q24, |psi_r|, pu */

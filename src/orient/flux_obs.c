@@ -11,6 +11,7 @@
 #define Y_MAX _IQ(FLUX_OBS_Y_MAX)
 #define E_MAX _IQ(FLUX_OBS_PSI_MAX)
 #define IN_MAX _IQ(FLUX_OBS_IN_MAX)
+#define PSI_CM_MAX _IQ(FLUX_OBS_PSI_CM_MAX)
 
 /* Limit x to [-m, m]; *sat set when it had to. */
 static inline _iq sat_sym(_iq x, _iq m, uint16_t *sat)
@@ -91,7 +92,8 @@ flux_obs_status_t flux_obs_init(flux_obs_t *o, const base_values_t *b, float Rs_
     o->ts = _IQ(b->Ts_pu);
     o->ts30 = _IQ30(b->Ts_pu);
     o->inv_k_theta = _IQ20(1.0f / fts);
-    o->dth_max = _IQ(100.0f * fts);   /* |d| <= 100 f_base Ts < 0.79 rev: |ws| <= 100 */
+    /* |d| <= 50 f_base Ts < 0.4 rev: |ws| <= FLUX_OBS_WS_MAX */
+    o->dth_max = _IQ(FLUX_OBS_WS_MAX * fts);
 
     /* ranges checked in float first (also NaN), so that no conversion to
      * Q24 can overflow; the setters then check them again in pu */
@@ -274,11 +276,19 @@ void flux_obs_step(flux_obs_t *o)
     c = _IQcosPU(o->theta_r);
     ird = _IQmpy(c, ia) + _IQmpy(s, ib);
     irq = _IQmpy(c, ib) - _IQmpy(s, ia);
-    /* first-order hold: Lm times the mean of i^r(k-1), i^r(k); |Lm i| <= 64,
-     * |psi^r| settles inside it; rounded products (kf ~ 3e-3: no drift) by
-     * iq_rmpy: kf <= 0.1 (Tr >= 10 Ts), so |product| <= 12.8 */
-    o->psirr_d += iq_rmpy(o->kf, _IQmpy(o->lm, _IQmpy(ird + o->irr_d_prev, _IQ(0.5))) - o->psirr_d);
-    o->psirr_q += iq_rmpy(o->kf, _IQmpy(o->lm, _IQmpy(irq + o->irr_q_prev, _IQ(0.5))) - o->psirr_q);
+    /* first-order hold: Lm times the mean of i^r(k-1), i^r(k).  |i^r| <=
+     * 4 sqrt(2) and Lm <= 16: |Lm i| <= 91, saturated to PSI_CM_MAX (60), so
+     * psi^r, a low-pass of it (kf in (0, 0.1]), stays within 60 and the
+     * increment within 120 (Q24 holds 128).  Rounded products (kf ~ 3e-3:
+     * no drift) by iq_rmpy: |product| <= 12 */
+    {
+        const _iq tgt_d = sat_sym(_IQmpy(o->lm, _IQmpy(ird + o->irr_d_prev, _IQ(0.5))),
+                                  PSI_CM_MAX, &sat);
+        const _iq tgt_q = sat_sym(_IQmpy(o->lm, _IQmpy(irq + o->irr_q_prev, _IQ(0.5))),
+                                  PSI_CM_MAX, &sat);
+        o->psirr_d += iq_rmpy(o->kf, tgt_d - o->psirr_d);
+        o->psirr_q += iq_rmpy(o->kf, tgt_q - o->psirr_q);
+    }
     o->irr_d_prev = ird;
     o->irr_q_prev = irq;
     o->i_alpha_prev = ia;
@@ -305,11 +315,13 @@ void flux_obs_step(flux_obs_t *o)
     o->theta = _IQatan2PU(psib, psia);   /* [0, 1); 0 for a zero flux */
 
     /* frame speed from the angle step; Q24 * Q20 -> Q24, |d| <= dth_max
-     * keeps |ws| <= 100 (an output limit, hit when the flux angle jumps,
-     * e.g. as the flux first appears: not reported in sat) */
+     * keeps |ws| <= FLUX_OBS_WS_MAX = 50 (an output limit, hit when the flux
+     * angle jumps, e.g. as the flux first appears or vanishes when the
+     * bridge turns off: not reported in sat) */
     d = sat_sym(angle_diff_pu(o->theta, o->theta_prev), o->dth_max, &ws_sat);
     o->ws = _IQmpyIQX(d, GLOBAL_Q, o->inv_k_theta, 20);
-    /* |ws - ws_f| < 200, product < 200 * 0.64: in range; rounded */
+    /* ws_f is a low-pass of ws (kf_ws in (0, 0.64]), so |ws_f| <= 50 and
+     * |ws - ws_f| <= 100 < 128 (Q24); product < 64: in range; rounded */
     o->ws_f += _IQrmpy(o->kf_ws, o->ws - o->ws_f);
     o->sat = sat;
 }

@@ -630,6 +630,38 @@ static void test_extreme_inputs(void **state)
     assert_true(o.psis_alpha == _IQ(0.0) && o.z_beta == _IQ(0.0) && o.psirr_d == _IQ(0.0));
 }
 
+/* The flux angle jumping +0.3 rev per sample for 300 samples, then -0.3 rev
+ * (the flux vanishing when the bridge turns off makes such jumps): ws hits
+ * its limit +-FLUX_OBS_WS_MAX and the low-pass ws_f follows it from one
+ * limit to the other.  ws - ws_f must stay inside Q24 (it reached -200 pu,
+ * a signed overflow, with the former 100 pu limit); ws_f never leaves
+ * [-50, 50] pu (a wrapped sum would flip its sign).  The angle is imposed
+ * through the stator-flux state, with zero current and voltage. */
+static void test_angle_jumps_bounded(void **state)
+{
+    flux_obs_t o;
+    uint32_t k;
+    const _iq lim = _IQ(FLUX_OBS_WS_MAX);
+    const _iq tol = _IQ((double)FLUX_OBS_WS_MAX * 1e-4);   /* truncation of the angle step */
+    double th = 0.0;
+    _iq ws_f_max = _IQ(0.0), ws_f_min = _IQ(0.0);
+    (void)state;
+
+    obs_init(&o, 1.0, 1.0);
+    for (k = 0u; k < 600u; k++) {
+        th = wrap1(th + ((k < 300u) ? 0.3 : -0.3));
+        o.psis_alpha = _IQ(0.5 * cos(2.0 * PI * th));
+        o.psis_beta = _IQ(0.5 * sin(2.0 * PI * th));
+        obs_feed(&o, 0.0, 0.0, 0.0);
+        assert_true(_IQabs(o.ws) <= lim + tol);
+        assert_true(_IQabs(o.ws_f) <= lim + tol);
+        if (o.ws_f > ws_f_max) { ws_f_max = o.ws_f; }
+        if (o.ws_f < ws_f_min) { ws_f_min = o.ws_f; }
+    }
+    /* both limits were reached: the test exercised the worst difference */
+    assert_true(ws_f_max > lim - _IQ(1.0) && ws_f_min < -lim + _IQ(1.0));
+}
+
 /* ---- DC re-seat (flux_obs_set_rs_dc) -------------------------------------- */
 
 /* Standstill magnetisation with the believed Rs 30 % high: a constant
@@ -748,6 +780,7 @@ int main(void)
         cmocka_unit_test(test_setters),
         cmocka_unit_test(test_init_errors),
         cmocka_unit_test(test_extreme_inputs),
+        cmocka_unit_test(test_angle_jumps_bounded),
         cmocka_unit_test(test_set_rs_dc),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
