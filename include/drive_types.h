@@ -34,6 +34,18 @@
 #include "tr_track.h"
 #include "volt_calc.h"
 
+/** The multi-rate schedule of the ISR (drive_step.c): every ISR runs the
+ *  fast path, and one of DRIVE_SLOTS slow tasks in turn, so that each ISR
+ *  carries an equal share and the slow tasks run at f_pwm / DRIVE_SLOTS. */
+#define DRIVE_SLOTS_LOG2 2u
+#define DRIVE_SLOTS (1u << DRIVE_SLOTS_LOG2)
+typedef enum {
+    DRIVE_SLOT_SPEED = 0,   /* speed ramp + PI, sequence, adaptation, slow constants, snapshots */
+    DRIVE_SLOT_FILTERS,     /* the regression's Butterworth filters on the window means */
+    DRIVE_SLOT_RLS_ROW1,    /* RLS: forgetting + row 1 */
+    DRIVE_SLOT_RLS_ROW2     /* RLS: row 2, then the estimator guard */
+} drive_slot_t;
+
 /** Gains and constants derived once by drive_init (pu, Q24). */
 typedef struct {
     _iq sigma_ls;       /* sigma Ls, pu of L_base: d-axis decoupling */
@@ -81,6 +93,7 @@ typedef struct {
     _iq ki_per_rs;            /* current-loop ki per pu of Rs (ki = w_c Ts Rs) */
     _iq tr_rate;              /* largest relative change of the applied Tr per tracker tick */
     uint16_t ssz_gap;         /* samples of DC between the sigma Ls test and the Rs reading */
+    uint16_t ssz_started;     /* the sigma Ls test of this magnetisation has been started */
     /* the model in use (the observer's values) and the blend towards a new one */
     _iq from[DRIVE_ADAPT_NP], to[DRIVE_ADAPT_NP];
     _iq frac;                 /* Q24 blend position 0..1 */
@@ -142,6 +155,12 @@ struct drive {
     uint16_t fused_ready;
     tr_track_t track;           /* Rr/Tr tracker in RUN (track_rr) */
     standstill_z_t ssz;         /* standstill sigma Ls (standstill) */
+
+    /* multi-rate schedule and what the slow tasks hand to the fast path */
+    uint16_t slot;              /* drive_slot_t of this ISR (0 .. DRIVE_SLOTS-1) */
+    _iq i_t_ref;                /* Q24 pu: the speed loop's torque-current reference */
+    _iq im_inject;              /* Q24 pu: added to the i_M reference (standstill test) */
+    uint16_t rls_on;            /* the sequence's rls_on, gated by the frame (slot FILTERS) */
 
     drive_snapshot_t snap;      /* ISR -> background: the steady-state extraction */
     drive_snapshot_t live_snap; /* ISR -> background: running estimates, 100 Hz */

@@ -24,6 +24,18 @@
  * regression parameters are K1_pu = K1/w_base, K2_pu = K2 V_base/(I_base
  * w_base), K3_pu = K3/(I_base w_base), K4_pu = K4/I_base.
  *
+ * Multi-rate (decim = 2^n samples per filter step, ident_regressor_init):
+ * steps 1 and the products of step 2 run every sample and are summed
+ * (ident_regressor_accumulate, in the 15 kHz ISR); every decim-th sample
+ * ident_regressor_filter steps the filters, at Ts' = decim Ts, on the
+ * means of the sums and forms y1, y2 and the rows.  The mean over decim
+ * samples is the anti-alias stage: a boxcar whose nulls lie at multiples
+ * of fs/decim, exactly the frequencies that the decimation would fold onto
+ * the filters' 10 Hz band; and, applied to every signal alike (each
+ * product formed per sample, then averaged), it is one more common linear
+ * filter, so the regression stays exact (method §7 point 2).  With decim =
+ * 1, ident_regressor_step = accumulate + filter, the paper's 15 kHz path.
+ *
  * Scaling and overflow of ident_regressor_step: products rounded (their
  * truncation bias would pass the unit DC gain of the filters), bit for bit
  * _IQrmpy but computed with the 5-cycle truncating intrinsic one bit finer
@@ -52,21 +64,40 @@ typedef struct {
     _iq y1, y2;            /* Q24 pu/pu time: left-hand sides, eq. 5 */
     _iq i_mf, u_mf;        /* Q24 pu: row 1 regressors */
     _iq i_tf, u_tf, wr_f;  /* Q24 pu: row 2 regressors */
-    /* state: the seven identical filters (only f_im and f_it compute their
+    /* parameters */
+    uint16_t decim_log2;   /* filter step every 2^decim_log2 samples (0..3) */
+    /* state: the sums of the decimation window (Q24, |.| < 8 x 7 pu: each
+     * input saturated to +-BW_FILTER_U_MAX, at most 8 samples) */
+    _iq s_im, s_it, s_um, s_ut, s_ws_it, s_ws_im, s_wr;
+    /* the seven identical filters (only f_im and f_it compute their
      * .dy output; the other five leave it at 0: bw_filter_update) */
     bw_filter_t f_im, f_it, f_um, f_ut, f_ws_it, f_ws_im, f_wr;
 } ident_regressor_t;
 
-/** Initialise the seven filters (bw_filter_init arguments); returns the
- *  first error (the struct is then zeroed). */
+/** Largest decimation, log2 (8 samples: the sums stay inside Q24). */
+#define IDENT_REGRESSOR_DECIM_LOG2_MAX 3u
+
+/** Initialise the seven filters (bw_filter_init arguments, the filters at
+ *  Ts_s 2^decim_log2) for a filter step every 2^decim_log2 samples of
+ *  period Ts_s; returns the first error (the struct is then zeroed;
+ *  decim_log2 > IDENT_REGRESSOR_DECIM_LOG2_MAX: BW_FILTER_ERR_TS). */
 bw_filter_status_t ident_regressor_init(ident_regressor_t *r, float wc_rad_s,
                                         uint16_t n_pass, float Ts_s,
-                                        float w_base_rad_s);
+                                        float w_base_rad_s, uint16_t decim_log2);
 
-/** Zero every filter state (e.g. before a new identification run). */
+/** Zero every filter state and sum (e.g. before a new identification run). */
 void ident_regressor_reset(ident_regressor_t *r);
 
-/** One ISR sample: rotate, filter, form y1, y2 and the regressors. */
+/** Every sample: rotate u into M-T, form the products, add the seven
+ *  signals to the window sums (inputs saturated to +-BW_FILTER_U_MAX). */
+void ident_regressor_accumulate(ident_regressor_t *r);
+
+/** Every 2^decim_log2 samples, after that many accumulate calls: the
+ *  window means (rounded) through the filters, y1, y2 and the regressors;
+ *  the sums restart at 0. */
+void ident_regressor_filter(ident_regressor_t *r);
+
+/** accumulate + filter: one sample of the undecimated path (decim_log2 = 0). */
 void ident_regressor_step(ident_regressor_t *r);
 
 #endif /* IDENT_REGRESSOR_H */

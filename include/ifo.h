@@ -83,6 +83,8 @@ typedef struct {
     _iq theta_slip;     /* state, Q24: integral of the slip, pu [0, 1) */
     _iq20 inv_k_theta;  /* parameter, Q20: 1 / (f_base Ts), pu speed per revolution per sample */
     _iq ws_frame;       /* output, Q24: frame speed over the last sample, from the angle step */
+    /* multi-rate slip (ifo_update_slip_gain / ifo_step_slip_fast) */
+    _iq k_slip;         /* Q24: 1 / (Tr imr), 0 while imr < imr_min; |.| <= 32 */
 } ifo_t;
 
 /**
@@ -140,6 +142,22 @@ _iq ifo_theta_mid(const ifo_t *f);
  */
 void ifo_frame_from_rotor(ifo_t *f);
 void ifo_step_slip(ifo_t *f);
+
+/**
+ * The same current model, split for a multi-rate ISR so that the division
+ * runs at the slow rate only:
+ *  - ifo_update_slip_gain() (slow): k_slip = 1/(Tr imr) by one _IQdiv, or
+ *    0 while imr < imr_min (imr_low set).  imr moves with the time constant
+ *    Tr >= 10 Ts, so between two updates (a few samples) the gain changes
+ *    by at most a few Ts/Tr of (i_M - imr)/imr: nothing in steady state.
+ *  - ifo_step_slip_fast() (every sample): imr += kf (i_m - imr), wslip =
+ *    i_t k_slip, ws = wr + wslip, the slip angle as ifo_step_slip.
+ * Scaling: k_slip = inv_tr / imr <= 1/(Tr imr_min) <= 32 (ifo_set_tr's
+ * bound 2/(Tr imr_min) <= 64); |i_t| <= IFO_I_T_MAX = 2 keeps |wslip| <= 64
+ * (i_t saturated there), ws and the angle as ifo_step_slip.
+ */
+void ifo_update_slip_gain(ifo_t *f);
+void ifo_step_slip_fast(ifo_t *f);
 
 /**
  * Take over from another frame without a jump (encoder-angle mode): with

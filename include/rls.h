@@ -187,6 +187,13 @@ void rls_step(rls_t *r);
  *  one instance, not both. */
 void rls_step_row(rls_t *r);
 
+/** The two halves of rls_step for a multi-rate ISR that gives each its own
+ *  period (drive_step.c): row 1 (with the sample's forgetting step), then,
+ *  in a later call with the same inputs, row 2.  If enable, they do what
+ *  rls_step does, split in two; the caller keeps the order. */
+void rls_step_row1(rls_t *r);
+void rls_step_row2(rls_t *r);
+
 /** One scalar update with row phi (Q24) and measurement y (Q24), no
  *  forgetting (rls_step uses it twice).  Returns the a-priori innovation
  *  (Q24).  A zero row carries no information: nothing changes. */

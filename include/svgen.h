@@ -64,13 +64,19 @@ typedef struct {
     uint16_t cmpr[3];  /* CMPR1..3, integer, [0, T1PR] */
     uint16_t overmod;  /* 1 when the reference was clamped onto the hexagon */
     uint16_t vdc_fault;/* 1 when vdc < SVGEN_VDC_MIN_PU (outputs 50 %) */
+    /* state: 1/vdc of the last vdc seen, so that a caller who changes vdc
+     * at a lower rate than it steps (the multi-rate ISR) divides only then */
+    _iq vdc_seen;      /* Q24: the vdc inv_vdc belongs to (0: none yet) */
+    _iq inv_vdc;       /* Q24: 1 / vdc_seen, <= 20 */
 } svgen_t;
 
 /** Set the period and clear inputs and outputs (outputs start at 50 %). */
 svgen_status_t svgen_init(svgen_t *s, uint16_t t1pr);
 
 /**
- * One sample.  Scaling: one _IQdiv (1 / max(vdc, max - min)) and three
+ * One sample.  Scaling: one _IQdiv (1 / max(vdc, max - min); in the
+ * linear range 1/vdc is kept from the last sample with the same vdc, so a
+ * vdc that changes every N samples costs one division per N) and three
  * Q24*Q24 -> Q24 products per sample; with div = max(vdc, max - min) each
  * duty is within 2 + div/2 + 4/div LSB of the exact SVPWM duty (the
  * truncation of the product, the < 1 LSB error of the reciprocal times

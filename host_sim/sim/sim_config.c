@@ -88,7 +88,7 @@ static const key_spec_t k_keys[] = {
     K("ident", "filter_cutoff_Hz", filter_cutoff_Hz, OPT, 10, 0.5, 500, 0, "Hz"),
     K("ident", "euler_passes", euler_passes, OPT, 10, 1, 100, 1, "-"),
     K("ident", "paper_regressor", paper_regressor, OPT, 0, 0, 1, 1, "0/1"),
-    K("ident", "rls_p0", rls_p0, OPT, 100, 1e-3, 1e6, 0, "pu"),
+    K("ident", "rls_p0", rls_p0, OPT, 1e5, 1e-3, 1e6, 0, "pu"),
     K("ident", "forgetting", forgetting, OPT, 1, 0.9, 1, 0, "-"),
     K("ident", "magnetize_s", magnetize_s, OPT, 0.3, 0.001, 100, 0, "s"),
     K("ident", "rls_tail_s", rls_tail_s, OPT, 0.3, 0, 3, 0, "s after the ramp"),

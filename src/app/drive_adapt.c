@@ -43,7 +43,7 @@
 
 #define DRIVE_ADAPT_BLEND_S 0.1f
 #define DRIVE_ADAPT_TR_RATE 0.2f       /* relative per second */
-#define TRACK_DECIM 15u                /* tracker RLS at 1 kHz */
+#define TRACK_DECIM 4u                 /* tracker RLS at 938 Hz (the slow task's 3.75 kHz / 4) */
 #define TRACK_LPF_HZ 10.0f             /* as the regression's Butterworth corner */
 #define TRACK_PHI_MIN_OF_RATED 0.1f    /* least |psi x i|: 10 % of rated flux x rated i_T */
 #define TRACK_VALID_UPDATES 1000u      /* 1 s of tracker updates before Rr_track is valid */
@@ -58,6 +58,9 @@ enum { P_RS = 0, P_LM, P_LR, P_LS, P_TR };
 
 int16_t drive_adapt_init(drive_t *d, const drive_config_t *c, float Ts)
 {
+    /* the slow task's period: the blend, the tracker and the Tr rate limit
+     * run there (drive_slow.c); the standstill lock-in runs every period */
+    const float Ts_slow = Ts * (float)DRIVE_SLOTS;
     const drive_ident_t *id = &c->ident;
     const drive_motor_t *m = &c->motor;
     const base_values_t *b = &d->base;
@@ -97,16 +100,16 @@ int16_t drive_adapt_init(drive_t *d, const drive_config_t *c, float Ts)
                 STANDSTILL_Z_OK ||
             /* the test and the gap fit in the second half of the magnetisation */
             2u * ((uint32_t)standstill_z_samples(&d->ssz) + a->ssz_gap) >
-                d->seq.magnetize_samples) {
+                d->seq.magnetize_samples * DRIVE_SLOTS) {
             return 1;
         }
     }
     a->rs_lo = _IQ(0.25f * rs_pu);
     a->rs_hi = _IQ(fminf(4.0f * rs_pu, FLUX_OBS_RS_MAX));
-    a->blend_step = _IQ(Ts / DRIVE_ADAPT_BLEND_S);
+    a->blend_step = _IQ(Ts_slow / DRIVE_ADAPT_BLEND_S);
     a->kp_per_sls = _IQ(wc / b->w_base_rad_s);
     a->ki_per_rs = _IQ(wc * Ts);
-    a->tr_rate = _IQ(DRIVE_ADAPT_TR_RATE * (float)TRACK_DECIM * Ts);
+    a->tr_rate = _IQ(DRIVE_ADAPT_TR_RATE * (float)TRACK_DECIM * Ts_slow);
     a->from[P_RS] = d->fobs.rs;
     a->from[P_LM] = d->fobs.lm;
     a->from[P_LR] = _IQ(m->Lr_H / b->L_base_H);
@@ -114,7 +117,7 @@ int16_t drive_adapt_init(drive_t *d, const drive_config_t *c, float Ts)
     a->from[P_TR] = d->fobs.tr;
     a->lr = a->from[P_LR];
     if (id->track_rr != 0u &&
-        tr_track_init(&d->track, Ts, TRACK_DECIM, TRACK_LPF_HZ, id->track_memory_s,
+        tr_track_init(&d->track, Ts_slow, TRACK_DECIM, TRACK_LPF_HZ, id->track_memory_s,
                       TRACK_PHI_MIN_OF_RATED * psi_pu * it_pu, 0.25f / tr_pu, 4.0f / tr_pu,
                       1.0f / tr_pu) != TR_TRACK_OK) {
         return 1;
@@ -270,27 +273,40 @@ static void standstill_result(drive_t *d)
     }
 }
 
-/* The injection over the end of the magnetisation (the sequence's i_M
- * reference is an output recomputed every sample: the test adds to it). */
-static void standstill_test(drive_t *d)
+/* The injection over the end of the magnetisation: started by the slow
+ * task (the sequence counts slow samples) so that the test and the gap
+ * after it (in fast samples: ssz_gap) end before the magnetisation does. */
+static void standstill_test_start(drive_t *d)
 {
     standstill_z_t *z = &d->ssz;
     const id_sequence_t *s = &d->seq;
+    uint32_t left;
 
-    if (s->state == ID_MAGNETIZE &&
-        s->t_state + (uint32_t)standstill_z_samples(z) + d->adapt.ssz_gap ==
-            s->magnetize_samples) {
+    if (s->state != ID_MAGNETIZE || z->running != 0u || s->t_state == 0u) {
+        return;
+    }
+    /* fast samples left in the magnetisation; t_state <= magnetize_samples */
+    left = (s->magnetize_samples - s->t_state) * DRIVE_SLOTS;
+    if (left <= (uint32_t)standstill_z_samples(z) + d->adapt.ssz_gap &&
+        d->adapt.ssz_started == 0u) {
         standstill_z_start(z);
+        d->adapt.ssz_started = 1u;
     }
-    if (s->state == ID_MAGNETIZE && z->running != 0u) {
-        z->u_m = d->reg.u_m;
-        z->i_m = d->park.ds;
-        standstill_z_step(z);
-        d->seq.im_cmd += z->i_add;
+}
+
+void drive_adapt_fast(drive_t *d)
+{
+    standstill_z_t *z = &d->ssz;
+
+    if (z->running == 0u) {
+        d->im_inject = _IQ(0.0);
+        return;
     }
-    if (s->magnetize_end != 0u) {
-        standstill_result(d);
-    }
+    /* the sequence's i_M reference plus the injection (drive_step.c) */
+    z->u_m = d->reg.u_m;
+    z->i_m = d->park.ds;
+    standstill_z_step(z);
+    d->im_inject = z->i_add;
 }
 
 /* The tracker's tick: its 1/Tr into telemetry and, rate limited, into the
@@ -338,7 +354,7 @@ static void track(drive_t *d)
     }
 }
 
-void drive_adapt_step(drive_t *d)
+void drive_adapt_slow(drive_t *d)
 {
     drive_adapt_t *a = &d->adapt;
     uint16_t st = (uint16_t)d->seq.state;
@@ -349,10 +365,16 @@ void drive_adapt_step(drive_t *d)
     }
     /* every test below is cheap while nothing happens (ACCELERATE, where the
      * RLS makes the ISR's worst case, runs only the compares) */
-    if (a->standstill != 0u && (st == (uint16_t)ID_MAGNETIZE || d->seq.magnetize_end != 0u)) {
-        standstill_test(d);
+    if (a->standstill != 0u) {
+        standstill_test_start(d);
+        if (d->seq.magnetize_end != 0u) {
+            standstill_result(d);
+        }
     }
     if (st != a->prev_state) {
+        if (st == (uint16_t)ID_MAGNETIZE) {
+            a->ssz_started = 0u;
+        }
         if (st == (uint16_t)ID_REFINE) {
             d->seq.adapt_ready = 0u;
         }

@@ -10,9 +10,14 @@
  *  without orientation 1, tracker constants out of range). */
 int16_t drive_adapt_init(drive_t *d, const drive_config_t *c, float Ts);
 
-/** ISR, after the sequence step: standstill Rs, RLS restart per pass, the
- *  blend of a pass's model, the tracker. */
-void drive_adapt_step(drive_t *d);
+/** ISR, every period: the standstill lock-in on i_M (its injection into
+ *  d->im_inject) during the magnetisation. */
+void drive_adapt_fast(drive_t *d);
+
+/** ISR, slot SPEED after the sequence step: standstill Rs at the end of the
+ *  magnetisation, RLS restart per pass, the blend of a pass's model, the
+ *  tracker. */
+void drive_adapt_slow(drive_t *d);
 
 /** Background, after an extraction at the end of a pass: post the result
  *  to the ISR (dropped if the mailbox is still full).  @p full: 1 for

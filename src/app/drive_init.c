@@ -68,8 +68,9 @@ static int16_t init_sensing(drive_t *d, const drive_config_t *c, float Ts)
                        16u) != 0) {
         return 1;
     }
-    d->k.cal_samples = (uint16_t)(0.07f / Ts);   /* ~70 ms of offset averaging */
-    d->k.live_period = (uint16_t)(0.01f / Ts);   /* live estimates at 100 Hz */
+    d->k.cal_samples = (uint16_t)(0.07f / Ts);   /* ~70 ms of offset averaging (every ISR) */
+    /* live estimates at 100 Hz, counted in slow periods (drive_slow.c) */
+    d->k.live_period = (uint16_t)(0.01f / (Ts * (float)DRIVE_SLOTS));
     return 0;
 }
 
@@ -92,6 +93,7 @@ static int16_t init_current_loops(drive_t *d, const drive_config_t *c, float Ts)
     return 0;
 }
 
+/* The speed loop runs in the slow task (drive_slow.c): Ts is its period. */
 static int16_t init_speed_loop(drive_t *d, const drive_config_t *c, float Ts)
 {
     const drive_motor_t *m = &c->motor;
@@ -129,8 +131,12 @@ rls_status_t drive_rls_start(drive_t *d)
     return st;
 }
 
+/* The regression's filters, the RLS and the sequence run in the slow task
+ * (drive_slow.c), once every DRIVE_SLOTS periods Ts; the regression's
+ * inputs are summed every period (ident_regressor.h). */
 static int16_t init_identification(drive_t *d, const drive_config_t *c, float Ts)
 {
+    const float Ts_slow = Ts * (float)DRIVE_SLOTS;
     const drive_motor_t *m = &c->motor;
     const drive_ident_t *id = &c->ident;
     const base_values_t *b = &d->base;
@@ -144,7 +150,7 @@ static int16_t init_identification(drive_t *d, const drive_config_t *c, float Ts
     float didt_pu = 0.05f * 1.41421356f * m->rated_current_A_rms / b->I_base_A / b->w_base_rad_s;
 
     if (ident_regressor_init(&d->reg, id->filter_wc_rad_s, id->euler_passes, Ts,
-                             b->w_base_rad_s) != 0) {
+                             b->w_base_rad_s, DRIVE_SLOTS_LOG2) != 0) {
         return 1;
     }
     d->ident_cfg = *id;
@@ -194,7 +200,7 @@ static int16_t init_identification(drive_t *d, const drive_config_t *c, float Ts
         }
     }
     d->k.speed_tol = _IQ(0.005f * target_pu);
-    if (id_sequence_init(&d->seq, Ts, id->magnetize_time_s, 0.2f, 0.2f, 3.0f, id->rls_tail_s,
+    if (id_sequence_init(&d->seq, Ts_slow, id->magnetize_time_s, 0.2f, 0.2f, 3.0f, id->rls_tail_s,
                          d->k.speed_tol,
                          _IQ(didt_pu), _IQ(im_pu), _IQ(target_pu)) != 0) {
         return 2;
@@ -241,7 +247,7 @@ int16_t drive_init(drive_t *d, const drive_config_t *c)
         return DRIVE_CFG_CURRENT_LOOP;
     }
     d->config_status = DRIVE_CFG_SPEED_LOOP;
-    if (init_speed_loop(d, c, Ts) != 0) {
+    if (init_speed_loop(d, c, Ts * (float)DRIVE_SLOTS) != 0) {
         return DRIVE_CFG_SPEED_LOOP;
     }
     d->config_status = DRIVE_CFG_ORIENTATION;

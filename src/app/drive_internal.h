@@ -1,4 +1,5 @@
-/* Private to src/app: what drive_init.c and drive_background.c share. */
+/* Private to src/app: what the drive's files share (drive_init.c,
+ * drive_step.c, drive_slow.c, drive_background.c, drive_adapt.c). */
 #ifndef DRIVE_INTERNAL_H
 #define DRIVE_INTERNAL_H
 
@@ -7,5 +8,28 @@
 /** (Re)start the RLS from d->ident_cfg: P(0) = p0 I, theta(0) = 0, the
  *  configured regressor form and forgetting.  Returns the rls_init status. */
 rls_status_t drive_rls_start(drive_t *d);
+
+/** The slow task of @p slot (drive_slot_t), one per ISR (drive_slow.c). */
+void drive_slow_task(drive_t *d, uint16_t slot);
+
+/** 1 while the control frame is the ifo's: orientation 0, or orientation 1
+ *  in RUN with a tracked Tr (drive_adapt.c: the observer then runs on as
+ *  the tracker's Tr-independent reference, and the quieter current-model
+ *  frame carries the control). */
+static inline uint16_t drive_ifo_frame(const drive_t *d)
+{
+    return (uint16_t)(d->k.orientation != DRIVE_ORIENT_FLUX_OBS || d->run_ifo != 0u);
+}
+
+/** The frame speed for decoupling and the modulation angle (pu): ifo's w_s,
+ *  or the observer's low-passed ws_f (ws carries the current noise through
+ *  sigma Ls i), or the rotor speed while the frame is held on the encoder. */
+static inline _iq drive_frame_speed(const drive_t *d)
+{
+    if (drive_ifo_frame(d) != 0u) {
+        return d->ifo.ws;
+    }
+    return (d->fobs_hold != 0u) ? d->qep.speed_raw : d->fobs.ws_f;
+}
 
 #endif /* DRIVE_INTERNAL_H */

@@ -1,20 +1,48 @@
 /**
- * The 15 kHz control ISR, in the order the F2812 runs it.  Each block is its
- * own module; this file only wires them and keeps the PWM pipeline:
+ * The 15 kHz control ISR, in the order the F2812 runs it, as a multi-rate
+ * schedule: every ISR runs the fast path, and exactly one slow task in turn
+ * (slot = ISR count modulo DRIVE_SLOTS, drive_slow.c), so that each ISR
+ * carries an equal share of the work and the worst single ISR - what the
+ * deadline is set by - is the fast path plus the largest slot.
  *
  *   sample k (T1 underflow): ADC has sampled i_a, i_b, v_dc; T2CNT read
+ *   fast path, every period (66.7 us):
  *   1. sensing        current scaling, bus, QEP angle and speed
  *   2. protections    trip -> PWM off in this same ISR
  *   3. voltage model  the voltage applied in period k-1 (duties of sample k-2)
  *   4. Clarke, Park   at the frame angle theta_k
- *   5. identification regression signals and RLS update (method §2-§5)
- *   6. sequence       identification state machine; adaptation (issue 8,
- *                     drive_adapt.c: standstill tests, the model of each
- *                     pass, the Rr/Tr tracker)
- *   7. control        speed ramp + PI, current PIs with decoupling
- *   8. orientation    i_mr, slip, slip angle (indirect, current model; the
- *                     frame angle is the encoder angle plus the slip angle)
- *   9. modulation     inverse Park at the middle of period k+1, SVPWM
+ *   5. regression in  the period's voltage rotated into M-T at its middle,
+ *                     the products w_s i, summed over the slow period
+ *                     (ident_regressor_accumulate: the anti-alias mean)
+ *   6. slow task      one of drive_slow.c's, by slot:
+ *        SPEED    speed ramp + PI, identification sequence, adaptation,
+ *                 1/(Tr i_mr) of the slip, telemetry and snapshots
+ *        FILTERS  the regression's seven Butterworth filters (method §5)
+ *        RLS_ROW1 the RLS's forgetting step and row 1 (method §3)
+ *        RLS_ROW2 row 2, then the estimator guard
+ *   7. current loops  d/q PIs with decoupling, current plausibility check
+ *   8. orientation    i_mr and the slip angle (indirect; the frame angle of
+ *                     the next sample is the encoder angle plus the slip)
+ *   9. modulation     inverse Park at the middle of period k+1, dead-time
+ *                     feed-forward, SVPWM
+ *
+ * Why each block runs where it does:
+ *   - every period: what the current loop closes over (sensing, the frame
+ *     angle, the PIs, the modulation: their bandwidth is hundreds of Hz at
+ *     a 15 kHz sample rate, and every sample of delay costs phase), the
+ *     protections (a trip must act in the ISR that sees it), and the
+ *     voltage reconstruction and the per-sample regression inputs (the
+ *     voltage of a period exists only in that period: it is rotated at its
+ *     own mid-period angle and summed, never sampled).
+ *   - at f_pwm / 4 (3.75 kHz): the speed loop (bandwidth a few Hz), the
+ *     sequence (times of 0.1-1 s), the regression filters (10 Hz band:
+ *     the 4-sample mean before them is the anti-alias stage, its nulls at
+ *     the multiples of 3.75 kHz that would fold onto that band) and the RLS
+ *     (both rows once per slow period, on the filtered signals: consecutive
+ *     15 kHz samples of a 10 Hz signal add no information; measured, the
+ *     decimated RLS is as accurate as the 15 kHz one once P(0) is large
+ *     enough that the prior does not pull the weakly excited directions,
+ *     drive_init.c).
  *
  * Orientation (drive_control_t.orientation, fixed at drive_init):
  *   0 IFO       as above (the paper's; steps 4 and 8 run the ifo module).
@@ -36,7 +64,7 @@
  *
  * No float, no division but the documented _IQdiv calls inside the modules.
  */
-#include "drive_types.h"
+#include "drive_internal.h"
 
 #include "angle.h"
 #include "drive_adapt.h"
@@ -46,32 +74,12 @@ static void set_outputs_off(drive_t *d, hal_pwm_compare_t *out)
     out->cmpr[0] = out->cmpr[1] = out->cmpr[2] = d->t1pr;   /* upper switches off */
 }
 
-/* 1 while the control frame is the ifo's: orientation 0, or orientation 1
- * in RUN with a tracked Tr (drive_adapt.c: the observer then runs on as the
- * tracker's Tr-independent reference, and the quieter current-model frame
- * carries the control). */
-static inline uint16_t ifo_frame(const drive_t *d)
-{
-    return (uint16_t)(d->k.orientation != DRIVE_ORIENT_FLUX_OBS || d->run_ifo != 0u);
-}
-
 _iq drive_frame_angle(const drive_t *d)
 {
-    if (ifo_frame(d) != 0u) {
+    if (drive_ifo_frame(d) != 0u) {
         return d->ifo.theta;
     }
     return (d->fobs_hold != 0u) ? d->qep.theta_elec : d->fobs.theta;
-}
-
-/* The frame speed for decoupling and the modulation angle (pu): ifo's w_s,
- * or the observer's low-passed ws_f (ws carries the current noise through
- * sigma Ls i), or the rotor speed while the frame is held on the encoder. */
-static _iq frame_speed(const drive_t *d)
-{
-    if (ifo_frame(d) != 0u) {
-        return d->ifo.ws;
-    }
-    return (d->fobs_hold != 0u) ? d->qep.speed_raw : d->fobs.ws_f;
 }
 
 static void sense(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count)
@@ -174,7 +182,7 @@ static void transform_currents(drive_t *d)
         d->fobs_hold = (uint16_t)(o->psi_mag < d->k.psi_min || d->seq.state == ID_MAGNETIZE);
     }
     d->ifo.theta_r = d->qep.theta_elec;
-    if (ifo_frame(d) != 0u) {
+    if (drive_ifo_frame(d) != 0u) {
         /* frame angle theta_k = encoder angle + integrated slip (ifo.h) */
         ifo_frame_from_rotor(&d->ifo);
     }
@@ -193,11 +201,11 @@ static void mid_period_sincos(const drive_t *d, _iq theta, _iq theta_prev,
                       &r->cos_mid);
 }
 
-/* Regression signals and RLS (method §2, §3, §5; §7 points 1-2). */
-static void identify(drive_t *d)
+/* The regression's inputs of this period (method §2, §7 points 1-2), into
+ * the window sums the FILTERS slot averages. */
+static void identify_accumulate(drive_t *d)
 {
     ident_regressor_t *r = &d->reg;
-    uint16_t rls_on = d->seq.rls_on;
 
     r->i_m = d->park.ds;
     r->i_t = d->park.qs;
@@ -212,16 +220,10 @@ static void identify(drive_t *d)
         r->sin_mid = d->park.sine;
         r->cos_mid = d->park.cosine;
         r->ws = d->qep.speed_1;
-        rls_on = 0u;
-    } else if (ifo_frame(d) == 0u) {
+    } else if (drive_ifo_frame(d) == 0u) {
         /* the observer's frame */
         mid_period_sincos(d, d->fobs.theta, d->fobs.theta_prev, r);
         r->ws = d->fobs.ws;
-        /* below ~10 w_c the current model (the believed Tr) steers the
-         * angle: learn only where it does not (flux_obs.h) */
-        if (_IQabs(d->fobs.ws_f) < d->k.rls_ws_min) {
-            rls_on = 0u;
-        }
     } else {
         /* ifo's frame (orientation 0, or RUN on the tracked Tr, where the
          * RLS does not run) */
@@ -229,104 +231,24 @@ static void identify(drive_t *d)
         r->ws = d->ifo.ws_frame;
     }
     r->wr = d->qep.speed_1;       /* rotor speed over that period */
-    ident_regressor_step(r);
-
-    d->rls.y1 = r->y1;
-    d->rls.y2 = r->y2;
-    d->rls.i_mf = r->i_mf;
-    d->rls.u_mf = r->u_mf;
-    d->rls.i_tf = r->i_tf;
-    d->rls.u_tf = r->u_tf;
-    d->rls.wr_f = r->wr_f;
-    d->rls.enable = rls_on;
-    /* one regression row per ISR, alternating (rls.h): halves the RLS cost
-     * (BENCHMARKS.md: 11 668 -> 8 651 cycles per ISR) */
-    rls_step_row(&d->rls);
-    /* safeguard: the snapshots take the last good theta (theta_guard.h),
-     * judged once per completed pair of rows (row 2 just done: the same
-     * sample rate as rls_step's, and half the ISRs' cost) */
-    if (d->rls.row_next == 0u) {
-        uint16_t i;
-        for (i = 0u; i < RLS_N; i++) {
-            d->guard.theta[i] = d->rls.theta[i];
-        }
-        d->guard.updated = d->rls.enable;
-        d->guard.windup_hold = d->rls.windup_hold;
-        theta_guard_step(&d->guard);
-    }
-}
-
-/* Hand the last good theta and the filtered i_M to the background
- * (drive_background.c): data first, the ready flag last. */
-static void take_snapshot(drive_snapshot_t *snap, const drive_t *d)
-{
-    uint16_t i;
-    for (i = 0u; i < RLS_N; i++) {
-        snap->theta[i] = d->guard.theta_good[i];
-    }
-    snap->i_m = d->reg.i_mf;
-    snap->ready = 1u;
-}
-
-static void sequence(drive_t *d)
-{
-    id_sequence_t *s = &d->seq;
-    s->fault = (uint16_t)(d->prot.fault != FAULT_NONE);
-    s->ramp_done = d->speed_ramp.done;
-    s->speed_err = _IQabs(d->speed_ramp.out - d->qep.speed);
-    s->dim = _IQabs(d->reg.f_im.dy);
-    s->dit = _IQabs(d->reg.f_it.dy);
-    id_sequence_step(s);
-    if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS && s->state == ID_MAGNETIZE &&
-        s->t_state == 0u) {
-        /* just entered (t_state restarts at 0 on entry): demagnetised
-         * machine, start both models from zero flux (the voltage model has
-         * integrated offsets while the bridge was off) */
-        flux_obs_reset(&d->fobs);
-    }
-    if (s->extract_now != 0u) {
-        take_snapshot(&d->snap, d);
-    }
-    if (++d->live_div >= d->k.live_period) {
-        d->live_div = 0u;
-        if (d->live_snap.ready == 0u) {
-            take_snapshot(&d->live_snap, d);
-        }
-    }
+    ident_regressor_accumulate(r);
 }
 
 static void control(drive_t *d)
 {
-    const id_sequence_t *s = &d->seq;
-    _iq i_t_ref = _IQ(0.0);
-
-    d->speed_ramp.target = s->speed_cmd;
-    ramp_gen_step(&d->speed_ramp);
-    if (s->speed_loop_on != 0u) {
-        d->pi_speed.ref = d->speed_ramp.out;
-        d->pi_speed.fbk = d->qep.speed;
-        d->pi_speed.ff = _IQ(0.0);
-        pi_step(&d->pi_speed);
-        i_t_ref = d->pi_speed.out;
-    } else {
-        pi_reset(&d->pi_speed);
-    }
-
     /* decoupling feed-forward (rotor-flux frame steady-state voltages):
      * u_d = -w_s sigma Ls i_T, u_q = w_s (sigma Ls i_M + (Lm/Lr) psi_r);
      * IFO: (Lm/Lr) psi_r = (Lm^2/Lr) i_mr; observer: (Lm/Lr) |psi_r|
      * (Q24 * Q24 -> Q24, both < 1 pu) */
-    {
-        const _iq ws = frame_speed(d);
-        const _iq emf_flux = (ifo_frame(d) == 0u) ? _IQmpy(d->fobs.lm_lr, d->fobs.psi_mag)
-                                                   : _IQmpy(d->k.lm2_lr, d->ifo.imr);
-        d->pi_id.ref = s->im_cmd;
-        d->pi_id.fbk = d->park.ds;
-        d->pi_id.ff = -_IQmpy(ws, _IQmpy(d->k.sigma_ls, d->park.qs));
-        d->pi_iq.ref = i_t_ref;
-        d->pi_iq.fbk = d->park.qs;
-        d->pi_iq.ff = _IQmpy(ws, _IQmpy(d->k.sigma_ls, d->park.ds) + emf_flux);
-    }
+    const _iq ws = drive_frame_speed(d);
+    const _iq emf_flux = (drive_ifo_frame(d) == 0u) ? _IQmpy(d->fobs.lm_lr, d->fobs.psi_mag)
+                                                     : _IQmpy(d->k.lm2_lr, d->ifo.imr);
+    d->pi_id.ref = d->seq.im_cmd + d->im_inject;
+    d->pi_id.fbk = d->park.ds;
+    d->pi_id.ff = -_IQmpy(ws, _IQmpy(d->k.sigma_ls, d->park.qs));
+    d->pi_iq.ref = d->i_t_ref;
+    d->pi_iq.fbk = d->park.qs;
+    d->pi_iq.ff = _IQmpy(ws, _IQmpy(d->k.sigma_ls, d->park.ds) + emf_flux);
     pi_step(&d->pi_id);
     pi_step(&d->pi_iq);
 }
@@ -350,20 +272,20 @@ static uint16_t check_current(drive_t *d)
 
 static void orient(drive_t *d)
 {
-    if (ifo_frame(d) == 0u) {
+    if (drive_ifo_frame(d) == 0u) {
         return;   /* the observer ran at the Park transform */
     }
     d->ifo.i_m = d->park.ds;
     d->ifo.i_t = d->park.qs;
     d->ifo.wr = d->qep.speed_raw;   /* 8-sample lag instead of ~31: orientation during acceleration */
-    ifo_step_slip(&d->ifo);   /* i_mr, slip, slip angle for theta_{k+1} */
+    ifo_step_slip_fast(&d->ifo);    /* i_mr, slip (gain from the SPEED slot), slip angle for theta_{k+1} */
 }
 
 static void modulate(drive_t *d, hal_pwm_compare_t *out)
 {
     /* the voltage computed now is applied over period k+1; rotate it at the
      * middle of that period: theta_k + 1.5 w_s Ts */
-    const _iq step = _IQmpy(frame_speed(d), d->k.three_half_step);
+    const _iq step = _IQmpy(drive_frame_speed(d), d->k.three_half_step);
     /* from the Park's sin/cos of theta_k by the small step (angle.h) */
     angle_sincos_step(d->park.sine, d->park.cosine, drive_frame_angle(d), step,
                       &d->ipark.sine, &d->ipark.cosine);
@@ -381,38 +303,27 @@ static void modulate(drive_t *d, hal_pwm_compare_t *out)
         d->svgen.ualpha = d->ipark.alpha + ff_a;
         d->svgen.ubeta = d->ipark.beta + ff_b;
     }
-    d->svgen.vdc = d->bus.vdc;
+    /* the bus for the duties changes at the slow rate (drive_slow.c), so
+     * that svgen divides once per slow period */
     svgen_step(&d->svgen);
     out->cmpr[0] = d->svgen.cmpr[0];
     out->cmpr[1] = d->svgen.cmpr[1];
     out->cmpr[2] = d->svgen.cmpr[2];
 }
 
-static void telemetry(drive_t *d, uint16_t pwm_on)
-{
-    drive_telemetry_t *t = &d->telemetry;
-    t->state = (uint16_t)d->seq.state;
-    t->fault = (uint16_t)d->prot.fault;
-    t->pwm_on = pwm_on;
-    t->speed = d->qep.speed;
-    t->speed_ref = d->speed_ramp.out;
-    t->i_m = d->park.ds;
-    t->i_t = d->park.qs;
-    t->vdc = d->bus.vdc;
-    t->rls_sat_count = d->rls.sat_count;
-    t->theta_rejects = d->guard.reject_count;
-}
-
 void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
                 hal_pwm_compare_t *out)
 {
     uint16_t pwm_on;
+    const uint16_t slot = d->slot;
 
     if (d->config_status != DRIVE_CFG_OK) {
         set_outputs_off(d, out);
         d->telemetry.pwm_on = 0u;
         return;
     }
+    d->slot = (uint16_t)((slot + 1u) & (DRIVE_SLOTS - 1u));
+
     sense(d, adc, qep_count);
     protect(d);
     if (d->seq.calibrating != 0u) {
@@ -420,9 +331,10 @@ void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
     }
     voltage_model(d);
     transform_currents(d);
-    identify(d);
-    sequence(d);
-    drive_adapt_step(d);
+    identify_accumulate(d);
+    drive_adapt_fast(d);
+    drive_slow_task(d, slot);
+
     pwm_on = (uint16_t)(d->seq.pwm_on != 0u && d->prot.fault == FAULT_NONE);
     if (pwm_on != 0u) {
         control(d);
@@ -439,7 +351,6 @@ void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
     } else {
         pi_reset(&d->pi_id);
         pi_reset(&d->pi_iq);
-        pi_reset(&d->pi_speed);
         set_outputs_off(d, out);
     }
 
@@ -452,7 +363,7 @@ void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
     d->duty_next[1] = d->svgen.db;
     d->duty_next[2] = d->svgen.dc;
     d->on_next = pwm_on;
-    telemetry(d, pwm_on);
+    d->telemetry.pwm_on = pwm_on;
 }
 
 void drive_isr(drive_t *d)

@@ -8,11 +8,15 @@
 
 bw_filter_status_t ident_regressor_init(ident_regressor_t *r, float wc_rad_s,
                                         uint16_t n_pass, float Ts_s,
-                                        float w_base_rad_s)
+                                        float w_base_rad_s, uint16_t decim_log2)
 {
     bw_filter_status_t st;
     memset(r, 0, sizeof *r);
-    st = bw_filter_init(&r->f_im, wc_rad_s, n_pass, Ts_s, w_base_rad_s);
+    if (decim_log2 > IDENT_REGRESSOR_DECIM_LOG2_MAX) {
+        return BW_FILTER_ERR_TS;
+    }
+    st = bw_filter_init(&r->f_im, wc_rad_s, n_pass, Ts_s * (float)(1u << decim_log2),
+                        w_base_rad_s);
     if (st != BW_FILTER_OK) {
         memset(r, 0, sizeof *r);
         return st;
@@ -24,6 +28,7 @@ bw_filter_status_t ident_regressor_init(ident_regressor_t *r, float wc_rad_s,
     r->f_ws_it = r->f_im;
     r->f_ws_im = r->f_im;
     r->f_wr = r->f_im;
+    r->decim_log2 = decim_log2;
     return BW_FILTER_OK;
 }
 
@@ -36,24 +41,56 @@ void ident_regressor_reset(ident_regressor_t *r)
     bw_filter_reset(&r->f_ws_it, _IQ(0.0));
     bw_filter_reset(&r->f_ws_im, _IQ(0.0));
     bw_filter_reset(&r->f_wr, _IQ(0.0));
+    r->s_im = r->s_it = r->s_um = r->s_ut = _IQ(0.0);
+    r->s_ws_it = r->s_ws_im = r->s_wr = _IQ(0.0);
+}
+
+/* One input into its window sum: saturated as the filter would, so that
+ * 8 of them stay below 56 pu (Q24). */
+static inline _iq ident_in(_iq x)
+{
+    return _IQsat(x, _IQ(BW_FILTER_U_MAX), _IQ(-BW_FILTER_U_MAX));
 }
 
 /* Scaling/overflow: see ident_regressor.h. */
-void ident_regressor_step(ident_regressor_t *r)
+void ident_regressor_accumulate(ident_regressor_t *r)
 {
     /* Park rotation at the mid-period angle (method §7 point 1); rounded
-     * products = _IQrmpy bit for bit (estim_bfp.h), |u| < 64 pu */
+     * products = _IQrmpy bit for bit (iq_rmpy.h), |u| < 64 pu */
     r->u_m = iq_rmpy(r->u_alpha, r->cos_mid) + iq_rmpy(r->u_beta, r->sin_mid);
     r->u_t = iq_rmpy(r->u_beta, r->cos_mid) - iq_rmpy(r->u_alpha, r->sin_mid);
 
-    r->f_im.u = r->i_m;
-    r->f_it.u = r->i_t;
-    r->f_um.u = r->u_m;
-    r->f_ut.u = r->u_t;
-    /* the products are filtered as single signals (method §7 point 2) */
-    r->f_ws_it.u = iq_rmpy(r->ws, r->i_t);     /* Q24*Q24 -> Q24, rounded */
-    r->f_ws_im.u = iq_rmpy(r->ws, r->i_m);     /* Q24*Q24 -> Q24, rounded */
-    r->f_wr.u = r->wr;
+    r->s_im += ident_in(r->i_m);
+    r->s_it += ident_in(r->i_t);
+    r->s_um += ident_in(r->u_m);
+    r->s_ut += ident_in(r->u_t);
+    /* the products are filtered as single signals (method §7 point 2):
+     * each formed per sample, then averaged (Q24*Q24 -> Q24, rounded) */
+    r->s_ws_it += ident_in(iq_rmpy(r->ws, r->i_t));
+    r->s_ws_im += ident_in(iq_rmpy(r->ws, r->i_m));
+    r->s_wr += ident_in(r->wr);
+}
+
+/* The window mean of a sum of 2^n samples, rounded half up (no bias to
+ * pass the filters' unit DC gain); exact in FLOAT_MATH. */
+static inline _iq ident_mean(_iq sum, uint16_t n)
+{
+    return estim_ldexp(sum, (int16_t)-(int16_t)n, 24, 24, NULL);
+}
+
+void ident_regressor_filter(ident_regressor_t *r)
+{
+    const uint16_t n = r->decim_log2;
+
+    r->f_im.u = ident_mean(r->s_im, n);
+    r->f_it.u = ident_mean(r->s_it, n);
+    r->f_um.u = ident_mean(r->s_um, n);
+    r->f_ut.u = ident_mean(r->s_ut, n);
+    r->f_ws_it.u = ident_mean(r->s_ws_it, n);
+    r->f_ws_im.u = ident_mean(r->s_ws_im, n);
+    r->f_wr.u = ident_mean(r->s_wr, n);
+    r->s_im = r->s_it = r->s_um = r->s_ut = _IQ(0.0);
+    r->s_ws_it = r->s_ws_im = r->s_wr = _IQ(0.0);
 
     /* only i_M and i_T need the derivative output */
     bw_filter_step(&r->f_im);
@@ -72,4 +109,10 @@ void ident_regressor_step(ident_regressor_t *r)
     r->i_tf = r->f_it.y;
     r->u_tf = r->f_ut.y;
     r->wr_f = r->f_wr.y;
+}
+
+void ident_regressor_step(ident_regressor_t *r)
+{
+    ident_regressor_accumulate(r);
+    ident_regressor_filter(r);
 }

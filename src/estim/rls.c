@@ -337,6 +337,23 @@ void rls_step(rls_t *r)
     rls_row2(r);
 }
 
+void rls_step_row1(rls_t *r)
+{
+    if (r->enable == 0u) {
+        return;
+    }
+    rls_forget(r);
+    rls_row1(r);
+}
+
+void rls_step_row2(rls_t *r)
+{
+    if (r->enable == 0u) {
+        return;
+    }
+    rls_row2(r);
+}
+
 void rls_step_row(rls_t *r)
 {
     if (r->enable == 0u) {

@@ -73,8 +73,16 @@ void svgen_step(svgen_t *s)
             s->overmod = 0u;
         }
         s->vdc_fault = 0u;
-        /* 1/div, Q24, <= 1/0.05 = 20 */
-        inv = _IQdiv(_IQ(1.0), div);
+        /* 1/div, Q24, <= 1/0.05 = 20; 1/vdc only when vdc changed */
+        if (s->overmod != 0u) {
+            inv = _IQdiv(_IQ(1.0), div);
+        } else {
+            if (s->vdc != s->vdc_seen) {
+                s->inv_vdc = _IQdiv(_IQ(1.0), s->vdc);
+                s->vdc_seen = s->vdc;
+            }
+            inv = s->inv_vdc;
+        }
 
         /* d_x = 1/2 + (v_x - mid)/div; |v_x - mid| <= span/2 <= div/2, so
          * the Q24*Q24 -> Q24 product is within [-1/2, 1/2]: no overflow.

@@ -2,6 +2,7 @@
 #include "ifo.h"
 
 #include "angle.h"
+#include "iq_rmpy.h"
 
 /* Wrap a Q24 angle that is within one revolution of [0, 1) back into it.
  * Adding or subtracting exactly 1.0 is exact in Q24 and in float. */
@@ -93,6 +94,7 @@ void ifo_reset(ifo_t *f, _iq theta0)
     f->theta = ifo_wrap(theta0);
     f->theta_prev = f->theta;
     f->imr_low = 1u;
+    f->k_slip = _IQ(0.0);
     f->theta_slip = _IQ(0.0);
     f->ws_frame = _IQ(0.0);
 }
@@ -142,6 +144,29 @@ void ifo_frame_from_rotor(ifo_t *f)
 void ifo_step_slip(ifo_t *f)
 {
     ifo_update_flux(f);
+    /* Q24 * Q30 -> Q24 (truncated), wrapped modulo one revolution */
+    f->theta_slip = ifo_wrap(f->theta_slip + _IQmpyIQX(f->wslip, GLOBAL_Q, f->k_theta, 30));
+}
+
+void ifo_update_slip_gain(ifo_t *f)
+{
+    if (f->imr < f->imr_min) {
+        f->k_slip = _IQ(0.0);
+        f->imr_low = 1u;
+    } else {
+        /* Q24 / Q24 -> Q24; <= 1/(Tr imr_min) <= 32 (ifo.h) */
+        f->k_slip = _IQdiv(f->inv_tr, f->imr);
+        f->imr_low = 0u;
+    }
+}
+
+void ifo_step_slip_fast(ifo_t *f)
+{
+    /* rotor flux lag, as ifo_update_flux (rounded, |i_m - imr| < 4 pu) */
+    f->imr += iq_rmpy(f->kf, f->i_m - f->imr);
+    /* Q24*Q24 -> Q24: |i_t| <= 2, k_slip <= 32 */
+    f->wslip = _IQmpy(_IQsat(f->i_t, _IQ(IFO_I_T_MAX), _IQ(-IFO_I_T_MAX)), f->k_slip);
+    f->ws = f->wr + f->wslip;
     /* Q24 * Q30 -> Q24 (truncated), wrapped modulo one revolution */
     f->theta_slip = ifo_wrap(f->theta_slip + _IQmpyIQX(f->wslip, GLOBAL_Q, f->k_theta, 30));
 }

@@ -25,7 +25,7 @@
 
 static void init_paper(ident_regressor_t *r)
 {
-    assert_int_equal(ident_regressor_init(r, WC_RAD_S, 10u, (float)MD_TS_S, (float)MD_W_BASE),
+    assert_int_equal(ident_regressor_init(r, WC_RAD_S, 10u, (float)MD_TS_S, (float)MD_W_BASE, 0u),
                      BW_FILTER_OK);
 }
 
@@ -158,8 +158,8 @@ static void test_init_rejects(void **state)
 {
     ident_regressor_t r;
     (void)state;
-    assert_int_equal(ident_regressor_init(&r, 0.0f, 10u, 1e-4f, 314.0f), BW_FILTER_ERR_WC);
-    assert_int_equal(ident_regressor_init(&r, 62.8f, 0u, 1e-4f, 314.0f), BW_FILTER_ERR_N);
+    assert_int_equal(ident_regressor_init(&r, 0.0f, 10u, 1e-4f, 314.0f, 0u), BW_FILTER_ERR_WC);
+    assert_int_equal(ident_regressor_init(&r, 62.8f, 0u, 1e-4f, 314.0f, 0u), BW_FILTER_ERR_N);
     assert_true(r.f_wr.d12 == _IQ30(0.0));     /* zeroed on error */
     init_paper(&r);
     r.i_m = _IQ(0.5);

@@ -9,9 +9,9 @@
  * +5.1 % / -27.1 % (Tr -10.7 % / +46.4 %) and turns the flux up to 14 % /
  * 18 % off the M axis (measured, IQ_MATH).  With the observer the angle does
  * not depend on Tr above its crossover (3 Hz) and the RLS runs only above
- * 10 w_c = 0.6 pu (drive_init.c).  Measured (IQ_MATH, FLOAT_MATH in the
- * report): true parameters, worst error 0.46 % (Tr); Rr +30 %: 2.75 % (Rr);
- * Rr -30 %: 4.86 % (Tr).  Bounds: those plus about 1 point for the
+ * 10 w_c = 0.6 pu (drive_init.c).  Measured (IQ_MATH, noise seeds 1-6):
+ * true parameters, worst error 0.18-1.07 %; Rr +30 %: 2.95-3.93 % (Rr);
+ * Rr -30 %: 2.88-4.18 % (Tr).  Bounds: those plus about 1 point for the
  * other math build and seeds (the IQ-FLOAT difference of this motor is
  * 0.02 points with IFO), 2 % for the true parameters as sim_closed_loop.
  */
@@ -87,15 +87,21 @@ static void test_true_parameters(void **state)
     assert_true(r.max_flux_q_over_d < 0.06);
 }
 
-/* Believed Rr +30 %: every parameter within 3.5 % (measured 2.75 %, Rr;
- * IFO: Tr -10.7 %).  q/d below 0.1 (measured 0.075 at low speed, where the
- * current model with the wrong Tr steers; IFO 0.138). */
+/* Believed Rr +30 %: every parameter within 4.5 % (measured, noise seeds
+ * 1-6: 2.95-3.93 %, Rr; IFO: Tr -10.7 %).  It was 2.75 % while the RLS
+ * started from P(0) = 100 pu: that prior pulled the weakly excited
+ * direction towards theta = 0 and happened to offset part of the bias the
+ * wrong Tr leaves below the crossover (seeds 1-6: 1.05-2.04 %); with the
+ * negligible prior of today (drive_init.c) the data alone decide.  The
+ * adaptive sequence removes the bias (sim_adapt).  q/d below 0.1 (measured
+ * 0.075 at low speed, where the current model with the wrong Tr steers;
+ * IFO 0.138). */
 static void test_rr_plus_30(void **state)
 {
     sim_result_t r;
     (void)state;
     run_obs(30.0, &r);
-    assert_all_within(&r, 3.5);
+    assert_all_within(&r, 4.5);
     assert_true(r.max_flux_q_over_d < 0.1);
 }
 

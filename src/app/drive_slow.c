@@ -1,0 +1,172 @@
+/**
+ * The slow tasks of the multi-rate ISR (drive_step.c): one per ISR, in turn,
+ * each at f_pwm / DRIVE_SLOTS (3.75 kHz at 15 kHz).  Every slot's work is
+ * bounded and similar in size, so that no ISR carries more than the fast
+ * path plus one of them.
+ *
+ *   SPEED     identification sequence, adaptation (drive_adapt.c), speed
+ *             ramp + PI (i_T reference for the fast current loop), the
+ *             slow constants of the fast path (1/(Tr i_mr) of the slip, the
+ *             bus for the SVPWM's 1/vdc), telemetry and the snapshots for
+ *             the background
+ *   FILTERS   the regression's filters on the window means (method §5),
+ *             y1, y2 and the rows; whether the RLS may update
+ *   RLS_ROW1  forgetting + row 1 (method §3)
+ *   RLS_ROW2  row 2, then the estimator guard on the completed sample
+ *
+ * The order within a slow period is SPEED, FILTERS, ROW1, ROW2: the rows
+ * use the regressors the FILTERS slot formed in the same period, the
+ * sequence sees the filtered di/dt of the previous one.
+ */
+#include "drive_internal.h"
+
+#include "drive_adapt.h"
+
+/* Hand the last good theta and the filtered i_M to the background
+ * (drive_background.c): data first, the ready flag last. */
+static void take_snapshot(drive_snapshot_t *snap, const drive_t *d)
+{
+    uint16_t i;
+    for (i = 0u; i < RLS_N; i++) {
+        snap->theta[i] = d->guard.theta_good[i];
+    }
+    snap->i_m = d->reg.i_mf;
+    snap->ready = 1u;
+}
+
+static void sequence(drive_t *d)
+{
+    id_sequence_t *s = &d->seq;
+    s->fault = (uint16_t)(d->prot.fault != FAULT_NONE);
+    s->ramp_done = d->speed_ramp.done;
+    s->speed_err = _IQabs(d->speed_ramp.out - d->qep.speed);
+    s->dim = _IQabs(d->reg.f_im.dy);
+    s->dit = _IQabs(d->reg.f_it.dy);
+    id_sequence_step(s);
+    if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS && s->state == ID_MAGNETIZE &&
+        s->t_state == 0u) {
+        /* just entered (t_state restarts at 0 on entry): demagnetised
+         * machine, start both models from zero flux (the voltage model has
+         * integrated offsets while the bridge was off) */
+        flux_obs_reset(&d->fobs);
+    }
+    if (s->extract_now != 0u) {
+        take_snapshot(&d->snap, d);
+    }
+    if (++d->live_div >= d->k.live_period) {
+        d->live_div = 0u;
+        if (d->live_snap.ready == 0u) {
+            take_snapshot(&d->live_snap, d);
+        }
+    }
+}
+
+/* Speed ramp and PI: the torque-current reference of the fast current loop. */
+static void speed_loop(drive_t *d)
+{
+    const id_sequence_t *s = &d->seq;
+
+    d->speed_ramp.target = s->speed_cmd;
+    ramp_gen_step(&d->speed_ramp);
+    if (s->speed_loop_on != 0u && d->prot.fault == FAULT_NONE) {
+        d->pi_speed.ref = d->speed_ramp.out;
+        d->pi_speed.fbk = d->qep.speed;
+        d->pi_speed.ff = _IQ(0.0);
+        pi_step(&d->pi_speed);
+        d->i_t_ref = d->pi_speed.out;
+    } else {
+        pi_reset(&d->pi_speed);
+        d->i_t_ref = _IQ(0.0);
+    }
+}
+
+static void telemetry(drive_t *d)
+{
+    drive_telemetry_t *t = &d->telemetry;
+    t->speed = d->qep.speed;
+    t->speed_ref = d->speed_ramp.out;
+    t->i_m = d->park.ds;
+    t->i_t = d->park.qs;
+    t->vdc = d->bus.vdc;
+    t->rls_sat_count = d->rls.sat_count;
+    t->theta_rejects = d->guard.reject_count;
+}
+
+static void task_speed(drive_t *d)
+{
+    sequence(d);
+    drive_adapt_slow(d);
+    speed_loop(d);
+    /* the fast path's slow constants: the slip gain 1/(Tr i_mr) (one
+     * division; i_mr moves with Tr >= 10 Ts) and the bus the SVPWM divides
+     * by (its 1/vdc is recomputed only when this changes: once here) */
+    if (drive_ifo_frame(d) != 0u) {
+        ifo_update_slip_gain(&d->ifo);
+    }
+    d->svgen.vdc = d->bus.vdc;
+    telemetry(d);
+}
+
+/* Regression signals and whether the RLS may learn (method §2-§5). */
+static void task_filters(drive_t *d)
+{
+    ident_regressor_t *r = &d->reg;
+    uint16_t rls_on = d->seq.rls_on;
+
+    ident_regressor_filter(r);
+    if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
+        if (d->fobs_hold != 0u) {
+            rls_on = 0u;   /* the frame is held on the encoder angle */
+        } else if (drive_ifo_frame(d) == 0u && _IQabs(d->fobs.ws_f) < d->k.rls_ws_min) {
+            /* below ~10 w_c the current model (the believed Tr) steers the
+             * angle: learn only where it does not (flux_obs.h) */
+            rls_on = 0u;
+        } else {
+            /* the observer's frame above its crossover, or RUN on ifo */
+        }
+    }
+    d->rls.y1 = r->y1;
+    d->rls.y2 = r->y2;
+    d->rls.i_mf = r->i_mf;
+    d->rls.u_mf = r->u_mf;
+    d->rls.i_tf = r->i_tf;
+    d->rls.u_tf = r->u_tf;
+    d->rls.wr_f = r->wr_f;
+    d->rls.enable = rls_on;
+}
+
+/* Row 2 completes the sample: the estimator guard judges it (the snapshots
+ * take the last good theta, theta_guard.h). */
+static void task_row2(drive_t *d)
+{
+    uint16_t i;
+    rls_step_row2(&d->rls);
+    for (i = 0u; i < RLS_N; i++) {
+        d->guard.theta[i] = d->rls.theta[i];
+    }
+    d->guard.updated = d->rls.enable;
+    d->guard.windup_hold = d->rls.windup_hold;
+    theta_guard_step(&d->guard);
+}
+
+void drive_slow_task(drive_t *d, uint16_t slot)
+{
+    switch (slot) {
+    case DRIVE_SLOT_SPEED:
+        task_speed(d);
+        break;
+    case DRIVE_SLOT_FILTERS:
+        task_filters(d);
+        break;
+    case DRIVE_SLOT_RLS_ROW1:
+        rls_step_row1(&d->rls);
+        break;
+    case DRIVE_SLOT_RLS_ROW2:
+    default:
+        task_row2(d);
+        break;
+    }
+    /* fault and state reach telemetry in the ISR that latched them */
+    d->telemetry.state = (uint16_t)d->seq.state;
+    d->telemetry.fault = (uint16_t)d->prot.fault;
+}
