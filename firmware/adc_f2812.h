@@ -5,12 +5,11 @@
 #ifndef ADC_F2812_H
 #define ADC_F2812_H
 
-/** Power up the ADC, cascaded sequencer: CONV00 = ADCINA0 (ia),
- *  CONV01 = ADCINB0 (ib), CONV02 = ADCINA1 (vdc), started by the EV-A SOC
- *  (T1 underflow), interrupt at the end of the sequence (ADCINT, PIE 1.6). */
+/** Reset and power up the ADC; cascaded sequencer in simultaneous mode:
+ *  CONV00 = pair 0 (ADCINA0 = ia -> RESULT0, ADCINB0 = ib -> RESULT1),
+ *  CONV01 = pair 1 (ADCINA1 = vdc -> RESULT2), started by the EV-A SOC
+ *  (T1 underflow), interrupt at the end of the sequence (ADCINT, PIE 1.6).
+ *  hal_adc_read re-arms the sequencer and the interrupt each period. */
 void adc_f2812_init(void);
-/** End-of-sequence housekeeping in the ADC ISR: sequencer back to CONV00,
- *  INT_SEQ1 flag cleared. */
-void adc_f2812_ack(void);
 
 #endif /* ADC_F2812_H */

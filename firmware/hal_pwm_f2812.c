@@ -19,15 +19,28 @@
 #include "hal_pwm.h"
 #include "pwm_f2812.h"
 
+/* everything the control ISR calls runs from RAM (flash: 5 wait states) */
 #pragma CODE_SECTION(hal_pwm_write, "ramfuncs")
+#pragma CODE_SECTION(hal_pwm_enable, "ramfuncs")
+#pragma CODE_SECTION(hal_pwm_disable, "ramfuncs")
 #pragma CODE_SECTION(hal_pwm_tripped, "ramfuncs")
+#pragma CODE_SECTION(hal_isr_overrun, "ramfuncs")
 #pragma CODE_SECTION(pwm_f2812_period, "ramfuncs")
 
-/* T1CON: TMODE = 01 up/down, TPS = 000 (HSPCLK/1), TENABLE, TCLKS10 = 00
- * internal clock, TECMPR = 0 (T1 compare output not used), FREE = 1:
- * on an emulator halt T1 runs on (the bridge must not freeze mid-period
- * with a switch on). */
-#define T1CON_UPDOWN_FREE  0x4800u
+/* T1CON (SPRU065, GP timer control register): FREE (bit 15) = 0 and SOFT
+ * (bit 14) = 1: on an emulator halt T1 completes its current period and
+ * stops at zero, chosen on purpose over running free: with the CPU halted
+ * the current loop is open, and a free-running PWM would keep applying the
+ * last duties to a motor whose back-EMF and current then nobody controls.
+ * Stopped at T1CNT = 0, each phase's compare output holds its state below
+ * the compare (upper switch off, lower on: the zero vector), which brakes a
+ * turning motor through its own impedance; halt the debugger with the motor
+ * at rest, or send $C,X first.  TMODE (12:11) = 01 continuous up/down,
+ * TPS = 000 (HSPCLK/1), TCLKS10 = 00 internal clock, TECMPR = 0 (the T1
+ * compare output is not used), TENABLE = 0 until pwm_f2812_start. */
+#define T1CON_UPDOWN_SOFT  0x4800u
+/* EVAIFRA: T1 underflow flag (write 1 to clear; hal_adc_read clears it) */
+#define EVAIFRA_T1UFINT 0x0200u
 
 static volatile uint16_t s_tripped;   /* 1 once PDPINTA fired, until re-enabled */
 static uint16_t s_t1pr;
@@ -37,7 +50,7 @@ void pwm_f2812_init(uint16_t t1pr, uint16_t dbtcona)
     s_t1pr = t1pr;
     s_tripped = 0u;
 
-    EvaRegs.T1CON.all = T1CON_UPDOWN_FREE;   /* stopped: TENABLE = 0 */
+    EvaRegs.T1CON.all = T1CON_UPDOWN_SOFT;   /* stopped: TENABLE = 0 */
     EvaRegs.T1PR = t1pr;
     EvaRegs.T1CNT = 0u;
     EvaRegs.T1CMPR = 0u;
@@ -120,6 +133,14 @@ void hal_pwm_disable(void)
 uint16_t hal_pwm_tripped(void)
 {
     return s_tripped;
+}
+
+uint16_t hal_isr_overrun(void)
+{
+    /* the flag is set at every T1 underflow (masked or not) and was cleared
+     * when this ISR read its samples: set again means the next period has
+     * begun while the ISR still ran */
+    return (uint16_t)((EvaRegs.EVAIFRA.all & EVAIFRA_T1UFINT) != 0u);
 }
 
 uint16_t pwm_f2812_clear_trip(void)

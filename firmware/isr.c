@@ -1,12 +1,25 @@
 /**
  * @file isr.c
- * Interrupt glue.  The control ISR runs from RAM (`ramfuncs`): flash has 5
- * wait states at 150 MHz and the ISR has 10000 cycles per period.
+ * Interrupt glue.  The control ISR and everything it calls run from RAM
+ * (`ramfuncs`): flash has 5 wait states at 150 MHz.
+ *
+ * The control ISR, in order:
+ *   1. the data log of the signals the last ISR left (so that the overrun
+ *      check below is the ISR's last action; every 2nd ISR it stores);
+ *   2. drive_isr: hal_adc_read first, which reads this period's results
+ *      and re-arms at once (sequencer reset, INT_SEQ1 cleared, PIE group 1
+ *      acknowledged, the T1 underflow flag cleared; hal_adc_f2812.c), then
+ *      the control, the compares, and last the overrun check
+ *      (hal_isr_overrun: T1 underflowed again during this ISR);
+ *   3. the ISR's duration for telemetry: the elapsed T1 ticks since the
+ *      period start, or 0xFFFF once the ISR overran (T1CNT then describes
+ *      the next period and would read short).
  *
  * Priorities: both ISRs are in PIE group 1; PDPINTA (1.1) wins over ADCINT
  * (1.6) when both are pending.  No nesting: the trip has already put the
  * outputs in high impedance in hardware, so its ISR can wait for the end of
- * a running control ISR.
+ * a running control ISR.  An ADCINT that arrives while an overrunning ISR
+ * still runs stays pending (PIE acknowledged at the top) and runs next.
  */
 #include "DSP281x_Device.h"
 #include "adc_f2812.h"
@@ -37,23 +50,15 @@ static uint16_t isr_elapsed(void)
 static interrupt void isr_control(void)
 {
     uint16_t t;
-    drive_telemetry_t tl;
 
-    drive_isr(s_drive);    /* hal_adc_read + drive_step + hal_pwm_write */
-
-    /* data log: the signals a CCS graph needs to watch the identification */
-    drive_get_telemetry(s_drive, &tl);
-    s_dlog->in[0] = tl.i_m;
-    s_dlog->in[1] = tl.i_t;
-    s_dlog->in[2] = tl.speed;
-    s_dlog->in[3] = tl.Rr;
+    /* the last ISR's i_M, i_T, speed, Rr for a CCS graph (datalog.h) */
+    drive_get_log_signals(s_drive, s_dlog->in);
     datalog_step(s_dlog);
 
-    s_ticks++;
-    adc_f2812_ack();
-    PieCtrlRegs.PIEACK.all = PIEACK_GROUP1;
+    drive_isr(s_drive);    /* hal_adc_read (re-arm) ... hal_isr_overrun */
 
-    t = isr_elapsed();
+    s_ticks++;
+    t = (hal_isr_overrun() != 0u) ? 0xFFFFu : isr_elapsed();
     if (t > s_load_max) {
         s_load_max = t;
     }

@@ -122,9 +122,11 @@ int main(void)
         /* modulo-2^16 difference: correct across the tick counter's wrap */
         if ((uint16_t)(now - last_tlm) >= TLM_PERIOD_TICKS) {
             last_tlm = now;
+            uint16_t load = isr_load_max();
             drive_get_telemetry(&g_drive, &tl);
-            (void)telemetry_send(&g_tlm, &tl, isr_load_max());
+            (void)telemetry_send(&g_tlm, &tl, load);
             (void)telemetry_send_adapt(&g_tlm, &tl);
+            (void)telemetry_send_status(&g_tlm, &tl, load);
             gpio_fault_led((tl.fault != 0u || hal_pwm_tripped() != 0u) ? 1u : 0u);
         }
 

@@ -48,4 +48,8 @@ void pie_init(void)
     EDIS;
 
     PieCtrlRegs.PIECRTL.bit.ENPIE = 1u;
+    /* acknowledge every group, as TI's EnableInterrupts(): a group left
+     * un-acknowledged from before a reset by the debugger would block its
+     * first interrupt */
+    PieCtrlRegs.PIEACK.all = 0xFFFFu;
 }

@@ -26,10 +26,32 @@ void sci_f2812_init(uint16_t brr)
     SciaRegs.SCICTL1.bit.SWRESET = 1u;    /* out of reset */
 }
 
+/* A receive error (framing, parity, overrun or a break: RXERROR is their
+ * OR, SCIRXST) stops the SCI receiver until the SCI is reset: a line break
+ * or noise on the cable would otherwise end every command, $C,X (stop)
+ * included.  SWRESET 0 -> 1 clears the flags and the receiver state (the
+ * configuration stays), and the RX FIFO is flushed; the characters lost
+ * belong to a frame the checksum would have rejected. */
+static void sci_recover(telemetry_t *t)
+{
+    SciaRegs.SCICTL1.bit.SWRESET = 0u;
+    SciaRegs.SCIFFRX.bit.RXFIFORESET = 0u;
+    SciaRegs.SCIFFRX.bit.RXFIFORESET = 1u;
+    SciaRegs.SCICTL1.bit.SWRESET = 1u;
+    if (t->rx_errors < 0xFFFFu) {
+        t->rx_errors++;
+    }
+    t->rx_len = 0u;   /* the frame under way is lost */
+}
+
 tlm_cmd_t sci_f2812_poll(telemetry_t *t)
 {
     tlm_cmd_t last = TLM_CMD_NONE;
     uint16_t c;
+
+    if (SciaRegs.SCIRXST.bit.RXERROR != 0u || SciaRegs.SCIRXST.bit.BRKDT != 0u) {
+        sci_recover(t);
+    }
 
     while (SciaRegs.SCIFFTX.bit.TXFFST < SCI_FIFO_DEPTH && telemetry_tx_pop(t, &c) != 0u) {
         SciaRegs.SCITXBUF = c;

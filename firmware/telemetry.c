@@ -99,6 +99,12 @@ uint16_t telemetry_send_adapt(telemetry_t *t, const drive_telemetry_t *s)
     return send_frame(t, (uint16_t)'A', u, 4u, q, TLM_ADAPT_Q24_FIELDS);
 }
 
+uint16_t telemetry_send_status(telemetry_t *t, const drive_telemetry_t *s, uint16_t isr_load)
+{
+    const uint16_t u[5] = {t->seq, s->isr_overruns, isr_load, t->dropped, t->rx_errors};
+    return send_frame(t, (uint16_t)'S', u, 5u, 0, 0u);
+}
+
 uint16_t telemetry_tx_pop(telemetry_t *t, uint16_t *c)
 {
     if (t->tail == t->head) {

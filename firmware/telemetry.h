@@ -22,6 +22,14 @@
  *                   tracker valid, 0/1 the published set is the fused one)
  *   Rs_dc .. Tr_track  8 hex digits, Q24 pu as above (0: not measured)
  *
+ *   $S,<seq>,<overruns>,<load>,<dropped>,<rx_errors>*<CK>\r\n   (after each $A)
+ *
+ *   all 4 hex digits: frame counter; control ISRs that overran their period
+ *   since start-up (isr_monitor.h, saturating; 3 in a row latch fault 10);
+ *   the worst ISR duration since the last frame in T1 ticks (as $T's load;
+ *   FFFF: an ISR overran); telemetry frames dropped for lack of room; command
+ *   frames rejected or receive errors recovered from.
+ *
  * Commands to the drive, same framing:  $C,<c>*<CK>\r\n  with c =
  *   S start the identification sequence   X stop
  *   R reset a latched fault               D arm the data-log trigger
@@ -36,7 +44,7 @@
 #include <stdint.h>
 #include "drive.h"
 
-#define TLM_TX_SIZE   512u    /* > 2 pairs of $T (136) and $A (63 characters) */
+#define TLM_TX_SIZE   512u    /* > 2 bursts of $T (136), $A (63) and $S (32 characters) */
 #define TLM_RX_SIZE   16u
 #define TLM_Q24_FIELDS 11u
 #define TLM_ADAPT_Q24_FIELDS 4u
@@ -68,6 +76,9 @@ uint16_t telemetry_send(telemetry_t *t, const drive_telemetry_t *s, uint16_t isr
  *  sigma_ls_dc, Rr_track, Tr_track in Q24).  Returns 1 if queued, 0 if
  *  dropped.  The $T format is unchanged. */
 uint16_t telemetry_send_adapt(telemetry_t *t, const drive_telemetry_t *s);
+/** Queue one $S frame (ISR overruns, the ISR load as $T, the link's own
+ *  dropped and rejected counts).  Returns 1 if queued, 0 if dropped. */
+uint16_t telemetry_send_status(telemetry_t *t, const drive_telemetry_t *s, uint16_t isr_load);
 /** Next character to transmit; returns 0 when the ring is empty. */
 uint16_t telemetry_tx_pop(telemetry_t *t, uint16_t *c);
 /** Feed one received character; returns a command when a valid $C frame

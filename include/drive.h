@@ -51,6 +51,7 @@ typedef struct {
     _iq Rs_dc;               /* Rs measured at standstill (end of magnetisation), pu; 0: none */
     _iq sigma_ls_dc;         /* sigma Ls measured at standstill, pu of L_base; 0: none */
     _iq Rr_track, Tr_track;  /* tracked rotor resistance (pu of Z_base) and Tr (pu time) */
+    uint16_t isr_overruns;   /* control ISRs that ran past their period (isr_monitor.h), saturating */
     uint16_t params_tracked; /* 1: the published Rs is the standstill one and Rr, Tr the tracked
                                 ones (each background pass while track_valid); Lm, Lr, psi_r
                                 stay the RLS's */
@@ -79,8 +80,14 @@ const char *drive_cfg_status_str(int16_t status);
  *  a non-zero drive_cfg_status_t naming the bad field otherwise (the drive
  *  then stays in its safe state: PWM off). */
 int16_t drive_init(drive_t *d, const drive_config_t *cfg);
-/** One control period: the body of the EV-A T1-underflow ISR. */
+/** One control period: the body of the control ISR (hal_adc_read first,
+ *  which on the F2812 also re-arms the ADC and the interrupt; the overrun
+ *  check last). */
 void drive_isr(drive_t *d);
+/** The data log's four channels (i_M, i_T, speed, published Rr; pu, Q
+ *  GLOBAL_Q) as the ISR last left them: for the firmware's data log, read
+ *  without copying the whole telemetry snapshot. */
+void drive_get_log_signals(const drive_t *d, _iq sig[4]);
 /** The same without the HAL. */
 void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
                 hal_pwm_compare_t *out);

@@ -20,6 +20,7 @@
 #include "ident_regressor.h"
 #include "ifo.h"
 #include "ipark.h"
+#include "isr_monitor.h"
 #include "param_extract.h"
 #include "park.h"
 #include "phase_current.h"
@@ -141,6 +142,7 @@ struct drive {
     encoder_check_t enc_chk;    /* encoder plausibility -> FAULT_ENCODER */
     current_check_t cur_chk;    /* current feedback plausibility -> FAULT_CURRENT_SENSOR */
     theta_guard_t guard;        /* last good theta: what the snapshots carry */
+    isr_monitor_t ovr;          /* ISR overruns -> FAULT_ISR_OVERRUN */
 
     /* PWM pipeline: duties computed at sample k apply during period k+1 and
      * are reconstructed into voltages at sample k+2 (hal_pwm.h timing). */

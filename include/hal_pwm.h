@@ -28,5 +28,10 @@ void hal_pwm_enable(void);
 void hal_pwm_disable(void);
 /** Non-zero while the hardware trip (PDPINTA) has disabled the outputs. */
 uint16_t hal_pwm_tripped(void);
+/** Non-zero if the PWM period that this ISR serves has already ended: the
+ *  timer's underflow flag (cleared when the ISR read its samples,
+ *  hal_adc_read) is set again, i.e. the ISR overran its period.  Called as
+ *  the ISR's last action (drive_isr). */
+uint16_t hal_isr_overrun(void);
 
 #endif /* HAL_PWM_H */

@@ -22,8 +22,10 @@ typedef enum {
     FAULT_ADC_RAIL = 6,        /* an ADC result at a rail */
     FAULT_HW_TRIP = 7,         /* PDPINTA: the power stage tripped itself */
     FAULT_CONFIG = 8,          /* drive_init rejected the configuration */
-    FAULT_CURRENT_SENSOR = 9   /* measured currents do not follow their references
+    FAULT_CURRENT_SENSOR = 9,  /* measured currents do not follow their references
                                   (a phase-current sensor lost: current_check.h) */
+    FAULT_ISR_OVERRUN = 10     /* the control ISR ran past its period several times in a
+                                  row (isr_monitor.h) */
 } fault_code_t;
 
 typedef struct {

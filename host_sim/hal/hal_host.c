@@ -27,22 +27,33 @@ void hal_host_port_init(hal_host_port_t *p, uint16_t t1pr)
 
 void hal_host_bind(hal_host_port_t *p) { g_port = p; }
 
-void hal_adc_read(hal_adc_sample_t *s) { *s = port()->adc; }
-uint16_t hal_qep_read_count(void) { return port()->qep_count; }
+/* the bound port, with the call logged */
+static hal_host_port_t *logged(hal_host_call_t c)
+{
+    hal_host_port_t *p = port();
+    if (p->n_calls < HAL_HOST_CALL_LOG) {
+        p->calls[p->n_calls++] = (uint16_t)c;
+    }
+    return p;
+}
+
+void hal_adc_read(hal_adc_sample_t *s) { *s = logged(HAL_HOST_ADC_READ)->adc; }
+uint16_t hal_qep_read_count(void) { return logged(HAL_HOST_QEP_READ)->qep_count; }
 
 void hal_pwm_write(const hal_pwm_compare_t *c)
 {
-    hal_host_port_t *p = port();
+    hal_host_port_t *p = logged(HAL_HOST_PWM_WRITE);
     p->cmp = *c;
     p->writes++;
 }
 
 void hal_pwm_enable(void)
 {
-    hal_host_port_t *p = port();
+    hal_host_port_t *p = logged(HAL_HOST_PWM_ENABLE);
     /* as on the F2812: the outputs cannot be enabled while PDPINTA is active */
     p->outputs_enabled = (uint16_t)(p->trip_input == 0u);
 }
 
-void hal_pwm_disable(void) { port()->outputs_enabled = 0u; }
-uint16_t hal_pwm_tripped(void) { return port()->trip_input; }
+void hal_pwm_disable(void) { logged(HAL_HOST_PWM_DISABLE)->outputs_enabled = 0u; }
+uint16_t hal_pwm_tripped(void) { return logged(HAL_HOST_PWM_TRIPPED)->trip_input; }
+uint16_t hal_isr_overrun(void) { return logged(HAL_HOST_ISR_OVERRUN)->overrun; }

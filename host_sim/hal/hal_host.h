@@ -17,15 +17,26 @@
 #include "hal_pwm.h"
 #include "hal_qep.h"
 
+/** HAL calls, in the order an ISR made them (hal_host_port_t.calls). */
+typedef enum {
+    HAL_HOST_ADC_READ = 1, HAL_HOST_QEP_READ, HAL_HOST_PWM_WRITE, HAL_HOST_PWM_ENABLE,
+    HAL_HOST_PWM_DISABLE, HAL_HOST_PWM_TRIPPED, HAL_HOST_ISR_OVERRUN
+} hal_host_call_t;
+#define HAL_HOST_CALL_LOG 16u
+
 typedef struct {
     /* written by the simulator before the ISR */
     hal_adc_sample_t adc;
     uint16_t qep_count;
     uint16_t trip_input;       /* PDPINTA level: 1 = the power stage tripped */
+    uint16_t overrun;          /* what hal_isr_overrun() reports for this ISR (a test's fake:
+                                  the host ISR never runs late) */
     /* written by the HAL calls of the ISR */
     hal_pwm_compare_t cmp;     /* last CMPR1..3 written (takes effect next period) */
     uint16_t outputs_enabled;  /* COMCONA.FCOMPOE */
     uint32_t writes;           /* number of hal_pwm_write calls */
+    uint16_t calls[HAL_HOST_CALL_LOG];  /* hal_host_call_t, in order (a test clears n_calls) */
+    uint16_t n_calls;          /* calls logged (stops at HAL_HOST_CALL_LOG) */
 } hal_host_port_t;
 
 void hal_host_port_init(hal_host_port_t *p, uint16_t t1pr);

@@ -130,6 +130,7 @@ static void handle_command(drive_t *d, drive_cmd_t cmd)
          * trip again if their cause is still there once it runs */
         encoder_check_reset(&d->enc_chk);
         current_check_reset(&d->cur_chk);
+        isr_monitor_reset(&d->ovr);
         d->prot.encoder_fault = 0u;
         d->prot.current_fault = 0u;
         if (d->config_status == DRIVE_CFG_OK && protect_clear(&d->prot) != 0u) {

@@ -313,6 +313,7 @@ int16_t drive_init(drive_t *d, const drive_config_t *c)
     if (current_check_init(&d->cur_chk, Ts, 0.002f, 0.15f) != CURRENT_CHECK_OK) {
         return DRIVE_CFG_PROTECTION;
     }
+    isr_monitor_init(&d->ovr);
     clarke_init(&d->clarke);
     park_init(&d->park);
     ipark_init(&d->ipark);

@@ -380,4 +380,21 @@ void drive_isr(drive_t *d)
     } else {
         hal_pwm_disable();
     }
+    /* last: did this ISR run past its period?  Several in a row latch a
+     * fault and the bridge goes off now (isr_monitor.h) */
+    d->ovr.overrun = hal_isr_overrun();
+    isr_monitor_step(&d->ovr);
+    d->telemetry.isr_overruns = d->ovr.count;
+    if (d->ovr.fault != 0u) {
+        protect_latch(&d->prot, FAULT_ISR_OVERRUN);
+        hal_pwm_disable();
+    }
+}
+
+void drive_get_log_signals(const drive_t *d, _iq sig[4])
+{
+    sig[0] = d->telemetry.i_m;
+    sig[1] = d->telemetry.i_t;
+    sig[2] = d->telemetry.speed;
+    sig[3] = d->telemetry.Rr;
 }

@@ -107,6 +107,36 @@ static void test_adapt_frame(void **state)
     assert_int_equal(s_t.seq, 2u);
 }
 
+/* $S: the ISR's overrun count and load, the link's own counters, 4 hex
+ * digits each, the same framing and checksum; counted in the sequence. */
+static void test_status_frame(void **state)
+{
+    drive_telemetry_t d;
+    char buf[128];
+    unsigned f[5], ck;
+    int n;
+    size_t len;
+    (void)state;
+    telemetry_init(&s_t);
+    memset(&d, 0, sizeof d);
+    d.isr_overruns = 0x1234u;
+    s_t.dropped = 7u;
+    s_t.rx_errors = 0xBEEFu;
+    assert_int_equal(telemetry_send_status(&s_t, &d, 0xFFFFu), 1);
+    len = drain(&s_t, buf, sizeof buf);
+    assert_int_equal(len, strlen(buf));
+    assert_int_equal(len, 32u);   /* 2 + 5*5 + 5 characters */
+    n = sscanf(buf, "$S,%4x,%4x,%4x,%4x,%4x*%2x\r\n", &f[0], &f[1], &f[2], &f[3], &f[4], &ck);
+    assert_int_equal(n, 6);
+    assert_int_equal(f[0], 0u);
+    assert_int_equal(f[1], 0x1234u);
+    assert_int_equal(f[2], 0xFFFFu);
+    assert_int_equal(f[3], 7u);
+    assert_int_equal(f[4], 0xBEEFu);
+    assert_int_equal(ck, nmea_ck(buf));
+    assert_int_equal(s_t.seq, 1u);
+}
+
 static void test_ring_full_drops_whole_frames(void **state)
 {
     drive_telemetry_t d;
@@ -171,6 +201,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_frame_round_trip),
         cmocka_unit_test(test_adapt_frame),
+        cmocka_unit_test(test_status_frame),
         cmocka_unit_test(test_ring_full_drops_whole_frames),
         cmocka_unit_test(test_commands),
     };

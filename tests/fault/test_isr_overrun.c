@@ -1,0 +1,179 @@
+/*
+ * Overruns of the control ISR (isr_monitor.h): the host HAL's fake reports an
+ * ISR that ran past its period (hal_isr_overrun, the F2812's T1 underflow
+ * flag set again at the ISR's end).  One or two in a row are counted and
+ * reported in telemetry, the drive runs on; ISR_MONITOR_LATCH_RUN in a row
+ * latch FAULT_ISR_OVERRUN and turn the bridge off in that same ISR; a fault
+ * reset re-arms the latch and keeps the count.
+ *
+ * The drive runs closed loop on the paper motor (the simulator's plant and
+ * the host HAL, as motor_sim) until it is accelerating, so that the bridge
+ * is switching when the overruns come.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "drive_types.h"
+#include "hal_host.h"
+#include "isr_monitor.h"
+#include "plant.h"
+#include "sim_config.h"
+
+#define PAPER MC_CONFIG_DIR "/paper_motor.ini"
+
+typedef struct {
+    drive_t drive;
+    plant_t plant;
+    hal_host_port_t port;
+    hal_pwm_compare_t active;
+    uint32_t k;
+} loop_t;
+
+static loop_t g_loop;
+
+/* one ISR with the given overrun flag; the background at 1 kHz */
+static void isr(loop_t *l, uint16_t overrun)
+{
+    plant_sample(&l->plant, &l->port);
+    l->port.trip_input = 0u;
+    l->port.overrun = overrun;
+    drive_isr(&l->drive);
+    if ((l->k % 15u) == 0u) {
+        drive_background(&l->drive);
+    }
+    plant_period(&l->plant, &l->active, l->port.outputs_enabled);
+    l->active = l->port.cmp;
+    l->k++;
+}
+
+static int setup(void **state)
+{
+    sim_config_t cfg;
+    drive_config_t dc;
+    char err[SIM_CONFIG_ERR_LEN];
+    loop_t *l = &g_loop;
+    (void)state;
+    memset(l, 0, sizeof *l);
+    if (sim_config_load(PAPER, &cfg, err, sizeof err) != 0) {
+        return -1;
+    }
+    sim_config_to_drive(&cfg, &dc);
+    if (drive_init(&l->drive, &dc) != DRIVE_CFG_OK ||
+        plant_init(&l->plant, &cfg, l->drive.t1pr, err, sizeof err) != 0) {
+        return -1;
+    }
+    hal_host_port_init(&l->port, l->drive.t1pr);
+    hal_host_bind(&l->port);
+    l->active = l->port.cmp;
+    drive_command(&l->drive, DRIVE_CMD_START_IDENT);
+    drive_background(&l->drive);
+    /* to the acceleration (within 2 s), the bridge switching */
+    while (l->drive.seq.state != ID_ACCELERATE && l->k < 30000u) {
+        isr(l, 0u);
+    }
+    return (l->drive.seq.state == ID_ACCELERATE && l->port.outputs_enabled != 0u) ? 0 : -1;
+}
+
+/* One overrun, then two in a row: counted, reported, no fault, the bridge
+ * switches on; the run counter restarts after a normal ISR. */
+static void test_isolated_overruns_counted(void **state)
+{
+    loop_t *l = &g_loop;
+    drive_telemetry_t t;
+    (void)state;
+    isr(l, 1u);
+    assert_int_equal(l->drive.ovr.count, 1);
+    assert_int_equal(l->drive.ovr.run, 1);
+    isr(l, 0u);
+    assert_int_equal(l->drive.ovr.run, 0);
+    isr(l, 1u);
+    isr(l, 1u);
+    assert_int_equal(l->drive.ovr.run, ISR_MONITOR_LATCH_RUN - 1u);
+    isr(l, 0u);
+    drive_get_telemetry(&l->drive, &t);
+    assert_int_equal(t.isr_overruns, 3);
+    assert_int_equal(t.fault, FAULT_NONE);
+    assert_int_equal(l->port.outputs_enabled, 1);
+    assert_int_equal(l->drive.seq.state, ID_ACCELERATE);
+}
+
+/* ISR_MONITOR_LATCH_RUN in a row: the fault is latched and the outputs are
+ * off at the end of the ISR that saw the last one; they stay off; a reset
+ * re-arms the latch (the count stays). */
+static void test_consecutive_overruns_latch_fault(void **state)
+{
+    loop_t *l = &g_loop;
+    uint16_t i;
+    uint16_t before = l->drive.ovr.count;
+    (void)state;
+    for (i = 0u; i + 1u < ISR_MONITOR_LATCH_RUN; i++) {
+        isr(l, 1u);
+        assert_int_equal(l->port.outputs_enabled, 1);
+        assert_int_equal(l->drive.prot.fault, FAULT_NONE);
+    }
+    isr(l, 1u);
+    assert_int_equal(l->drive.prot.fault, FAULT_ISR_OVERRUN);
+    assert_int_equal(l->port.outputs_enabled, 0);
+    assert_int_equal(l->drive.ovr.count, before + ISR_MONITOR_LATCH_RUN);
+    for (i = 0u; i < 100u; i++) {
+        isr(l, 0u);
+        assert_int_equal(l->port.outputs_enabled, 0);
+    }
+    assert_int_equal(l->drive.seq.state, ID_FAULT);
+    assert_int_equal(l->drive.telemetry.fault, FAULT_ISR_OVERRUN);
+    drive_command(&l->drive, DRIVE_CMD_RESET_FAULT);
+    drive_background(&l->drive);
+    isr(l, 0u);
+    assert_int_equal(l->drive.prot.fault, FAULT_NONE);
+    assert_int_equal(l->drive.ovr.fault, 0);
+    assert_int_equal(l->drive.ovr.count, before + ISR_MONITOR_LATCH_RUN);
+}
+
+/* The order of the ISR's HAL calls: the samples are read (and on the F2812
+ * the ADC and the interrupt re-armed, hal_adc_f2812.c) before anything
+ * else, and the overrun is checked after everything else. */
+static void test_hal_call_order(void **state)
+{
+    loop_t *l = &g_loop;
+    (void)state;
+    l->port.n_calls = 0u;
+    isr(l, 0u);
+    assert_true(l->port.n_calls >= 3u);
+    assert_int_equal(l->port.calls[0], HAL_HOST_ADC_READ);
+    assert_int_equal(l->port.calls[l->port.n_calls - 1u], HAL_HOST_ISR_OVERRUN);
+}
+
+/* The module alone: the counters saturate instead of wrapping. */
+static void test_monitor_saturates(void **state)
+{
+    isr_monitor_t m;
+    uint32_t i;
+    (void)state;
+    isr_monitor_init(&m);
+    m.overrun = 1u;
+    for (i = 0u; i < 70000u; i++) {
+        isr_monitor_step(&m);
+    }
+    assert_int_equal(m.count, 0xFFFF);
+    assert_int_equal(m.run, 0xFFFF);
+    assert_int_equal(m.fault, 1);
+    isr_monitor_reset(&m);
+    assert_int_equal(m.fault, 0);
+    assert_int_equal(m.count, 0xFFFF);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_isolated_overruns_counted),
+        cmocka_unit_test(test_consecutive_overruns_latch_fault),
+        cmocka_unit_test(test_hal_call_order),
+        cmocka_unit_test(test_monitor_saturates),
+    };
+    return cmocka_run_group_tests(tests, setup, NULL);
+}
