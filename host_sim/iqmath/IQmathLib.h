@@ -143,6 +143,7 @@ typedef enum {
     IQMATH_FN_TOF,       /* _IQtoF, _IQNtoF                    */
     IQMATH_FN_TOIQN,     /* _IQtoIQN, _IQNtoIQ                 */
     IQMATH_FN_TOQN,      /* _IQtoQN, _QNtoIQ                   */
+    IQMATH_FN_NORM32,    /* iq_norm32: the C28x's CSB (c28x_intrinsics.h), not IQmath */
     IQMATH_FN_COUNT
 } iqmath_fn_t;
 
@@ -537,6 +538,33 @@ static inline float iqf_mpyI32frac(float a, int32_t b)
 #include "iqmath_qn_float.h"
 
 #endif /* MATH_TYPE */
+
+/* ------------------------------------------------------------------------ */
+/* Not IQmath: the C28x compiler intrinsic the core uses through             */
+/* include/c28x_intrinsics.h, emulated for the host (on the F2812 it is one  */
+/* CSB instruction; counted here as IQMATH_FN_NORM32 for the cycle estimate) */
+/* ------------------------------------------------------------------------ */
+
+/** Redundant sign bits of @p x: the largest n in [0, 31] with x * 2^n
+ *  representable in int32 (what the C28x's CSB / __norm32 return); 31 for
+ *  0 and -1.  Integer only, no UB. */
+static inline int16_t iqm_norm32(int32_t x)
+{
+    /* x's bits below the sign, as an unsigned with leading zeros */
+    uint32_t u = (x < 0) ? ~(uint32_t)x : (uint32_t)x;
+    int16_t n = 0;
+    if (u == 0u) {
+        return 31;
+    }
+    /* count leading zeros of u, minus the sign bit */
+    if ((u & 0xFFFF0000u) == 0u) { n = (int16_t)(n + 16); u <<= 16; }
+    if ((u & 0xFF000000u) == 0u) { n = (int16_t)(n + 8); u <<= 8; }
+    if ((u & 0xF0000000u) == 0u) { n = (int16_t)(n + 4); u <<= 4; }
+    if ((u & 0xC0000000u) == 0u) { n = (int16_t)(n + 2); u <<= 2; }
+    if ((u & 0x80000000u) == 0u) { n = (int16_t)(n + 1); }
+    return (int16_t)(n - 1);
+}
+#define iq_norm32(X) IQM_CALL(IQMATH_FN_NORM32, iqm_norm32((int32_t)(X)))
 
 #ifdef __cplusplus
 }

@@ -13,7 +13,7 @@ const char *iqmath_fn_name(int id)
         "_IQmpyI32frac", "_IQmpyIQX", "_IQdiv", "_IQsqrt", "_IQisqrt",
         "_IQmag", "_IQsin", "_IQcos", "_IQsinPU", "_IQcosPU", "_IQatan2",
         "_IQatan2PU", "_IQatan", "_IQint", "_IQfrac", "_IQsat", "_IQabs",
-        "_IQtoF", "_IQtoIQN", "_IQtoQN"
+        "_IQtoF", "_IQtoIQN", "_IQtoQN", "iq_norm32"
     };
     return (id >= 0 && id < (int)IQMATH_FN_COUNT) ? names[id] : "?";
 }

@@ -137,9 +137,52 @@ static void test_int_frac_abs_sat_exact(void **state)
     assert_int_equal(mismatches, 0);
 }
 
+/* iq_norm32 (the C28x's CSB, c28x_intrinsics.h) against its definition:
+ * the largest n in [0, 31] with x * 2^n inside int32, by brute force in
+ * 64 bits, on every power of two and its neighbours of both signs, and on a
+ * pseudo-random sweep. */
+static int16_t norm_ref(int32_t x)
+{
+    int16_t n = 0;
+    while (n < 31) {
+        int64_t y = (int64_t)x * ((int64_t)1 << (n + 1));
+        if (y > INT32_MAX || y < INT32_MIN) {
+            break;
+        }
+        n++;
+    }
+    return n;
+}
+
+static void test_norm32(void **state)
+{
+    int k, d;
+    uint32_t r = 12345u;
+    (void)state;
+    assert_int_equal(iq_norm32(0), 31);
+    assert_int_equal(iq_norm32(-1), 31);
+    assert_int_equal(iq_norm32(INT32_MAX), 0);
+    assert_int_equal(iq_norm32(INT32_MIN), 0);
+    for (k = 0; k < 31; k++) {
+        for (d = -1; d <= 1; d++) {
+            int32_t x = (int32_t)((int64_t)1 << k) + d;
+            assert_int_equal(iq_norm32(x), norm_ref(x));
+            assert_int_equal(iq_norm32(-x), norm_ref(-x));
+        }
+    }
+    for (k = 0; k < 100000; k++) {
+        int32_t x;
+        r = r * 1664525u + 1013904223u;
+        x = (int32_t)(r >> (r & 31u));
+        x = (r & 0x80000000u) ? -x : x;
+        assert_int_equal(iq_norm32(x), norm_ref(x));
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_norm32),
         cmocka_unit_test(test_ti_examples),
         cmocka_unit_test(test_float_to_iq_exact),
         cmocka_unit_test(test_iq_to_float_exact),
