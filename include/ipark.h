@@ -38,6 +38,11 @@ void ipark_init(ipark_t *p);
  * of two floor()s; beta: [-2, 0]).  Overflow: none in the valid range;
  * outside it the sums wrap.
  */
-void ipark_step(ipark_t *p);
+static inline void ipark_step(ipark_t *p)
+{
+    /* Q24*Q24 -> Q24, truncated; each |product| <= 64, each sum <= 90.5 */
+    p->alpha = _IQmpy(p->ds, p->cosine) - _IQmpy(p->qs, p->sine);
+    p->beta = _IQmpy(p->ds, p->sine) + _IQmpy(p->qs, p->cosine);
+}
 
 #endif /* IPARK_H */

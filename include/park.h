@@ -38,6 +38,11 @@ void park_init(park_t *p);
  * exact value computed from the same inputs.  Overflow: none in the valid
  * range (each product <= 64, each sum <= 90.5); outside it the sums wrap.
  */
-void park_step(park_t *p);
+static inline void park_step(park_t *p)
+{
+    /* Q24*Q24 -> Q24, truncated; each |product| <= 64, each sum <= 90.5 */
+    p->ds = _IQmpy(p->alpha, p->cosine) + _IQmpy(p->beta, p->sine);
+    p->qs = _IQmpy(p->beta, p->cosine) - _IQmpy(p->alpha, p->sine);
+}
 
 #endif /* PARK_H */

@@ -21,7 +21,8 @@
  * (no unwinding delay).
  *
  * Valid ranges (so that no intermediate sum can exceed Q24's +-128):
- *   ref, fbk        |.| <= 32 pu    (so |e| <= 64)
+ *   ref, fbk        |.| < 32 pu     (so |e| < 64 and, ki <= 1, |ki e| < 64:
+ *                                    the range of the rounded product iq_rmpy)
  *   ff              |.| <= 16 pu
  *   kp              [0, 100]        (the proportional path clamps e to
  *                                    +-64/kp, so |kp e| <= 64; this changes
@@ -36,6 +37,7 @@
 
 #include <stdint.h>
 #include "IQmathLib.h"
+#include "iq_rmpy.h"
 
 /** Largest |ref|, |fbk| (pu). */
 #define PI_IN_MAX_PU   32.0f
@@ -102,13 +104,60 @@ pi_status_t pi_set_gains(pi_ctrl_t *p, _iq kp, _iq ki);
 
 /**
  * One sample.  Scaling: all Q24; kp*e is truncated (_IQmpy, within 1 LSB
- * below the exact product), ki*e rounded (_IQrmpy, within 1/2 LSB, no bias),
+ * below the exact product), ki*e rounded (iq_rmpy = _IQrmpy, within 1/2 LSB,
+ * no bias),
  * so unsaturated the output is within 1.5 LSB of the exact kp e + ui + ff of
  * the same (Q24) gains and state, and the integrator moves within 1/2 LSB
  * of ki e per sample (it ignores |e| < 1/(2 ki) LSB).  Overflow: none in the valid ranges (|kp e| <= 64 by the
  * clamp, |ui| <= 16, |ff| <= 16, so every sum is within +-96); the output
  * saturates at out_min/out_max, the integrator at the same limits.
  */
-void pi_step(pi_ctrl_t *p);
+static inline void pi_step(pi_ctrl_t *p)
+{
+    /* |ref|, |fbk| <= 32, so |e| <= 64: no overflow */
+    const _iq e = p->ref - p->fbk;
+    /* Proportional path.  e is clamped to +-e_max = +-64/kp first so that
+     * the Q24*Q24 -> Q24 product cannot exceed 64.  The clamp is invisible
+     * at the output: when it acts |kp e| >= 64 >= (out_max - out_min) + |ff|,
+     * so kp e + ui + ff is beyond a limit whether e is clamped or not. */
+    const _iq up = _IQmpy(p->kp, _IQsat(e, p->e_max, -p->e_max));
+    /* Integral increment, Q24*Q24 -> Q24 rounded, |di| <= ki |e| <= 64.
+     * Rounded rather than truncated: truncation would bias every increment
+     * by -1/2 LSB on average, a constant disturbance the loop would have to
+     * hold an error of 1/(2 ki) LSB against.  With rounding the integrator
+     * is unbiased and only ignores |e| < 1/(2 ki) LSB (1.5e-5 pu at
+     * ki = 2^-8, well below the 12-bit ADC's 4.9e-4 pu). */
+    const _iq di = iq_rmpy(p->ki, e);   /* = _IQrmpy bit for bit: |ki e| < 64 (iq_rmpy.h) */
+    /* Headroom of the integrator before the output reaches a limit:
+     * |.| <= 16 + 64 + 16 = 96 */
+    const _iq ui_hi = p->out_max - up - p->ff;
+    const _iq ui_lo = p->out_min - up - p->ff;
+    _iq ui = p->ui + di;   /* |.| <= 16 + 64 = 80 */
+    _iq v;
+
+    /* Clamping anti-windup: an upward increment may take the integrator at
+     * most to the point where the output reaches out_max, and never below
+     * where it already was (it does not unwind because the proportional
+     * term alone saturates); symmetrically downward.  An increment that
+     * points away from the saturated limit is always taken, so the output
+     * leaves the limit as soon as kp e + ui + ff allows. */
+    if (di > _IQ(0.0)) {
+        if (ui > ui_hi) {
+            ui = (ui_hi > p->ui) ? ui_hi : p->ui;
+        }
+    } else if (di < _IQ(0.0)) {
+        if (ui < ui_lo) {
+            ui = (ui_lo < p->ui) ? ui_lo : p->ui;
+        }
+    }
+    /* The integrator itself stays inside the output range. */
+    ui = _IQsat(ui, p->out_max, p->out_min);
+    p->ui = ui;
+
+    v = up + ui + p->ff;   /* |.| <= 64 + 16 + 16 = 96 */
+    p->out = _IQsat(v, p->out_max, p->out_min);
+    /* at or beyond a limit: the integrator is then held in that direction */
+    p->sat = (v >= p->out_max || v <= p->out_min) ? 1u : 0u;
+}
 
 #endif /* PI_CTRL_H */

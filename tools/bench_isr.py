@@ -10,17 +10,22 @@ board; BENCHMARKS.md section b states every assumption):
     each class (state, slot of the multi-rate schedule) it samples single
     ISRs - the first two and last two of the class and K spread evenly -
     and dumps that ISR's gcov line counts alone, with its IQmath calls.
- 2. Each sampled ISR is costed: every IQmath call at TI's published C28x
-    cycle count (IQmath read-me, call included; ASSUMED_CYCLES for those TI
-    does not list), every other C operation on every executed line of src/
-    and include/ by OTHER_COST (per run of the line), plus the fixed part
+ 2. Each sampled ISR is costed line by line: every executed line of src/
+    and include/, per run, its IQmath calls at TI's published C28x cycle
+    count (IQmath read-me, call included; ASSUMED_CYCLES for those TI does
+    not list) and its other C operations by OTHER_COST; the IQmath calls so
+    attributed must cover every call the counted library saw (checked: more
+    only where both arms of a ?: are costed); a line's executions are those
+    of the basic block it is in (gcov -a), a statement over several lines is
+    costed once, on its first; plus
+    the fixed part
     that the host build does not run: the interrupt entry and exit, and the
     firmware's own ISR code and HAL (firmware/isr.c, hal_*_f2812.c,
     datalog.c), costed statically with every line counted once (both arms of
     every branch) and every peripheral register access at its wait states.
  3. Per class, the WORST ISR is costed with every line at the largest count
-    any sampled ISR of the class ran it, and every IQmath operation at its
-    largest count: a sum of maxima, never below the largest single sample.
+    any sampled ISR of the class ran it: a sum of maxima, never below the
+    largest single sample.
     Per state: mean = the mean over the uniform samples of its classes (each
     slot is 1/S of the ISRs), worst = the worst of its classes.
 
@@ -101,37 +106,21 @@ FIRMWARE_ISR = (("firmware/isr.c", "isr_control"), ("firmware/isr.c", "isr_elaps
                 ("firmware/datalog.c", "datalog_step"),
                 ("src/app/drive_step.c", "drive_get_log_signals"))
 
-# source file -> module of the report (others: GLUE)
-FILE_MODULE = {
-    "phase_current.c": "sensing", "dc_bus.c": "sensing", "qep_speed.c": "sensing",
-    "protect.c": "protections", "encoder_check.c": "protections",
-    "current_check.c": "protections", "isr_monitor.c": "protections",
-    "volt_calc.c": "voltage model + dead-time feed-forward",
-    "clarke.c": "Clarke/Park/inverse Park", "park.c": "Clarke/Park/inverse Park",
-    "ipark.c": "Clarke/Park/inverse Park", "angle.c": "sin/cos",
-    "ifo.c": "orientation (IFO)", "flux_obs.c": "orientation (observer)",
-    "ident_regressor.c": "regression inputs + filters", "bw_filter.c": "regression inputs + filters",
-    "rls.c": "RLS", "estim_bfp.h": "RLS", "theta_guard.c": "RLS",
-    "id_sequence.c": "sequence", "ramp_gen.c": "speed ramp + PIs", "pi_ctrl.c": "speed ramp + PIs",
-    "svgen.c": "SVPWM", "tr_track.c": "adaptation", "standstill_z.c": "adaptation",
-    "drive_adapt.c": "adaptation", "iq_rmpy.h": "rounded products (iq_rmpy)",
-}
-FN_MODULE = {
-    "phase_current_step": "sensing", "dc_bus_step": "sensing", "qep_speed_step": "sensing",
-    "protect_step": "protections", "encoder_check_step": "protections",
-    "current_check_step": "protections", "volt_calc_step": "voltage model + dead-time feed-forward",
-    "volt_calc_feedforward": "voltage model + dead-time feed-forward",
-    "clarke_step": "Clarke/Park/inverse Park", "park_step": "Clarke/Park/inverse Park",
-    "ipark_step": "Clarke/Park/inverse Park", "ifo_frame_from_rotor": "orientation (IFO)",
-    "ifo_step_slip_fast": "orientation (IFO)", "ifo_update_slip_gain": "orientation (IFO)",
-    "angle_sincos": "sin/cos", "angle_sincos_step": "sin/cos",
-    "ident_regressor_accumulate": "regression inputs + filters",
-    "ident_regressor_filter": "regression inputs + filters", "rls_step_row1": "RLS",
-    "rls_step_row2": "RLS", "theta_guard_step": "RLS", "id_sequence_step": "sequence",
-    "ramp_gen_step": "speed ramp + PIs", "pi_step": "speed ramp + PIs",
-    "pi_reset": "speed ramp + PIs", "svgen_step": "SVPWM",
-    "flux_obs_step": "orientation (observer)", "drive_adapt_fast": "adaptation",
-    "drive_adapt_slow": "adaptation",
+# source file stem (.c and its .h, whose inline step functions run in the
+# ISR) -> module of the report (others: GLUE)
+STEM_MODULE = {
+    "phase_current": "sensing", "dc_bus": "sensing", "qep_speed": "sensing",
+    "protect": "protections", "encoder_check": "protections",
+    "current_check": "protections", "isr_monitor": "protections",
+    "volt_calc": "voltage model + dead-time feed-forward",
+    "clarke": "Clarke/Park/inverse Park", "park": "Clarke/Park/inverse Park",
+    "ipark": "Clarke/Park/inverse Park", "angle": "sin/cos",
+    "ifo": "orientation (IFO)", "flux_obs": "orientation (observer)",
+    "ident_regressor": "regression inputs + filters", "bw_filter": "regression inputs + filters",
+    "rls": "RLS", "estim_bfp": "RLS", "theta_guard": "RLS",
+    "id_sequence": "sequence", "ramp_gen": "speed ramp + PIs", "pi_ctrl": "speed ramp + PIs",
+    "svgen": "SVPWM", "tr_track": "adaptation", "standstill_z": "adaptation",
+    "drive_adapt": "adaptation", "iq_rmpy": "rounded products (iq_rmpy)",
 }
 GLUE = "drive glue (drive_step, drive_slow)"
 FIRMWARE = "firmware ISR + HAL, entry/exit"
@@ -178,11 +167,39 @@ def strip_comments(lines):
     return out
 
 
+IQ_CALL = re.compile(r"\b(_IQ\d*[A-Za-z]\w*|_Q\d+toIQ|iq_norm32)\s*\(")
+
+
+def iq_op_name(name):
+    """The operation of an IQmath call as named in TI_CYCLES / ASSUMED_CYCLES
+    (_IQ29rmpy -> _IQrmpy, _IQtoIQ27 and _IQ27toIQ -> _IQtoIQN, ...)."""
+    if name == "iq_norm32":
+        return name
+    if name.startswith("_Q"):
+        return "_IQtoQN"
+    rest = re.match(r"_IQ\d*(.*)", name).group(1)
+    if rest.startswith("toIQ"):
+        return "_IQtoIQN"
+    if rest.startswith("toQ"):
+        return "_IQtoQN"
+    return "_IQ" + rest
+
+
+def count_iq(code):
+    """{operation: calls} of the IQmath operations written on one line."""
+    out = {}
+    for m in IQ_CALL.finditer(code):
+        op = iq_op_name(m.group(1))
+        out[op] = out.get(op, 0) + 1
+    return out
+
+
 def count_line(code, inline_funcs):
-    """{op32, op64, branch, call, field, periph} on one line of C."""
-    c = {"op32": 0, "op64": 0, "branch": 0, "call": 0, "field": 0, "periph": 0}
+    """{op32, op64, branch, call, field, periph, iq: {op: n}} on one line of C."""
+    c = {"op32": 0, "op64": 0, "branch": 0, "call": 0, "field": 0, "periph": 0, "iq": {}}
     if code.strip().startswith("#"):
         return c
+    c["iq"] = count_iq(code)
     # a peripheral register access (AdcRegs.ADCTRL2.bit.RST_SEQ1): one
     # access with wait states, its dots are not struct fields
     code, c["periph"] = REG_ACCESS.subn(" __reg__ ", code)
@@ -207,13 +224,23 @@ def count_line(code, inline_funcs):
             if t in KEYWORDS or t.startswith("_IQ") or t.startswith("iqm_") or \
                     t in inline_funcs or t in TYPES or t.endswith("_t"):
                 continue
+            if prev in TYPES or prev.endswith("_t") or prev == "*":
+                continue    # a function's definition (its call is costed at the call site)
             c["call"] += 1
     return c
 
 
+def iq_op_cycles(op):
+    c = TI_CYCLES.get(op, ASSUMED_CYCLES.get(op))
+    if c is None:
+        raise BenchError(f"no cycle count for {op}: add it to ASSUMED_CYCLES")
+    return c + ROM_WAIT * ROM_TABLE_READS.get(op, 0)
+
+
 def line_cycles(ops):
     return sum(OTHER_COST[k] * v for k, v in ops.items() if k in OTHER_COST) + \
-        PERIPH_WAIT * ops.get("periph", 0)
+        PERIPH_WAIT * ops.get("periph", 0) + \
+        sum(iq_op_cycles(op) * n for op, n in ops.get("iq", {}).items())
 
 
 def inline_functions():
@@ -272,8 +299,25 @@ def isr_cost_paths(build):
     return exe, objdir
 
 
+LINE_ROW = re.compile(r"^\s*([^:\s]+):\s*(\d+):")
+BLOCK_ROW = re.compile(r"^\s*([^:\s]+):\s*(\d+)-block\s+\d+")
+
+
+def gcov_count(field):
+    """A gcov count column: '-' (no code), '#####'/'$$$$$'/'=====' (never
+    run), or a number (maybe with a '*' mark)."""
+    f = field.rstrip("*")
+    return int(f) if f.isdigit() else 0
+
+
 def parse_dump(args):
-    """{path: {line: count}} of one sample's gcov dump (src/ and include/ only)."""
+    """{path: {line: executions}} of one sample's gcov dump (src/ and
+    include/ only).  gcov's line count is the number of times control
+    ENTERED the line (a statement split over two lines is entered twice,
+    from its own continuation), so the executions of a line are taken from
+    its basic blocks instead (gcov -a: the largest count of a block that
+    starts on the line); a line without a block of its own is a continuation
+    of the statement above it (costed with it, LineCoster.ops)."""
     sdir, objdir = args
     gcdas = [p for p in Path(sdir).rglob("*.gcda")]
     if not gcdas:
@@ -285,24 +329,47 @@ def parse_dump(args):
         link = g.with_suffix(".gcno")
         if not link.exists():
             os.symlink(note, link)
-    r = subprocess.run(["gcov", "-t", "-j"] + [str(g) for g in gcdas], capture_output=True,
-                       text=True, cwd=str(sdir))
-    if r.returncode != 0:
-        raise BenchError(f"gcov failed in {sdir}: {r.stderr.strip()[:200]}")
-    out = {}
-    for doc in r.stdout.splitlines():
-        if not doc.strip():
-            continue
-        for f in json.loads(doc)["files"]:
-            path = Path(f["file"])
+    # one gcov run per object: given several at once, gcov lists a header
+    # they share with counts merged across them (a header's inline
+    # functions are separate copies in each unit: their counts are summed
+    # here, unit by unit)
+    text = []
+    for g in gcdas:
+        r = subprocess.run(["gcov", "-a", "-t", str(g)], capture_output=True, text=True,
+                           cwd=str(sdir))
+        if r.returncode != 0:
+            raise BenchError(f"gcov failed on {g}: {r.stderr.strip()[:200]}")
+        text.append(r.stdout)
+    out, cur, rows, blocks = {}, None, {}, {}
+
+    def flush():
+        # per line: its blocks' largest count where a block starts on it,
+        # else gcov's count (a line inside a block is entered once per run)
+        if cur is not None:
+            d = out.setdefault(cur, {})
+            for ln, n in rows.items():
+                d[ln] = d.get(ln, 0) + blocks.get(ln, n)
+
+    for row in "\n".join(text).splitlines():
+        if ":Source:" in row:
+            flush()
+            path = Path(row.split(":Source:", 1)[1].strip())
             if not path.is_absolute():
                 path = (objdir / path).resolve()
-            if ROOT / "src" not in path.parents and ROOT / "include" not in path.parents:
-                continue
-            d = out.setdefault(str(path), {})
-            for ln in f["lines"]:
-                if ln["count"]:
-                    d[ln["line_number"]] = d.get(ln["line_number"], 0) + ln["count"]
+            keep = ROOT / "src" in path.parents or ROOT / "include" in path.parents
+            cur, rows, blocks = (str(path) if keep else None), {}, {}
+            continue
+        if cur is None:
+            continue
+        m = BLOCK_ROW.match(row)
+        if m:
+            ln = int(m.group(2))
+            blocks[ln] = max(blocks.get(ln, 0), gcov_count(m.group(1)))
+            continue
+        m = LINE_ROW.match(row)
+        if m and m.group(1) != "-":
+            rows[int(m.group(2))] = gcov_count(m.group(1))
+    flush()
     return out
 
 
@@ -311,52 +378,72 @@ class LineCoster:
         self.inl = inline_functions()
         self.src = {}
         self.cache = {}
+        self.executable = {}   # path -> the lines gcov counts on their own
+
+    def learn(self, lines):
+        """Record which lines gcov counts on their own (from a dump)."""
+        for path, d in lines.items():
+            self.executable.setdefault(path, set()).update(d.keys())
 
     def ops(self, path, line):
+        """The operations of the statement that starts at `line`: gcov counts
+        a statement on its first line; its continuation lines (a statement
+        not yet ended by ; { } or a label's :) are costed with it."""
         key = (path, line)
         if key not in self.cache:
             if path not in self.src:
                 self.src[path] = strip_comments(Path(path).read_text().splitlines())
             src = self.src[path]
-            self.cache[key] = count_line(src[line - 1], self.inl) if line <= len(src) else {}
+            if line > len(src):
+                self.cache[key] = {}
+                return self.cache[key]
+            if self._continues(src, line):
+                self.cache[key] = None      # costed with the statement's first line
+                return None
+            text, k = src[line - 1], line
+            while k < len(src) and not self._ends(text):
+                nxt = src[k]
+                if nxt.strip().startswith("#"):
+                    break
+                text += " " + nxt
+                k += 1
+            self.cache[key] = count_line(text, self.inl)
         return self.cache[key]
 
-    def cost(self, lines):
-        """(cycles, {module: cycles}, hot [(cycles, where, code)])"""
+    def _continues(self, src, line):
+        """1 if `line` continues a statement begun on an earlier line."""
+        k = line - 2
+        while k >= 0 and not src[k].strip():
+            k -= 1
+        return k >= 0 and not self._ends(src[k]) and not src[line - 1].strip().startswith("#")
+
+    @staticmethod
+    def _ends(text):
+        t = text.rstrip()
+        return (not t) or t.endswith((";", "{", "}", ":")) or t.lstrip().startswith("#")
+
+    def cost(self, lines, iq_calls=None):
+        """(cycles, {module: cycles}, hot [(cycles, where, code)]); the IQmath
+        calls the lines make are added to iq_calls {op: n} if given."""
         total, mods, hot = 0.0, {}, []
         for path, d in lines.items():
-            mod = FILE_MODULE.get(Path(path).name, GLUE)
+            mod = STEM_MODULE.get(Path(path).stem, GLUE)
             for ln, n in d.items():
-                c = line_cycles(self.ops(path, ln)) * n
+                if n == 0:
+                    continue
+                ops = self.ops(path, ln)
+                if ops is None:
+                    continue
+                if iq_calls is not None:
+                    for op, k in ops.get("iq", {}).items():
+                        iq_calls[op] = iq_calls.get(op, 0) + k * n
+                c = line_cycles(ops) * n
                 if c:
                     total += c
                     mods[mod] = mods.get(mod, 0.0) + c
                     hot.append((c, f"{Path(path).relative_to(ROOT)}:{ln}",
                                 self.src[path][ln - 1].strip()))
         return total, mods, hot
-
-
-def iq_cost(counts, names, fn_rows=None, fn_names=None):
-    """(cycles, {module: cycles}) of per-operation counts."""
-    w = [TI_CYCLES.get(n, ASSUMED_CYCLES.get(n)) for n in names]
-    if None in w:
-        missing = [n for n, x in zip(names, w) if x is None]
-        raise BenchError(f"no cycle count for {missing}: add them to ASSUMED_CYCLES")
-    w = [x + ROM_WAIT * ROM_TABLE_READS.get(n, 0) for n, x in zip(names, w)]
-    total = sum(a * b for a, b in zip(w, counts))
-    mods = {}
-    if fn_rows is not None:
-        attributed = [0] * len(names)
-        for fn, row in zip(fn_names, fn_rows):
-            m = FN_MODULE.get(fn, GLUE)
-            c = sum(a * b for a, b in zip(w, row))
-            if c:
-                mods[m] = mods.get(m, 0.0) + c
-            attributed = [a + b for a, b in zip(attributed, row)]
-        rest = sum(a * max(0, b - c) for a, b, c in zip(w, counts, attributed))
-        if rest:
-            mods[GLUE] = mods.get(GLUE, 0.0) + rest
-    return total, mods
 
 
 def estimate(build, config, uniform, jobs):
@@ -374,30 +461,36 @@ def estimate(build, config, uniform, jobs):
             raise BenchError("isr_cost sampled no ISR")
         with cf.ThreadPoolExecutor(max_workers=jobs) as ex:
             dumps = list(ex.map(parse_dump, [(Path(tmp) / s["dir"], objdir) for s in samples]))
-    names, fn_names = data["iqmath_names"], data["functions"]
+    names = data["iqmath_names"]
+    for lines in dumps:
+        coster.learn(lines)
     classes = {}
+    mismatch = []
     for s, lines in zip(samples, dumps):
-        c_other, m_other, _ = coster.cost(lines)
-        c_iq, m_iq = iq_cost(s["iq"], names, s["fn_iq"], fn_names)
-        s["cycles"] = fixed + c_other + c_iq
+        calls = {}
+        c_lines, _, _ = coster.cost(lines, calls)
+        s["cycles"] = fixed + c_lines
+        # the IQmath calls attributed to lines must cover every call counted
+        # (more is possible: both arms of a ?: are costed, errs high)
+        for op, n in zip(names, s["iq"]):
+            if calls.get(op, 0) < n:
+                mismatch.append((s["index"], op, calls.get(op, 0), n))
         classes.setdefault((s["state"], s["slot"]), []).append((s, lines))
+    if mismatch:
+        raise BenchError("IQmath calls per line fewer than the counted ones "
+                         f"(ISR, operation, by line, counted): {mismatch[:5]}")
     states = {}
     for (state, slot), members in sorted(classes.items()):
-        # worst: every line at its largest count, every IQmath op at its largest count
-        wl, wiq, wfn = {}, [0] * len(names), [[0] * len(names) for _ in fn_names]
+        # worst: every line at the largest count any sampled ISR ran it
+        wl = {}
         for s, lines in members:
             for path, d in lines.items():
                 t = wl.setdefault(path, {})
                 for ln, n in d.items():
                     t[ln] = max(t.get(ln, 0), n)
-            wiq = [max(a, b) for a, b in zip(wiq, s["iq"])]
-            wfn = [[max(a, b) for a, b in zip(x, y)] for x, y in zip(wfn, s["fn_iq"])]
-        c_other, m_other, hot = coster.cost(wl)
-        c_iq, m_iq = iq_cost(wiq, names, wfn, fn_names)
-        worst = fixed + c_other + c_iq
-        mods = dict(m_other)
-        for k, v in m_iq.items():
-            mods[k] = mods.get(k, 0.0) + v
+        c_lines, mods, hot = coster.cost(wl)
+        worst = fixed + c_lines
+        mods = dict(mods)
         mods[FIRMWARE] = fixed
         uni = [s["cycles"] for s, _ in members if s["uniform"]] or \
               [s["cycles"] for s, _ in members]

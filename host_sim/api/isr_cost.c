@@ -12,20 +12,20 @@
  *  1. the timeline: the identification state at the entry of every ISR and
  *     its slot of the multi-rate schedule (drive_slot_t);
  *  2. the samples: for every class (state, slot), the first two and last two
- *     ISRs of the class (the state's transitions) and SAMPLES_UNIFORM more
+ *     ISRs of the class (the state's transitions) and K (--uniform) more
  *     spread evenly over it.  Each sampled ISR alone: the gcov counters are
  *     reset before it and dumped after it into its own folder (GCOV_PREFIX
  *     = OUT/s<index>), so that its line counts are that ISR's and nothing
  *     else's (the background, which runs between ISRs, is never inside);
- *     its IQmath calls are counted per operation, and per step function
- *     drive_step() calls (link-time wrappers, for the per-module report).
+ *     its IQmath calls are counted per operation (bench_isr.py attributes
+ *     them to modules by the executed lines that make them, and checks that
+ *     attribution against these counts).
  *
  * Output (stdout, JSON):
- *   {"isrs": N, "iqmath_names": [...], "slots": S, "functions": [...],
+ *   {"isrs": N, "iqmath_names": [...], "slots": S,
  *    "state_isrs": {"STATE": n, ...},
  *    "samples": [{"index": k, "state": "ACCELERATE", "slot": s,
- *                 "uniform": 0|1, "dir": "s<k>", "iq": [per op],
- *                 "fn_iq": [[per op] per function]}, ...]}
+ *                 "uniform": 0|1, "dir": "s<k>", "iq": [per op]}, ...]}
  * Usage: isr_cost CONFIG.ini --out DIR [--uniform K] [--duration S]
  */
 #include <errno.h>
@@ -52,117 +52,6 @@ void __gcov_reset(void);
 
 static const char *const k_state_names[N_STATES] = {
     "IDLE", "CALIBRATE", "MAGNETIZE", "ACCELERATE", "SETTLE", "RUN", "FAULT", "REFINE"};
-
-/* ---- per-function attribution of the IQmath calls (link-time wrappers) --- */
-
-typedef struct {
-    const char *name;
-    uint32_t iq[N_OPS];
-} fn_row_t;
-
-enum {
-    F_PHASE_CURRENT, F_DC_BUS, F_QEP_SPEED, F_PROTECT, F_ENC_CHECK, F_CUR_CHECK, F_VOLT_CALC,
-    F_VOLT_FF, F_CLARKE, F_PARK, F_IPARK, F_IFO_FRAME, F_IFO_SLIP, F_IFO_GAIN, F_ANGLE_SINCOS,
-    F_ANGLE_STEP, F_REG_ACC, F_REG_FILTER, F_RLS_ROW1, F_RLS_ROW2, F_GUARD, F_SEQUENCE,
-    F_RAMP, F_PI_STEP, F_PI_RESET, F_SVGEN, F_FLUX_OBS, F_ADAPT_FAST, F_ADAPT_SLOW, F_COUNT
-};
-
-static fn_row_t g_rows[F_COUNT] = {
-    {"phase_current_step", {0}}, {"dc_bus_step", {0}}, {"qep_speed_step", {0}},
-    {"protect_step", {0}}, {"encoder_check_step", {0}}, {"current_check_step", {0}},
-    {"volt_calc_step", {0}}, {"volt_calc_feedforward", {0}}, {"clarke_step", {0}},
-    {"park_step", {0}}, {"ipark_step", {0}}, {"ifo_frame_from_rotor", {0}},
-    {"ifo_step_slip_fast", {0}}, {"ifo_update_slip_gain", {0}}, {"angle_sincos", {0}},
-    {"angle_sincos_step", {0}}, {"ident_regressor_accumulate", {0}},
-    {"ident_regressor_filter", {0}}, {"rls_step_row1", {0}}, {"rls_step_row2", {0}},
-    {"theta_guard_step", {0}}, {"id_sequence_step", {0}}, {"ramp_gen_step", {0}},
-    {"pi_step", {0}}, {"pi_reset", {0}}, {"svgen_step", {0}}, {"flux_obs_step", {0}},
-    {"drive_adapt_fast", {0}}, {"drive_adapt_slow", {0}}};
-
-static int g_depth;                /* wrapped calls nest (a module calling angle_*) */
-static uint32_t g_snap[N_OPS];
-
-/* Only the outermost wrapped call is recorded: a nested one counts for its
- * caller, so the rows add up to what drive_step() spent in them. */
-static void pre(void)
-{
-    if (g_depth++ == 0) {
-        memcpy(g_snap, iqmath_call_count, sizeof g_snap);
-    }
-}
-
-static void post(int id)
-{
-    int i;
-    if (--g_depth != 0) {
-        return;
-    }
-    for (i = 0; i < N_OPS; i++) {
-        g_rows[id].iq[i] += iqmath_call_count[i] - g_snap[i];
-    }
-}
-
-#define WRAP_VOID1(NAME, ID, T)                                                                    \
-    void __real_##NAME(T a);                                                                       \
-    void __wrap_##NAME(T a);                                                                       \
-    void __wrap_##NAME(T a) { pre(); __real_##NAME(a); post(ID); }
-
-WRAP_VOID1(phase_current_step, F_PHASE_CURRENT, phase_current_t *)
-WRAP_VOID1(dc_bus_step, F_DC_BUS, dc_bus_t *)
-WRAP_VOID1(qep_speed_step, F_QEP_SPEED, qep_speed_t *)
-WRAP_VOID1(protect_step, F_PROTECT, protect_t *)
-WRAP_VOID1(encoder_check_step, F_ENC_CHECK, encoder_check_t *)
-WRAP_VOID1(current_check_step, F_CUR_CHECK, current_check_t *)
-WRAP_VOID1(volt_calc_step, F_VOLT_CALC, volt_calc_t *)
-WRAP_VOID1(clarke_step, F_CLARKE, clarke_t *)
-WRAP_VOID1(park_step, F_PARK, park_t *)
-WRAP_VOID1(ipark_step, F_IPARK, ipark_t *)
-WRAP_VOID1(ifo_frame_from_rotor, F_IFO_FRAME, ifo_t *)
-WRAP_VOID1(ifo_step_slip_fast, F_IFO_SLIP, ifo_t *)
-WRAP_VOID1(ifo_update_slip_gain, F_IFO_GAIN, ifo_t *)
-WRAP_VOID1(ident_regressor_accumulate, F_REG_ACC, ident_regressor_t *)
-WRAP_VOID1(ident_regressor_filter, F_REG_FILTER, ident_regressor_t *)
-WRAP_VOID1(rls_step_row1, F_RLS_ROW1, rls_t *)
-WRAP_VOID1(rls_step_row2, F_RLS_ROW2, rls_t *)
-WRAP_VOID1(theta_guard_step, F_GUARD, theta_guard_t *)
-WRAP_VOID1(id_sequence_step, F_SEQUENCE, id_sequence_t *)
-WRAP_VOID1(ramp_gen_step, F_RAMP, ramp_gen_t *)
-WRAP_VOID1(pi_step, F_PI_STEP, pi_ctrl_t *)
-WRAP_VOID1(pi_reset, F_PI_RESET, pi_ctrl_t *)
-WRAP_VOID1(svgen_step, F_SVGEN, svgen_t *)
-WRAP_VOID1(flux_obs_step, F_FLUX_OBS, flux_obs_t *)
-WRAP_VOID1(drive_adapt_fast, F_ADAPT_FAST, drive_t *)
-WRAP_VOID1(drive_adapt_slow, F_ADAPT_SLOW, drive_t *)
-
-void __real_angle_sincos(_iq a, _iq *s, _iq *c);
-void __wrap_angle_sincos(_iq a, _iq *s, _iq *c);
-void __wrap_angle_sincos(_iq a, _iq *s, _iq *c)
-{
-    pre();
-    __real_angle_sincos(a, s, c);
-    post(F_ANGLE_SINCOS);
-}
-
-void __real_angle_sincos_step(_iq s, _iq c, _iq a, _iq d, _iq *s2, _iq *c2);
-void __wrap_angle_sincos_step(_iq s, _iq c, _iq a, _iq d, _iq *s2, _iq *c2);
-void __wrap_angle_sincos_step(_iq s, _iq c, _iq a, _iq d, _iq *s2, _iq *c2)
-{
-    pre();
-    __real_angle_sincos_step(s, c, a, d, s2, c2);
-    post(F_ANGLE_STEP);
-}
-
-void __real_volt_calc_feedforward(const volt_calc_t *v, _iq vdc, _iq ia, _iq ib, _iq *da,
-                                  _iq *db);
-void __wrap_volt_calc_feedforward(const volt_calc_t *v, _iq vdc, _iq ia, _iq ib, _iq *da,
-                                  _iq *db);
-void __wrap_volt_calc_feedforward(const volt_calc_t *v, _iq vdc, _iq ia, _iq ib, _iq *da,
-                                  _iq *db)
-{
-    pre();
-    __real_volt_calc_feedforward(v, vdc, ia, ib, da, db);
-    post(F_VOLT_FF);
-}
 
 /* ---- the closed loop --------------------------------------------------- */
 
@@ -332,10 +221,6 @@ int main(int argc, char **argv)
     for (i = 0; i < N_OPS; i++) {
         printf("%s\"%s\"", i ? ", " : "", iqmath_fn_name(i));
     }
-    printf("],\n \"functions\": [");
-    for (i = 0; i < F_COUNT; i++) {
-        printf("%s\"%s\"", i ? ", " : "", g_rows[i].name);
-    }
     printf("],\n \"state_isrs\": {");
     for (i = 0; i < N_STATES; i++) {
         uint32_t n = 0u;
@@ -357,9 +242,6 @@ int main(int argc, char **argv)
             char dir[512];
             uint16_t slot = run.drive.slot;
             run_before_isr(&run);
-            for (i = 0; i < F_COUNT; i++) {
-                memset(g_rows[i].iq, 0, sizeof g_rows[i].iq);
-            }
             iqmath_count_reset();
             __gcov_reset();
             drive_isr(&run.drive);
@@ -371,12 +253,7 @@ int main(int argc, char **argv)
                    first ? "" : ",", (unsigned)k, k_state_names[state_at[k]], (unsigned)slot,
                    (unsigned)(kind[k] == 2u), (unsigned)k);
             print_vec32(iqmath_call_count);
-            printf(", \"fn_iq\": [");
-            for (i = 0; i < F_COUNT; i++) {
-                printf("%s", i ? "," : "");
-                print_vec32(g_rows[i].iq);
-            }
-            printf("]}");
+            printf("}");
             first = 0;
             run_after_isr(&run);
         }
