@@ -31,7 +31,6 @@ void datalog_arm(datalog_t *d)
 
 void datalog_step(datalog_t *d)
 {
-    uint16_t ch;
     _iq x0;
 
     if (d->state == (uint16_t)DLOG_DONE) {
@@ -43,13 +42,13 @@ void datalog_step(datalog_t *d)
     }
     d->skip = 0u;
 
-    for (ch = 0u; ch < DLOG_CHANNELS; ch++) {
-        d->buf[ch][d->idx] = d->in[ch];
-    }
-    d->idx++;
-    if (d->idx >= DLOG_SIZE) {
-        d->idx = 0u;
-    }
+    /* the four channels written out (no loop in the ISR); DLOG_SIZE is a
+     * power of two: the index wraps by a mask */
+    d->buf[0][d->idx] = d->in[0];
+    d->buf[1][d->idx] = d->in[1];
+    d->buf[2][d->idx] = d->in[2];
+    d->buf[3][d->idx] = d->in[3];
+    d->idx = (uint16_t)((d->idx + 1u) & (DLOG_SIZE - 1u));
 
     x0 = d->in[0];
     if (d->state == (uint16_t)DLOG_ARMED) {

@@ -17,7 +17,10 @@
 #include "IQmathLib.h"
 
 #define DLOG_CHANNELS 4u
-#define DLOG_SIZE     256u   /* 4 x 256 x 32 bit = 2048 words of RAM */
+#define DLOG_SIZE     256u   /* 4 x 256 x 32 bit = 2048 words of RAM; a power of two */
+#if (DLOG_SIZE & (DLOG_SIZE - 1u)) != 0u || DLOG_CHANNELS != 4u
+#error "datalog_step writes 4 channels and wraps its index by a mask"
+#endif
 
 typedef enum {
     DLOG_FREE = 0,   /* writing, circular, no trigger */

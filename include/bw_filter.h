@@ -65,6 +65,7 @@
 
 #include <stdint.h>
 #include "IQmathLib.h"
+#include "iq_rmpy.h"
 
 /** Input saturation (pu): keeps the Q27 state in range (see above). */
 #define BW_FILTER_U_MAX 7.0f
@@ -118,16 +119,37 @@ bw_filter_status_t bw_filter_init(bw_filter_t *f, float wc_rad_s, uint16_t n_pas
  *  x1 = y0, derivative 0.  Avoids the start-up transient. */
 void bw_filter_reset(bw_filter_t *f, _iq y0);
 
+/** bw_filter_step without the derivative output: state and y only (dy is
+ *  left as it was).  For the filters whose derivative nobody reads. */
+static inline void bw_filter_update(bw_filter_t *f)
+{
+    _iq u = _IQsat(f->u, _IQ(BW_FILTER_U_MAX), _IQ(-BW_FILTER_U_MAX));
+    _iq27 d = f->x1 - _IQtoIQ27(u);            /* Q27 deviation from equilibrium */
+    _iq27 z = f->z2;
+    /* row 1: D11 d + D12 z = D12 (z + (D11/D12) d); D11 = -a^2/2 + ... is
+     * 500x smaller than D12 and would keep only 14 bits in Q30. */
+    _iq27 w = z + iq_round_half(_IQ29mpy(d, f->c1));   /* Q27*Q30 -> Q28 -> Q27 rounded */
+    _iq27 dx1 = iq_round_half(_IQ29mpy(w, f->d12));    /* Q27*Q30 -> Q28 -> Q27 rounded */
+    /* row 2: D21 (d + (D22/D21) z), |d + c2 z| < 14.7 + 1.42*7 < 25: the
+     * sum is formed in Q26 (range 32) */
+    _iq26 v = iq_round_half(d)                          /* Q27 -> Q26 rounded */
+            + iq_round_half(_IQ29mpy(z, f->c2));        /* Q27*Q29 -> Q27 -> Q26 rounded */
+    _iq27 dz2 = iq_round_half(_IQ28mpy(v, f->d21));    /* Q26*Q30 -> Q28 -> Q27 rounded */
+    f->x1 = f->x1 + dx1;
+    f->z2 = z + dz2;
+    f->y = _IQ27toIQ(f->x1);
+}
+
 /** One sample with the precomputed map (the ISR path): 4 multiplies and
  *  a rounded format change, + 1 multiply for dy.  Each row is one small coefficient times one sum,
  *      x1 += D12 (z2 + c1 d),   z2 += D21 (d + c2 z2),
  *  so each increment is rounded once (the dead band, below, is then
  *  |d + c2 z2| <= 1/(2|D21|) and |z2 + c1 d| <= 1/(2 D12) LSB27).  Scaling/overflow: see the file comment. */
-void bw_filter_step(bw_filter_t *f);
-
-/** bw_filter_step without the derivative output: state and y only (dy is
- *  left as it was).  For the filters whose derivative nobody reads. */
-void bw_filter_update(bw_filter_t *f);
+static inline void bw_filter_step(bw_filter_t *f)
+{
+    bw_filter_update(f);
+    f->dy = _IQmpyIQX(f->z2, 27, f->wc_pu, 29);   /* Q27*Q29 -> Q24 */
+}
 
 /** One sample by the literal predictor + N corrector passes (eqs. 15-18,
  *  method §5): the reference for bw_filter_step.  Same state, inputs and

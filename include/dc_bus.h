@@ -34,6 +34,7 @@
 #include <stdint.h>
 #include "IQmathLib.h"
 #include "base_values.h"
+#include "iq_rmpy.h"
 
 /** A raw value >= this is at the top rail (ADC code 4095): the bus may be
  *  higher than vdc says. */
@@ -42,6 +43,9 @@
 #define DC_BUS_FULL_SCALE_MAX_PU 64.0f
 /** Smallest accepted filter coefficient a (see dc_bus_step on its bias). */
 #define DC_BUS_FILTER_A_MIN 1.0e-4f
+
+/* 2^-16: raw / 65536, exact in Q24 (2^8 LSB) and in float */
+#define DC_BUS_RAW_TO_FRAC _IQ(1.52587890625e-5)
 
 typedef enum {
     DC_BUS_OK = 0,
@@ -72,12 +76,36 @@ dc_bus_status_t dc_bus_init(dc_bus_t *d, float vdc_full_scale_V, const base_valu
                             float fc_Hz);
 
 /**
- * One sample.  Scaling: raw * 2^-16 is exact in Q24 ([0, 1)); times k_scale
- * (< 64) it stays below 64 pu: no overflow.  The filter increment is a
- * rounded product (_IQrmpy), so vdc_filt settles within 0.5/a LSB of vdc
- * (a = 0.041 for 100 Hz at 15 kHz: 12 LSB = 7e-7 pu); |vdc - vdc_filt| < 64
- * so nothing can overflow and nothing saturates.
+ * The bus voltage of this sample alone (no filter): what the drive's
+ * voltage reconstruction, modulation and protections need, every period.
+ * Scaling: raw * 2^-16 is exact in Q24 ([0, 1)); times k_scale (< 64) it
+ * stays below 64 pu: no overflow.
  */
-void dc_bus_step(dc_bus_t *d);
+static inline void dc_bus_measure(dc_bus_t *d)
+{
+    /* (raw + 8) * 2^-16, the centre of the code (dc_bus.h): exact Q24 in
+     * [0, 1.0002); Q24*Q24 -> Q24 (< 64) */
+    d->vdc = _IQmpy(d->k_scale, _IQmpyI32(DC_BUS_RAW_TO_FRAC, (int32_t)d->vdc_raw + 8));
+    d->rail = (d->vdc_raw >= DC_BUS_RAIL_HIGH) ? 1u : 0u;
+}
+
+/**
+ * One sample: dc_bus_measure, then the low-pass vdc_filt.  Scaling: the
+ * filter increment is a rounded product (_IQrmpy), so vdc_filt settles
+ * within 0.5/a LSB of vdc (a = 0.041 for 100 Hz at 15 kHz: 12 LSB = 7e-7
+ * pu); |vdc - vdc_filt| < 64 so nothing can overflow and nothing
+ * saturates.
+ */
+static inline void dc_bus_step(dc_bus_t *d)
+{
+    dc_bus_measure(d);
+    if (d->primed == 0u) {
+        d->vdc_filt = d->vdc;
+        d->primed = 1u;
+    } else {
+        /* Q24*Q24 -> Q24, rounded; |difference| < 64 */
+        d->vdc_filt += _IQrmpy(d->k_filt, d->vdc - d->vdc_filt);
+    }
+}
 
 #endif /* DC_BUS_H */

@@ -160,9 +160,13 @@ struct drive {
 
     /* multi-rate schedule and what the slow tasks hand to the fast path */
     uint16_t slot;              /* drive_slot_t of this ISR (0 .. DRIVE_SLOTS-1) */
+    uint16_t frame_ifo;         /* this ISR's control frame is ifo's (drive_ifo_frame) */
+    _iq theta_k, theta_prev;    /* Q24 pu [0, 1): the frame angle of this and the last sample */
+    _iq ws_k;                   /* Q24 pu: the frame's speed over the period that just ended */
+    _iq ws_ctl;                 /* Q24 pu: the frame speed for decoupling and modulation */
     _iq i_t_ref;                /* Q24 pu: the speed loop's torque-current reference */
     _iq im_inject;              /* Q24 pu: added to the i_M reference (standstill test) */
-    uint16_t rls_on;            /* the sequence's rls_on, gated by the frame (slot FILTERS) */
+    uint16_t reg_count;         /* encoder count at the last FILTERS slot (the regression's window) */
 
     drive_snapshot_t snap;      /* ISR -> background: the steady-state extraction */
     drive_snapshot_t live_snap; /* ISR -> background: running estimates, 100 Hz */

@@ -73,7 +73,35 @@ encoder_check_status_t encoder_check_init(encoder_check_t *e, float Ts_s, float 
                                           float f_base_Hz, uint16_t encoder_lines,
                                           uint16_t pole_pairs);
 /** One sample (see the file comment for scaling). */
-void encoder_check_step(encoder_check_t *e);
+static inline void encoder_check_step(encoder_check_t *e)
+{
+    int32_t d = (int32_t)(uint16_t)(e->count - e->prev_count);   /* [0, 65535] */
+    int32_t ad;
+    if (d >= 32768) {
+        d -= 65536;                                               /* signed, wrap-safe */
+    }
+    ad = (d < 0) ? -d : d;
+    e->prev_count = e->count;
+    if (e->active == 0u) {
+        e->frozen = 0u;
+        return;
+    }
+    if (ad > e->jump_max) {
+        e->fault = 1u;
+        e->cause |= ENCODER_CHECK_JUMP;
+    }
+    if (ad == 0 && _IQabs(e->i_t) > e->i_t_min) {
+        if (e->frozen < e->frozen_max) {
+            e->frozen++;
+        }
+        if (e->frozen >= e->frozen_max) {
+            e->fault = 1u;
+            e->cause |= ENCODER_CHECK_FROZEN;
+        }
+    } else {
+        e->frozen = 0u;
+    }
+}
 /** Clear the fault and restart from the present count. */
 void encoder_check_reset(encoder_check_t *e);
 

@@ -26,7 +26,8 @@
  *
  * Multi-rate (decim = 2^n samples per filter step, ident_regressor_init):
  * steps 1 and the products of step 2 run every sample and are summed
- * (ident_regressor_accumulate, in the 15 kHz ISR); every decim-th sample
+ * (ident_regressor_accumulate, in the 15 kHz ISR; the rotor speed's mean
+ * over the window comes from the encoder count directly); every decim-th sample
  * ident_regressor_filter steps the filters, at Ts' = decim Ts, on the
  * means of the sums and forms y1, y2 and the rows.  The mean over decim
  * samples is the anti-alias stage: a boxcar whose nulls lie at multiples
@@ -36,14 +37,13 @@
  * filter, so the regression stays exact (method §7 point 2).  With decim =
  * 1, ident_regressor_step = accumulate + filter, the paper's 15 kHz path.
  *
- * Scaling and overflow of ident_regressor_step: products rounded (their
- * truncation bias would pass the unit DC gain of the filters), bit for bit
- * _IQrmpy but computed with the 5-cycle truncating intrinsic one bit finer
- * (estim_bfp.h: estim_rmpy, valid below 64 pu, wraps beyond as _IQrmpy
- * does beyond 128 pu; the filters saturate their inputs at 7 pu); |sin|,
- * |cos| <= 1 so |u_M|, |u_T| <= |u_alpha| + |u_beta|; the filters saturate
- * their inputs at +-7 pu (bw_filter.h), so |filtered| < 7.7 and
- * |y1|, |y2| < 16: no wrap in Q24.
+ * Scaling and overflow of ident_regressor_step: products truncated
+ * (_IQmpy; their -1/2 LSB mean bias reaches the regression as an offset
+ * below 1e-6 of its smallest term: ident_regressor.c); |sin|, |cos| <= 1
+ * so |u_M|, |u_T| <= |u_alpha| + |u_beta|; every input is saturated to
+ * +-7 pu before it is summed (bw_filter.h's input range), so a window's
+ * sum stays below 56 pu, |filtered| < 7.7 and |y1|, |y2| < 16: no wrap in
+ * Q24.  The window mean is rounded (estim_ldexp), exact for decim = 1.
  */
 #ifndef IDENT_REGRESSOR_H
 #define IDENT_REGRESSOR_H
@@ -58,7 +58,9 @@ typedef struct {
     _iq u_alpha, u_beta;   /* Q24 pu: stator voltage applied over the period that just ended */
     _iq sin_mid, cos_mid;  /* Q24: sin/cos of the frame angle at the middle of that period */
     _iq ws;                /* Q24 pu: frame (synchronous) speed */
-    _iq wr;                /* Q24 pu: rotor electrical speed */
+    _iq wr;                /* Q24 pu: rotor electrical speed over the filter step's window
+                              (the mean of the window's one-period speeds: with
+                              decimation the QEP gives it directly, qep_speed.h) */
     /* outputs */
     _iq u_m, u_t;          /* Q24 pu: the voltage in M-T (unfiltered) */
     _iq y1, y2;            /* Q24 pu/pu time: left-hand sides, eq. 5 */
@@ -68,7 +70,7 @@ typedef struct {
     uint16_t decim_log2;   /* filter step every 2^decim_log2 samples (0..3) */
     /* state: the sums of the decimation window (Q24, |.| < 8 x 7 pu: each
      * input saturated to +-BW_FILTER_U_MAX, at most 8 samples) */
-    _iq s_im, s_it, s_um, s_ut, s_ws_it, s_ws_im, s_wr;
+    _iq s_im, s_it, s_um, s_ut, s_ws_it, s_ws_im;
     /* the seven identical filters (only f_im and f_it compute their
      * .dy output; the other five leave it at 0: bw_filter_update) */
     bw_filter_t f_im, f_it, f_um, f_ut, f_ws_it, f_ws_im, f_wr;
@@ -88,9 +90,32 @@ bw_filter_status_t ident_regressor_init(ident_regressor_t *r, float wc_rad_s,
 /** Zero every filter state and sum (e.g. before a new identification run). */
 void ident_regressor_reset(ident_regressor_t *r);
 
-/** Every sample: rotate u into M-T, form the products, add the seven
- *  signals to the window sums (inputs saturated to +-BW_FILTER_U_MAX). */
-void ident_regressor_accumulate(ident_regressor_t *r);
+/* One input into its window sum: saturated as the filter would, so that
+ * 8 of them stay below 56 pu (Q24). */
+static inline _iq ident_in(_iq x)
+{
+    return _IQsat(x, _IQ(BW_FILTER_U_MAX), _IQ(-BW_FILTER_U_MAX));
+}
+
+/** Every sample: rotate u into M-T, form the products, add the six
+ *  signals to the window sums (inputs saturated to +-BW_FILTER_U_MAX); the
+ *  seventh, wr, is set as the window's mean before the filter step. */
+static inline void ident_regressor_accumulate(ident_regressor_t *r)
+{
+    /* Park rotation at the mid-period angle (method §7 point 1),
+     * Q24*Q24 -> Q24, |u| < 64 pu */
+    r->u_m = _IQmpy(r->u_alpha, r->cos_mid) + _IQmpy(r->u_beta, r->sin_mid);
+    r->u_t = _IQmpy(r->u_beta, r->cos_mid) - _IQmpy(r->u_alpha, r->sin_mid);
+
+    r->s_im += ident_in(r->i_m);
+    r->s_it += ident_in(r->i_t);
+    r->s_um += ident_in(r->u_m);
+    r->s_ut += ident_in(r->u_t);
+    /* the products are filtered as single signals (method §7 point 2):
+     * each formed per sample, then averaged (Q24*Q24 -> Q24) */
+    r->s_ws_it += ident_in(_IQmpy(r->ws, r->i_t));
+    r->s_ws_im += ident_in(_IQmpy(r->ws, r->i_m));
+}
 
 /** Every 2^decim_log2 samples, after that many accumulate calls: the
  *  window means (rounded) through the filters, y1, y2 and the regressors;

@@ -42,6 +42,8 @@
 #include <stdint.h>
 #include "IQmathLib.h"
 #include "base_values.h"
+#include "angle.h"
+#include "iq_rmpy.h"
 
 /** Tr must be at least this many samples (keeps kf's series exact to 1e-9). */
 #define IFO_TR_MIN_SAMPLES 10.0f
@@ -124,6 +126,18 @@ void ifo_step(ifo_t *f);
  *  taken along the shorter arc (correct across the 1 -> 0 wrap), in [0, 1). */
 _iq ifo_theta_mid(const ifo_t *f);
 
+/* Wrap a Q24 angle that is within one revolution of [0, 1) back into it.
+ * Adding or subtracting exactly 1.0 is exact in Q24 and in float. */
+static inline _iq ifo_wrap(_iq th)
+{
+    if (th >= _IQ(1.0)) {
+        th -= _IQ(1.0);
+    } else if (th < _IQ(0.0)) {
+        th += _IQ(1.0);
+    }
+    return th;
+}
+
 /**
  * Encoder-angle mode: the flux angle is the measured rotor angle plus the
  * integrated slip, theta(k) = theta_r(k) + sum(w_slip Ts).  The speed
@@ -140,7 +154,14 @@ _iq ifo_theta_mid(const ifo_t *f);
  * Scaling: the angle sum wraps modulo 1 pu exactly (ifo_wrap); ws_frame
  * saturates at +-(0.5 / (f_base Ts)) pu, half a revolution per sample.
  */
-void ifo_frame_from_rotor(ifo_t *f);
+static inline void ifo_frame_from_rotor(ifo_t *f)
+{
+    f->theta_prev = f->theta;
+    f->theta = ifo_wrap(f->theta_r + f->theta_slip);   /* both in [0, 1): no overflow */
+    /* Q24 * Q20 -> Q24; |d| <= 0.5 and 1/(f_base Ts) < 256 keep |result| < 128 */
+    f->ws_frame = _IQmpyIQX(angle_diff_pu(f->theta, f->theta_prev), GLOBAL_Q,
+                            f->inv_k_theta, 20);
+}
 void ifo_step_slip(ifo_t *f);
 
 /**
@@ -157,7 +178,16 @@ void ifo_step_slip(ifo_t *f);
  * (i_t saturated there), ws and the angle as ifo_step_slip.
  */
 void ifo_update_slip_gain(ifo_t *f);
-void ifo_step_slip_fast(ifo_t *f);
+static inline void ifo_step_slip_fast(ifo_t *f)
+{
+    /* rotor flux lag, as ifo_update_flux (rounded, |i_m - imr| < 4 pu) */
+    f->imr += iq_rmpy(f->kf, f->i_m - f->imr);
+    /* Q24*Q24 -> Q24: |i_t| <= 2, k_slip <= 32 */
+    f->wslip = _IQmpy(_IQsat(f->i_t, _IQ(IFO_I_T_MAX), _IQ(-IFO_I_T_MAX)), f->k_slip);
+    f->ws = f->wr + f->wslip;
+    /* Q24 * Q30 -> Q24 (truncated), wrapped modulo one revolution */
+    f->theta_slip = ifo_wrap(f->theta_slip + _IQmpyIQX(f->wslip, GLOBAL_Q, f->k_theta, 30));
+}
 
 /**
  * Take over from another frame without a jump (encoder-angle mode): with

@@ -32,7 +32,22 @@ typedef struct {
 
 void isr_monitor_init(isr_monitor_t *m);
 /** One ISR.  No arithmetic that can wrap: the counters saturate. */
-void isr_monitor_step(isr_monitor_t *m);
+static inline void isr_monitor_step(isr_monitor_t *m)
+{
+    if (m->overrun == 0u) {
+        m->run = 0u;
+        return;
+    }
+    if (m->count < 0xFFFFu) {
+        m->count++;
+    }
+    if (m->run < 0xFFFFu) {
+        m->run++;
+    }
+    if (m->run >= ISR_MONITOR_LATCH_RUN) {
+        m->fault = 1u;
+    }
+}
 /** Re-arm the latch (fault reset); the count is kept. */
 void isr_monitor_reset(isr_monitor_t *m);
 

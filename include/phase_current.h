@@ -38,6 +38,10 @@
 #define PHASE_CURRENT_WINDOW_MAX 0.25f
 
 /** Status of phase_current_init and phase_current_cal_start. */
+/* 2^-15: one raw count is 2^-15 pu (32768 counts = 1 pu).  Exact in Q24
+ * (2^9 LSB) and in float. */
+#define PC_COUNT_TO_PU _IQ(3.0517578125e-5)
+
 typedef enum {
     PHASE_CURRENT_OK = 0,
     PHASE_CURRENT_ERR_GAIN,      /* a gain correction outside [0.8, 1.25] (or NaN) */
@@ -90,6 +94,18 @@ typedef struct {
 phase_current_status_t phase_current_init(phase_current_t *pc, float gain_a, float gain_b,
                                           int16_t polarity, float offset_window_fs);
 
+static inline uint16_t phase_current_rail_bits(uint16_t a_raw, uint16_t b_raw)
+{
+    uint16_t r = 0u;
+    if (a_raw == 0u || a_raw >= PHASE_CURRENT_RAIL_HIGH) {
+        r |= PHASE_CURRENT_PHASE_A;
+    }
+    if (b_raw == 0u || b_raw >= PHASE_CURRENT_RAIL_HIGH) {
+        r |= PHASE_CURRENT_PHASE_B;
+    }
+    return r;
+}
+
 /**
  * One sample: raw -> pu.
  * Scaling: raw - offset is an exact integer in [-65535, 65535]; times 2^-15
@@ -98,7 +114,18 @@ phase_current_status_t phase_current_init(phase_current_t *pc, float gain_a, flo
  * (_IQmpy truncation: < 1 LSB = 6e-8 pu).  No overflow is possible, so
  * nothing saturates; the rail flag says when a reading is clipped.
  */
-void phase_current_step(phase_current_t *pc);
+static inline void phase_current_step(phase_current_t *pc)
+{
+    /* exact integers in [-65535, 65535] (int32: no 16-bit overflow on C28x) */
+    int32_t da = (int32_t)pc->ia_raw - (int32_t)pc->offset_a;
+    int32_t db = (int32_t)pc->ib_raw - (int32_t)pc->offset_b;
+
+    /* count * 2^-15 -> Q24 exact (|.| < 2); Q24*Q24 -> Q24 (|.| < 2.5) */
+    pc->ia = _IQmpy(pc->gain_a, _IQmpyI32(PC_COUNT_TO_PU, da));
+    pc->ib = _IQmpy(pc->gain_b, _IQmpyI32(PC_COUNT_TO_PU, db));
+    pc->ic = -pc->ia - pc->ib;   /* |.| < 5: no overflow */
+    pc->rail = phase_current_rail_bits(pc->ia_raw, pc->ib_raw);
+}
 
 /** Start an offset calibration over @p n_samples samples (1..65535; e.g.
  *  1024 = 68 ms at 15 kHz).  Clears cal_fault. */

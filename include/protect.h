@@ -47,15 +47,55 @@ typedef struct {
 
 /** Levels in pu.  Returns 1 if a level is not positive or vdc_min >= vdc_max. */
 int16_t protect_init(protect_t *p, _iq i_trip, _iq vdc_max, _iq vdc_min);
+/* The first fault among this sample's inputs, in the priority order of
+ * protect_step; strict: check the undervoltage also with the bridge off
+ * (protect_clear). */
+static inline fault_code_t protect_check(const protect_t *p, uint16_t strict)
+{
+    if (p->hw_trip != 0u) {
+        return FAULT_HW_TRIP;
+    }
+    if (_IQabs(p->ia) > p->i_trip || _IQabs(p->ib) > p->i_trip || _IQabs(p->ic) > p->i_trip) {
+        return FAULT_OVERCURRENT;
+    }
+    if (p->adc_rail != 0u) {
+        return FAULT_ADC_RAIL;
+    }
+    if (p->vdc > p->vdc_max) {
+        return FAULT_BUS_OVERVOLTAGE;
+    }
+    if ((p->pwm_on != 0u || strict != 0u) && p->vdc < p->vdc_min) {
+        return FAULT_BUS_UNDERVOLTAGE;
+    }
+    if (p->encoder_fault != 0u) {
+        return FAULT_ENCODER;
+    }
+    if (p->current_fault != 0u) {
+        return FAULT_CURRENT_SENSOR;
+    }
+    return FAULT_NONE;
+}
+
+/** Latch a fault found elsewhere (calibration, configuration). */
+static inline void protect_latch(protect_t *p, fault_code_t code)
+{
+    if (p->fault == FAULT_NONE && code != FAULT_NONE) {
+        p->fault = code;
+        p->trip = 1u;
+    }
+}
+
 /** Check this sample's inputs; latch the first fault seen, in this priority:
  *  hardware trip, overcurrent (a phase reading at a rail is also beyond the
  *  trip level, which is below full scale: a clipped real overcurrent reports
  *  as overcurrent), ADC rail (so a bus reading at a rail is not taken for
  *  an over- or under-voltage), bus over-, under-voltage, encoder, current
  *  feedback. */
-void protect_step(protect_t *p);
-/** Latch a fault found elsewhere (calibration, configuration). */
-void protect_latch(protect_t *p, fault_code_t code);
+static inline void protect_step(protect_t *p)
+{
+    protect_latch(p, protect_check(p, 0u));
+}
+
 /** Clear the latch if the inputs of this sample are healthy; returns 1 if
  *  cleared.  Stricter than protect_step: the bus must be above vdc_min even
  *  with the bridge off (a restart onto a sagging bus would trip at once),

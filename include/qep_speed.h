@@ -86,11 +86,18 @@ typedef struct {
                                   instance gives as speed_raw */
     _iq speed;                 /* Q24, electrical speed, pu of w_base (filtered) */
     int16_t dir;               /* +1 counting up, -1 down, 0 no count in the window */
+    /* multi-rate (qep_speed_set_decim): the angle every sample, the speeds
+     * every decim samples */
+    uint16_t decim;            /* samples per speed update, power of two <= window (1) */
+    uint16_t hist_len;         /* window / decim: counts kept */
+    _iq k_speedn;              /* Q24: pp / (decim cpr Ts f_base): speed_1 per count */
+    int32_t d_maxn;            /* as d_max, for the decim-sample difference */
     /* state */
     uint16_t prev_count;       /* T2CNT of the previous sample */
+    uint16_t count_speed;      /* T2CNT at the last speed update */
     int32_t pos_mech;          /* counts, [0, cpr) */
     int32_t pos_elec;          /* pole_pairs * counts modulo cpr, [0, cpr) */
-    uint16_t hist[QEP_SPEED_WINDOW_MAX];  /* the last W counts (ring) */
+    uint16_t hist[QEP_SPEED_WINDOW_MAX];  /* the counts of the last W / decim updates (ring) */
     uint16_t head;             /* index of count(k - W) in hist */
 } qep_speed_t;
 
@@ -107,6 +114,83 @@ qep_speed_status_t qep_speed_init(qep_speed_t *q, uint16_t encoder_lines,
 /** Restart from @p count_now: angles 0, speeds 0, the window filled with
  *  count_now (the shaft assumed at rest). */
 void qep_speed_reset(qep_speed_t *q, uint16_t count_now);
+
+/**
+ * Multi-rate: the angle every sample (qep_angle_step), the speeds every
+ * @p decim samples (qep_speed_update), decim a power of two <= window; the
+ * speed filter's corner @p speed_filter_Hz at that rate.  speed_raw keeps
+ * its meaning (the mean over the last W samples), speed_1 becomes the mean
+ * speed over the last decim samples (the sum of the one-sample speeds:
+ * what a decimated regression needs).  Restarts the speeds at the present
+ * count.  Returns QEP_SPEED_ERR_WINDOW, _BASE or _CUTOFF on a bad argument
+ * (nothing changed).
+ */
+qep_speed_status_t qep_speed_set_decim(qep_speed_t *q, uint16_t decim, const base_values_t *b,
+                                       float speed_filter_Hz);
+
+/* a - b modulo 2^16, read as a signed number in [-32768, 32767].  Written
+ * without the implementation-defined uint16 -> int16 conversion. */
+static inline int32_t qep_diff(uint16_t a, uint16_t b)
+{
+    int32_t d = (int32_t)(uint16_t)(a - b);   /* [0, 65535] */
+    if (d >= 32768) {
+        d -= 65536;
+    }
+    return d;
+}
+
+/* p modulo n into [0, n).  The common case (|step| < n) costs two compares;
+ * the division runs only after a step of more than one revolution. */
+static inline int32_t qep_wrap(int32_t p, int32_t n)
+{
+    if (p >= n) {
+        p -= n;
+        if (p >= n) {
+            p %= n;
+        }
+    } else if (p < 0) {
+        p += n;
+        if (p < 0) {
+            p %= n;          /* C99: in (-n, 0] */
+            if (p < 0) {
+                p += n;
+            }
+        }
+    }
+    return p;
+}
+
+/** Every sample: the electrical angle from the count (exact integer
+ * accumulator modulo cpr; Q30 * count -> Q24).  Scaling: as qep_speed_step. */
+static inline void qep_angle_step(qep_speed_t *q)
+{
+    int32_t d1 = qep_diff(q->count, q->prev_count);   /* this sample, counts */
+    q->prev_count = q->count;
+    /* |pole_pairs * d1| <= 64 * 32768 = 2^21 */
+    q->pos_elec = qep_wrap(q->pos_elec + q->pole_pairs * d1, q->cpr);
+    q->theta_elec = _IQ30toIQ(_IQ30mpyI32(q->k_angle, q->pos_elec));
+}
+
+/** Every decim samples (after qep_angle_step of that sample): the
+ *  mechanical angle, speed_1, speed_raw and the filtered speed. */
+void qep_speed_update(qep_speed_t *q);
+
+/** The mean electrical speed over the decim samples since the count
+ *  *since (pu, Q24; the sum of their one-sample speeds), and *since = this
+ *  sample's count: for a consumer whose window is not qep_speed_update's
+ *  (the regression's, one sample later).  Q24 * count -> Q24, the
+ *  difference saturated as speed_1's (|.| <= 63). */
+static inline _iq qep_mean_speed(const qep_speed_t *q, uint16_t *since)
+{
+    int32_t dn = qep_diff(q->count, *since);
+    *since = q->count;
+    if (dn > q->d_maxn) {
+        dn = q->d_maxn;
+    } else if (dn < -q->d_maxn) {
+        dn = -q->d_maxn;
+    }
+    return _IQmpyI32(q->k_speedn, dn);
+}
 
 /**
  * One sample.  Scaling and overflow: count differences are taken modulo

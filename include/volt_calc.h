@@ -43,6 +43,7 @@
 
 #include <stdint.h>
 #include "IQmathLib.h"
+#include "foc_const.h"
 
 /** Largest dead-time fraction td/Ts accepted. */
 #define VOLT_CALC_DT_FRAC_MAX 0.25f
@@ -96,6 +97,53 @@ typedef struct {
 volt_calc_status_t volt_calc_init(volt_calc_t *v, float dead_time_s, float Ts_s,
                                   float drop_pu, float i_thresh_pu, uint16_t comp_enable);
 
+/* sgn(i) with a linear zone of half-width i_thresh: sat(i / i_thresh, +-1).
+ * Outside the zone (the common case: every leg but one near its zero
+ * crossing) exactly +-1 by two compares, no product.  Inside, the
+ * Q24*Q16 -> Q24 product is within +-1 (+ the rounding of 1/i_thresh) and
+ * saturated to +-1.  The inverse is Q16 so that a narrow zone (down to
+ * 0.0005 pu: a large drive's dead-time transition of a few tenths of an
+ * ampere) is representable. */
+static inline _iq volt_calc_sgn(const volt_calc_t *v, _iq i)
+{
+    if (i >= v->i_thresh) {
+        return _IQ(1.0);
+    }
+    if (i <= -v->i_thresh) {
+        return _IQ(-1.0);
+    }
+    return _IQsat(_IQmpyIQX(i, GLOBAL_Q, v->inv_i_thresh, 16), _IQ(1.0), _IQ(-1.0));
+}
+
+/* Mean pole-voltage error of one leg over the period (volt_calc_step):
+ * drop sgn(i_mid) + v_dt_half (sgn(i_mid - (d/2) di) + sgn(i_mid + (d/2)
+ * di)), v_dt_half = vdc td/(2 Ts).  A leg away from its zero crossing,
+ * |i_mid| >= i_thresh + |di|/2 (>= |(d/2) di| for d <= 1), has all three
+ * signs exactly +-1: the error is +-verr = +-(drop + 2 v_dt_half), the
+ * same value bit for bit, with no product.  A leg that does not switch
+ * (d = 0 or 1) has no edge and no dead time: the drop alone.  Q24 products,
+ * each |.| <= 4 pu; the sum <= 5 pu. */
+static inline _iq volt_calc_leg_error(const volt_calc_t *v, _iq i_mid, _iq di, _iq d,
+                                      _iq v_dt_half, _iq verr)
+{
+    const _iq far = v->i_thresh + ((di >= _IQ(0.0)) ? di : -di) / 2;   /* |.| <= 33 */
+    if (d > _IQ(0.0) && d < _IQ(1.0)) {
+        if (i_mid >= far) {
+            return verr;
+        }
+        if (i_mid <= -far) {
+            return -verr;
+        }
+        {
+            const _iq half_di = _IQmpy(_IQmpy(d, _IQ(0.5)), di);        /* (d/2) di, Q24 */
+            return _IQmpy(volt_calc_sgn(v, i_mid), v->v_drop) +
+                   _IQmpy(volt_calc_sgn(v, i_mid - half_di) + volt_calc_sgn(v, i_mid + half_di),
+                          v_dt_half);
+        }
+    }
+    return _IQmpy(volt_calc_sgn(v, i_mid), v->v_drop);
+}
+
 /**
  * One sample.  Scaling: poles vdc*d are Q24*Q24 -> Q24 truncated products;
  * the common mode is (sum)*(1/3 as Q30), vbeta (vb - vc)*(1/sqrt(3) as
@@ -103,10 +151,59 @@ volt_calc_status_t volt_calc_init(volt_calc_t *v, float dead_time_s, float Ts_s,
  * are within 3.05 LSB, vbeta within 2.2 LSB of the exact formula of the
  * same inputs (over the valid range).  The compensation adds to each pole
  * the truncations of vdc*td/Ts, of i/i_thresh (times verr) and of
- * sgn*verr: 2 + verr LSB more per pole, 4 + 2 verr LSB in va.  Overflow: none in the valid range (every intermediate below 64 pu);
- * sgn() is saturated to [-1, 1].
+ * sgn*verr: 2 + verr LSB more per pole, 4 + 2 verr LSB in va.  Overflow:
+ * none in the valid range (every intermediate below 64 pu); sgn() is
+ * saturated to [-1, 1].  Per sample: 3 products for the poles, 1 for the
+ * compensation of every leg away from its zero crossing (the common case)
+ * and a few more for the one leg near it, 2 for the Clarke transform.
  */
-void volt_calc_step(volt_calc_t *v);
+static inline void volt_calc_step(volt_calc_t *v)
+{
+    /* Pole voltages: Q24*Q24 -> Q24, truncated, in [0, 16] */
+    _iq pa = _IQmpy(v->vdc, v->da);
+    _iq pb = _IQmpy(v->vdc, v->db);
+    _iq pc = _IQmpy(v->vdc, v->dc);
+    _iq cm;
+
+    if (v->comp_enable != 0u) {
+        /* Dead time: each of the two switching edges of a centre-aligned
+         * period, at (1 -+ d)/2 Ts, loses (current out of the leg) or gains
+         * vdc td/2 by the sign of the current at that edge; with the current
+         * linear over the period, i_edge = i_mid -+ (d/2) di.  The device
+         * drop follows the period-mean current.  Q24*Q24 -> Q24 products,
+         * |vdc td/Ts| <= 4, |(d/2) di| <= 32, |i_edge| <= 64 pu. */
+        const _iq v_dt_half = _IQmpy(v->vdc, v->dt_half);
+        const _iq verr = v->v_drop + v_dt_half + v_dt_half;
+        pa -= volt_calc_leg_error(v, v->ia, v->dia, v->da, v_dt_half, verr);
+        pb -= volt_calc_leg_error(v, v->ib, v->dib, v->db, v_dt_half, verr);
+        pc -= volt_calc_leg_error(v, _IQ(0.0) - v->ia - v->ib,
+                                  _IQ(0.0) - v->dia - v->dib, v->dc, v_dt_half, verr);
+    }
+
+    /* Common mode of the floating star: (pa + pb + pc)/3, sum <= 63.
+     * Q24*Q30 -> Q24. */
+    cm = _IQmpyIQX(pa + pb + pc, GLOBAL_Q, FOC_ONE_THIRD_Q30, 30);
+    v->va = pa - cm;
+    v->vb = pb - cm;
+    v->vc = pc - cm;
+
+    v->valpha = v->va;
+    /* vbeta = (vb - vc)/sqrt(3), Q24*Q30 -> Q24; |vb - vc| = |pb - pc| <= 26 */
+    v->vbeta = _IQmpyIQX(v->vb - v->vc, GLOBAL_Q, FOC_ONE_BY_SQRT3_Q30, 30);
+}
+
+/* One phase's error for the feed-forward: +-verr outside the linear zone
+ * (no product), sgn(i) verr inside it.  |.| <= 5 pu. */
+static inline _iq volt_calc_ff_phase(const volt_calc_t *v, _iq i, _iq verr)
+{
+    if (i >= v->i_thresh) {
+        return verr;
+    }
+    if (i <= -v->i_thresh) {
+        return -verr;
+    }
+    return _IQmpy(volt_calc_sgn(v, i), verr);
+}
 
 /**
  * Dead-time and drop feed-forward for the modulator: the alpha-beta voltage
@@ -116,7 +213,24 @@ void volt_calc_step(volt_calc_t *v);
  * Scaling: |e_x| <= 5 pu, sums <= 15, Q24*Q30 -> Q24; no overflow for
  * vdc in [0, 16] pu.
  */
-void volt_calc_feedforward(const volt_calc_t *v, _iq vdc, _iq ia, _iq ib,
-                           _iq *dalpha, _iq *dbeta);
+static inline void volt_calc_feedforward(const volt_calc_t *v, _iq vdc, _iq ia, _iq ib,
+                                         _iq *dalpha, _iq *dbeta)
+{
+    _iq ea, eb, ec, cm, verr;
+    if (v->comp_enable == 0u) {
+        *dalpha = _IQ(0.0);
+        *dbeta = _IQ(0.0);
+        return;
+    }
+    /* the pole error of a leg carrying i_x: vdc td/Ts + v_drop, <= 5 pu */
+    verr = _IQmpy(vdc, v->dt_frac) + v->v_drop;
+    ea = volt_calc_ff_phase(v, ia, verr);
+    eb = volt_calc_ff_phase(v, ib, verr);
+    ec = volt_calc_ff_phase(v, _IQ(0.0) - ia - ib, verr);
+    /* floating star: remove the common mode; Clarke (amplitude-invariant) */
+    cm = _IQmpyIQX(ea + eb + ec, GLOBAL_Q, FOC_ONE_THIRD_Q30, 30);
+    *dalpha = ea - cm;
+    *dbeta = _IQmpyIQX(eb - ec, GLOBAL_Q, FOC_ONE_BY_SQRT3_Q30, 30);
+}
 
 #endif /* VOLT_CALC_H */

@@ -276,10 +276,10 @@ def firmware_cost(inl):
     for path, fn in FIRMWARE_ISR:
         per_fn[f"{Path(path).name}:{fn}"] = sum(line_cycles(count_line(ln, inl))
                                               for ln in function_body(path, fn))
-    # each firmware function is one call from its caller (isr_control is the
-    # interrupt itself: its entry and exit are ISR_ENTRY_EXIT)
-    calls = (len(FIRMWARE_ISR) - 1) * OTHER_COST["call"]
-    return ISR_ENTRY_EXIT + calls + sum(per_fn.values()), per_fn
+    # the calls of these functions are costed where they are made: on the
+    # lines of their callers (isr_control's here, drive_isr's in the host
+    # build); isr_control is the interrupt itself (ISR_ENTRY_EXIT)
+    return ISR_ENTRY_EXIT + sum(per_fn.values()), per_fn
 
 
 # ---- running isr_cost and reading its gcov dumps ----------------------------
@@ -528,6 +528,8 @@ def main(argv=None):
                     help="ISRs sampled evenly per (state, slot), besides the transitions")
     ap.add_argument("--hot", type=int, default=0, help="also list the N costliest lines of "
                                                        "the worst ISR")
+    ap.add_argument("--hot-state", default=None,
+                    help="with --hot: of this state's worst ISR instead (e.g. CALIBRATE)")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
     ap.add_argument("--json", action="store_true",
                     help='print {"total_cycles", "budget_cycles", "worst_isr_cycles", '
@@ -575,7 +577,7 @@ def main(argv=None):
               f"{100 * s['worst_isr_cycles'] / BUDGET:.1f} % of {BUDGET}; goal {GOAL}: "
               f"{'met' if s['worst_isr_cycles'] <= GOAL else 'NOT met'}")
         if a.hot:
-            worst_state = max(r["states"], key=lambda k: r["states"][k]["worst"])
+            worst_state = a.hot_state or max(r["states"], key=lambda k: r["states"][k]["worst"])
             v = r["states"][worst_state]
             print(f"  costliest lines of the worst ISR ({worst_state}, slot {v['worst_slot']}):")
             for c, where, code in sorted(v["classes"][v["worst_slot"]]["hot"],

@@ -23,24 +23,3 @@ void current_check_reset(current_check_t *c)
     c->e_f = _IQ(0.0);
     c->fault = 0u;
 }
-
-static _iq abs_err(_iq ref, _iq meas)
-{
-    /* each input clamped to +-4 pu first (real ones are within 2.5 pu), so
-     * the difference is within +-8 pu whatever the caller passes */
-    return _IQabs(_IQsat(ref, _IQ(4.0), _IQ(-4.0)) - _IQsat(meas, _IQ(4.0), _IQ(-4.0)));
-}
-
-void current_check_step(current_check_t *c)
-{
-    _iq e;
-    if (c->active == 0u) {
-        c->e_f = _IQ(0.0);
-        return;
-    }
-    e = abs_err(c->i_m_ref, c->i_m) + abs_err(c->i_t_ref, c->i_t);   /* <= 16 pu */
-    c->e_f += _IQrmpy(c->k_filt, e - c->e_f);                          /* Q24*Q24 -> Q24 */
-    if (c->e_f > c->e_max) {
-        c->fault = 1u;
-    }
-}

@@ -64,8 +64,10 @@ static int16_t init_sensing(drive_t *d, const drive_config_t *c, float Ts)
     if (dc_bus_init(&d->bus, c->board.vdc_adc_full_scale_V, &d->base, 200.0f) != 0) {
         return 1;
     }
+    /* the angle every period, the speeds in the slow FILTERS slot */
     if (qep_speed_init(&d->qep, c->board.encoder_lines, &d->base, c->control.speed_filter_Hz,
-                       16u) != 0) {
+                       16u) != 0 ||
+        qep_speed_set_decim(&d->qep, DRIVE_SLOTS, &d->base, c->control.speed_filter_Hz) != 0) {
         return 1;
     }
     d->k.cal_samples = (uint16_t)(0.07f / Ts);   /* ~70 ms of offset averaging (every ISR) */

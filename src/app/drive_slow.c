@@ -94,13 +94,16 @@ static void telemetry(drive_t *d)
 
 static void task_speed(drive_t *d)
 {
+    /* the encoder's speeds right before the speed loop uses them (every
+     * sample of delay in its feedback costs phase at a reversal) */
+    qep_speed_update(&d->qep);
     sequence(d);
     drive_adapt_slow(d);
     speed_loop(d);
     /* the fast path's slow constants: the slip gain 1/(Tr i_mr) (one
      * division; i_mr moves with Tr >= 10 Ts) and the bus the SVPWM divides
      * by (its 1/vdc is recomputed only when this changes: once here) */
-    if (drive_ifo_frame(d) != 0u) {
+    if (d->frame_ifo != 0u) {
         ifo_update_slip_gain(&d->ifo);
     }
     d->svgen.vdc = d->bus.vdc;
@@ -113,11 +116,14 @@ static void task_filters(drive_t *d)
     ident_regressor_t *r = &d->reg;
     uint16_t rls_on = d->seq.rls_on;
 
+    /* the regression's rotor speed over exactly the window the other six
+     * signals were summed over (the mean of its one-period speeds) */
+    r->wr = qep_mean_speed(&d->qep, &d->reg_count);
     ident_regressor_filter(r);
     if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
         if (d->fobs_hold != 0u) {
             rls_on = 0u;   /* the frame is held on the encoder angle */
-        } else if (drive_ifo_frame(d) == 0u && _IQabs(d->fobs.ws_f) < d->k.rls_ws_min) {
+        } else if (d->frame_ifo == 0u && _IQabs(d->fobs.ws_f) < d->k.rls_ws_min) {
             /* below ~10 w_c the current model (the believed Tr) steers the
              * angle: learn only where it does not (flux_obs.h) */
             rls_on = 0u;

@@ -69,31 +69,28 @@
 #include "angle.h"
 #include "drive_adapt.h"
 
-static void set_outputs_off(drive_t *d, hal_pwm_compare_t *out)
+static inline void set_outputs_off(drive_t *d, hal_pwm_compare_t *out)
 {
     out->cmpr[0] = out->cmpr[1] = out->cmpr[2] = d->t1pr;   /* upper switches off */
 }
 
 _iq drive_frame_angle(const drive_t *d)
 {
-    if (drive_ifo_frame(d) != 0u) {
-        return d->ifo.theta;
-    }
-    return (d->fobs_hold != 0u) ? d->qep.theta_elec : d->fobs.theta;
+    return d->theta_k;
 }
 
-static void sense(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count)
+static inline void sense(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count)
 {
     d->cur.ia_raw = adc->ia_raw;
     d->cur.ib_raw = adc->ib_raw;
     phase_current_step(&d->cur);
     d->bus.vdc_raw = adc->vdc_raw;
-    dc_bus_step(&d->bus);
+    dc_bus_measure(&d->bus);   /* this period's bus: the drive needs no filtered one */
     d->qep.count = qep_count;
-    qep_speed_step(&d->qep);
+    qep_angle_step(&d->qep);   /* the speeds: FILTERS slot (drive_slow.c) */
 }
 
-static void protect(drive_t *d)
+static inline void protect(drive_t *d)
 {
     d->prot.ia = d->cur.ia;
     d->prot.ib = d->cur.ib;
@@ -112,7 +109,7 @@ static void protect(drive_t *d)
 }
 
 /* Calibrate the current offsets while the bridge is off (sequence CALIBRATE). */
-static void calibrate(drive_t *d)
+static inline void calibrate(drive_t *d)
 {
     phase_current_cal_t r;
     if (d->cur.cal_left == 0u && d->seq.cal_done == 0u) {
@@ -130,7 +127,7 @@ static void calibrate(drive_t *d)
 }
 
 /* Voltage applied in the period that just ended (duties of sample k-2). */
-static void voltage_model(drive_t *d)
+static inline void voltage_model(drive_t *d)
 {
     d->volt.da = d->duty_last[0];
     d->volt.db = d->duty_last[1];
@@ -146,14 +143,16 @@ static void voltage_model(drive_t *d)
     d->volt.dib = d->cur.ib - d->ib_prev;
     d->ia_prev = d->cur.ia;
     d->ib_prev = d->cur.ib;
-    volt_calc_step(&d->volt);
-    if (d->on_last == 0u) {
+    if (d->on_last != 0u) {
+        volt_calc_step(&d->volt);
+    } else {
+        /* the bridge was off in that period: no voltage applied */
         d->volt.valpha = _IQ(0.0);
         d->volt.vbeta = _IQ(0.0);
     }
 }
 
-static void transform_currents(drive_t *d)
+static inline void transform_currents(drive_t *d)
 {
     d->clarke.as = d->cur.ia;
     d->clarke.bs = d->cur.ib;
@@ -182,28 +181,33 @@ static void transform_currents(drive_t *d)
         d->fobs_hold = (uint16_t)(o->psi_mag < d->k.psi_min || d->seq.state == ID_MAGNETIZE);
     }
     d->ifo.theta_r = d->qep.theta_elec;
-    if (drive_ifo_frame(d) != 0u) {
+    if (d->frame_ifo != 0u) {
         /* frame angle theta_k = encoder angle + integrated slip (ifo.h) */
         ifo_frame_from_rotor(&d->ifo);
+        d->theta_k = d->ifo.theta;
+        d->theta_prev = d->ifo.theta_prev;
+        d->ws_k = d->ifo.ws_frame;
+    } else if (d->fobs_hold != 0u) {
+        /* held on the encoder angle (magnetisation, no flux): the frame
+         * turns with the rotor */
+        d->theta_prev = d->theta_k;
+        d->theta_k = d->qep.theta_elec;
+        d->ws_k = d->qep.speed_1;
+    } else {
+        d->theta_k = d->fobs.theta;
+        d->theta_prev = d->fobs.theta_prev;
+        d->ws_k = d->fobs.ws;
     }
-    angle_sincos(drive_frame_angle(d), &d->park.sine, &d->park.cosine);
+    /* every frame angle is in [0, 1) (ifo wraps it, the observer's atan2 and
+     * the encoder's count are there by construction): no wrap */
+    d->park.sine = _IQsinPU(d->theta_k);
+    d->park.cosine = _IQcosPU(d->theta_k);
     park_step(&d->park);
-}
-
-/* sin/cos of the frame angle at the middle of the period that just ended,
- * theta_k - (theta_k - theta_k-1)/2, from the Park's sin/cos of theta_k by
- * the small-angle step (angle.h; |step| < 0.5 rev: Q24 product in range). */
-static void mid_period_sincos(const drive_t *d, _iq theta, _iq theta_prev,
-                              ident_regressor_t *r)
-{
-    angle_sincos_step(d->park.sine, d->park.cosine, theta,
-                      -_IQmpy(angle_diff_pu(theta, theta_prev), _IQ(0.5)), &r->sin_mid,
-                      &r->cos_mid);
 }
 
 /* The regression's inputs of this period (method §2, §7 points 1-2), into
  * the window sums the FILTERS slot averages. */
-static void identify_accumulate(drive_t *d)
+static inline void identify_accumulate(drive_t *d)
 {
     ident_regressor_t *r = &d->reg;
 
@@ -212,37 +216,37 @@ static void identify_accumulate(drive_t *d)
     r->u_alpha = d->volt.valpha;
     r->u_beta = d->volt.vbeta;
     /* the frame angle at the middle of the period in which u was applied,
-     * and the frame's actual speed over that period */
-    if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS && d->fobs_hold != 0u) {
-        /* the frame is held on the encoder angle (magnetisation, no flux):
-         * the voltage in that same frame, the Park's (the standstill Rs
-         * needs it; the RLS is off); the frame turns with the rotor */
+     * theta_k - (theta_k - theta_k-1)/2, from the Park's sin/cos of theta_k
+     * by the small-angle step (angle.h; |step| < 0.5 rev: Q24 product in
+     * range), and the frame's actual speed over that period.  While the
+     * observer's frame is held on the encoder (magnetisation) the voltage
+     * is taken in the Park's frame itself (the standstill Rs needs it; the
+     * RLS is off). */
+    if (d->frame_ifo == 0u && d->fobs_hold != 0u) {
         r->sin_mid = d->park.sine;
         r->cos_mid = d->park.cosine;
-        r->ws = d->qep.speed_1;
-    } else if (drive_ifo_frame(d) == 0u) {
-        /* the observer's frame */
-        mid_period_sincos(d, d->fobs.theta, d->fobs.theta_prev, r);
-        r->ws = d->fobs.ws;
     } else {
-        /* ifo's frame (orientation 0, or RUN on the tracked Tr, where the
-         * RLS does not run) */
-        mid_period_sincos(d, d->ifo.theta, d->ifo.theta_prev, r);
-        r->ws = d->ifo.ws_frame;
+        angle_sincos_step(d->park.sine, d->park.cosine, d->theta_k,
+                          -_IQmpy(angle_diff_pu(d->theta_k, d->theta_prev), _IQ(0.5)),
+                          &r->sin_mid, &r->cos_mid);
     }
-    r->wr = d->qep.speed_1;       /* rotor speed over that period */
+    r->ws = d->ws_k;
     ident_regressor_accumulate(r);
 }
 
-static void control(drive_t *d)
+static inline void control(drive_t *d)
 {
     /* decoupling feed-forward (rotor-flux frame steady-state voltages):
      * u_d = -w_s sigma Ls i_T, u_q = w_s (sigma Ls i_M + (Lm/Lr) psi_r);
      * IFO: (Lm/Lr) psi_r = (Lm^2/Lr) i_mr; observer: (Lm/Lr) |psi_r|
      * (Q24 * Q24 -> Q24, both < 1 pu) */
-    const _iq ws = drive_frame_speed(d);
-    const _iq emf_flux = (drive_ifo_frame(d) == 0u) ? _IQmpy(d->fobs.lm_lr, d->fobs.psi_mag)
-                                                     : _IQmpy(d->k.lm2_lr, d->ifo.imr);
+    const _iq ws = d->ws_ctl;
+    _iq emf_flux;
+    if (d->frame_ifo != 0u) {
+        emf_flux = _IQmpy(d->k.lm2_lr, d->ifo.imr);
+    } else {
+        emf_flux = _IQmpy(d->fobs.lm_lr, d->fobs.psi_mag);
+    }
     d->pi_id.ref = d->seq.im_cmd + d->im_inject;
     d->pi_id.fbk = d->park.ds;
     d->pi_id.ff = -_IQmpy(ws, _IQmpy(d->k.sigma_ls, d->park.qs));
@@ -255,7 +259,7 @@ static void control(drive_t *d)
 
 /* Current feedback check, after the references of this sample are set.
  * Returns 1 if it tripped (the caller turns the outputs off in this ISR). */
-static uint16_t check_current(drive_t *d)
+static inline uint16_t check_current(drive_t *d)
 {
     d->cur_chk.i_m_ref = d->pi_id.ref;
     d->cur_chk.i_m = d->park.ds;
@@ -270,9 +274,9 @@ static uint16_t check_current(drive_t *d)
     return (uint16_t)(d->prot.fault != FAULT_NONE);
 }
 
-static void orient(drive_t *d)
+static inline void orient(drive_t *d)
 {
-    if (drive_ifo_frame(d) == 0u) {
+    if (d->frame_ifo == 0u) {
         return;   /* the observer ran at the Park transform */
     }
     d->ifo.i_m = d->park.ds;
@@ -281,13 +285,13 @@ static void orient(drive_t *d)
     ifo_step_slip_fast(&d->ifo);    /* i_mr, slip (gain from the SPEED slot), slip angle for theta_{k+1} */
 }
 
-static void modulate(drive_t *d, hal_pwm_compare_t *out)
+static inline void modulate(drive_t *d, hal_pwm_compare_t *out)
 {
     /* the voltage computed now is applied over period k+1; rotate it at the
      * middle of that period: theta_k + 1.5 w_s Ts */
-    const _iq step = _IQmpy(drive_frame_speed(d), d->k.three_half_step);
+    const _iq step = _IQmpy(d->ws_ctl, d->k.three_half_step);
     /* from the Park's sin/cos of theta_k by the small step (angle.h) */
-    angle_sincos_step(d->park.sine, d->park.cosine, drive_frame_angle(d), step,
+    angle_sincos_step(d->park.sine, d->park.cosine, d->theta_k, step,
                       &d->ipark.sine, &d->ipark.cosine);
     d->ipark.ds = d->pi_id.out;
     d->ipark.qs = d->pi_iq.out;
@@ -323,6 +327,8 @@ void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
         return;
     }
     d->slot = (uint16_t)((slot + 1u) & (DRIVE_SLOTS - 1u));
+    /* the control frame of this ISR, decided once (drive_internal.h) */
+    d->frame_ifo = drive_ifo_frame(d);
 
     sense(d, adc, qep_count);
     protect(d);
@@ -334,6 +340,9 @@ void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
     identify_accumulate(d);
     drive_adapt_fast(d);
     drive_slow_task(d, slot);
+    /* the frame speed for decoupling and the modulation angle, once the
+     * observer (mode 1) has run */
+    d->ws_ctl = drive_frame_speed(d);
 
     pwm_on = (uint16_t)(d->seq.pwm_on != 0u && d->prot.fault == FAULT_NONE);
     if (pwm_on != 0u) {

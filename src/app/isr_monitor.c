@@ -9,23 +9,6 @@ void isr_monitor_init(isr_monitor_t *m)
     m->fault = 0u;
 }
 
-void isr_monitor_step(isr_monitor_t *m)
-{
-    if (m->overrun == 0u) {
-        m->run = 0u;
-        return;
-    }
-    if (m->count < 0xFFFFu) {
-        m->count++;
-    }
-    if (m->run < 0xFFFFu) {
-        m->run++;
-    }
-    if (m->run >= ISR_MONITOR_LATCH_RUN) {
-        m->fault = 1u;
-    }
-}
-
 void isr_monitor_reset(isr_monitor_t *m)
 {
     m->run = 0u;

@@ -19,46 +19,6 @@ int16_t protect_init(protect_t *p, _iq i_trip, _iq vdc_max, _iq vdc_min)
     return 0;
 }
 
-/* strict: check the undervoltage also with the bridge off (protect_clear). */
-static fault_code_t protect_check(const protect_t *p, uint16_t strict)
-{
-    if (p->hw_trip != 0u) {
-        return FAULT_HW_TRIP;
-    }
-    if (_IQabs(p->ia) > p->i_trip || _IQabs(p->ib) > p->i_trip || _IQabs(p->ic) > p->i_trip) {
-        return FAULT_OVERCURRENT;
-    }
-    if (p->adc_rail != 0u) {
-        return FAULT_ADC_RAIL;
-    }
-    if (p->vdc > p->vdc_max) {
-        return FAULT_BUS_OVERVOLTAGE;
-    }
-    if ((p->pwm_on != 0u || strict != 0u) && p->vdc < p->vdc_min) {
-        return FAULT_BUS_UNDERVOLTAGE;
-    }
-    if (p->encoder_fault != 0u) {
-        return FAULT_ENCODER;
-    }
-    if (p->current_fault != 0u) {
-        return FAULT_CURRENT_SENSOR;
-    }
-    return FAULT_NONE;
-}
-
-void protect_latch(protect_t *p, fault_code_t code)
-{
-    if (p->fault == FAULT_NONE && code != FAULT_NONE) {
-        p->fault = code;
-        p->trip = 1u;
-    }
-}
-
-void protect_step(protect_t *p)
-{
-    protect_latch(p, protect_check(p, 0u));
-}
-
 uint16_t protect_clear(protect_t *p)
 {
     if (p->fault == FAULT_NONE) {

@@ -89,39 +89,6 @@ void bw_filter_reset(bw_filter_t *f, _iq y0)
     f->dy = _IQ(0.0);
 }
 
-/* Scaling: see bw_filter.h.  Overflow: none possible (input saturated to
- * +-7 pu, state bounded by the filter's l1 gain, so |d| < 14.7 < 16 and
- * every sum below stays inside Q27).  Every product is rounded, bit for bit
- * as _IQNrmpy, but through the 5-cycle truncating intrinsic one bit finer
- * and iq_round_half (estim_bfp.h); the finer intermediates fit because
- * a <= BW_FILTER_A_MAX = 0.3 bounds |D12|, |D21| <= a (bw_filter.h):
- * |d c1| < 14.7 * 0.16 (Q28), |w D12| < 2.4 (Q28), |z c2| < 10 (Q27),
- * |v D21| < 6.3 (Q28). */
-void bw_filter_update(bw_filter_t *f)
-{
-    _iq u = _IQsat(f->u, _IQ(BW_FILTER_U_MAX), _IQ(-BW_FILTER_U_MAX));
-    _iq27 d = f->x1 - _IQtoIQ27(u);            /* Q27 deviation from equilibrium */
-    _iq27 z = f->z2;
-    /* row 1: D11 d + D12 z = D12 (z + (D11/D12) d); D11 = -a^2/2 + ... is
-     * 500x smaller than D12 and would keep only 14 bits in Q30. */
-    _iq27 w = z + iq_round_half(_IQ29mpy(d, f->c1));   /* Q27*Q30 -> Q28 -> Q27 rounded */
-    _iq27 dx1 = iq_round_half(_IQ29mpy(w, f->d12));    /* Q27*Q30 -> Q28 -> Q27 rounded */
-    /* row 2: D21 (d + (D22/D21) z), |d + c2 z| < 14.7 + 1.42*7 < 25: the
-     * sum is formed in Q26 (range 32) */
-    _iq26 v = iq_round_half(d)                          /* Q27 -> Q26 rounded */
-            + iq_round_half(_IQ29mpy(z, f->c2));        /* Q27*Q29 -> Q27 -> Q26 rounded */
-    _iq27 dz2 = iq_round_half(_IQ28mpy(v, f->d21));    /* Q26*Q30 -> Q28 -> Q27 rounded */
-    f->x1 = f->x1 + dx1;
-    f->z2 = z + dz2;
-    f->y = _IQ27toIQ(f->x1);
-}
-
-void bw_filter_step(bw_filter_t *f)
-{
-    bw_filter_update(f);
-    f->dy = _IQmpyIQX(f->z2, 27, f->wc_pu, 29);   /* Q27*Q29 -> Q24 */
-}
-
 /* f~(s) = [z2, -(x1 - u) - sqrt2 z2] in Q26 (f = Wc_pu f~; the Wc_pu h = a
  * factor is applied by the caller).  |f~2| < 14.7 + 1.42*7 < 25 < 32. */
 static void bw_fn(_iq27 x1, _iq27 z2, _iq27 u27, _iq26 *f1, _iq26 *f2)

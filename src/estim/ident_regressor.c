@@ -42,40 +42,24 @@ void ident_regressor_reset(ident_regressor_t *r)
     bw_filter_reset(&r->f_ws_im, _IQ(0.0));
     bw_filter_reset(&r->f_wr, _IQ(0.0));
     r->s_im = r->s_it = r->s_um = r->s_ut = _IQ(0.0);
-    r->s_ws_it = r->s_ws_im = r->s_wr = _IQ(0.0);
+    r->s_ws_it = r->s_ws_im = _IQ(0.0);
 }
 
-/* One input into its window sum: saturated as the filter would, so that
- * 8 of them stay below 56 pu (Q24). */
-static inline _iq ident_in(_iq x)
-{
-    return _IQsat(x, _IQ(BW_FILTER_U_MAX), _IQ(-BW_FILTER_U_MAX));
-}
-
-/* Scaling/overflow: see ident_regressor.h. */
-void ident_regressor_accumulate(ident_regressor_t *r)
-{
-    /* Park rotation at the mid-period angle (method §7 point 1); rounded
-     * products = _IQrmpy bit for bit (iq_rmpy.h), |u| < 64 pu */
-    r->u_m = iq_rmpy(r->u_alpha, r->cos_mid) + iq_rmpy(r->u_beta, r->sin_mid);
-    r->u_t = iq_rmpy(r->u_beta, r->cos_mid) - iq_rmpy(r->u_alpha, r->sin_mid);
-
-    r->s_im += ident_in(r->i_m);
-    r->s_it += ident_in(r->i_t);
-    r->s_um += ident_in(r->u_m);
-    r->s_ut += ident_in(r->u_t);
-    /* the products are filtered as single signals (method §7 point 2):
-     * each formed per sample, then averaged (Q24*Q24 -> Q24, rounded) */
-    r->s_ws_it += ident_in(iq_rmpy(r->ws, r->i_t));
-    r->s_ws_im += ident_in(iq_rmpy(r->ws, r->i_m));
-    r->s_wr += ident_in(r->wr);
-}
-
-/* The window mean of a sum of 2^n samples, rounded half up (no bias to
- * pass the filters' unit DC gain); exact in FLOAT_MATH. */
+/* The window mean of a sum of 2^n samples (n <= 3), rounded half up (no
+ * bias to pass the filters' unit DC gain): floor((sum + 2^(n-1)) / 2^n),
+ * the floor written without shifting a negative value (estim_asr32);
+ * |sum| < 56 pu, so sum + 2^(n-1) LSB cannot overflow.  n = 0: exact.
+ * FLOAT_MATH: the exact quotient. */
 static inline _iq ident_mean(_iq sum, uint16_t n)
 {
-    return estim_ldexp(sum, (int16_t)-(int16_t)n, 24, 24, NULL);
+#if MATH_TYPE == IQ_MATH
+    if (n == 0u) {
+        return sum;
+    }
+    return estim_asr32(sum + ((int32_t)1 << (n - 1u)), (int16_t)n);
+#else
+    return sum / (float)(1u << n);
+#endif
 }
 
 void ident_regressor_filter(ident_regressor_t *r)
@@ -88,9 +72,9 @@ void ident_regressor_filter(ident_regressor_t *r)
     r->f_ut.u = ident_mean(r->s_ut, n);
     r->f_ws_it.u = ident_mean(r->s_ws_it, n);
     r->f_ws_im.u = ident_mean(r->s_ws_im, n);
-    r->f_wr.u = ident_mean(r->s_wr, n);
+    r->f_wr.u = r->wr;   /* already the window's mean (ident_regressor.h) */
     r->s_im = r->s_it = r->s_um = r->s_ut = _IQ(0.0);
-    r->s_ws_it = r->s_ws_im = r->s_wr = _IQ(0.0);
+    r->s_ws_it = r->s_ws_im = _IQ(0.0);
 
     /* only i_M and i_T need the derivative output */
     bw_filter_step(&r->f_im);

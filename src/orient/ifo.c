@@ -4,18 +4,6 @@
 #include "angle.h"
 #include "iq_rmpy.h"
 
-/* Wrap a Q24 angle that is within one revolution of [0, 1) back into it.
- * Adding or subtracting exactly 1.0 is exact in Q24 and in float. */
-static _iq ifo_wrap(_iq th)
-{
-    if (th >= _IQ(1.0)) {
-        th -= _IQ(1.0);
-    } else if (th < _IQ(0.0)) {
-        th += _IQ(1.0);
-    }
-    return th;
-}
-
 ifo_status_t ifo_init(ifo_t *f, float Tr_s, const base_values_t *b, float imr_min_pu)
 {
     float tr_pu;
@@ -132,15 +120,6 @@ _iq ifo_theta_mid(const ifo_t *f)
     return ifo_wrap(f->theta_prev + _IQmpy(angle_diff_pu(f->theta, f->theta_prev), _IQ(0.5)));
 }
 
-void ifo_frame_from_rotor(ifo_t *f)
-{
-    f->theta_prev = f->theta;
-    f->theta = ifo_wrap(f->theta_r + f->theta_slip);   /* both in [0, 1): no overflow */
-    /* Q24 * Q20 -> Q24; |d| <= 0.5 and 1/(f_base Ts) < 256 keep |result| < 128 */
-    f->ws_frame = _IQmpyIQX(angle_diff_pu(f->theta, f->theta_prev), GLOBAL_Q,
-                            f->inv_k_theta, 20);
-}
-
 void ifo_step_slip(ifo_t *f)
 {
     ifo_update_flux(f);
@@ -158,17 +137,6 @@ void ifo_update_slip_gain(ifo_t *f)
         f->k_slip = _IQdiv(f->inv_tr, f->imr);
         f->imr_low = 0u;
     }
-}
-
-void ifo_step_slip_fast(ifo_t *f)
-{
-    /* rotor flux lag, as ifo_update_flux (rounded, |i_m - imr| < 4 pu) */
-    f->imr += iq_rmpy(f->kf, f->i_m - f->imr);
-    /* Q24*Q24 -> Q24: |i_t| <= 2, k_slip <= 32 */
-    f->wslip = _IQmpy(_IQsat(f->i_t, _IQ(IFO_I_T_MAX), _IQ(-IFO_I_T_MAX)), f->k_slip);
-    f->ws = f->wr + f->wslip;
-    /* Q24 * Q30 -> Q24 (truncated), wrapped modulo one revolution */
-    f->theta_slip = ifo_wrap(f->theta_slip + _IQmpyIQX(f->wslip, GLOBAL_Q, f->k_theta, 30));
 }
 
 void ifo_align(ifo_t *f, _iq theta_frame, _iq imr_pu)

@@ -4,7 +4,6 @@
 #include <math.h>
 
 /* 2^-16: raw / 65536, exact in Q24 (2^8 LSB) and in float */
-#define DC_BUS_RAW_TO_FRAC _IQ(1.52587890625e-5)
 #define DC_BUS_TWO_PI 6.28318530717958647692f
 
 dc_bus_status_t dc_bus_init(dc_bus_t *d, float vdc_full_scale_V, const base_values_t *b,
@@ -39,19 +38,4 @@ dc_bus_status_t dc_bus_init(dc_bus_t *d, float vdc_full_scale_V, const base_valu
     d->k_scale = _IQ(k);
     d->k_filt = _IQ(a);
     return DC_BUS_OK;
-}
-
-void dc_bus_step(dc_bus_t *d)
-{
-    /* (raw + 8) * 2^-16, the centre of the code (dc_bus.h): exact Q24 in
-     * [0, 1.0002); Q24*Q24 -> Q24 (< 64) */
-    d->vdc = _IQmpy(d->k_scale, _IQmpyI32(DC_BUS_RAW_TO_FRAC, (int32_t)d->vdc_raw + 8));
-    if (d->primed == 0u) {
-        d->vdc_filt = d->vdc;
-        d->primed = 1u;
-    } else {
-        /* Q24*Q24 -> Q24, rounded; |difference| < 64 */
-        d->vdc_filt += _IQrmpy(d->k_filt, d->vdc - d->vdc_filt);
-    }
-    d->rail = (d->vdc_raw >= DC_BUS_RAIL_HIGH) ? 1u : 0u;
 }

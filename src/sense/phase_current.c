@@ -1,22 +1,6 @@
 /* Phase currents from the Hall sensors.  See phase_current.h. */
 #include "phase_current.h"
 
-/* 2^-15: one raw count is 2^-15 pu (32768 counts = 1 pu).  Exact in Q24
- * (2^9 LSB) and in float. */
-#define PC_COUNT_TO_PU _IQ(3.0517578125e-5)
-
-static uint16_t pc_rail_bits(uint16_t a_raw, uint16_t b_raw)
-{
-    uint16_t r = 0u;
-    if (a_raw == 0u || a_raw >= PHASE_CURRENT_RAIL_HIGH) {
-        r |= PHASE_CURRENT_PHASE_A;
-    }
-    if (b_raw == 0u || b_raw >= PHASE_CURRENT_RAIL_HIGH) {
-        r |= PHASE_CURRENT_PHASE_B;
-    }
-    return r;
-}
-
 phase_current_status_t phase_current_init(phase_current_t *pc, float gain_a, float gain_b,
                                           int16_t polarity, float offset_window_fs)
 {
@@ -61,19 +45,6 @@ phase_current_status_t phase_current_init(phase_current_t *pc, float gain_a, flo
     return PHASE_CURRENT_OK;
 }
 
-void phase_current_step(phase_current_t *pc)
-{
-    /* exact integers in [-65535, 65535] (int32: no 16-bit overflow on C28x) */
-    int32_t da = (int32_t)pc->ia_raw - (int32_t)pc->offset_a;
-    int32_t db = (int32_t)pc->ib_raw - (int32_t)pc->offset_b;
-
-    /* count * 2^-15 -> Q24 exact (|.| < 2); Q24*Q24 -> Q24 (|.| < 2.5) */
-    pc->ia = _IQmpy(pc->gain_a, _IQmpyI32(PC_COUNT_TO_PU, da));
-    pc->ib = _IQmpy(pc->gain_b, _IQmpyI32(PC_COUNT_TO_PU, db));
-    pc->ic = -pc->ia - pc->ib;   /* |.| < 5: no overflow */
-    pc->rail = pc_rail_bits(pc->ia_raw, pc->ib_raw);
-}
-
 phase_current_status_t phase_current_cal_start(phase_current_t *pc, uint16_t n_samples)
 {
     pc->cal_sum_a = 0u;
@@ -105,7 +76,7 @@ phase_current_cal_t phase_current_cal_step(phase_current_t *pc)
     if (pc->cal_left == 0u) {
         return PHASE_CURRENT_CAL_IDLE;
     }
-    pc->rail = pc_rail_bits(pc->ia_raw, pc->ib_raw);
+    pc->rail = phase_current_rail_bits(pc->ia_raw, pc->ib_raw);
     pc->cal_sum_a += pc->ia_raw;
     pc->cal_sum_b += pc->ib_raw;
     pc->cal_left--;

@@ -8,38 +8,6 @@
  * within +-63) stays inside Q24's +-128. */
 #define QEP_SPEED_RAW_MAX 63.0f
 
-/* a - b modulo 2^16, read as a signed number in [-32768, 32767].  Written
- * without the implementation-defined uint16 -> int16 conversion. */
-static int32_t qep_diff(uint16_t a, uint16_t b)
-{
-    int32_t d = (int32_t)(uint16_t)(a - b);   /* [0, 65535] */
-    if (d >= 32768) {
-        d -= 65536;
-    }
-    return d;
-}
-
-/* p modulo n into [0, n).  The common case (|step| < n) costs two compares;
- * the division runs only after a step of more than one revolution. */
-static int32_t qep_wrap(int32_t p, int32_t n)
-{
-    if (p >= n) {
-        p -= n;
-        if (p >= n) {
-            p %= n;
-        }
-    } else if (p < 0) {
-        p += n;
-        if (p < 0) {
-            p %= n;          /* C99: in (-n, 0] */
-            if (p < 0) {
-                p += n;
-            }
-        }
-    }
-    return p;
-}
-
 qep_speed_status_t qep_speed_init(qep_speed_t *q, uint16_t encoder_lines,
                                   const base_values_t *b, float speed_filter_Hz,
                                   uint16_t window)
@@ -101,6 +69,41 @@ qep_speed_status_t qep_speed_init(qep_speed_t *q, uint16_t encoder_lines,
     q->k_speed1 = _IQ(k1);
     q->k_speed = _IQ(k);
     q->k_filt = _IQ(a);
+    q->decim = 1u;
+    q->hist_len = window;
+    q->k_speedn = q->k_speed1;
+    q->d_maxn = q->d_max1;
+    return QEP_SPEED_OK;
+}
+
+qep_speed_status_t qep_speed_set_decim(qep_speed_t *q, uint16_t decim, const base_values_t *b,
+                                       float speed_filter_Hz)
+{
+    float kn, a;
+    if (decim == 0u || decim > q->window || (decim & (decim - 1u)) != 0u) {
+        return QEP_SPEED_ERR_WINDOW;
+    }
+    if (b == 0 || !(b->Ts_s > 0.0f) || !(b->f_base_Hz > 0.0f)) {
+        return QEP_SPEED_ERR_BASE;
+    }
+    if (!(speed_filter_Hz > 0.0f) || !(speed_filter_Hz < 0.5f / (b->Ts_s * (float)decim))) {
+        return QEP_SPEED_ERR_CUTOFF;
+    }
+    a = 1.0f - expf(-QEP_TWO_PI * speed_filter_Hz * b->Ts_s * (float)decim);
+    if (!(a >= QEP_SPEED_FILTER_A_MIN)) {
+        return QEP_SPEED_ERR_CUTOFF;
+    }
+    /* the mean speed over decim samples: pp / (decim cpr Ts f_base) per count */
+    kn = (float)q->pole_pairs / ((float)decim * (float)q->cpr * b->Ts_s * b->f_base_Hz);
+    q->decim = decim;
+    q->hist_len = (uint16_t)(q->window / decim);
+    q->k_filt = _IQ(a);
+    q->k_speedn = _IQ(kn);
+    q->d_maxn = (int32_t)(QEP_SPEED_RAW_MAX / kn);
+    if (q->d_maxn > 32767) {
+        q->d_maxn = 32767;
+    }
+    qep_speed_reset(q, q->prev_count);
     return QEP_SPEED_OK;
 }
 
@@ -109,6 +112,7 @@ void qep_speed_reset(qep_speed_t *q, uint16_t count_now)
     uint16_t i;
 
     q->prev_count = count_now;
+    q->count_speed = count_now;
     for (i = 0u; i < QEP_SPEED_WINDOW_MAX; i++) {
         q->hist[i] = count_now;
     }
@@ -123,28 +127,29 @@ void qep_speed_reset(qep_speed_t *q, uint16_t count_now)
     q->dir = 0;
 }
 
-void qep_speed_step(qep_speed_t *q)
+void qep_speed_update(qep_speed_t *q)
 {
-    int32_t d1 = qep_diff(q->count, q->prev_count);   /* this sample, counts */
-    int32_t dw;                                        /* over the window */
+    /* counts since the last update (decim samples), over the window */
+    int32_t dn = qep_diff(q->count, q->count_speed);
+    int32_t dw;
 
-    q->prev_count = q->count;
-
-    /* exact integer angles; |pole_pairs * d1| <= 64 * 32768 = 2^21 */
-    q->pos_mech = qep_wrap(q->pos_mech + d1, q->cpr);
-    q->pos_elec = qep_wrap(q->pos_elec + q->pole_pairs * d1, q->cpr);
-    /* Q30 * count -> Q30 in [0, 1) (cpr <= 32768, see header), -> Q24 */
+    q->count_speed = q->count;
+    /* exact integer mechanical angle (|dn| <= 32768) */
+    q->pos_mech = qep_wrap(q->pos_mech + dn, q->cpr);
     q->theta_mech = _IQ30toIQ(_IQ30mpyI32(q->k_angle, q->pos_mech));
-    q->theta_elec = _IQ30toIQ(_IQ30mpyI32(q->k_angle, q->pos_elec));
 
-    /* one-sample speed: Q24 * count -> Q24, |.| <= 63 */
-    q->speed_1 = _IQmpyI32(q->k_speed1, (d1 > q->d_max1) ? q->d_max1
-                                        : ((d1 < -q->d_max1) ? -q->d_max1 : d1));
+    /* mean speed over the last decim samples: Q24 * count -> Q24, |.| <= 63
+     * (for decim = 1 the one-sample speed) */
+    q->speed_1 = _IQmpyI32(q->k_speedn, (dn > q->d_maxn) ? q->d_maxn
+                                        : ((dn < -q->d_maxn) ? -q->d_maxn : dn));
 
-    /* hist[head] holds count(k - W); replace it by count(k) */
+    /* hist[head] holds the count of W samples ago; replace it by this one */
     dw = qep_diff(q->count, q->hist[q->head]);
     q->hist[q->head] = q->count;
-    q->head = (uint16_t)((q->head + 1u) & (q->window - 1u));
+    q->head = (uint16_t)(q->head + 1u);
+    if (q->head >= q->hist_len) {
+        q->head = 0u;
+    }
 
     q->dir = (int16_t)((dw > 0) ? 1 : ((dw < 0) ? -1 : 0));
     if (dw > q->d_max) {
@@ -158,4 +163,10 @@ void qep_speed_step(qep_speed_t *q)
      * speed_raw values, so both are within +-63 and the difference within
      * +-126: no overflow. */
     q->speed += _IQrmpy(q->k_filt, q->speed_raw - q->speed);
+}
+
+void qep_speed_step(qep_speed_t *q)
+{
+    qep_angle_step(q);
+    qep_speed_update(q);
 }

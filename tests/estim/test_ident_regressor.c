@@ -30,8 +30,10 @@ static void init_paper(ident_regressor_t *r)
 }
 
 /* Park rotation at 64 angles and two voltage vectors: u_m, u_t within
- * 2 LSB24 of double (two rounded products and a sum: <= 1 LSB, plus the
- * Q24 quantisation of sin/cos (1/2 LSB each) times |u| <= 1). */
+ * 2 LSB24 of double on the same (quantised) inputs (two truncated products,
+ * each in (-1, 0] LSB), and within 3 LSB24 of the unquantised vector
+ * rotated by the exact angle (plus the Q24 quantisation of u and of
+ * sin/cos, 1/2 LSB each, times |u| <= 0.93). */
 static void test_rotation(void **state)
 {
     ident_regressor_t r;
@@ -52,11 +54,11 @@ static void test_rotation(void **state)
         if (fabs(iq_to_d(r.u_m) - um) > emax) { emax = fabs(iq_to_d(r.u_m) - um); }
         if (fabs(iq_to_d(r.u_t) - ut) > emax) { emax = fabs(iq_to_d(r.u_t) - ut); }
         /* and against the unquantised vector rotated by the exact angle */
-        assert_true(fabs(iq_to_d(r.u_m) - (ua * cos(th) + ub * sin(th))) <= 2.0 * LSB24);
-        assert_true(fabs(iq_to_d(r.u_t) - (-ua * sin(th) + ub * cos(th))) <= 2.0 * LSB24);
+        assert_true(fabs(iq_to_d(r.u_m) - (ua * cos(th) + ub * sin(th))) <= 3.0 * LSB24);
+        assert_true(fabs(iq_to_d(r.u_t) - (-ua * sin(th) + ub * cos(th))) <= 3.0 * LSB24);
     }
     print_message("rotation: max error vs double on the same inputs %.3g LSB\n", emax / LSB24);
-    assert_true(emax <= 1.0 * LSB24);
+    assert_true(emax <= 2.0 * LSB24);
 }
 
 /* Drive the module with the motor trajectory for 0.6 s.  The voltage is
@@ -78,17 +80,20 @@ static void test_rotation(void **state)
  * (ws)f (i_T)f instead of (ws i_T)f, misses by the filter's distortion of
  * a product of two varying signals: it must be at least 10 x worse
  * (that is method §7 point 2). */
-static void test_regression_identity(void **state)
+static void regression_identity(uint16_t decim_log2)
 {
     ident_regressor_t r;
     bw_filter_t fws;          /* filtered ws alone, for the factor products */
     bw_filter_t fim;          /* a lone filter: identical to r's? */
     md_motor_t m;
+    const int32_t n = (int32_t)1 << decim_log2;
     double theta = 0.0, e1 = 0.0, e2 = 0.0, f1 = 0.0, f2 = 0.0;
-    (void)state;
+    double wr_sum = 0.0, ws_sum = 0.0, im_sum = 0.0;
     md_motor(&m);
-    init_paper(&r);
-    assert_int_equal(bw_filter_init(&fws, WC_RAD_S, 10u, (float)MD_TS_S, (float)MD_W_BASE), BW_FILTER_OK);
+    assert_int_equal(ident_regressor_init(&r, WC_RAD_S, 10u, (float)MD_TS_S, (float)MD_W_BASE,
+                                          decim_log2), BW_FILTER_OK);
+    assert_int_equal(bw_filter_init(&fws, WC_RAD_S, 10u, (float)(MD_TS_S * (double)n),
+                                    (float)MD_W_BASE), BW_FILTER_OK);
     fim = fws;
     for (int32_t k = 1; k <= 9000; k++) {
         md_sample_t s;
@@ -105,13 +110,25 @@ static void test_regression_identity(void **state)
         r.sin_mid = d_to_iq(sn);
         r.cos_mid = d_to_iq(c);
         r.ws = d_to_iq(s.ws);
-        r.wr = d_to_iq(s.wr);
-        ident_regressor_step(&r);
-        fws.u = r.ws;
+        ident_regressor_accumulate(&r);
+        /* the window means of ws, i_M (for the lone filters) and wr (the
+         * regressor takes it as its input: the QEP's window speed) */
+        wr_sum += s.wr;
+        ws_sum += iq_to_d(r.ws);
+        im_sum += iq_to_d(r.i_m);
+        if (k % n != 0) {
+            continue;
+        }
+        r.wr = d_to_iq(wr_sum / (double)n);
+        ident_regressor_filter(&r);
+        fws.u = d_to_iq(ws_sum / (double)n);
         bw_filter_step(&fws);
-        fim.u = r.i_m;
+        fim.u = d_to_iq(im_sum / (double)n);
         bw_filter_step(&fim);
-        assert_true(fim.y == r.i_mf && fim.dy == r.f_im.dy);   /* identical filters */
+        wr_sum = ws_sum = im_sum = 0.0;
+        if (n == 1) {
+            assert_true(fim.y == r.i_mf && fim.dy == r.f_im.dy);   /* identical filters */
+        }
         if (k > 6000) {
             double imf = iq_to_d(r.i_mf), itf = iq_to_d(r.i_tf);
             double r1 = iq_to_d(r.y1) - (m.K1 * imf + m.K2 * iq_to_d(r.u_mf) + m.K3);
@@ -127,11 +144,28 @@ static void test_regression_identity(void **state)
             if (fabs(g2) > f2) { f2 = fabs(g2); }
         }
     }
-    print_message("identity residuals: row1 %.3g, row2 %.3g pu; with filtered factors %.3g, %.3g pu\n",
-                  e1, e2, f1, f2);
+    print_message("identity residuals (filter step every %d samples): row1 %.3g, row2 %.3g pu; "
+                  "with filtered factors %.3g, %.3g pu\n", (int)n, e1, e2, f1, f2);
     assert_true(e1 <= 2e-5);
     assert_true(e2 <= 2e-5);
     assert_true(f1 + f2 >= 10.0 * (e1 + e2));
+}
+
+static void test_regression_identity(void **state)
+{
+    (void)state;
+    regression_identity(0u);
+}
+
+/* The multi-rate path: the inputs summed every sample, the filters stepped
+ * every 4th sample on the window means (the drive's schedule).  The mean
+ * is one more linear filter common to every signal, so the identity must
+ * hold as closely as at 15 kHz: the same bound.  (The filter's step is 4
+ * times larger, a = 0.017: its discretisation term O(a^2) stays < 1e-6.) */
+static void test_regression_identity_decimated(void **state)
+{
+    (void)state;
+    regression_identity(2u);
 }
 
 /* Products and inputs beyond the filters' +-7 pu range saturate, never wrap:
@@ -173,6 +207,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_rotation),
         cmocka_unit_test(test_regression_identity),
+        cmocka_unit_test(test_regression_identity_decimated),
         cmocka_unit_test(test_saturation),
         cmocka_unit_test(test_init_rejects),
     };
