@@ -7,9 +7,9 @@ import tempfile
 from pathlib import Path
 
 from . import _lib
+from .protocol import STATES   # every id_state_t of include/id_sequence.h, REFINE included
 
 CMD_START_IDENT, CMD_STOP, CMD_RESET_FAULT = 1, 2, 3
-STATES = ("IDLE", "CALIBRATE", "MAGNETIZE", "ACCELERATE", "SETTLE", "RUN", "FAULT")
 CONFIG_DIR = _lib.REPO_ROOT / "host_sim" / "config"
 
 
