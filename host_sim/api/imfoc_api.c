@@ -284,7 +284,8 @@ static void params_si(const imfoc_t *h, const param_extract_t *p, double *o)
 int32_t imfoc_get_signals(const imfoc_t *h, imfoc_signals_t *s)
 {
     const drive_t *d;
-    double lp[6], pp[6];
+    const drive_telemetry_t *t;
+    double lp[6], pp[6], xp[6];
     const double I = (h != NULL) ? h->info.I_base_A : 0.0;
     const double V = (h != NULL) ? h->info.V_base_V : 0.0;
     unsigned i;
@@ -333,7 +334,16 @@ int32_t imfoc_get_signals(const imfoc_t *h, imfoc_signals_t *s)
     s->wr_f = f(d->reg.wr_f);
     s->rls_updates = d->rls.n_updates;
     params_si(h, &d->live, lp);
-    params_si(h, &d->pex, pp);
+    params_si(h, &d->pex, xp);
+    /* the published set: the telemetry's, what the drive reports (not d->pex, which
+     * with tracking is the RLS's last extraction, not what is published) */
+    t = &d->telemetry;
+    pp[0] = f(t->Rs) * h->info.Z_base_ohm;
+    pp[1] = f(t->Rr) * h->info.Z_base_ohm;
+    pp[2] = f(t->Lm) * h->info.L_base_H;
+    pp[3] = f(t->Lr) * h->info.L_base_H;
+    pp[4] = f(t->psi_r) * h->info.psi_base_Wb;
+    pp[5] = f(t->Tr) * h->info.t_base_s;
     s->live_Rs_ohm = lp[0];
     s->live_Rr_ohm = lp[1];
     s->live_Lm_H = lp[2];
@@ -353,5 +363,12 @@ int32_t imfoc_get_signals(const imfoc_t *h, imfoc_signals_t *s)
     s->sigma_ls_dc_H = f(d->telemetry.sigma_ls_dc) * d->base.L_base_H;
     s->Rr_track_ohm = f(d->telemetry.Rr_track) * d->base.Z_base_ohm;
     s->Tr_track_s = f(d->telemetry.Tr_track) * d->base.t_base_s;
+    s->extract_valid = d->pex.valid;
+    s->extract_Rs_ohm = xp[0];
+    s->extract_Rr_ohm = xp[1];
+    s->extract_Lm_H = xp[2];
+    s->extract_Lr_H = xp[3];
+    s->extract_psi_r_Wb = xp[4];
+    s->extract_Tr_s = xp[5];
     return IMFOC_OK;
 }

@@ -536,6 +536,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
         e->psi_r_Wb = pct(res->published_end.psi_r_Wb, res->truth.psi_r_Wb);
         e->Tr_s = pct(res->published_end.Tr_s, res->truth.Tr_s);
         to_si(b, &drive.pex, &res->ident);
+        res->ident_valid = drive.pex.valid;
         res->error_pct.Rs_ohm = pct(res->ident.Rs_ohm, res->truth.Rs_ohm);
         res->error_pct.Rr_ohm = pct(res->ident.Rr_ohm, res->truth.Rr_ohm);
         res->error_pct.Lm_H = pct(res->ident.Lm_H, res->truth.Lm_H);
