@@ -9,10 +9,13 @@
  *
  * The drive starts its identification sequence on a telemetry command ($C,S)
  * or the start button (GPIOB0, active low); everything else runs in
- * drive_isr (15 kHz, from the ADC end-of-sequence interrupt).
+ * drive_isr (15 kHz, from the ADC end-of-sequence interrupt).  The portable
+ * part of the background loop (command dispatch, frame timing) is bg_loop.c,
+ * which the simulator's serial link (motor_sim --serial) runs too.
  */
 #include "DSP281x_Device.h"
 #include "adc_f2812.h"
+#include "bg_loop.h"
 #include "board_config.h"
 #include "datalog.h"
 #include "drive_types.h"
@@ -32,10 +35,8 @@
 static drive_t g_drive;
 #pragma DATA_SECTION(g_dlog, "dlog")
 static datalog_t g_dlog;
-static telemetry_t g_tlm;
+static bg_loop_t g_bg;   /* telemetry rings, frame timer, button edge */
 
-/* 20 telemetry frames per second: one every 750 control periods */
-#define TLM_PERIOD_TICKS 750u
 /* data log: every 2nd sample (7.5 kS/s, 34 ms of history), trigger when i_T
  * rises through 0.1 pu */
 #define DLOG_PRESCALE    2u
@@ -52,31 +53,15 @@ static void halt_on_config_error(void)
 
 static void apply_command(tlm_cmd_t cmd)
 {
-    switch (cmd) {
-    case TLM_CMD_START:
-        drive_command(&g_drive, DRIVE_CMD_START_IDENT);
-        break;
-    case TLM_CMD_STOP:
-        drive_command(&g_drive, DRIVE_CMD_STOP);
-        break;
-    case TLM_CMD_RESET_FAULT:
-        (void)pwm_f2812_clear_trip();
-        drive_command(&g_drive, DRIVE_CMD_RESET_FAULT);
-        break;
-    case TLM_CMD_DLOG_ARM:
-        datalog_arm(&g_dlog);
-        break;
-    case TLM_CMD_NONE:
-    default:
-        break;
+    if (cmd == TLM_CMD_RESET_FAULT) {
+        (void)pwm_f2812_clear_trip();   /* the board's latch, then the drive's */
     }
+    bg_loop_apply(&g_drive, &g_dlog, cmd);
 }
 
 int main(void)
 {
     f2812_timing_t tm;
-    uint16_t last_tlm = 0u;
-    uint16_t button_prev = 0u;
     const drive_config_t *cfg = &g_board_config;
 
     sysctrl_init();
@@ -92,7 +77,7 @@ int main(void)
         halt_on_config_error();
     }
     (void)datalog_init(&g_dlog, DLOG_PRESCALE, _IQ(0.1));
-    telemetry_init(&g_tlm);
+    bg_loop_init(&g_bg, BG_TLM_PERIOD_TICKS);
 
     pwm_f2812_init(tm.t1pr, tm.dbtcona);
     adc_f2812_init();
@@ -112,21 +97,12 @@ int main(void)
 
         drive_background(&g_drive);
 
-        if (button != 0u && button_prev == 0u) {
-            apply_command(TLM_CMD_START);
-        }
-        button_prev = button;
+        apply_command(bg_loop_button(&g_bg, button));
 
-        apply_command(sci_f2812_poll(&g_tlm));
+        apply_command(sci_f2812_poll(&g_bg.tlm));
 
-        /* modulo-2^16 difference: correct across the tick counter's wrap */
-        if ((uint16_t)(now - last_tlm) >= TLM_PERIOD_TICKS) {
-            last_tlm = now;
-            uint16_t load = isr_load_max();
-            drive_get_telemetry(&g_drive, &tl);
-            (void)telemetry_send(&g_tlm, &tl, load);
-            (void)telemetry_send_adapt(&g_tlm, &tl);
-            (void)telemetry_send_status(&g_tlm, &tl, load);
+        if (bg_loop_frame_due(&g_bg, now) != 0u) {
+            bg_loop_send(&g_bg, &g_drive, isr_load_max(), &tl);
             gpio_fault_led((tl.fault != 0u || hal_pwm_tripped() != 0u) ? 1u : 0u);
         }
 

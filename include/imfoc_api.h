@@ -53,7 +53,9 @@ extern "C" {
 #endif
 
 /** Bumped whenever a struct below changes layout (wrappers check it). */
-#define IMFOC_API_VERSION 2   /* 2: the issue-8 signals at the end of imfoc_signals_t */
+#define IMFOC_API_VERSION 3   /* 2: the issue-8 signals at the end of imfoc_signals_t;
+                                 3: Rs_ohm..Tr_s are the published set, the last
+                                    extraction moved to extract_* */
 
 typedef struct imfoc imfoc_t;   /* opaque: one firmware instance */
 
@@ -133,7 +135,10 @@ typedef struct {
     double K[4];                   /* K1, K2, K3 (or K3'), K4 */
     double y1, y2, i_mf, u_mf, i_tf, u_tf, wr_f;
     uint32_t rls_updates;          /* scalar RLS updates done */
-    /* parameters: live (from the running RLS, 100 Hz) and published */
+    /* parameters: live (from the running RLS, 100 Hz) and published (what the drive
+     * reports as identified, the telemetry's Rs..Tr: the last plausible extraction, or
+     * with [ident] track_rr = 1 the fused set of standstill Rs, tracked Rr and Tr and the
+     * RLS's Lm, Lr, psi_r; valid when params_valid) */
     double live_Rs_ohm, live_Rr_ohm, live_Lm_H, live_Lr_H, live_psi_r_Wb, live_Tr_s;
     double Rs_ohm, Rr_ohm, Lm_H, Lr_H, psi_r_Wb, Tr_s;
     /* issue 8: adaptation and tracking (0 when not measured / not valid) */
@@ -143,6 +148,11 @@ typedef struct {
     double Rs_dc_ohm;              /* standstill Rs */
     double sigma_ls_dc_H;          /* standstill sigma Ls */
     double Rr_track_ohm, Tr_track_s;   /* tracked */
+    /* API version 3: the last extraction from the RLS (end of SETTLE, each pass), as
+     * extracted, whether or not it was plausible and published (extract_valid) */
+    uint16_t extract_valid;
+    double extract_Rs_ohm, extract_Rr_ohm, extract_Lm_H, extract_Lr_H, extract_psi_r_Wb,
+        extract_Tr_s;
 } imfoc_signals_t;
 
 /** IMFOC_API_VERSION of the library (compare with the header's). */

@@ -29,7 +29,13 @@ if [ ! -x .venv/bin/python ]; then
     python3 -m venv .venv
   }
 fi
-if ! .venv/bin/python -c "import numpy, matplotlib, pytest" 2>/dev/null; then
+if ! .venv/bin/python -c "import numpy, matplotlib, pytest, serial" 2>/dev/null; then
   echo "install_deps: installing Python packages (tools/requirements.txt)"
   .venv/bin/python -m pip install --quiet --disable-pip-version-check -r tools/requirements.txt
+fi
+# the imfoc package (co-simulation API and the PC tool `imfoc`), editable, so that
+# .venv/bin/imfoc runs this checkout's code
+if [ ! -x .venv/bin/imfoc ] || ! .venv/bin/python -c "import imfoc.cli" 2>/dev/null; then
+  echo "install_deps: installing the imfoc package (tools/python)"
+  .venv/bin/python -m pip install --quiet --disable-pip-version-check -e tools/python
 fi

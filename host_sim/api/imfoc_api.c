@@ -271,20 +271,29 @@ int32_t imfoc_step_phys(imfoc_t *h, const imfoc_phys_in_t *in, imfoc_out_t *out)
 
 static double f(_iq x) { return (double)_IQtoF(x); }
 
-static void params_si(const imfoc_t *h, const param_extract_t *p, double *o)
+/* Rs, Rr, Lm, Lr, psi_r, Tr (pu, in that order) into the six SI fields given */
+static void params_si(const imfoc_t *h, const _iq q[6], double *Rs, double *Rr, double *Lm,
+                      double *Lr, double *psi, double *Tr)
 {
-    o[0] = f(p->Rs) * h->info.Z_base_ohm;
-    o[1] = f(p->Rr) * h->info.Z_base_ohm;
-    o[2] = f(p->Lm) * h->info.L_base_H;
-    o[3] = f(p->Lr) * h->info.L_base_H;
-    o[4] = f(p->psi_r) * h->info.psi_base_Wb;
-    o[5] = f(p->Tr) * h->info.t_base_s;
+    *Rs = f(q[0]) * h->info.Z_base_ohm;
+    *Rr = f(q[1]) * h->info.Z_base_ohm;
+    *Lm = f(q[2]) * h->info.L_base_H;
+    *Lr = f(q[3]) * h->info.L_base_H;
+    *psi = f(q[4]) * h->info.psi_base_Wb;
+    *Tr = f(q[5]) * h->info.t_base_s;
+}
+
+static void extract_si(const imfoc_t *h, const param_extract_t *p, double *Rs, double *Rr,
+                       double *Lm, double *Lr, double *psi, double *Tr)
+{
+    const _iq q[6] = {p->Rs, p->Rr, p->Lm, p->Lr, p->psi_r, p->Tr};
+    params_si(h, q, Rs, Rr, Lm, Lr, psi, Tr);
 }
 
 int32_t imfoc_get_signals(const imfoc_t *h, imfoc_signals_t *s)
 {
     const drive_t *d;
-    double lp[6], pp[6];
+    const drive_telemetry_t *t;
     const double I = (h != NULL) ? h->info.I_base_A : 0.0;
     const double V = (h != NULL) ? h->info.V_base_V : 0.0;
     unsigned i;
@@ -332,20 +341,15 @@ int32_t imfoc_get_signals(const imfoc_t *h, imfoc_signals_t *s)
     s->u_tf = f(d->reg.u_tf);
     s->wr_f = f(d->reg.wr_f);
     s->rls_updates = d->rls.n_updates;
-    params_si(h, &d->live, lp);
-    params_si(h, &d->pex, pp);
-    s->live_Rs_ohm = lp[0];
-    s->live_Rr_ohm = lp[1];
-    s->live_Lm_H = lp[2];
-    s->live_Lr_H = lp[3];
-    s->live_psi_r_Wb = lp[4];
-    s->live_Tr_s = lp[5];
-    s->Rs_ohm = pp[0];
-    s->Rr_ohm = pp[1];
-    s->Lm_H = pp[2];
-    s->Lr_H = pp[3];
-    s->psi_r_Wb = pp[4];
-    s->Tr_s = pp[5];
+    extract_si(h, &d->live, &s->live_Rs_ohm, &s->live_Rr_ohm, &s->live_Lm_H, &s->live_Lr_H,
+               &s->live_psi_r_Wb, &s->live_Tr_s);
+    /* the published set: the telemetry's, what the drive reports (not d->pex, which
+     * with tracking is the RLS's last extraction, not what is published) */
+    t = &d->telemetry;
+    {
+        const _iq q[6] = {t->Rs, t->Rr, t->Lm, t->Lr, t->psi_r, t->Tr};
+        params_si(h, q, &s->Rs_ohm, &s->Rr_ohm, &s->Lm_H, &s->Lr_H, &s->psi_r_Wb, &s->Tr_s);
+    }
     s->pass = d->telemetry.pass;
     s->track_valid = d->telemetry.track_valid;
     s->params_tracked = d->telemetry.params_tracked;
@@ -353,5 +357,8 @@ int32_t imfoc_get_signals(const imfoc_t *h, imfoc_signals_t *s)
     s->sigma_ls_dc_H = f(d->telemetry.sigma_ls_dc) * d->base.L_base_H;
     s->Rr_track_ohm = f(d->telemetry.Rr_track) * d->base.Z_base_ohm;
     s->Tr_track_s = f(d->telemetry.Tr_track) * d->base.t_base_s;
+    s->extract_valid = d->pex.valid;
+    extract_si(h, &d->pex, &s->extract_Rs_ohm, &s->extract_Rr_ohm, &s->extract_Lm_H,
+               &s->extract_Lr_H, &s->extract_psi_r_Wb, &s->extract_Tr_s);
     return IMFOC_OK;
 }

@@ -12,12 +12,14 @@
 #include "report.h"
 #include "sim_config.h"
 #include "sim_run.h"
+#include "sim_serial.h"
 
 static void usage(FILE *f)
 {
     fprintf(f,
             "usage: motor_sim [--config FILE] [--scenario NAME] [--duration S] [--out DIR]\n"
             "                 [--fault NAME@TIME[=VALUE]]... [--cmd NAME@TIME]... [--quiet]\n"
+            "                 [--serial PATH [--realtime-factor X] [--serial-keep-open]]\n"
             "                 [--keys] [--help]\n"
             "\n"
             "Runs the firmware's 15 kHz ISR against a simulated induction motor, inverter and\n"
@@ -42,6 +44,17 @@ static void usage(FILE *f)
             "                     default 100), clear (every injected fault removed)\n"
             "  --cmd NAME@T       give the drive a command at T seconds: start, stop, reset\n"
             "                     (a run begins with start at 0)\n"
+            "  --serial PATH      the board's serial link: create a pseudo-terminal, make PATH a\n"
+            "                     symlink to its slave (/dev/pts/N, also printed) and run the\n"
+            "                     firmware's telemetry and commands over it ($T/$A 20 times a\n"
+            "                     second, $C,S/X/R/D; raw, 115200 8N1 nominal) as on SCI-A.\n"
+            "                     The drive waits for $C,S (no start at 0 s); the run is paced\n"
+            "                     to real time and ends after --duration (default 3600 s),\n"
+            "                     when the client closes the port, or on Ctrl-C / SIGTERM\n"
+            "  --realtime-factor X  with --serial: simulated seconds per wall second (default\n"
+            "                     1; 0: as fast as the host runs)\n"
+            "  --serial-keep-open with --serial: run on when the client closes the port (for\n"
+            "                     separate imfoc start / monitor calls)\n"
             "  --quiet            no progress and no table\n"
             "  --keys             list every configuration key, its unit and range\n"
             "\n"
@@ -53,7 +66,8 @@ static void usage(FILE *f)
 static int takes_value(const char *a)
 {
     static const char *const k[] = {"--config", "--out",   "--scenario",
-                                     "--duration", "--fault", "--cmd"};
+                                     "--duration", "--fault", "--cmd",
+                                     "--serial", "--realtime-factor"};
     unsigned i;
     for (i = 0; i < sizeof k / sizeof k[0]; i++) {
         if (strcmp(a, k[i]) == 0) {
@@ -146,9 +160,13 @@ int main(int argc, char **argv)
     sim_result_t res;
     char err[SIM_CONFIG_ERR_LEN + 64];
     char trace_path[1024], report_path[1024];
-    int i;
+    sim_serial_options_t ser;
+    sim_serial_t *serial = NULL;
+    int i, rc;
 
     memset(&opt, 0, sizeof opt);
+    memset(&ser, 0, sizeof ser);
+    ser.realtime_factor = 1.0;
     opt.scenario = SCEN_START;
     for (i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -161,6 +179,8 @@ int main(int argc, char **argv)
             return 0;
         } else if (strcmp(a, "--quiet") == 0) {
             opt.quiet = 1u;
+        } else if (strcmp(a, "--serial-keep-open") == 0) {
+            ser.keep_open = 1u;
         } else if (!takes_value(a)) {
             fprintf(stderr, "motor_sim: unknown option '%s'; see --help\n", a);
             return 1;
@@ -203,11 +223,26 @@ int main(int argc, char **argv)
             }
             opt.n_cmds++;
             i++;
+        } else if (strcmp(a, "--serial") == 0) {
+            ser.link_path = v;
+            i++;
+        } else if (strcmp(a, "--realtime-factor") == 0) {
+            if (parse_double(v, &ser.realtime_factor) != 0 || !(ser.realtime_factor >= 0.0) ||
+                ser.realtime_factor > 1e6) {
+                fprintf(stderr, "motor_sim: --realtime-factor '%s' must be a number in [0, 1e6]\n",
+                        v);
+                return 1;
+            }
+            i++;
         } else {
             /* takes_value() lists an option that has no branch here */
             fprintf(stderr, "motor_sim: option '%s' is not implemented\n", a);
             return 1;
         }
+    }
+    if (ser.link_path == NULL && (ser.keep_open != 0u || ser.realtime_factor != 1.0)) {
+        fprintf(stderr, "motor_sim: --realtime-factor and --serial-keep-open need --serial\n");
+        return 1;
     }
     if (sim_config_load(config, &cfg, err, sizeof err) != 0) {
         fprintf(stderr, "motor_sim: %s\n", err);
@@ -235,7 +270,37 @@ int main(int argc, char **argv)
         }
         opt.trace_path = trace_path;
     }
-    if (sim_run(&cfg, &opt, &res, err, sizeof err) != 0) {
+    if (ser.link_path != NULL) {
+        serial = sim_serial_open(&ser, err, sizeof err);
+        if (serial == NULL) {
+            fprintf(stderr, "motor_sim: --serial: %s\n", err);
+            return 1;
+        }
+        opt.no_autostart = 1u;   /* the board waits for $C,S or its button */
+        opt.background_hook = sim_serial_hook;
+        opt.hook_ctx = serial;
+        if (opt.duration_s <= 0.0) {
+            opt.duration_s = 3600.0;
+        }
+        printf("motor_sim: serial link %s -> %s (raw, 115200 8N1 nominal), real-time factor "
+               "%g; waiting for $C,S\n",
+               ser.link_path, sim_serial_slave_name(serial), ser.realtime_factor);
+        fflush(stdout);
+    }
+    rc = sim_run(&cfg, &opt, &res, err, sizeof err);
+    if (serial != NULL) {
+        uint32_t n_cmds, n_frames;
+        uint16_t dropped, rx_errors;
+        sim_serial_counts(serial, &n_cmds, &n_frames, &dropped, &rx_errors);
+        if (!opt.quiet) {
+            printf("motor_sim: serial link ended (%s): %u commands, %u frame pairs, %u frames "
+                   "dropped, %u bad command frames\n",
+                   sim_serial_end_reason(serial), (unsigned)n_cmds, (unsigned)n_frames, dropped,
+                   rx_errors);
+        }
+        sim_serial_close(serial);
+    }
+    if (rc != 0) {
         fprintf(stderr, "motor_sim: %s\n", err);
         return 2;
     }

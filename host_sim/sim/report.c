@@ -98,18 +98,24 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
             r->t_accel_start_s, r->t_published_s, r->converge_s);
     json_params(f, "true", &r->truth, 0);
     if (r->identified) {
-        json_params(f, "identified", &r->ident, 0);
-        json_params(f, "error_pct", &r->error_pct, 0);
-        /* what the drive publishes at the end: the RLS set above or, with
-         * tracking, the standstill Rs and the tracked Rr, Tr (issue 8) */
+        /* identified: what the drive publishes at the end (the telemetry's set, as the
+         * PC tool reads it): the RLS's extraction or, with tracking, the standstill Rs
+         * and the tracked Rr, Tr (issue 8); published_end is the same set */
+        json_params(f, "identified", &r->published_end, 0);
+        json_params(f, "error_pct", &r->published_end_error_pct, 0);
         json_params(f, "published_end", &r->published_end, 0);
         json_params(f, "published_end_error_pct", &r->published_end_error_pct, 0);
         fprintf(f, "  \"params_tracked\": %s,\n", r->params_tracked ? "true" : "false");
+        /* the RLS's last extraction as extracted (not published if implausible) */
+        json_params(f, "last_extraction", &r->ident, 0);
+        json_params(f, "last_extraction_error_pct", &r->error_pct, 0);
+        fprintf(f, "  \"last_extraction_valid\": %s,\n", r->ident_valid ? "true" : "false");
     } else {
         /* nothing was published: no numbers that could be mistaken for a result */
         fprintf(f, "  \"identified\": null,\n  \"error_pct\": null,\n"
                    "  \"published_end\": null,\n  \"published_end_error_pct\": null,\n"
-                   "  \"params_tracked\": false,\n");
+                   "  \"params_tracked\": false,\n  \"last_extraction\": null,\n"
+                   "  \"last_extraction_error_pct\": null,\n  \"last_extraction_valid\": false,\n");
     }
     fprintf(f, "  \"max_abs_i_A\": %.6g,\n  \"max_speed_err_rpm_ramp\": %.6g,\n"
                "  \"max_flux_q_over_d\": %.6g,\n  \"final_speed_rpm\": %.6g,\n",
@@ -130,7 +136,8 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
 
 void report_print_table(FILE *f, const sim_result_t *r)
 {
-    const sim_params_t *t = &r->truth, *e = &r->ident, *p = &r->error_pct;
+    /* identified: what the drive publishes, as in report.json */
+    const sim_params_t *t = &r->truth, *e = &r->published_end, *p = &r->published_end_error_pct;
     fprintf(f, "\n%-12s %10s %10s %10s %10s %10s %10s\n", "", "Rs/ohm", "Rr/ohm", "Lm/H", "Lr/H",
             "psi_r/Wb", "Tr/s");
     fprintf(f, "%-12s %10.4f %10.4f %10.5f %10.5f %10.5f %10.5f\n", "reference", t->Rs_ohm,
@@ -144,15 +151,16 @@ void report_print_table(FILE *f, const sim_result_t *r)
     fprintf(f, "%-12s %+10.2f %+10.2f %+10.2f %+10.2f %+10.2f %+10.2f\n", "error %", p->Rs_ohm,
             p->Rr_ohm, p->Lm_H, p->Lr_H, p->psi_r_Wb, p->Tr_s);
     if (r->params_tracked) {
-        /* issue 8: what the drive publishes at the end (standstill Rs,
-         * tracked Rr and Tr, the RLS's Lm, Lr, psi_r) */
-        const sim_params_t *q = &r->published_end, *qe = &r->published_end_error_pct;
-        fprintf(f, "%-12s %10.4f %10.4f %10.5f %10.5f %10.5f %10.5f\n", "published", q->Rs_ohm,
+        /* issue 8: the published set above is the fused one (standstill Rs,
+         * tracked Rr and Tr, the RLS's Lm, Lr, psi_r); the RLS's own */
+        const sim_params_t *q = &r->ident, *qe = &r->error_pct;
+        fprintf(f, "%-12s %10.4f %10.4f %10.5f %10.5f %10.5f %10.5f\n", "extraction", q->Rs_ohm,
                 q->Rr_ohm, q->Lm_H, q->Lr_H, q->psi_r_Wb, q->Tr_s);
         fprintf(f, "%-12s %+10.2f %+10.2f %+10.2f %+10.2f %+10.2f %+10.2f\n", "error %",
                 qe->Rs_ohm, qe->Rr_ohm, qe->Lm_H, qe->Lr_H, qe->psi_r_Wb, qe->Tr_s);
-        fprintf(f, "(identified: the RLS at the end of the last pass; published: Rs from the "
-                   "standstill test, Rr and Tr tracked, Lm, Lr, psi_r from the RLS)\n");
+        fprintf(f, "(identified: published by the drive: Rs from the standstill test, Rr and Tr "
+                   "tracked, Lm, Lr, psi_r from the RLS; extraction: the RLS at the end of the "
+                   "last pass%s)\n", r->ident_valid ? "" : ", implausible");
     }
     fprintf(f, "\nacceleration started at %.3f s; parameters published at %.3f s%s;\n"
                "all estimates within 2 %% of their final values %.3f s after the start of the "

@@ -316,7 +316,9 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     res->truth.Lr_H = cfg->Lm_H + cfg->Llr_H;
     res->truth.Tr_s = res->truth.Lr_H / cfg->Rr_ohm;
 
-    drive_command(&drive, DRIVE_CMD_START_IDENT);
+    if (opt->no_autostart == 0u) {
+        drive_command(&drive, DRIVE_CMD_START_IDENT);
+    }
     drive_background(&drive);
 
     for (k = 0; k < n_steps; k++) {
@@ -343,6 +345,11 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
         drive_isr(&drive);
         if ((k % BACKGROUND_DIV) == 0u) {
             drive_background(&drive);
+            if (opt->background_hook != NULL &&
+                opt->background_hook(opt->hook_ctx, &drive, k + 1u, t) != 0) {
+                res->duration_s = t;   /* ended by the hook (the serial link closed) */
+                break;
+            }
         }
         if (drive.telemetry.fault != 0u && port.outputs_enabled != 0u) {
             res->pwm_periods_with_fault++;
@@ -529,6 +536,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
         e->psi_r_Wb = pct(res->published_end.psi_r_Wb, res->truth.psi_r_Wb);
         e->Tr_s = pct(res->published_end.Tr_s, res->truth.Tr_s);
         to_si(b, &drive.pex, &res->ident);
+        res->ident_valid = drive.pex.valid;
         res->error_pct.Rs_ohm = pct(res->ident.Rs_ohm, res->truth.Rs_ohm);
         res->error_pct.Rr_ohm = pct(res->ident.Rr_ohm, res->truth.Rr_ohm);
         res->error_pct.Lm_H = pct(res->ident.Lm_H, res->truth.Lm_H);

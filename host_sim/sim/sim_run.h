@@ -9,6 +9,7 @@
 #define SIM_RUN_H
 
 #include <stdint.h>
+#include "drive.h"
 #include "plant.h"
 #include "sim_config.h"
 
@@ -48,6 +49,13 @@ typedef struct {
     sim_fault_t faults[SIM_MAX_FAULTS];
     uint16_t n_cmds;
     sim_cmd_t cmds[SIM_MAX_CMDS];
+    /* the board's background loop over a serial link (motor_sim --serial,
+     * sim_serial.h): no start at t = 0 (the board waits for $C,S or its
+     * button), and a hook run after each drive_background (1 kHz) with the
+     * ISRs run so far and the time; a non-zero return ends the run there */
+    uint16_t no_autostart;
+    int (*background_hook)(void *ctx, drive_t *d, uint64_t isr_count, double t_s);
+    void *hook_ctx;
 } sim_options_t;
 
 /** Parameter set in SI. */
@@ -64,6 +72,7 @@ typedef struct {
     double t_published_s;
     sim_params_t truth, ident;
     sim_params_t error_pct;         /* 100 (ident - truth) / truth */
+    uint16_t ident_valid;           /* ident (the last extraction, d->pex) was plausible */
     double converge_s;              /* after t_accel_start: all live estimates stay
                                        within 2 % of the published values (-1: never) */
     /* closed-loop figures */

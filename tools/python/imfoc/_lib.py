@@ -7,7 +7,7 @@ import ctypes as C
 import os
 from pathlib import Path
 
-API_VERSION = 2
+API_VERSION = 3
 LIB_NAME = "libimfoc.so"
 
 # tools/python/imfoc/_lib.py -> the repository root
@@ -58,15 +58,22 @@ class Signals(C.Structure):
                 # issue 8 (API version 2)
                 [(n, C.c_uint16) for n in ("pass_", "track_valid", "params_tracked")] +
                 [(n, C.c_double) for n in ("Rs_dc_ohm", "sigma_ls_dc_H", "Rr_track_ohm",
-                                           "Tr_track_s")])
+                                           "Tr_track_s")] +
+                # API version 3: the last extraction (Rs_ohm.. above are the published set)
+                [("extract_valid", C.c_uint16)] +
+                [("extract_" + n, C.c_double) for n in PARAM_NAMES])
 
 
 def find_library():
-    """Path of libimfoc.so: $IMFOC_LIB (the file), then $IMFOC_LIB_DIR (a build
-    directory or the library's own directory), then the repository's
-    build/host-iq."""
+    """Path of libimfoc.so, the first of:
+      $IMFOC_LIB      the library file itself (wins over the next);
+      $IMFOC_LIB_DIR  a build directory (its host_sim/api/) or the library's own directory;
+      the repository's build/host-iq."""
     env = os.environ.get("IMFOC_LIB")
     if env:
+        if not Path(env).is_file():
+            raise FileNotFoundError(f"IMFOC_LIB={env} is not a file (it names the library "
+                                    f"itself; IMFOC_LIB_DIR names a build directory)")
         return Path(env)
     dirs = []
     if os.environ.get("IMFOC_LIB_DIR"):
@@ -78,7 +85,8 @@ def find_library():
             return d / LIB_NAME
     raise FileNotFoundError(
         f"{LIB_NAME} not found in {[str(d) for d in dirs]}: build the host-iq preset "
-        "(cmake --preset host-iq && cmake --build --preset host-iq) or set IMFOC_LIB_DIR")
+        "(cmake --preset host-iq && cmake --build --preset host-iq), or set IMFOC_LIB_DIR to a "
+        "build directory or IMFOC_LIB to the library file")
 
 
 _lib = None

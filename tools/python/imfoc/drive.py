@@ -7,9 +7,9 @@ import tempfile
 from pathlib import Path
 
 from . import _lib
+from .protocol import STATES   # every id_state_t of include/id_sequence.h, REFINE included
 
 CMD_START_IDENT, CMD_STOP, CMD_RESET_FAULT = 1, 2, 3
-STATES = ("IDLE", "CALIBRATE", "MAGNETIZE", "ACCELERATE", "SETTLE", "RUN", "FAULT")
 CONFIG_DIR = _lib.REPO_ROOT / "host_sim" / "config"
 
 
@@ -53,7 +53,9 @@ class Drive:
 
     step_phys(ia, ib, vdc, theta_m) / step_raw(...) run one ISR with the inputs
     sampled at the start of a PWM period and return an Out whose duties the
-    plant must apply over the NEXT period (the F2812's compare reload).
+    plant must apply over the NEXT period (the F2812's compare reload).  Each
+    call returns a new Out, so the one a plant keeps for the next period is
+    not overwritten by the next step.
     """
 
     def __init__(self, ini_path):
@@ -67,8 +69,6 @@ class Drive:
         _check(self._lib.imfoc_get_info(self._h, C.byref(self.info)))
         self._phys = _lib.PhysIn()
         self._raw = _lib.RawIn()
-        self._out = _lib.Out()
-        self._sig = _lib.Signals()
 
     def close(self):
         if getattr(self, "_h", None):
@@ -110,14 +110,16 @@ class Drive:
     def step_phys(self, ia_A, ib_A, vdc_V, theta_m_rad, trip=0):
         p = self._phys
         p.ia_A, p.ib_A, p.vdc_V, p.theta_m_rad, p.trip = ia_A, ib_A, vdc_V, theta_m_rad, trip
-        _check(self._lib.imfoc_step_phys(self._h, C.byref(p), C.byref(self._out)))
-        return self._out
+        out = _lib.Out()    # a new one each period: the plant may hold the last one
+        _check(self._lib.imfoc_step_phys(self._h, C.byref(p), C.byref(out)))
+        return out
 
     def step_raw(self, ia_raw, ib_raw, vdc_raw, qep_count, trip=0):
         r = self._raw
         r.ia_raw, r.ib_raw, r.vdc_raw, r.qep_count, r.trip = ia_raw, ib_raw, vdc_raw, qep_count, trip
-        _check(self._lib.imfoc_step_raw(self._h, C.byref(r), C.byref(self._out)))
-        return self._out
+        out = _lib.Out()
+        _check(self._lib.imfoc_step_raw(self._h, C.byref(r), C.byref(out)))
+        return out
 
     def phys_to_raw(self, ia_A, ib_A, vdc_V, theta_m_rad):
         p = _lib.PhysIn(ia_A, ib_A, vdc_V, theta_m_rad, 0)
@@ -141,10 +143,21 @@ class Drive:
         return d
 
     def parameters(self, live=False):
-        """Identified (published, or live) parameters, SI, as a dict."""
+        """The published parameters (what the drive reports as identified, the
+        telemetry's Rs..Tr; with [ident] track_rr = 1 the fused set), SI, as a dict;
+        valid once signals().params_valid is 1.  live=True: the running RLS's
+        estimates instead."""
         s = self.signals()
         pre = "live_" if live else ""
         return {n: getattr(s, pre + n) for n in _lib.PARAM_NAMES}
+
+    def last_extraction(self):
+        """The RLS's last extraction (end of SETTLE, each pass) as extracted, SI, and
+        whether it was plausible: ({name: value}, valid).  Not what the drive
+        publishes: an implausible one is not published, and with tracking the
+        published Rs, Rr, Tr come from elsewhere (parameters())."""
+        s = self.signals()
+        return {n: getattr(s, "extract_" + n) for n in _lib.PARAM_NAMES}, bool(s.extract_valid)
 
 
 def rpm(w_m_rad_s):

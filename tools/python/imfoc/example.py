@@ -23,11 +23,16 @@ def truth(prm):
     return {"Rs_ohm": prm.Rs, "Rr_ohm": prm.Rr, "Lm_H": Lm, "Lr_H": Lr, "Tr_s": Lr / prm.Rr}
 
 
-def run(config=None, duration_s=2.5, csv_path=None, every=15):
-    """Run the identification; returns a dict with the truth, the estimates,
-    their errors (percent) and a few traces."""
+def run(config=None, duration_s=2.5, csv_path=None, every=15, overrides=None):
+    """Run the identification; returns a dict with the truth, the estimates (the
+    published set, or the live RLS while nothing is published), their errors
+    (percent), the last extraction and a few traces.  `overrides`: INI keys
+    {"section": {"key": value}} on top of the configuration."""
     base = config or (CONFIG_DIR / "paper_motor.ini")
-    ini = write_config(base, {"controller": {"dead_time_comp": 0}})
+    over = {"controller": {"dead_time_comp": 0}}   # the ideal inverter below
+    for sec, kv in (overrides or {}).items():
+        over.setdefault(sec, {}).update(kv)
+    ini = write_config(base, over)
     try:
         prm = MotorParams.from_ini(read_ini(ini))
         drv = Drive(ini)
@@ -67,7 +72,10 @@ def run(config=None, duration_s=2.5, csv_path=None, every=15):
     published = bool(s.params_valid)
     est = drv.parameters(live=not published)
     err = {k: 100.0 * (est[k] - tr[k]) / tr[k] for k in PARAM_NAMES}
+    extraction, extraction_valid = drv.last_extraction()
     res = {"state": STATES[s.state], "fault": s.fault, "published": published,
+           "params_tracked": bool(s.params_tracked), "extraction": extraction,
+           "extraction_valid": extraction_valid, "signals": drv.signals_dict(),
            "truth": tr, "estimate": est, "error_pct": err, "rows": rows,
            "regression": reg, "K_last_rls": k_last_rls,
            "speed_rpm": motor.w_m * 60 / 6.283185307179586}
