@@ -69,7 +69,7 @@ static inline void angle_sincos_step(_iq s, _iq c, _iq a_pu, _iq d_pu, _iq *s2, 
     _iq cx;
     _iq sx;
 
-    if (d_pu > _IQ(ANGLE_STEP_MAX_PU) || d_pu < -_IQ(ANGLE_STEP_MAX_PU)) {
+    if (_IQabs(d_pu) > _IQ(ANGLE_STEP_MAX_PU)) {   /* |d| < 1: _IQabs exact */
         angle_sincos(a_pu + d_pu, s2, c2);   /* |a| < 1, |d| < 1: no overflow */
         return;
     }
@@ -84,11 +84,38 @@ static inline void angle_sincos_step(_iq s, _iq c, _iq a_pu, _iq d_pu, _iq *s2, 
     *c2 = _IQmpy(c, cx) - _IQmpy(s, sx);
 }
 
+/**
+ * An angle (pu) that is within one revolution of [0, 1) (|x| < 2), brought
+ * into [0, 1) exactly.  IQ_MATH: the fraction bits of the two's complement
+ * integer, by a mask (the C28x's AND: no compare, no branch; the integer
+ * part, whatever its sign, is a whole number of revolutions); the cast back
+ * to int32 is of a value below 2^GLOBAL_Q, so it is exact.  FLOAT_MATH: one
+ * revolution added or subtracted (as a branch: the float build is the
+ * reference, not the target).
+ */
+static inline _iq angle_wrap_unit(_iq x)
+{
+#if MATH_TYPE == IQ_MATH
+    return (_iq)(int32_t)((uint32_t)x & (((uint32_t)1 << GLOBAL_Q) - 1u));
+#else
+    if (x >= _IQ(1.0)) {
+        x -= _IQ(1.0);
+    } else if (x < _IQ(0.0)) {
+        x += _IQ(1.0);
+    }
+    return x;
+#endif
+}
+
 /** Signed difference b - a of two angles in [0, 1) (pu), along the shorter
- *  arc: the result is in [-0.5, 0.5).  Exact (adds or subtracts 1.0 at most
- *  once); the inputs must already be wrapped. */
+ *  arc: the result is in [-0.5, 0.5).  Exact; the inputs must already be
+ *  wrapped.  IQ_MATH: ((b - a + 1/2) mod 1) - 1/2 by angle_wrap_unit's mask
+ *  (|b - a + 1/2| < 1.5: no overflow). */
 static inline _iq angle_diff_pu(_iq b, _iq a)
 {
+#if MATH_TYPE == IQ_MATH
+    return angle_wrap_unit(b - a + _IQ(0.5)) - _IQ(0.5);
+#else
     _iq d = b - a;   /* both in [0, 1): the raw difference is in (-1, 1), no overflow */
 
     if (d >= _IQ(0.5)) {
@@ -97,6 +124,7 @@ static inline _iq angle_diff_pu(_iq b, _iq a)
         d += _IQ(1.0);
     }
     return d;
+#endif
 }
 
 #endif /* ANGLE_H */

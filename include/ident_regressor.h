@@ -9,6 +9,16 @@
  *      the voltage is constant in the stator frame over the period while the
  *      frame turns by ws*Ts; the start angle biased Rr by +12 %):
  *          u_M =  u_alpha cos + u_beta sin,   u_T = -u_alpha sin + u_beta cos
+ *      done in two steps: each sample rotates u at the frame angle theta_k
+ *      of its end (the Park transform's sin/cos, no new angle), and the
+ *      filter step turns the window's mean back by half the window's mean
+ *      step, R(pi f_base Ts ws_mean) (a small-angle series).  Exact when the
+ *      frame speed is constant over the window; a speed that varies within
+ *      it, ws_k = ws_mean + e_k with sum(e_k) = 0, leaves
+ *      sum_k (R(pi f_base Ts e_k) - 1) u_k, whose first order cancels for a
+ *      u constant over the window: what is left is of the order of
+ *      (pi f_base Ts e)^2 |u|, below 1e-7 pu for the encoder's one-count
+ *      jitter of the step.
  *   2. filter seven signals with seven identical bw_filter instances, each
  *      product as ONE signal (method §7 point 2: the filter commutes with
  *      the regression only if each term of it is filtered whole):
@@ -56,8 +66,9 @@ typedef struct {
     /* inputs */
     _iq i_m, i_t;          /* Q24 pu: stator current in M-T, sampled now (angle theta_k) */
     _iq u_alpha, u_beta;   /* Q24 pu: stator voltage applied over the period that just ended */
-    _iq sin_mid, cos_mid;  /* Q24: sin/cos of the frame angle at the middle of that period */
-    _iq ws;                /* Q24 pu: frame (synchronous) speed */
+    _iq sin_k, cos_k;      /* Q24: sin/cos of the frame angle theta_k at this sample */
+    _iq ws;                /* Q24 pu: frame (synchronous) speed over the period that just
+                              ended, (theta_k - theta_k-1) / (f_base Ts) */
     _iq wr;                /* Q24 pu: rotor electrical speed over the filter step's window
                               (the mean of the window's one-period speeds: with
                               decimation the QEP gives it directly, qep_speed.h) */
@@ -68,9 +79,10 @@ typedef struct {
     _iq i_tf, u_tf, wr_f;  /* Q24 pu: row 2 regressors */
     /* parameters */
     uint16_t decim_log2;   /* filter step every 2^decim_log2 samples (0..3) */
+    _iq k_half;            /* Q24: pi f_base Ts, the half step (rad) per pu of frame speed */
     /* state: the sums of the decimation window (Q24, |.| < 8 x 7 pu: each
      * input saturated to +-BW_FILTER_U_MAX, at most 8 samples) */
-    _iq s_im, s_it, s_um, s_ut, s_ws_it, s_ws_im;
+    _iq s_im, s_it, s_um, s_ut, s_ws_it, s_ws_im, s_ws;
     /* the seven identical filters (only f_im and f_it compute their
      * .dy output; the other five leave it at 0: bw_filter_update) */
     bw_filter_t f_im, f_it, f_um, f_ut, f_ws_it, f_ws_im, f_wr;
@@ -102,19 +114,24 @@ static inline _iq ident_in(_iq x)
  *  seventh, wr, is set as the window's mean before the filter step. */
 static inline void ident_regressor_accumulate(ident_regressor_t *r)
 {
-    /* Park rotation at the mid-period angle (method §7 point 1),
+    /* the frame speed within the filters' range: |ws i| <= 7 * 2.5 stays
+     * inside Q24 (a larger ws is an angle jump, not a speed) */
+    const _iq ws = ident_in(r->ws);
+    /* Park rotation at theta_k (the half-period turn back to the middle of
+     * the period follows per window, ident_regressor_filter);
      * Q24*Q24 -> Q24, |u| < 64 pu */
-    r->u_m = _IQmpy(r->u_alpha, r->cos_mid) + _IQmpy(r->u_beta, r->sin_mid);
-    r->u_t = _IQmpy(r->u_beta, r->cos_mid) - _IQmpy(r->u_alpha, r->sin_mid);
+    r->u_m = _IQmpy(r->u_alpha, r->cos_k) + _IQmpy(r->u_beta, r->sin_k);
+    r->u_t = _IQmpy(r->u_beta, r->cos_k) - _IQmpy(r->u_alpha, r->sin_k);
 
     r->s_im += ident_in(r->i_m);
     r->s_it += ident_in(r->i_t);
     r->s_um += ident_in(r->u_m);
     r->s_ut += ident_in(r->u_t);
+    r->s_ws += ws;
     /* the products are filtered as single signals (method §7 point 2):
      * each formed per sample, then averaged (Q24*Q24 -> Q24) */
-    r->s_ws_it += ident_in(_IQmpy(r->ws, r->i_t));
-    r->s_ws_im += ident_in(_IQmpy(r->ws, r->i_m));
+    r->s_ws_it += ident_in(_IQmpy(ws, r->i_t));
+    r->s_ws_im += ident_in(_IQmpy(ws, r->i_m));
 }
 
 /** Every 2^decim_log2 samples, after that many accumulate calls: the

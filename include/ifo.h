@@ -126,16 +126,11 @@ void ifo_step(ifo_t *f);
  *  taken along the shorter arc (correct across the 1 -> 0 wrap), in [0, 1). */
 _iq ifo_theta_mid(const ifo_t *f);
 
-/* Wrap a Q24 angle that is within one revolution of [0, 1) back into it.
- * Adding or subtracting exactly 1.0 is exact in Q24 and in float. */
+/* Wrap a Q24 angle that is within one revolution of [0, 1) back into it
+ * (angle.h: by a mask in IQ_MATH, exact in both builds). */
 static inline _iq ifo_wrap(_iq th)
 {
-    if (th >= _IQ(1.0)) {
-        th -= _IQ(1.0);
-    } else if (th < _IQ(0.0)) {
-        th += _IQ(1.0);
-    }
-    return th;
+    return angle_wrap_unit(th);
 }
 
 /**

@@ -157,7 +157,7 @@ static inline void pi_step(pi_ctrl_t *p)
     v = up + ui + p->ff;   /* |.| <= 64 + 16 + 16 = 96 */
     p->out = _IQsat(v, p->out_max, p->out_min);
     /* at or beyond a limit: the integrator is then held in that direction */
-    p->sat = (v >= p->out_max || v <= p->out_min) ? 1u : 0u;
+    p->sat = (uint16_t)((v >= p->out_max) | (v <= p->out_min));   /* no branch */
 }
 
 #endif /* PI_CTRL_H */

@@ -52,6 +52,19 @@ int16_t protect_init(protect_t *p, _iq i_trip, _iq vdc_max, _iq vdc_min);
  * (protect_clear). */
 static inline fault_code_t protect_check(const protect_t *p, uint16_t strict)
 {
+    /* the healthy case first, without a branch per condition: every test
+     * as a 0/1 value, OR-ed; only a sample with a cause goes on to find
+     * which, in priority order */
+    const uint16_t uv = (uint16_t)((p->pwm_on | strict) != 0u) & (uint16_t)(p->vdc < p->vdc_min);
+    const uint16_t any = (uint16_t)(p->hw_trip | p->adc_rail | p->encoder_fault |
+                                    p->current_fault) |
+                         (uint16_t)(_IQabs(p->ia) > p->i_trip) |
+                         (uint16_t)(_IQabs(p->ib) > p->i_trip) |
+                         (uint16_t)(_IQabs(p->ic) > p->i_trip) |
+                         (uint16_t)(p->vdc > p->vdc_max) | uv;
+    if (any == 0u) {
+        return FAULT_NONE;
+    }
     if (p->hw_trip != 0u) {
         return FAULT_HW_TRIP;
     }

@@ -83,7 +83,8 @@ OTHER_COST = {
     "call": 16,    # call of a non-inline function: LCR 4 + LRETR 4 + argument moves 2 +
                    # the callee's frame and register saves 6
     "field": 1,    # a struct member beyond the 3-bit *+XARn[0..7] offset: one more
-                   # instruction for the address (every -> and . counted: errs high)
+                   # instruction for the address, per access path (d->cur.ia is one
+                   # static offset from d; every path counted, small offsets too: errs high)
 }
 # fixed per ISR: PIE vector fetch and CPU interrupt latency with the automatic
 # context save (14 cycles, SPRU430), the compiler's interrupt prologue and
@@ -219,7 +220,10 @@ def count_line(code, inline_funcs):
                 continue
             c["op64" if wide else "op32"] += 1
         elif t in ("->", "."):
-            c["field"] += 1
+            # one address computation per access path: d->cur.ia is one
+            # static offset from d (count the first member operator of a chain)
+            if toks[i - 2 if i > 1 else 0] not in ("->", ".") or i < 2:
+                c["field"] += 1
         elif re.match(r"[A-Za-z_]\w*$", t) and nxt == "(":
             if t in KEYWORDS or t.startswith("_IQ") or t.startswith("iqm_") or \
                     t in inline_funcs or t in TYPES or t.endswith("_t"):
@@ -530,6 +534,7 @@ def main(argv=None):
                                                        "the worst ISR")
     ap.add_argument("--hot-state", default=None,
                     help="with --hot: of this state's worst ISR instead (e.g. CALIBRATE)")
+    ap.add_argument("--slots", action="store_true", help="also list the worst ISR of every slot")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
     ap.add_argument("--json", action="store_true",
                     help='print {"total_cycles", "budget_cycles", "worst_isr_cycles", '
@@ -573,6 +578,13 @@ def main(argv=None):
             print(f"  {state:<11} {v['isrs']:>7} {v['mean']:>7.0f} {v['worst']:>7.0f}  "
                   f"slot {v['worst_slot']}: {mods}")
         s = sums[name]
+        if a.slots:
+            print("  worst ISR per slot (state: slot 0, 1, ...):")
+            for state in STATES:
+                if state in r["states"]:
+                    cl = r["states"][state]["classes"]
+                    print(f"    {state:<11} " + " ".join(f"{cl[k]['worst']:6.0f}"
+                                                         for k in sorted(cl)))
         print(f"  worst single ISR {s['worst_isr_cycles']} cycles = "
               f"{100 * s['worst_isr_cycles'] / BUDGET:.1f} % of {BUDGET}; goal {GOAL}: "
               f"{'met' if s['worst_isr_cycles'] <= GOAL else 'NOT met'}")

@@ -36,6 +36,7 @@
  * Float only in drive_adapt_init.
  */
 #include "drive_adapt.h"
+#include "drive_internal.h"
 
 #include "angle.h"
 
@@ -345,7 +346,7 @@ static void track(drive_t *d)
              * observer's flux angle and magnitude (in magnetising-current
              * pu, psi / Lm; Lm >= 1/16 pu, |psi| < 8: the quotient < 128) */
             ifo_align(&d->ifo, d->fobs.theta, _IQdiv(d->fobs.psi_mag, d->fobs.lm));
-            d->run_ifo = 1u;
+            drive_set_run_ifo(d, 1u);
         }
         d->telemetry.Tr_track = tr;
         d->telemetry.Rr_track = _IQmpy(a->lr, t->theta);   /* Rr = Lr / Tr; < 128 */
@@ -381,7 +382,7 @@ void drive_adapt_slow(drive_t *d)
         if (st != (uint16_t)ID_RUN) {
             a->track_armed = 0u;
             d->telemetry.track_valid = 0u;
-            d->run_ifo = 0u;
+            drive_set_run_ifo(d, 0u);
         }
         a->prev_state = st;
     }

@@ -259,6 +259,7 @@ int16_t drive_init(drive_t *d, const drive_config_t *c)
     }
     d->k.three_half_step = _IQ(1.5f * d->base.f_base_Hz * Ts);
     d->k.orientation = c->control.orientation;
+    drive_set_run_ifo(d, 0u);   /* the control frame: ifo's in mode 0, the observer's in 1 */
     if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
         if (flux_obs_init(&d->fobs, &d->base, m->Rs_ohm, m->Ls_H, m->Lr_H, m->Lm_H, Tr,
                           FOBS_WC_HZ, FOBS_WS_LPF_HZ) != FLUX_OBS_OK) {
@@ -312,7 +313,8 @@ int16_t drive_init(drive_t *d, const drive_config_t *c)
      * value is the magnetising step, 0.073 pu (paper motor; 1.1 kW 0.035);
      * a phase-b sensor lost at the zero-current level trips in 8-10 samples,
      * before the true current reaches the trip level. */
-    if (current_check_init(&d->cur_chk, Ts, 0.002f, 0.15f) != CURRENT_CHECK_OK) {
+    if (current_check_init(&d->cur_chk, Ts * (float)DRIVE_SLOTS, 0.002f, 0.15f) !=
+            CURRENT_CHECK_OK) {
         return DRIVE_CFG_PROTECTION;
     }
     isr_monitor_init(&d->ovr);

@@ -9,6 +9,11 @@
  *  configured regressor form and forgetting.  Returns the rls_init status. */
 rls_status_t drive_rls_start(drive_t *d);
 
+/** Hand the control frame to ifo (@p on = 1) or back to the observer; the
+ *  ISR's frame flag follows it from the next ISR on (drive_step.c decides
+ *  the frame once per ISR). */
+static inline void drive_set_run_ifo(drive_t *d, uint16_t on);
+
 /** The slow task of @p slot (drive_slot_t), one per ISR (drive_slow.c). */
 void drive_slow_task(drive_t *d, uint16_t slot);
 
@@ -21,12 +26,18 @@ static inline uint16_t drive_ifo_frame(const drive_t *d)
     return (uint16_t)(d->k.orientation != DRIVE_ORIENT_FLUX_OBS || d->run_ifo != 0u);
 }
 
+static inline void drive_set_run_ifo(drive_t *d, uint16_t on)
+{
+    d->run_ifo = on;
+    d->frame_ifo = drive_ifo_frame(d);
+}
+
 /** The frame speed for decoupling and the modulation angle (pu): ifo's w_s,
  *  or the observer's low-passed ws_f (ws carries the current noise through
  *  sigma Ls i), or the rotor speed while the frame is held on the encoder. */
 static inline _iq drive_frame_speed(const drive_t *d)
 {
-    if (drive_ifo_frame(d) != 0u) {
+    if (d->frame_ifo != 0u) {
         return d->ifo.ws;
     }
     return (d->fobs_hold != 0u) ? d->qep.speed_raw : d->fobs.ws_f;

@@ -92,8 +92,28 @@ static void telemetry(drive_t *d)
     t->theta_rejects = d->guard.reject_count;
 }
 
+/* Current feedback check: the M-T currents against the references the
+ * current loops followed in the last period (current_check.h; its 2 ms
+ * filter needs no more than this slot's rate).  A trip latches the fault,
+ * and the bridge is off in this same ISR (the fast path decides after the
+ * slow task). */
+static void check_current(drive_t *d)
+{
+    d->cur_chk.i_m_ref = d->pi_id.ref;
+    d->cur_chk.i_m = d->park.ds;
+    d->cur_chk.i_t_ref = d->pi_iq.ref;
+    d->cur_chk.i_t = d->park.qs;
+    d->cur_chk.active = d->on_next;   /* re-armed (filter zeroed) while the bridge is off */
+    current_check_step(&d->cur_chk);
+    d->prot.current_fault = d->cur_chk.fault;
+    if (d->cur_chk.fault != 0u) {
+        protect_latch(&d->prot, FAULT_CURRENT_SENSOR);
+    }
+}
+
 static void task_speed(drive_t *d)
 {
+    check_current(d);
     /* the encoder's speeds right before the speed loop uses them (every
      * sample of delay in its feedback costs phase at a reversal) */
     qep_speed_update(&d->qep);

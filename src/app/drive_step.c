@@ -206,7 +206,10 @@ static inline void transform_currents(drive_t *d)
 }
 
 /* The regression's inputs of this period (method §2, §7 points 1-2), into
- * the window sums the FILTERS slot averages. */
+ * the window sums the FILTERS slot averages: the voltage of the period
+ * that just ended in the frame of theta_k (the Park's sin/cos; the filter
+ * step turns the window back to the periods' middle, ident_regressor.h),
+ * the frame's actual speed over that period. */
 static inline void identify_accumulate(drive_t *d)
 {
     ident_regressor_t *r = &d->reg;
@@ -215,21 +218,8 @@ static inline void identify_accumulate(drive_t *d)
     r->i_t = d->park.qs;
     r->u_alpha = d->volt.valpha;
     r->u_beta = d->volt.vbeta;
-    /* the frame angle at the middle of the period in which u was applied,
-     * theta_k - (theta_k - theta_k-1)/2, from the Park's sin/cos of theta_k
-     * by the small-angle step (angle.h; |step| < 0.5 rev: Q24 product in
-     * range), and the frame's actual speed over that period.  While the
-     * observer's frame is held on the encoder (magnetisation) the voltage
-     * is taken in the Park's frame itself (the standstill Rs needs it; the
-     * RLS is off). */
-    if (d->frame_ifo == 0u && d->fobs_hold != 0u) {
-        r->sin_mid = d->park.sine;
-        r->cos_mid = d->park.cosine;
-    } else {
-        angle_sincos_step(d->park.sine, d->park.cosine, d->theta_k,
-                          -_IQmpy(angle_diff_pu(d->theta_k, d->theta_prev), _IQ(0.5)),
-                          &r->sin_mid, &r->cos_mid);
-    }
+    r->sin_k = d->park.sine;
+    r->cos_k = d->park.cosine;
     r->ws = d->ws_k;
     ident_regressor_accumulate(r);
 }
@@ -255,23 +245,6 @@ static inline void control(drive_t *d)
     d->pi_iq.ff = _IQmpy(ws, _IQmpy(d->k.sigma_ls, d->park.ds) + emf_flux);
     pi_step(&d->pi_id);
     pi_step(&d->pi_iq);
-}
-
-/* Current feedback check, after the references of this sample are set.
- * Returns 1 if it tripped (the caller turns the outputs off in this ISR). */
-static inline uint16_t check_current(drive_t *d)
-{
-    d->cur_chk.i_m_ref = d->pi_id.ref;
-    d->cur_chk.i_m = d->park.ds;
-    d->cur_chk.i_t_ref = d->pi_iq.ref;
-    d->cur_chk.i_t = d->park.qs;
-    d->cur_chk.active = 1u;
-    current_check_step(&d->cur_chk);
-    d->prot.current_fault = d->cur_chk.fault;
-    if (d->cur_chk.fault != 0u) {
-        protect_latch(&d->prot, FAULT_CURRENT_SENSOR);
-    }
-    return (uint16_t)(d->prot.fault != FAULT_NONE);
 }
 
 static inline void orient(drive_t *d)
@@ -327,8 +300,6 @@ void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
         return;
     }
     d->slot = (uint16_t)((slot + 1u) & (DRIVE_SLOTS - 1u));
-    /* the control frame of this ISR, decided once (drive_internal.h) */
-    d->frame_ifo = drive_ifo_frame(d);
 
     sense(d, adc, qep_count);
     protect(d);
@@ -347,14 +318,6 @@ void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
     pwm_on = (uint16_t)(d->seq.pwm_on != 0u && d->prot.fault == FAULT_NONE);
     if (pwm_on != 0u) {
         control(d);
-        if (check_current(d) != 0u) {
-            pwm_on = 0u;
-        }
-    } else {
-        d->cur_chk.active = 0u;
-        current_check_step(&d->cur_chk);   /* re-arms its filter */
-    }
-    if (pwm_on != 0u) {
         orient(d);
         modulate(d, out);
     } else {

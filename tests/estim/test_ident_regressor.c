@@ -46,11 +46,11 @@ static void test_rotation(void **state)
         double um, ut;
         r.u_alpha = d_to_iq(ua);
         r.u_beta = d_to_iq(ub);
-        r.sin_mid = d_to_iq(sin(th));
-        r.cos_mid = d_to_iq(cos(th));
+        r.sin_k = d_to_iq(sin(th));
+        r.cos_k = d_to_iq(cos(th));
         ident_regressor_step(&r);
-        um = iq_to_d(r.u_alpha) * iq_to_d(r.cos_mid) + iq_to_d(r.u_beta) * iq_to_d(r.sin_mid);
-        ut = -iq_to_d(r.u_alpha) * iq_to_d(r.sin_mid) + iq_to_d(r.u_beta) * iq_to_d(r.cos_mid);
+        um = iq_to_d(r.u_alpha) * iq_to_d(r.cos_k) + iq_to_d(r.u_beta) * iq_to_d(r.sin_k);
+        ut = -iq_to_d(r.u_alpha) * iq_to_d(r.sin_k) + iq_to_d(r.u_beta) * iq_to_d(r.cos_k);
         if (fabs(iq_to_d(r.u_m) - um) > emax) { emax = fabs(iq_to_d(r.u_m) - um); }
         if (fabs(iq_to_d(r.u_t) - ut) > emax) { emax = fabs(iq_to_d(r.u_t) - ut); }
         /* and against the unquantised vector rotated by the exact angle */
@@ -100,15 +100,19 @@ static void regression_identity(uint16_t decim_log2)
         double mid, c, sn;
         md_sample(&m, k, &s);
         mid = theta + 0.5 * s.ws * MD_W_BASE * MD_TS_S;    /* angle at mid-period */
-        theta += s.ws * MD_W_BASE * MD_TS_S;
+        theta += s.ws * MD_W_BASE * MD_TS_S;               /* at the sample, the period's end */
         c = cos(mid);
         sn = sin(mid);
         r.i_m = d_to_iq(s.i_m);
         r.i_t = d_to_iq(s.i_t);
+        /* the voltage of the period, in the stationary frame (its M-T
+         * value belongs to the middle of the period) */
         r.u_alpha = d_to_iq(s.u_m * c - s.u_t * sn);
         r.u_beta = d_to_iq(s.u_m * sn + s.u_t * c);
-        r.sin_mid = d_to_iq(sn);
-        r.cos_mid = d_to_iq(c);
+        /* the module gets the frame angle at the sample and the speed
+         * over the period: it must find the middle itself */
+        r.sin_k = d_to_iq(sin(theta));
+        r.cos_k = d_to_iq(cos(theta));
         r.ws = d_to_iq(s.ws);
         ident_regressor_accumulate(&r);
         /* the window means of ws, i_M (for the lone filters) and wr (the
@@ -178,7 +182,7 @@ static void test_saturation(void **state)
     r.ws = _IQ(4.0);
     r.i_t = _IQ(3.0);
     r.i_m = _IQ(-3.0);
-    r.cos_mid = _IQ(1.0);
+    r.cos_k = _IQ(1.0);
     for (int k = 0; k < 20000; k++) {
         ident_regressor_step(&r);
     }
