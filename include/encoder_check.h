@@ -72,36 +72,53 @@ encoder_check_status_t encoder_check_init(encoder_check_t *e, float Ts_s, float 
                                           float i_t_min_pu, float speed_max_pu,
                                           float f_base_Hz, uint16_t encoder_lines,
                                           uint16_t pole_pairs);
-/** One sample (see the file comment for scaling). */
-static inline void encoder_check_step(encoder_check_t *e)
+/** The jump test alone, every sample, on the sample's count difference
+ *  @p d1 (counts, already taken modulo 2^16 and signed: qep_speed.h d1):
+ *  one compare.  Counted in fault/cause as encoder_check_step's. */
+static inline void encoder_check_jump(encoder_check_t *e, int32_t d1)
 {
-    int32_t d = (int32_t)(uint16_t)(e->count - e->prev_count);   /* [0, 65535] */
-    int32_t ad;
-    if (d >= 32768) {
-        d -= 65536;                                               /* signed, wrap-safe */
-    }
-    ad = (d < 0) ? -d : d;
-    e->prev_count = e->count;
-    if (e->active == 0u) {
-        e->frozen = 0u;
-        return;
-    }
-    if (ad > e->jump_max) {
+    if (e->active != 0u && ((d1 < 0) ? -d1 : d1) > e->jump_max) {
         e->fault = 1u;
         e->cause |= ENCODER_CHECK_JUMP;
     }
-    if (ad == 0 && _IQabs(e->i_t) > e->i_t_min) {
-        if (e->frozen < e->frozen_max) {
-            e->frozen++;
-        }
-        if (e->frozen >= e->frozen_max) {
-            e->fault = 1u;
-            e->cause |= ENCODER_CHECK_FROZEN;
-        }
-    } else {
+}
+
+/** The frozen test alone, at whatever rate it is called (frozen_max
+ *  counts calls: encoder_check_set_rate): the count unchanged since the
+ *  last call while |i_T| > i_t_min. */
+static inline void encoder_check_frozen(encoder_check_t *e)
+{
+    const uint16_t moved = (uint16_t)(e->count != e->prev_count);
+    e->prev_count = e->count;
+    if (e->active == 0u || moved != 0u || !(_IQabs(e->i_t) > e->i_t_min)) {
         e->frozen = 0u;
+        return;
+    }
+    if (e->frozen < e->frozen_max) {
+        e->frozen++;
+    }
+    if (e->frozen >= e->frozen_max) {
+        e->fault = 1u;
+        e->cause |= ENCODER_CHECK_FROZEN;
     }
 }
+
+/** One sample: both tests (see the file comment for scaling). */
+static inline void encoder_check_step(encoder_check_t *e)
+{
+    int32_t d = (int32_t)(uint16_t)(e->count - e->prev_count);   /* [0, 65535] */
+    if (d >= 32768) {
+        d -= 65536;                                               /* signed, wrap-safe */
+    }
+    encoder_check_jump(e, d);
+    encoder_check_frozen(e);
+}
+
+/** The frozen test every @p calls_per_step samples (the jump test stays
+ *  per sample): frozen_max divided accordingly (rounded, at least 1).
+ *  Returns 0, or 1 (nothing changed) for calls_per_step 0. */
+int16_t encoder_check_set_rate(encoder_check_t *e, uint16_t calls_per_step);
+
 /** Clear the fault and restart from the present count. */
 void encoder_check_reset(encoder_check_t *e);
 

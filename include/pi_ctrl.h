@@ -132,26 +132,22 @@ static inline void pi_step(pi_ctrl_t *p)
      * |.| <= 16 + 64 + 16 = 96 */
     const _iq ui_hi = p->out_max - up - p->ff;
     const _iq ui_lo = p->out_min - up - p->ff;
-    _iq ui = p->ui + di;   /* |.| <= 16 + 64 = 80 */
     _iq v;
 
     /* Clamping anti-windup: an upward increment may take the integrator at
      * most to the point where the output reaches out_max, and never below
      * where it already was (it does not unwind because the proportional
-     * term alone saturates); symmetrically downward.  An increment that
-     * points away from the saturated limit is always taken, so the output
-     * leaves the limit as soon as kp e + ui + ff allows. */
-    if (di > _IQ(0.0)) {
-        if (ui > ui_hi) {
-            ui = (ui_hi > p->ui) ? ui_hi : p->ui;
-        }
-    } else if (di < _IQ(0.0)) {
-        if (ui < ui_lo) {
-            ui = (ui_lo < p->ui) ? ui_lo : p->ui;
-        }
-    }
-    /* The integrator itself stays inside the output range. */
-    ui = _IQsat(ui, p->out_max, p->out_min);
+     * term alone saturates); symmetrically downward; and the integrator
+     * stays inside the output range.  As limits of ui + di:
+     *   upper = min(max(ui_hi, ui), out_max),  lower = max(min(ui_lo, ui), out_min)
+     * (an upward step can only meet the upper one, a downward step the
+     * lower one: lower <= ui <= upper, since ui is inside the output range)
+     * - three saturations, no branch.  An increment that points away from
+     * the saturated limit is always taken, so the output leaves the limit
+     * as soon as kp e + ui + ff allows. */
+    const _iq upper = _IQsat(ui_hi, p->out_max, p->ui);
+    const _iq lower = _IQsat(ui_lo, p->ui, p->out_min);
+    const _iq ui = _IQsat(p->ui + di, upper, lower);   /* |ui + di| <= 16 + 64 = 80 */
     p->ui = ui;
 
     v = up + ui + p->ff;   /* |.| <= 64 + 16 + 16 = 96 */

@@ -86,6 +86,7 @@ typedef struct {
                                   instance gives as speed_raw */
     _iq speed;                 /* Q24, electrical speed, pu of w_base (filtered) */
     int16_t dir;               /* +1 counting up, -1 down, 0 no count in the window */
+    int32_t d1;                /* count difference of the last sample (qep_angle_step) */
     /* multi-rate (qep_speed_set_decim): the angle every sample, the speeds
      * every decim samples */
     uint16_t decim;            /* samples per speed update, power of two <= window (1) */
@@ -164,7 +165,8 @@ static inline int32_t qep_wrap(int32_t p, int32_t n)
  * accumulator modulo cpr; Q30 * count -> Q24).  Scaling: as qep_speed_step. */
 static inline void qep_angle_step(qep_speed_t *q)
 {
-    int32_t d1 = qep_diff(q->count, q->prev_count);   /* this sample, counts */
+    const int32_t d1 = qep_diff(q->count, q->prev_count);   /* this sample, counts */
+    q->d1 = d1;
     q->prev_count = q->count;
     /* |pole_pairs * d1| <= 64 * 32768 = 2^21 */
     q->pos_elec = qep_wrap(q->pos_elec + q->pole_pairs * d1, q->cpr);

@@ -305,7 +305,8 @@ int16_t drive_init(drive_t *d, const drive_config_t *c)
     if (encoder_check_init(&d->enc_chk, Ts, 0.05f,
                            0.3f * c->control.max_torque_current_A / d->base.I_base_A, 4.0f,
                            d->base.f_base_Hz, c->board.encoder_lines,
-                           m->pole_pairs) != ENCODER_CHECK_OK) {
+                           m->pole_pairs) != ENCODER_CHECK_OK ||
+        encoder_check_set_rate(&d->enc_chk, DRIVE_SLOTS) != 0) {
         return DRIVE_CFG_PROTECTION;
     }
     /* current feedback (current_check.h): tau 2 ms, trip at 0.15 pu of

@@ -114,6 +114,10 @@ static void check_current(drive_t *d)
 static void task_speed(drive_t *d)
 {
     check_current(d);
+    /* the encoder's frozen test: no count in 50 ms against torque current */
+    d->enc_chk.count = d->qep.count;
+    d->enc_chk.i_t = d->park.qs;
+    encoder_check_frozen(&d->enc_chk);
     /* the encoder's speeds right before the speed loop uses them (every
      * sample of delay in its feedback costs phase at a reversal) */
     qep_speed_update(&d->qep);

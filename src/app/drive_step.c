@@ -98,12 +98,10 @@ static inline void protect(drive_t *d)
     d->prot.vdc = d->bus.vdc;
     d->prot.pwm_on = d->on_next;
     d->prot.adc_rail = (uint16_t)((d->cur.rail != 0u || d->bus.rail != 0u) ? 1u : 0u);
-    /* encoder plausibility on this sample's count and the last i_T (the
-     * frozen test needs 50 ms anyway; the jump test uses the count only) */
-    d->enc_chk.count = d->qep.count;
-    d->enc_chk.i_t = d->park.qs;
+    /* encoder plausibility: the jump test on this sample's count step (the
+     * frozen test, 50 ms, in the SPEED slot) */
     d->enc_chk.active = d->on_next;
-    encoder_check_step(&d->enc_chk);
+    encoder_check_jump(&d->enc_chk, d->qep.d1);
     d->prot.encoder_fault = d->enc_chk.fault;
     protect_step(&d->prot);
 }

@@ -40,3 +40,15 @@ void encoder_check_reset(encoder_check_t *e)
     e->frozen = 0u;
     e->prev_count = e->count;
 }
+
+int16_t encoder_check_set_rate(encoder_check_t *e, uint16_t calls_per_step)
+{
+    uint16_t n;
+    if (calls_per_step == 0u) {
+        return 1;
+    }
+    n = (uint16_t)((e->frozen_max + calls_per_step / 2u) / calls_per_step);
+    e->frozen_max = (n == 0u) ? 1u : n;
+    e->frozen = 0u;
+    return 0;
+}
