@@ -30,8 +30,9 @@
 #define DRIVE_LIMIT_HI_OPEN 2u
 
 /** The derived limits (drive_limit_t.where of a DRIVE_LIMIT_DERIVED entry),
- *  in the order drive_init meets them (drive_limits.c: how each is checked).  What each is, in words, and which
- *  keys make it: host_sim/sim/sim_limits.c (text stays off the target). */
+ *  in the order drive_init meets them (drive_limits.c: how each is checked).
+ *  What each is, in words, and which keys make it: host_sim/sim/sim_limits.c
+ *  (the text stays off the target). */
 typedef enum {
     DRIVE_LD_LLS = 0, DRIVE_LD_LLR, DRIVE_LD_IM_RATED,
     DRIVE_LD_T1PR,

@@ -31,13 +31,13 @@
 #define FIELD_F(key, member, unit, st, lo, hi)                                                   \
     { key, unit, ST(st), DRIVE_LIMIT_F32, (uint16_t)offsetof(drive_config_t, member), 0u,   \
       lo, hi }
-#define FIELD_U(key, member, st, lo, hi)                                                         \
-    { key, "-", ST(st), DRIVE_LIMIT_U16, (uint16_t)offsetof(drive_config_t, member), 0u,    \
+#define FIELD_U(key, member, unit, st, lo, hi)                                                   \
+    { key, unit, ST(st), DRIVE_LIMIT_U16, (uint16_t)offsetof(drive_config_t, member), 0u,    \
       lo, hi }
 #define DERIVED(key, unit, st, which) \
     { key, unit, ST(st), DRIVE_LIMIT_DERIVED, which, 0u, 1.0f, 0.0f }
-#define DERIVED_RANGE(key, unit, st, which, lo, hi) \
-    { key, unit, ST(st), DRIVE_LIMIT_DERIVED, which, 0u, lo, hi }
+#define DERIVED_RANGE(key, unit, st, which, open, lo, hi) \
+    { key, unit, ST(st), DRIVE_LIMIT_DERIVED, which, open, lo, hi }
 
 static const drive_limit_t k_limits[] = {
     /* every field: the bases first (the derived limits below need them) */
@@ -48,7 +48,7 @@ static const drive_limit_t k_limits[] = {
     FIELD_F("board.vdc_nominal_V", board.vdc_nominal_V, "V", DRIVE_CFG_BASES, 1.0f, 2000.0f),
     FIELD_F("nameplate.rated_freq_Hz", motor.rated_freq_Hz, "Hz", DRIVE_CFG_BASES, 1.0f,
             1000.0f),
-    FIELD_U("nameplate.pole_pairs", motor.pole_pairs, DRIVE_CFG_BASES, 1.0f, 32.0f),
+    FIELD_U("nameplate.pole_pairs", motor.pole_pairs, "-", DRIVE_CFG_BASES, 1.0f, 32.0f),
     FIELD_F("nameplate.Rs_ohm", motor.Rs_ohm, "ohm", DRIVE_CFG_MOTOR, 1.0e-4f, 100.0f),
     FIELD_F("nameplate.Rr_ohm", motor.Rr_ohm, "ohm", DRIVE_CFG_MOTOR, 1.0e-4f, 100.0f),
     FIELD_F("nameplate.Lm_H", motor.Lm_H, "H", DRIVE_CFG_MOTOR, 1.0e-5f, 10.0f),
@@ -60,7 +60,7 @@ static const drive_limit_t k_limits[] = {
             DRIVE_CFG_MOTOR, 0.01f, 5000.0f),
     FIELD_F("board.vdc_full_scale_V", board.vdc_adc_full_scale_V, "V at 3.0 V", DRIVE_CFG_SENSORS,
             1.0f, 5000.0f),
-    FIELD_U("board.encoder_lines", board.encoder_lines, DRIVE_CFG_SENSORS, 16.0f,
+    FIELD_U("board.encoder_lines", board.encoder_lines, "lines", DRIVE_CFG_SENSORS, 16.0f,
             (float)QEP_SPEED_LINES_MAX),
     FIELD_F("controller.speed_filter_Hz", control.speed_filter_Hz, "Hz", DRIVE_CFG_SENSORS, 1.0f,
             5000.0f),
@@ -74,21 +74,22 @@ static const drive_limit_t k_limits[] = {
             DRIVE_CFG_SPEED_LOOP, 0.01f, 5000.0f),
     FIELD_F("controller.speed_ramp_rpm_s", control.speed_ramp_rpm_s, "r/min/s",
             DRIVE_CFG_SPEED_LOOP, 1.0f, 1.0e6f),
-    FIELD_U("controller.orientation", control.orientation, DRIVE_CFG_ORIENTATION, 0.0f, 1.0f),
+    FIELD_U("controller.orientation", control.orientation, "0 IFO, 1 observer",
+            DRIVE_CFG_ORIENTATION, 0.0f, 1.0f),
     FIELD_F("board.dead_time_s", board.dead_time_s, "s", DRIVE_CFG_VOLTAGE_MODEL, 0.0f, 1.0e-5f),
     FIELD_F("board.device_drop_V", board.device_drop_V, "V", DRIVE_CFG_VOLTAGE_MODEL, 0.0f, 5.0f),
-    FIELD_U("controller.dead_time_comp", board.dead_time_comp, DRIVE_CFG_VOLTAGE_MODEL, 0.0f,
-            1.0f),
+    FIELD_U("controller.dead_time_comp", board.dead_time_comp, "0/1", DRIVE_CFG_VOLTAGE_MODEL,
+            0.0f, 1.0f),
     FIELD_F("controller.dead_time_band_A", board.dead_time_band_A, "A", DRIVE_CFG_VOLTAGE_MODEL,
             1.0e-3f, 100.0f),
-    FIELD_U("ident.euler_passes", ident.euler_passes, DRIVE_CFG_IDENT, 1.0f,
+    FIELD_U("ident.euler_passes", ident.euler_passes, "-", DRIVE_CFG_IDENT, 1.0f,
             (float)BW_FILTER_N_MAX),
-    FIELD_U("ident.paper_regressor", ident.paper_regressor, DRIVE_CFG_IDENT, 0.0f, 1.0f),
+    FIELD_U("ident.paper_regressor", ident.paper_regressor, "0/1", DRIVE_CFG_IDENT, 0.0f, 1.0f),
     FIELD_F("ident.rls_p0", ident.rls_p0, "pu", DRIVE_CFG_IDENT, 1.0e-3f, 1.0e6f),
     FIELD_F("ident.forgetting", ident.forgetting, "-", DRIVE_CFG_IDENT, 0.9f, 1.0f),
-    FIELD_U("ident.passes", ident.passes, DRIVE_CFG_IDENT, 1.0f, (float)ID_PASSES_MAX),
-    FIELD_U("ident.standstill", ident.standstill, DRIVE_CFG_IDENT, 0.0f, 1.0f),
-    FIELD_U("ident.track_rr", ident.track_rr, DRIVE_CFG_IDENT, 0.0f, 1.0f),
+    FIELD_U("ident.passes", ident.passes, "-", DRIVE_CFG_IDENT, 1.0f, (float)ID_PASSES_MAX),
+    FIELD_U("ident.standstill", ident.standstill, "0/1", DRIVE_CFG_IDENT, 0.0f, 1.0f),
+    FIELD_U("ident.track_rr", ident.track_rr, "0/1", DRIVE_CFG_IDENT, 0.0f, 1.0f),
     FIELD_F("ident.track_memory_s", ident.track_memory_s, "s", DRIVE_CFG_IDENT, 0.2f, 20.0f),
     FIELD_F("ident.magnetize_s", ident.magnetize_time_s, "s", DRIVE_CFG_SEQUENCE, 0.001f, 100.0f),
     FIELD_F("ident.target_speed_rpm", ident.target_speed_rpm, "r/min (0: rated)",
@@ -100,27 +101,32 @@ static const drive_limit_t k_limits[] = {
     FIELD_F("controller.vdc_min_V", board.vdc_min_V, "V", DRIVE_CFG_PROTECTION, 1.0f, 5000.0f),
 
     /* derived, in drive_init's order (host_sim/sim/sim_limits.c says each in words) */
-    DERIVED_RANGE("nameplate.Lls_H", "H", DRIVE_CFG_MOTOR, DRIVE_LD_LLS, 1.0e-6f, 1.0f),
-    DERIVED_RANGE("nameplate.Llr_H", "H", DRIVE_CFG_MOTOR, DRIVE_LD_LLR, 1.0e-6f, 1.0f),
+    DERIVED_RANGE("nameplate.Lls_H", "H", DRIVE_CFG_MOTOR, DRIVE_LD_LLS, 0u, 1.0e-6f, 1.0f),
+    DERIVED_RANGE("nameplate.Llr_H", "H", DRIVE_CFG_MOTOR, DRIVE_LD_LLR, 0u, 1.0e-6f, 1.0f),
     DERIVED("controller.magnetizing_current_A", "A", DRIVE_CFG_MOTOR, DRIVE_LD_IM_RATED),
-    DERIVED_RANGE("T1PR", "counts", DRIVE_CFG_PWM, DRIVE_LD_T1PR, 100.0f, 65535.0f),
+    DERIVED_RANGE("T1PR", "counts", DRIVE_CFG_PWM, DRIVE_LD_T1PR, 0u, 100.0f, 65535.0f),
     DERIVED("board.vdc_full_scale_V", "V", DRIVE_CFG_SENSORS, DRIVE_LD_VDC_FS),
     DERIVED("board.encoder_lines", "lines", DRIVE_CFG_SENSORS, DRIVE_LD_QEP_RES),
     DERIVED("controller.speed_filter_Hz", "Hz", DRIVE_CFG_SENSORS, DRIVE_LD_SPEED_FILT),
     DERIVED("Ls", "H", DRIVE_CFG_CURRENT_LOOP, DRIVE_LD_LS_Q24),
     DERIVED("Lr", "H", DRIVE_CFG_CURRENT_LOOP, DRIVE_LD_LR_Q24),
     DERIVED("controller.current_bw_Hz", "Hz", DRIVE_CFG_CURRENT_LOOP, DRIVE_LD_WC_PU),
-    DERIVED_RANGE("current-loop Kp", "pu", DRIVE_CFG_CURRENT_LOOP, DRIVE_LD_CUR_KP, 0.0f, PI_KP_MAX),
-    DERIVED_RANGE("current-loop Ki", "pu", DRIVE_CFG_CURRENT_LOOP, DRIVE_LD_CUR_KI, 0.0f, PI_KI_MAX),
+    DERIVED_RANGE("current-loop Kp", "pu", DRIVE_CFG_CURRENT_LOOP, DRIVE_LD_CUR_KP,
+                  0u, 0.0f, PI_KP_MAX),
+    DERIVED_RANGE("current-loop Ki", "pu", DRIVE_CFG_CURRENT_LOOP, DRIVE_LD_CUR_KI,
+                  0u, 0.0f, PI_KI_MAX),
     DERIVED("controller.max_torque_current_A", "A", DRIVE_CFG_SPEED_LOOP, DRIVE_LD_IMAX),
-    DERIVED_RANGE("speed-loop Kp", "pu", DRIVE_CFG_SPEED_LOOP, DRIVE_LD_SPD_KP, 0.0f, PI_KP_MAX),
-    DERIVED_RANGE("speed-loop Ki", "pu", DRIVE_CFG_SPEED_LOOP, DRIVE_LD_SPD_KI, 0.0f, PI_KI_MAX),
+    DERIVED_RANGE("speed-loop Kp", "pu", DRIVE_CFG_SPEED_LOOP, DRIVE_LD_SPD_KP,
+                  0u, 0.0f, PI_KP_MAX),
+    DERIVED_RANGE("speed-loop Ki", "pu", DRIVE_CFG_SPEED_LOOP, DRIVE_LD_SPD_KI,
+                  0u, 0.0f, PI_KI_MAX),
     DERIVED("controller.speed_ramp_rpm_s", "r/min/s", DRIVE_CFG_SPEED_LOOP, DRIVE_LD_RAMP),
     DERIVED("controller.magnetizing_current_A", "A", DRIVE_CFG_ORIENTATION, DRIVE_LD_IMR),
     DERIVED("Tr", "s", DRIVE_CFG_ORIENTATION, DRIVE_LD_TR),
-    DERIVED_RANGE("board.pwm_freq_Hz / nameplate.rated_freq_Hz", "-", DRIVE_CFG_ORIENTATION, DRIVE_LD_FTS,
-                  128.0f, 2000.0f),
-    DERIVED_RANGE("slip bound", "pu", DRIVE_CFG_ORIENTATION, DRIVE_LD_SLIP, 1.0f / 32.0f, NO_UPPER),
+    DERIVED_RANGE("board.pwm_freq_Hz / nameplate.rated_freq_Hz", "-", DRIVE_CFG_ORIENTATION,
+                  DRIVE_LD_FTS, BOTH_OPEN, 128.0f, 2000.0f),
+    DERIVED_RANGE("slip bound", "pu", DRIVE_CFG_ORIENTATION, DRIVE_LD_SLIP,
+                  0u, 1.0f / 32.0f, NO_UPPER),
     DERIVED("nameplate.rated_freq_Hz", "Hz", DRIVE_CFG_ORIENTATION, DRIVE_LD_OBS_FBASE),
     DERIVED("board.pwm_freq_Hz", "Hz", DRIVE_CFG_ORIENTATION, DRIVE_LD_OBS_PWM),
     DERIVED("nameplate.Rs_ohm", "ohm", DRIVE_CFG_ORIENTATION, DRIVE_LD_OBS_RS),
@@ -131,19 +137,22 @@ static const drive_limit_t k_limits[] = {
     DERIVED("board.dead_time_s", "s", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_DEAD),
     DERIVED("board.device_drop_V", "V", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_DROP),
     DERIVED("controller.dead_time_band_A", "A", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_BAND),
-    DERIVED_RANGE("ident.filter_cutoff_Hz", "Hz", DRIVE_CFG_IDENT, DRIVE_LD_FILT, 0.5f, 500.0f),
+    DERIVED_RANGE("ident.filter_cutoff_Hz", "Hz", DRIVE_CFG_IDENT, DRIVE_LD_FILT, 0u, 0.5f, 500.0f),
     DERIVED("ident.filter_cutoff_Hz", "Hz", DRIVE_CFG_IDENT, DRIVE_LD_FILT_WB),
     DERIVED("ident.filter_cutoff_Hz", "Hz", DRIVE_CFG_IDENT, DRIVE_LD_FILT_STEP),
-    DERIVED_RANGE("nominal -K1", "pu", DRIVE_CFG_IDENT, DRIVE_LD_K1, 0.0f, RLS_THETA_MAX),
-    DERIVED_RANGE("nominal K2", "pu", DRIVE_CFG_IDENT, DRIVE_LD_K2, 0.0f, RLS_THETA_MAX),
-    DERIVED_RANGE("nominal K3", "pu", DRIVE_CFG_IDENT, DRIVE_LD_K3, 0.0f, RLS_THETA_MAX),
-    DERIVED_RANGE("nominal -K4", "pu", DRIVE_CFG_IDENT, DRIVE_LD_K4, 0.0f, RLS_THETA_MAX),
+    DERIVED_RANGE("nominal -K1", "pu", DRIVE_CFG_IDENT, DRIVE_LD_K1,
+                  BOTH_OPEN, 0.0f, RLS_THETA_MAX),
+    DERIVED_RANGE("nominal K2", "pu", DRIVE_CFG_IDENT, DRIVE_LD_K2, BOTH_OPEN, 0.0f, RLS_THETA_MAX),
+    DERIVED_RANGE("nominal K3", "pu", DRIVE_CFG_IDENT, DRIVE_LD_K3, BOTH_OPEN, 0.0f, RLS_THETA_MAX),
+    DERIVED_RANGE("nominal -K4", "pu", DRIVE_CFG_IDENT, DRIVE_LD_K4,
+                  BOTH_OPEN, 0.0f, RLS_THETA_MAX),
     DERIVED("nameplate.Rs_ohm", "ohm", DRIVE_CFG_IDENT, DRIVE_LD_PE_RS),
     DERIVED("nameplate.Rr_ohm", "ohm", DRIVE_CFG_IDENT, DRIVE_LD_PE_RR),
     DERIVED("nameplate.Lm_H", "H", DRIVE_CFG_IDENT, DRIVE_LD_PE_LM),
     DERIVED("Lr", "H", DRIVE_CFG_IDENT, DRIVE_LD_PE_LR),
     DERIVED("rated flux", "Wb", DRIVE_CFG_IDENT, DRIVE_LD_PE_PSI),
-    DERIVED_RANGE("controller.orientation", "-", DRIVE_CFG_IDENT, DRIVE_LD_FEATURES, 1.0f, 1.0f),
+    DERIVED_RANGE("controller.orientation", "-", DRIVE_CFG_IDENT, DRIVE_LD_FEATURES,
+                  0u, 1.0f, 1.0f),
     DERIVED("ident.standstill", "-", DRIVE_CFG_IDENT, DRIVE_LD_STANDSTILL),
     DERIVED("ident.track_rr", "-", DRIVE_CFG_IDENT, DRIVE_LD_TRACKER),
     DERIVED("ident.target_speed_rpm", "r/min", DRIVE_CFG_SEQUENCE, DRIVE_LD_TARGET),
@@ -229,7 +238,8 @@ static int16_t q24(float v, float base, drive_limit_fail_t *f)
     return (v / base < Q24_HEADROOM) ? 0 : report(f, v, 0.0f, Q24_HEADROOM * base, BOTH_OPEN);
 }
 
-static int16_t check_motor_and_scaling(const drive_limit_t *l, const limit_ctx_t *x, drive_limit_fail_t *f)
+static int16_t check_motor_and_scaling(const drive_limit_t *l, const limit_ctx_t *x,
+                                       drive_limit_fail_t *f)
 {
     uint16_t which = l->where;
     const drive_config_t *c = x->c;
@@ -281,7 +291,8 @@ static int16_t check_motor_and_scaling(const drive_limit_t *l, const limit_ctx_t
     }
 }
 
-static int16_t check_loops(const drive_limit_t *l, const limit_ctx_t *x, drive_limit_fail_t *f)
+static int16_t check_loops(const drive_limit_t *l, const limit_ctx_t *x,
+                           drive_limit_fail_t *f)
 {
     uint16_t which = l->where;
     const drive_config_t *c = x->c;
@@ -312,7 +323,8 @@ static int16_t check_loops(const drive_limit_t *l, const limit_ctx_t *x, drive_l
 }
 
 /* ifo_init / ifo_set_tr (and flux_obs_set_tr: the same bounds) */
-static int16_t check_orientation(const drive_limit_t *l, const limit_ctx_t *x, drive_limit_fail_t *f)
+static int16_t check_orientation(const drive_limit_t *l, const limit_ctx_t *x,
+                                 drive_limit_fail_t *f)
 {
     uint16_t which = l->where;
     const drive_config_t *c = x->c;
@@ -335,7 +347,7 @@ static int16_t check_orientation(const drive_limit_t *l, const limit_ctx_t *x, d
                                 IFO_TR_MAX_PU * b->t_base_s, 0u);
     case DRIVE_LD_FTS:
         return (fts < 1.0f / 128.0f && fts > 1.0f / 2000.0f)
-                   ? 0 : report(f, 1.0f / fts, 128.0f, 2000.0f, BOTH_OPEN);
+                   ? 0 : report(f, 1.0f / fts, l->lo, l->hi, l->open);
     case DRIVE_LD_SLIP:
         return (_IQmpy(_IQ(tr_pu), _IQ(imr)) >= _IQ(IFO_I_T_MAX / IFO_SLIP_MAX))
                    ? 0 : report(f, tr_pu * imr, IFO_I_T_MAX / IFO_SLIP_MAX, NO_UPPER, HI_OPEN);
@@ -345,7 +357,8 @@ static int16_t check_orientation(const drive_limit_t *l, const limit_ctx_t *x, d
 }
 
 /* flux_obs_init and flux_obs_set_inductances, for orientation 1 only */
-static int16_t check_observer(const drive_limit_t *l, const limit_ctx_t *x, drive_limit_fail_t *f)
+static int16_t check_observer(const drive_limit_t *l, const limit_ctx_t *x,
+                              drive_limit_fail_t *f)
 {
     uint16_t which = l->where;
     const drive_motor_t *m = &x->c->motor;
@@ -407,7 +420,8 @@ static int16_t check_observer(const drive_limit_t *l, const limit_ctx_t *x, driv
 }
 
 /* volt_calc_init */
-static int16_t check_voltage_model(const drive_limit_t *l, const limit_ctx_t *x, drive_limit_fail_t *f)
+static int16_t check_voltage_model(const drive_limit_t *l, const limit_ctx_t *x,
+                                   drive_limit_fail_t *f)
 {
     uint16_t which = l->where;
     const drive_board_t *bd = &x->c->board;
@@ -434,7 +448,8 @@ static int16_t check_voltage_model(const drive_limit_t *l, const limit_ctx_t *x,
 }
 
 /* bw_filter_init, theta_guard_init, param_extract_init */
-static int16_t check_estimator(const drive_limit_t *l, const limit_ctx_t *x, drive_limit_fail_t *f)
+static int16_t check_estimator(const drive_limit_t *l, const limit_ctx_t *x,
+                               drive_limit_fail_t *f)
 {
     uint16_t which = l->where;
     static const float k_sign[RLS_N] = {-1.0f, 1.0f, 1.0f, -1.0f};
@@ -442,7 +457,6 @@ static int16_t check_estimator(const drive_limit_t *l, const limit_ctx_t *x, dri
     const base_values_t *b = &x->b;
     float wc = c->ident.filter_wc_rad_s;
     float k[RLS_N];
-    float v;
     param_limits_t lim;
 
     switch (which) {
@@ -462,8 +476,7 @@ static int16_t check_estimator(const drive_limit_t *l, const limit_ctx_t *x, dri
     case DRIVE_LD_K4:
         /* theta_guard_init: each K with the model's sign in (0, RLS_THETA_MAX) */
         drive_design_k_nominal(k, c, b);
-        v = k_sign[which - DRIVE_LD_K1] * k[which - DRIVE_LD_K1];
-        return (v > 0.0f && v < RLS_THETA_MAX) ? 0 : report(f, v, 0.0f, RLS_THETA_MAX, BOTH_OPEN);
+        return own_range(l, k_sign[which - DRIVE_LD_K1] * k[which - DRIVE_LD_K1], f);
     default:
         break;
     }
@@ -498,7 +511,8 @@ static int16_t check_estimator(const drive_limit_t *l, const limit_ctx_t *x, dri
 
 /* drive_adapt_init: the features need the observer; the standstill test and
  * the tracker on scratch instances, set up exactly as drive_adapt_init does */
-static int16_t check_adaptation(const drive_limit_t *l, const limit_ctx_t *x, drive_limit_fail_t *f)
+static int16_t check_adaptation(const drive_limit_t *l, const limit_ctx_t *x,
+                                drive_limit_fail_t *f)
 {
     uint16_t which = l->where;
     const drive_config_t *c = x->c;
@@ -566,7 +580,8 @@ static int16_t check_adaptation(const drive_limit_t *l, const limit_ctx_t *x, dr
     return 0;
 }
 
-static int16_t check_sequence_and_protection(const drive_limit_t *l, const limit_ctx_t *x, drive_limit_fail_t *f)
+static int16_t check_sequence_and_protection(const drive_limit_t *l, const limit_ctx_t *x,
+                                             drive_limit_fail_t *f)
 {
     uint16_t which = l->where;
     const drive_config_t *c = x->c;
@@ -620,7 +635,8 @@ static int16_t check_sequence_and_protection(const drive_limit_t *l, const limit
 }
 
 /* 1 if derived limit @p l fails (f filled); every field is in range here. */
-static int16_t check_derived(const drive_limit_t *l, const limit_ctx_t *x, drive_limit_fail_t *f)
+static int16_t check_derived(const drive_limit_t *l, const limit_ctx_t *x,
+                             drive_limit_fail_t *f)
 {
     uint16_t w = l->where;
     if (w <= DRIVE_LD_WC_PU) {
