@@ -43,7 +43,9 @@ static void usage(FILE *f)
             "  --cmd NAME@T       give the drive a command at T seconds: start, stop, reset\n"
             "                     (a run begins with start at 0)\n"
             "  --quiet            no progress and no table\n"
-            "  --keys             list every configuration key, its unit and range\n"
+            "  --keys             list every configuration key once: section, unit, default,\n"
+            "                     range, and the side that reads it (drive / sim); then the\n"
+            "                     derived limits drive_init enforces\n"
             "\n"
             "Exit status: 0 ok, 1 usage or configuration error, 2 run failed.\n");
 }

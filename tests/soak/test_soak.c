@@ -85,8 +85,8 @@ static void test_soak(void **state)
     /* live estimates (held last good theta) bounded within the 2 % too */
     assert_true(r.live_min_pct > -2.0 && r.live_max_pct < 2.0);
     /* settled before each reversal: within 1 % of rated speed */
-    assert_true(r.max_settled_speed_err_rpm < 0.01 * cfg.rated_speed_rpm);
-    assert_true(r.max_abs_i_A < cfg.overcurrent_A);
+    assert_true(r.max_settled_speed_err_rpm < 0.01 * cfg.nameplate.rated_speed_rpm);
+    assert_true(r.max_abs_i_A < cfg.controller.overcurrent_A);
 }
 
 int main(void)
