@@ -73,6 +73,15 @@ static void make_symlink(const char *target, const char *name)
     }
 }
 
+/* A file or an empty directory left by an earlier run, gone. */
+static void remove_if_there(const char *name)
+{
+    const char *path = in_dir(name);
+    if (remove(path) != 0 && errno != ENOENT) {
+        die("cannot remove", path);
+    }
+}
+
 /* Numerical Recipes LCG: deterministic bytes for the garbage files. */
 static uint32_t g_rng = 12345u;
 static unsigned char next_byte(void)
@@ -208,6 +217,12 @@ static void write_outputs(void)
     f = create("quote\"name.ini");
     fputs(g_base, f);
     finish(f, "quote\"name.ini");
+
+    /* --out under a parent that does not exist: motor_sim creates both */
+    remove_if_there("no_such_dir/sub/trace.csv");
+    remove_if_there("no_such_dir/sub/report.json");
+    remove_if_there("no_such_dir/sub");
+    remove_if_there("no_such_dir");
 
     /* trace.csv cannot be created: it is a directory */
     make_dir(in_dir("out_trace_is_dir"));
