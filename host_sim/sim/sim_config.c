@@ -104,7 +104,8 @@ static const key_spec_t k_keys[] = {
     D(ident, track_rr, OPT, 0, DRIVE, "1: Rr/Tr tracked in RUN (orientation 1)"),
     D(ident, track_memory_s, OPT, 1.0, DRIVE, "the tracker's forgetting time constant"),
     /* ---- the simulated world ---- */
-    K(plant, Rs_ohm, OPT, 0, "nameplate.Rs_ohm", 1e-4, 100, 0, "ohm", SIM, "true stator resistance"),
+    K(plant, Rs_ohm, OPT, 0, "nameplate.Rs_ohm", 1e-4, 100, 0, "ohm", SIM,
+      "true stator resistance"),
     K(plant, Rr_ohm, OPT, 0, "nameplate.Rr_ohm", 1e-4, 100, 0, "ohm", SIM, "true rotor resistance"),
     K(plant, Lm_H, OPT, 0, "nameplate.Lm_H", 1e-5, 10, 0, "H", SIM, "true magnetising inductance"),
     K(plant, Lls_H, OPT, 0, "nameplate.Lls_H", 1e-6, 1, 0, "H", SIM, "true stator leakage"),
@@ -391,12 +392,14 @@ int sim_config_load(const char *path, sim_config_t *cfg, char *err, size_t err_l
                            strerror(rd.err_no));
         return 1;
     }
-    if (apply_defaults(&ctx, ctx.err, sizeof ctx.err) != 0 ||
-        sim_config_cross_check(cfg, ctx.err, sizeof ctx.err) != 0) {
-        sim_config_set_err(err, err_len, "%s%s: %s", ell, shown, ctx.err);
-        return 1;
+    rc = apply_defaults(&ctx, ctx.err, sizeof ctx.err);
+    if (rc == 0) {
+        rc = sim_config_cross_check(cfg, ctx.err, sizeof ctx.err);
     }
-    return 0;
+    if (rc != 0) {
+        sim_config_set_err(err, err_len, "%s%s: %s", ell, shown, ctx.err);
+    }
+    return rc;
 }
 
 void sim_config_print_keys(void)

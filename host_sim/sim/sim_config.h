@@ -116,8 +116,14 @@ typedef struct {
 /** Error text buffer size for sim_config_load. */
 #define SIM_CONFIG_ERR_LEN 512
 
-/** Load @p path.  Returns 0 on success; otherwise non-zero with a message
- *  naming the file, the line or key, the value and the limit in @p err. */
+/** sim_config_load's status when drive_init refused a file that every limit
+ *  of its table (drive_limits.h) accepted: a limit missing from the table
+ *  (the fuzz target of the parser looks for it). */
+#define SIM_CONFIG_ERR_UNLISTED 2
+
+/** Load @p path.  Returns 0 on success; otherwise 1 (or
+ *  SIM_CONFIG_ERR_UNLISTED) with a message naming the file, the line or key,
+ *  the value and the limit in @p err. */
 int sim_config_load(const char *path, sim_config_t *cfg, char *err, size_t err_len);
 
 /** Set key @p key ("section.key") of a loaded configuration, unchecked (for

@@ -39,7 +39,7 @@ static int check_drive(const sim_config_t *c, char *err, size_t len)
         return 1;
     }
     d = (drive_t *)malloc(sizeof *d);
-    if (d == NULL) {
+    if (d == NULL) {   /* (drive_t is large: not on the stack) */
         sim_config_set_err(err, len, "out of memory");
         return 1;
     }
@@ -48,7 +48,7 @@ static int check_drive(const sim_config_t *c, char *err, size_t len)
     if (st != DRIVE_CFG_OK) {
         sim_config_set_err(err, len, "drive_init rejected the configuration: %s (a limit "
                            "include/drive_limits.h does not hold)", drive_cfg_status_str(st));
-        return 1;
+        return SIM_CONFIG_ERR_UNLISTED;
     }
     return 0;
 }
@@ -107,8 +107,9 @@ static int check_world(const sim_config_t *c, char *err, size_t len)
 
 int sim_config_cross_check(const sim_config_t *c, char *err, size_t len)
 {
-    if (check_ratings(&c->nameplate, err, len) != 0 || check_drive(c, err, len) != 0) {
-        return 1;
+    int rc = check_ratings(&c->nameplate, err, len);
+    if (rc == 0) {
+        rc = check_drive(c, err, len);
     }
-    return check_world(c, err, len);
+    return (rc != 0) ? rc : check_world(c, err, len);
 }

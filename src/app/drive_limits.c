@@ -226,6 +226,15 @@ static int16_t report(drive_limit_fail_t *f, float value, float lo, float hi, ui
     return 1;
 }
 
+/* The same, for a derived limit whose fault lies with another key. */
+static int16_t report_as(drive_limit_fail_t *f, const char *key, const char *unit, float value,
+                         float lo, float hi, uint16_t open)
+{
+    f->key = key;
+    f->unit = unit;
+    return report(f, value, lo, hi, open);
+}
+
 /* 1 (and @p f filled) unless @p v is in the entry's own constant range. */
 static int16_t own_range(const drive_limit_t *l, float v, drive_limit_fail_t *f)
 {
@@ -447,6 +456,13 @@ static int16_t check_voltage_model(const drive_limit_t *l, const limit_ctx_t *x,
     }
 }
 
+/* param_extract_init's test of one range (its pe_range) */
+static int16_t pe_range_fails(const float si[2], float base)
+{
+    float lo = si[0] / base, hi = si[1] / base;
+    return (int16_t)!(lo >= 0.0f && hi > lo && hi < PE_Q24_MAX);
+}
+
 /* bw_filter_init, theta_guard_init, param_extract_init */
 static int16_t check_estimator(const drive_limit_t *l, const limit_ctx_t *x,
                                drive_limit_fail_t *f)
@@ -480,30 +496,26 @@ static int16_t check_estimator(const drive_limit_t *l, const limit_ctx_t *x,
     default:
         break;
     }
-    /* pe_range: lo >= 0, hi > lo, hi below 127 pu */
+    /* param_extract_init: each range 0.25 .. 4 times the believed value,
+     * capped at 120 pu, must stay a range below 127 pu */
     drive_design_param_limits(&lim, c, b);
     switch (which) {
     case DRIVE_LD_PE_RS:
-        return (lim.Rs_ohm[1] / b->Z_base_ohm > lim.Rs_ohm[0] / b->Z_base_ohm &&
-                lim.Rs_ohm[1] / b->Z_base_ohm < PE_Q24_MAX)
-                   ? 0 : report(f, c->motor.Rs_ohm, 0.0f, 480.0f * b->Z_base_ohm, BOTH_OPEN);
+        return pe_range_fails(lim.Rs_ohm, b->Z_base_ohm)
+                   ? report(f, c->motor.Rs_ohm, 0.0f, 480.0f * b->Z_base_ohm, BOTH_OPEN) : 0;
     case DRIVE_LD_PE_RR:
-        return (lim.Rr_ohm[1] / b->Z_base_ohm > lim.Rr_ohm[0] / b->Z_base_ohm &&
-                lim.Rr_ohm[1] / b->Z_base_ohm < PE_Q24_MAX)
-                   ? 0 : report(f, c->motor.Rr_ohm, 0.0f, 480.0f * b->Z_base_ohm, BOTH_OPEN);
+        return pe_range_fails(lim.Rr_ohm, b->Z_base_ohm)
+                   ? report(f, c->motor.Rr_ohm, 0.0f, 480.0f * b->Z_base_ohm, BOTH_OPEN) : 0;
     case DRIVE_LD_PE_LM:
-        return (lim.Lm_H[1] / b->L_base_H > lim.Lm_H[0] / b->L_base_H &&
-                lim.Lm_H[1] / b->L_base_H < PE_Q24_MAX)
-                   ? 0 : report(f, c->motor.Lm_H, 0.0f, 480.0f * b->L_base_H, BOTH_OPEN);
+        return pe_range_fails(lim.Lm_H, b->L_base_H)
+                   ? report(f, c->motor.Lm_H, 0.0f, 480.0f * b->L_base_H, BOTH_OPEN) : 0;
     case DRIVE_LD_PE_LR:
-        return (lim.Lr_H[1] / b->L_base_H > lim.Lr_H[0] / b->L_base_H &&
-                lim.Lr_H[1] / b->L_base_H < PE_Q24_MAX)
-                   ? 0 : report(f, c->motor.Lr_H, 0.0f, 480.0f * b->L_base_H, BOTH_OPEN);
+        return pe_range_fails(lim.Lr_H, b->L_base_H)
+                   ? report(f, c->motor.Lr_H, 0.0f, 480.0f * b->L_base_H, BOTH_OPEN) : 0;
     case DRIVE_LD_PE_PSI:
-        return (lim.psi_Wb[1] / b->psi_base_Wb > lim.psi_Wb[0] / b->psi_base_Wb &&
-                lim.psi_Wb[1] / b->psi_base_Wb < PE_Q24_MAX)
-                   ? 0 : report(f, c->motor.Lm_H * c->motor.magnetizing_current_A, 0.0f,
-                                PE_Q24_MAX / 4.0f * b->psi_base_Wb, BOTH_OPEN);
+        return pe_range_fails(lim.psi_Wb, b->psi_base_Wb)
+                   ? report(f, c->motor.Lm_H * c->motor.magnetizing_current_A, 0.0f,
+                            PE_Q24_MAX / 4.0f * b->psi_base_Wb, BOTH_OPEN) : 0;
     default:
         return 0;
     }
@@ -530,51 +542,40 @@ static int16_t check_adaptation(const drive_limit_t *l, const limit_ctx_t *x,
         standstill_z_status_t st = drive_adapt_ssz_init(&z, c, b, Ts);
         /* id_sequence_init's magnetisation in samples */
         uint32_t mag = (uint32_t)(id->magnetize_time_s / Ts + 0.5f);
-        uint32_t need;
+        uint32_t need = 2u * ((uint32_t)standstill_z_samples(&z) + drive_adapt_ssz_gap(Ts));
         if (st == STANDSTILL_Z_ERR_AMPL) {
-            f->key = "controller.magnetizing_current_A";
-            f->unit = "A";
-            return report(f, c->motor.magnetizing_current_A, 0.0f,
-                          0.5f / SSZ_AMPL_OF_IM * b->I_base_A, LO_OPEN);
+            return report_as(f, "controller.magnetizing_current_A", "A",
+                             c->motor.magnetizing_current_A, 0.0f,
+                             0.5f / SSZ_AMPL_OF_IM * b->I_base_A, LO_OPEN);
         }
         if (st != STANDSTILL_Z_OK) {
             /* (the bounds: 8 to 3120 samples a period of the injection, 0.01 to
              * 30 pu of frequency: standstill_z_init) */
-            f->key = "standstill injection frequency";
-            f->unit = "Hz";
-            return report(f, drive_adapt_ssz_freq_Hz(c),
-                          fmaxf(1.0f / (3120.0f * Ts), 0.01f * b->f_base_Hz),
-                          fminf(1.0f / (8.0f * Ts), 30.0f * b->f_base_Hz), 0u);
+            return report_as(f, "standstill injection frequency", "Hz",
+                             drive_adapt_ssz_freq_Hz(c),
+                             fmaxf(1.0f / (3120.0f * Ts), 0.01f * b->f_base_Hz),
+                             fminf(1.0f / (8.0f * Ts), 30.0f * b->f_base_Hz), 0u);
         }
-        need = 2u * ((uint32_t)standstill_z_samples(&z) + drive_adapt_ssz_gap(Ts));
-        if (need > mag) {
-            f->key = "ident.magnetize_s";
-            f->unit = "s";
-            return report(f, id->magnetize_time_s, (float)need * Ts, 100.0f, 0u);
-        }
-        return 0;
+        return (need <= mag) ? 0 : report_as(f, "ident.magnetize_s", "s", id->magnetize_time_s,
+                                             (float)need * Ts, 100.0f, 0u);
     }
     if (which == DRIVE_LD_TRACKER && id->track_rr != 0u) {
         tr_track_t t;
         tr_track_status_t st = drive_adapt_track_init(&t, c, b, Ts);
         if (st == TR_TRACK_ERR_RANGE) {
             /* theta = 1/Tr in pu up to 4 times the believed one, at most 30 */
-            f->key = "Tr";
-            f->unit = "s";
-            return report(f, x->g.tr, 4.0f / 30.0f * b->t_base_s, NO_UPPER, HI_OPEN);
+            return report_as(f, "Tr", "s", x->g.tr, 4.0f / 30.0f * b->t_base_s, NO_UPPER,
+                             HI_OPEN);
         }
         if (st == TR_TRACK_ERR_PHI) {
-            f->key = "controller.max_torque_current_A";
-            f->unit = "A";
-            return report(f, c->control.max_torque_current_A, 0.0f,
-                          b->I_base_A * b->psi_base_Wb /
-                              (TRACK_PHI_MIN_OF_RATED * c->motor.Lm_H *
-                               c->motor.magnetizing_current_A), LO_OPEN);
+            return report_as(f, "controller.max_torque_current_A", "A",
+                             c->control.max_torque_current_A, 0.0f,
+                             b->I_base_A * b->psi_base_Wb /
+                                 (TRACK_PHI_MIN_OF_RATED * c->motor.Lm_H *
+                                  c->motor.magnetizing_current_A), LO_OPEN);
         }
         if (st != TR_TRACK_OK) {
-            f->key = "ident.track_memory_s";
-            f->unit = "s";
-            return report(f, id->track_memory_s, 0.2f, 20.0f, 0u);
+            return report_as(f, "ident.track_memory_s", "s", id->track_memory_s, 0.2f, 20.0f, 0u);
         }
     }
     return 0;

@@ -162,8 +162,10 @@ static void test_old_layout_refused(void **state)
 {
     (void)state;
     expect_error(NULL, "[motor]\nRs_ohm = 1", "unknown section [motor]");
-    expect_error(NULL, "[controller]\nLm_error_pct = -30", "unknown key 'Lm_error_pct' in [controller]");
-    expect_error(NULL, "[sensors]\nencoder_lines = 1000", "unknown key 'encoder_lines' in [sensors]");
+    expect_error(NULL, "[controller]\nLm_error_pct = -30",
+                 "unknown key 'Lm_error_pct' in [controller]");
+    expect_error(NULL, "[sensors]\nencoder_lines = 1000",
+                 "unknown key 'encoder_lines' in [sensors]");
     expect_error(NULL, "[simulation]\npwm_freq_Hz = 15000", "unknown key 'pwm_freq_Hz'");
 }
 
@@ -178,8 +180,10 @@ static void test_missing_key(void **state)
 static void test_negative_resistance(void **state)
 {
     (void)state;
-    expect_error("Rs_ohm", "Rs_ohm = -1.0", "key 'nameplate.Rs_ohm' = -1 ohm is outside [0.0001, 100]");
-    expect_error(NULL, "[plant]\nRs_ohm = -1.0", "key 'plant.Rs_ohm' = -1 ohm is outside [0.0001, 100]");
+    expect_error("Rs_ohm", "Rs_ohm = -1.0",
+                 "key 'nameplate.Rs_ohm' = -1 ohm is outside [0.0001, 100]");
+    expect_error(NULL, "[plant]\nRs_ohm = -1.0",
+                 "key 'plant.Rs_ohm' = -1 ohm is outside [0.0001, 100]");
 }
 
 static void test_zero_pole_pairs(void **state)
@@ -191,7 +195,8 @@ static void test_zero_pole_pairs(void **state)
 static void test_fractional_pole_pairs(void **state)
 {
     (void)state;
-    expect_error("pole_pairs", "pole_pairs = 2.5", "key 'nameplate.pole_pairs' = 2.5 must be a whole");
+    expect_error("pole_pairs", "pole_pairs = 2.5",
+                 "key 'nameplate.pole_pairs' = 2.5 must be a whole");
 }
 
 /* orientation is 0 (indirect) or 1 (rotor-flux observer) */
