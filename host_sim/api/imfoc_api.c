@@ -72,13 +72,14 @@ imfoc_t *imfoc_create(const drive_config_t *cfg, char *err, size_t err_len)
     }
     st = drive_init(&h->drive, cfg);
     if (st != DRIVE_CFG_OK) {
-        drive_limit_fail_t f;
+        drive_limit_fail_t lim;
         char detail[SIM_CONFIG_ERR_LEN];
         int n = snprintf(detail, sizeof detail, "%s", drive_cfg_status_str(st));
-        if (drive_config_check(cfg, &f) != DRIVE_CFG_OK && n > 0 && (size_t)n < sizeof detail) {
+        if (drive_config_check(cfg, &lim) != DRIVE_CFG_OK && n > 0 &&
+            (size_t)n + 2u < sizeof detail) {
             detail[n++] = ':';
             detail[n++] = ' ';
-            sim_limit_message(detail + n, sizeof detail - (size_t)n, &f);
+            sim_limit_message(detail + n, sizeof detail - (size_t)n, &lim);
         }
         set_err(err, err_len, "drive_init rejected the configuration", detail);
         free(h);

@@ -41,9 +41,10 @@ typedef struct {
     const char *what;      /* what it is, for --keys */
 } key_spec_t;
 
-#define K(sec, name, req, def, def_key, lo, hi, integ, unit, side, what) \
-    { #sec, #name, offsetof(sim_config_t, sec.name), req, def, def_key, lo, hi, integ, unit, side, \
-      what }
+/* (sec.name is a member designator: it cannot be parenthesised) */
+#define K(sec, name, req, def, def_key, lo, hi, integ, unit, side, what)                          \
+    { #sec, #name, offsetof(sim_config_t, sec.name), /* NOLINT(bugprone-macro-parentheses) */    \
+      req, def, def_key, lo, hi, integ, unit, side, what }
 /* a drive-side key: range, unit and whole-number rule from the drive's table
  * (drive_limits.h), marked by min > max */
 #define D(sec, name, req, def, side, what) \

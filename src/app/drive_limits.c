@@ -235,16 +235,26 @@ static int16_t report_as(drive_limit_fail_t *f, const char *key, const char *uni
     return report(f, value, lo, hi, open);
 }
 
+/* 0 if @p ok, else 1 with the limit reported. */
+static int16_t verdict(int16_t ok, drive_limit_fail_t *f, float value, float lo, float hi,
+                       uint16_t open)
+{
+    if (ok != 0) {
+        return 0;
+    }
+    return report(f, value, lo, hi, open);
+}
+
 /* 1 (and @p f filled) unless @p v is in the entry's own constant range. */
 static int16_t own_range(const drive_limit_t *l, float v, drive_limit_fail_t *f)
 {
-    return in_range(v, l->lo, l->hi, l->open) ? 0 : report(f, v, l->lo, l->hi, l->open);
+    return verdict(in_range(v, l->lo, l->hi, l->open), f, v, l->lo, l->hi, l->open);
 }
 
 /* A quantity that becomes Q24 somewhere: below Q24_HEADROOM of its base. */
 static int16_t q24(float v, float base, drive_limit_fail_t *f)
 {
-    return (v / base < Q24_HEADROOM) ? 0 : report(f, v, 0.0f, Q24_HEADROOM * base, BOTH_OPEN);
+    return verdict((int16_t)(v / base < Q24_HEADROOM), f, v, 0.0f, Q24_HEADROOM * base, BOTH_OPEN);
 }
 
 static int16_t check_motor_and_scaling(const drive_limit_t *l, const limit_ctx_t *x,
@@ -263,38 +273,35 @@ static int16_t check_motor_and_scaling(const drive_limit_t *l, const limit_ctx_t
         return own_range(l, m->Lr_H - m->Lm_H, f);
     case DRIVE_LD_IM_RATED:
         v = 1.41421356f * m->rated_current_A_rms;
-        return (m->magnetizing_current_A < v)
-                   ? 0 : report(f, m->magnetizing_current_A, 0.0f, v, BOTH_OPEN);
+        return verdict((int16_t)(m->magnetizing_current_A < v), f, m->magnetizing_current_A, 0.0f,
+                       v, BOTH_OPEN);
     case DRIVE_LD_T1PR:
         return own_range(l, x->g.t1pr, f);
     case DRIVE_LD_VDC_FS:   /* dc_bus_init */
         v = c->board.vdc_adc_full_scale_V / b->V_base_V * (65536.0f / 65520.0f);
-        return (v < DC_BUS_FULL_SCALE_MAX_PU)
-                   ? 0 : report(f, c->board.vdc_adc_full_scale_V, 0.0f,
-                                DC_BUS_FULL_SCALE_MAX_PU * b->V_base_V * (65520.0f / 65536.0f),
-                                BOTH_OPEN);
+        return verdict((int16_t)(v < DC_BUS_FULL_SCALE_MAX_PU), f, c->board.vdc_adc_full_scale_V,
+                       0.0f, DC_BUS_FULL_SCALE_MAX_PU * b->V_base_V * (65520.0f / 65536.0f),
+                       BOTH_OPEN);
     case DRIVE_LD_QEP_RES: {   /* qep_speed_init */
         float cpr = (float)(4 * (int32_t)c->board.encoder_lines);
         float k1 = (float)b->pole_pairs / (cpr * b->Ts_s * b->f_base_Hz);
         float k = (float)b->pole_pairs / ((float)DRIVE_QEP_WINDOW * cpr * b->Ts_s * b->f_base_Hz);
-        return (k < 1.0f && k1 < 1.0f)
-                   ? 0 : report(f, (float)c->board.encoder_lines,
-                                (float)b->pole_pairs / (4.0f * b->Ts_s * b->f_base_Hz),
-                                (float)QEP_SPEED_LINES_MAX, LO_OPEN);
+        return verdict((int16_t)(k < 1.0f && k1 < 1.0f), f, (float)c->board.encoder_lines,
+                       (float)b->pole_pairs / (4.0f * b->Ts_s * b->f_base_Hz),
+                       (float)QEP_SPEED_LINES_MAX, LO_OPEN);
     }
     case DRIVE_LD_SPEED_FILT:
         v = 0.5f / b->Ts_s;
-        return (c->control.speed_filter_Hz < v)
-                   ? 0 : report(f, c->control.speed_filter_Hz, 0.0f, v, BOTH_OPEN);
+        return verdict((int16_t)(c->control.speed_filter_Hz < v), f, c->control.speed_filter_Hz,
+                       0.0f, v, BOTH_OPEN);
     case DRIVE_LD_LS_Q24:
         return q24(m->Ls_H, b->L_base_H, f);
     case DRIVE_LD_LR_Q24:
         return q24(m->Lr_H, b->L_base_H, f);
     case DRIVE_LD_WC_PU:   /* drive_adapt_init's w_c in pu */
-        return q24(DRIVE_TWO_PI_F * c->control.current_bw_Hz, b->w_base_rad_s, f) != 0
-                   ? report(f, c->control.current_bw_Hz, 0.0f, Q24_HEADROOM * b->f_base_Hz,
-                            BOTH_OPEN)
-                   : 0;
+        v = DRIVE_TWO_PI_F * c->control.current_bw_Hz / b->w_base_rad_s;
+        return verdict((int16_t)(v < Q24_HEADROOM),
+                       f, c->control.current_bw_Hz, 0.0f, Q24_HEADROOM * b->f_base_Hz, BOTH_OPEN);
     default:
         return 0;
     }
@@ -314,17 +321,17 @@ static int16_t check_loops(const drive_limit_t *l, const limit_ctx_t *x,
     case DRIVE_LD_CUR_KI:
         return own_range(l, g->cur_ki, f);
     case DRIVE_LD_IMAX:
-        return (g->i_max > 0.0f && g->i_max <= 1.0f)
-                   ? 0 : report(f, c->control.max_torque_current_A, 0.0f, b->I_base_A, LO_OPEN);
+        return verdict((int16_t)(g->i_max > 0.0f && g->i_max <= 1.0f), f,
+                       c->control.max_torque_current_A, 0.0f, b->I_base_A, LO_OPEN);
     case DRIVE_LD_SPD_KP:
         return own_range(l, g->spd_kp, f);
     case DRIVE_LD_SPD_KI:
         return own_range(l, g->spd_ki, f);
     case DRIVE_LD_RAMP: {   /* ramp_gen_init */
         float step = g->ramp * g->Ts;
-        return (g->ramp > 0.0f && step >= RAMP_STEP_MIN && step <= 1.0f)
-                   ? 0 : report(f, c->control.speed_ramp_rpm_s,
-                                RAMP_STEP_MIN * b->n_base_rpm / g->Ts, b->n_base_rpm / g->Ts, 0u);
+        return verdict((int16_t)(g->ramp > 0.0f && step >= RAMP_STEP_MIN && step <= 1.0f), f,
+                       c->control.speed_ramp_rpm_s, RAMP_STEP_MIN * b->n_base_rpm / g->Ts,
+                       b->n_base_rpm / g->Ts, 0u);
     }
     default:
         return 0;
@@ -341,25 +348,27 @@ static int16_t check_orientation(const drive_limit_t *l, const limit_ctx_t *x,
     float imr = DRIVE_IMR_MIN_OF_IM * c->motor.magnetizing_current_A / b->I_base_A;
     float tr_pu = x->g.tr / b->t_base_s;
     float fts = b->f_base_Hz * b->Ts_s;
+    int16_t ok;
 
     switch (which) {
     case DRIVE_LD_IMR:
-        return (imr > 0.0f && imr <= 1.0f)
-                   ? 0 : report(f, c->motor.magnetizing_current_A, 0.0f,
-                                b->I_base_A / DRIVE_IMR_MIN_OF_IM, LO_OPEN);
+        return verdict((int16_t)(imr > 0.0f && imr <= 1.0f), f, c->motor.magnetizing_current_A,
+                       0.0f, b->I_base_A / DRIVE_IMR_MIN_OF_IM, LO_OPEN);
     case DRIVE_LD_TR:
         /* the float test first: _IQ() of more than 128 pu overflows */
-        return (tr_pu <= IFO_TR_MAX_PU &&
-                _IQ(tr_pu) >= _IQmpy(_IQ(b->Ts_pu), _IQ(IFO_TR_MIN_SAMPLES)) &&
-                _IQ(tr_pu) <= _IQ(IFO_TR_MAX_PU))
-                   ? 0 : report(f, x->g.tr, IFO_TR_MIN_SAMPLES * b->Ts_s,
-                                IFO_TR_MAX_PU * b->t_base_s, 0u);
+        ok = (int16_t)(tr_pu <= IFO_TR_MAX_PU);
+        if (ok != 0) {
+            ok = (int16_t)(_IQ(tr_pu) >= _IQmpy(_IQ(b->Ts_pu), _IQ(IFO_TR_MIN_SAMPLES)) &&
+                           _IQ(tr_pu) <= _IQ(IFO_TR_MAX_PU));
+        }
+        return verdict(ok,
+                       f, x->g.tr, IFO_TR_MIN_SAMPLES * b->Ts_s, IFO_TR_MAX_PU * b->t_base_s, 0u);
     case DRIVE_LD_FTS:
-        return (fts < 1.0f / 128.0f && fts > 1.0f / 2000.0f)
-                   ? 0 : report(f, 1.0f / fts, l->lo, l->hi, l->open);
+        return verdict((int16_t)(fts < 1.0f / 128.0f && fts > 1.0f / 2000.0f), f, 1.0f / fts, l->lo,
+                       l->hi, l->open);
     case DRIVE_LD_SLIP:
-        return (_IQmpy(_IQ(tr_pu), _IQ(imr)) >= _IQ(IFO_I_T_MAX / IFO_SLIP_MAX))
-                   ? 0 : report(f, tr_pu * imr, IFO_I_T_MAX / IFO_SLIP_MAX, NO_UPPER, HI_OPEN);
+        return verdict((int16_t)(_IQmpy(_IQ(tr_pu), _IQ(imr)) >= _IQ(IFO_I_T_MAX / IFO_SLIP_MAX)),
+                       f, tr_pu * imr, IFO_I_T_MAX / IFO_SLIP_MAX, NO_UPPER, HI_OPEN);
     default:
         return 0;
     }
@@ -382,19 +391,18 @@ static int16_t check_observer(const drive_limit_t *l, const limit_ctx_t *x,
     }
     switch (which) {
     case DRIVE_LD_OBS_FBASE:
-        return (wc_pu > 0.0f && wc_pu <= FLUX_OBS_WC_MAX_PU && wc_pu * b->Ts_pu <= FLUX_OBS_G_MAX)
-                   ? 0 : report(f, b->f_base_Hz, FOBS_WC_HZ / FLUX_OBS_WC_MAX_PU, NO_UPPER,
-                                HI_OPEN);
+        return verdict((int16_t)(wc_pu > 0.0f && wc_pu <= FLUX_OBS_WC_MAX_PU &&
+                                 wc_pu * b->Ts_pu <= FLUX_OBS_G_MAX),
+                       f, b->f_base_Hz, FOBS_WC_HZ / FLUX_OBS_WC_MAX_PU, NO_UPPER, HI_OPEN);
     case DRIVE_LD_OBS_PWM:
-        return (6.2831853f * FOBS_WS_LPF_HZ * b->Ts_s <= 1.0f)
-                   ? 0 : report(f, 1.0f / b->Ts_s, 6.2831853f * FOBS_WS_LPF_HZ, NO_UPPER,
-                                HI_OPEN);
+        return verdict((int16_t)(6.2831853f * FOBS_WS_LPF_HZ * b->Ts_s <= 1.0f), f, 1.0f / b->Ts_s,
+                       6.2831853f * FOBS_WS_LPF_HZ, NO_UPPER, HI_OPEN);
     case DRIVE_LD_OBS_RS:
-        return (rs <= FLUX_OBS_RS_MAX && _IQ(rs) <= _IQ(FLUX_OBS_RS_MAX))
-                   ? 0 : report(f, m->Rs_ohm, 0.0f, FLUX_OBS_RS_MAX * b->Z_base_ohm, 0u);
+        return verdict((int16_t)(rs <= FLUX_OBS_RS_MAX && _IQ(rs) <= _IQ(FLUX_OBS_RS_MAX)), f,
+                       m->Rs_ohm, 0.0f, FLUX_OBS_RS_MAX * b->Z_base_ohm, 0u);
     case DRIVE_LD_OBS_LM:
-        return (lm <= FLUX_OBS_LM_MAX && _IQ(lm) > _IQ(0.0))
-                   ? 0 : report(f, m->Lm_H, 0.0f, FLUX_OBS_LM_MAX * b->L_base_H, LO_OPEN);
+        return verdict((int16_t)(lm <= FLUX_OBS_LM_MAX && _IQ(lm) > _IQ(0.0)), f, m->Lm_H, 0.0f,
+                       FLUX_OBS_LM_MAX * b->L_base_H, LO_OPEN);
     default:
         break;
     }
@@ -405,25 +413,24 @@ static int16_t check_observer(const drive_limit_t *l, const limit_ctx_t *x,
             return report(f, m->Lr_H / m->Lm_H, 1.0f, FLUX_OBS_LR_LM_MAX, LO_OPEN);
         }
         lr_q = _IQ(m->Lr_H / b->L_base_H);
-        return (lr_q > lm_q && lr_q <= _IQmpy(lm_q, _IQ(FLUX_OBS_LR_LM_MAX)))
-                   ? 0 : report(f, m->Lr_H / m->Lm_H, 1.0f, FLUX_OBS_LR_LM_MAX, LO_OPEN);
+        return verdict((int16_t)(lr_q > lm_q && lr_q <= _IQmpy(lm_q, _IQ(FLUX_OBS_LR_LM_MAX))), f,
+                       m->Lr_H / m->Lm_H, 1.0f, FLUX_OBS_LR_LM_MAX, LO_OPEN);
     }
     if (which == DRIVE_LD_OBS_LS) {
         if (!(m->Ls_H > m->Lm_H && m->Ls_H / b->L_base_H <= 2.0f * FLUX_OBS_LM_MAX)) {
             return report(f, m->Ls_H, m->Lm_H, 2.0f * FLUX_OBS_LM_MAX * b->L_base_H, LO_OPEN);
         }
         ls_q = _IQ(m->Ls_H / b->L_base_H);
-        return (ls_q > lm_q && ls_q <= _IQ(2.0f * FLUX_OBS_LM_MAX))
-                   ? 0 : report(f, m->Ls_H, m->Lm_H, 2.0f * FLUX_OBS_LM_MAX * b->L_base_H,
-                                LO_OPEN);
+        return verdict((int16_t)(ls_q > lm_q && ls_q <= _IQ(2.0f * FLUX_OBS_LM_MAX)), f, m->Ls_H,
+                       m->Lm_H, 2.0f * FLUX_OBS_LM_MAX * b->L_base_H, LO_OPEN);
     }
     if (which == DRIVE_LD_OBS_SLS) {
         lr_q = _IQ(m->Lr_H / b->L_base_H);
         ls_q = _IQ(m->Ls_H / b->L_base_H);
         sls = ls_q - _IQmpy(lm_q, _IQdiv(lm_q, lr_q));
-        return (sls > _IQ(0.0) && sls <= _IQ(FLUX_OBS_SIGMA_LS_MAX))
-                   ? 0 : report(f, _IQtoF(sls) * b->L_base_H, 0.0f,
-                                FLUX_OBS_SIGMA_LS_MAX * b->L_base_H, LO_OPEN);
+        return verdict((int16_t)(sls > _IQ(0.0) && sls <= _IQ(FLUX_OBS_SIGMA_LS_MAX)), f,
+                       _IQtoF(sls) * b->L_base_H, 0.0f, FLUX_OBS_SIGMA_LS_MAX * b->L_base_H,
+                       LO_OPEN);
     }
     return 0;
 }
@@ -439,28 +446,27 @@ static int16_t check_voltage_model(const drive_limit_t *l, const limit_ctx_t *x,
 
     switch (which) {
     case DRIVE_LD_DEAD:
-        return (bd->dead_time_s / x->g.Ts <= VOLT_CALC_DT_FRAC_MAX)
-                   ? 0 : report(f, bd->dead_time_s, 0.0f, VOLT_CALC_DT_FRAC_MAX * x->g.Ts, 0u);
+        return verdict((int16_t)(bd->dead_time_s / x->g.Ts <= VOLT_CALC_DT_FRAC_MAX), f,
+                       bd->dead_time_s, 0.0f, VOLT_CALC_DT_FRAC_MAX * x->g.Ts, 0u);
     case DRIVE_LD_DROP:
         v = bd->device_drop_V / b->V_base_V;
-        return (v >= 0.0f && v <= VOLT_CALC_DROP_MAX_PU)
-                   ? 0 : report(f, bd->device_drop_V, 0.0f, VOLT_CALC_DROP_MAX_PU * b->V_base_V,
-                                0u);
+        return verdict((int16_t)(v >= 0.0f && v <= VOLT_CALC_DROP_MAX_PU), f, bd->device_drop_V,
+                       0.0f, VOLT_CALC_DROP_MAX_PU * b->V_base_V, 0u);
     case DRIVE_LD_BAND:
         v = bd->dead_time_band_A / b->I_base_A;
-        return (v >= VOLT_CALC_ITH_MIN_PU && v <= VOLT_CALC_ITH_MAX_PU)
-                   ? 0 : report(f, bd->dead_time_band_A, VOLT_CALC_ITH_MIN_PU * b->I_base_A,
-                                VOLT_CALC_ITH_MAX_PU * b->I_base_A, 0u);
+        return verdict((int16_t)(v >= VOLT_CALC_ITH_MIN_PU && v <= VOLT_CALC_ITH_MAX_PU), f,
+                       bd->dead_time_band_A, VOLT_CALC_ITH_MIN_PU * b->I_base_A,
+                       VOLT_CALC_ITH_MAX_PU * b->I_base_A, 0u);
     default:
         return 0;
     }
 }
 
 /* param_extract_init's test of one range (its pe_range) */
-static int16_t pe_range_fails(const float si[2], float base)
+static int16_t pe_range_ok(const float si[2], float base)
 {
     float lo = si[0] / base, hi = si[1] / base;
-    return (int16_t)!(lo >= 0.0f && hi > lo && hi < PE_Q24_MAX);
+    return (int16_t)(lo >= 0.0f && hi > lo && hi < PE_Q24_MAX);
 }
 
 /* bw_filter_init, theta_guard_init, param_extract_init */
@@ -479,13 +485,11 @@ static int16_t check_estimator(const drive_limit_t *l, const limit_ctx_t *x,
     case DRIVE_LD_FILT:
         return own_range(l, wc / DRIVE_TWO_PI_F, f);
     case DRIVE_LD_FILT_WB:
-        return (wc / b->w_base_rad_s < BW_WC_MAX_PU)
-                   ? 0 : report(f, wc / DRIVE_TWO_PI_F, 0.0f, BW_WC_MAX_PU * b->f_base_Hz,
-                                BOTH_OPEN);
+        return verdict((int16_t)(wc / b->w_base_rad_s < BW_WC_MAX_PU), f, wc / DRIVE_TWO_PI_F, 0.0f,
+                       BW_WC_MAX_PU * b->f_base_Hz, BOTH_OPEN);
     case DRIVE_LD_FILT_STEP:
-        return (wc * x->g.Ts <= BW_FILTER_A_MAX)
-                   ? 0 : report(f, wc / DRIVE_TWO_PI_F, 0.0f,
-                                BW_FILTER_A_MAX / (DRIVE_TWO_PI_F * x->g.Ts), LO_OPEN);
+        return verdict((int16_t)(wc * x->g.Ts <= BW_FILTER_A_MAX), f, wc / DRIVE_TWO_PI_F, 0.0f,
+                       BW_FILTER_A_MAX / (DRIVE_TWO_PI_F * x->g.Ts), LO_OPEN);
     case DRIVE_LD_K1:
     case DRIVE_LD_K2:
     case DRIVE_LD_K3:
@@ -501,21 +505,21 @@ static int16_t check_estimator(const drive_limit_t *l, const limit_ctx_t *x,
     drive_design_param_limits(&lim, c, b);
     switch (which) {
     case DRIVE_LD_PE_RS:
-        return pe_range_fails(lim.Rs_ohm, b->Z_base_ohm)
-                   ? report(f, c->motor.Rs_ohm, 0.0f, 480.0f * b->Z_base_ohm, BOTH_OPEN) : 0;
+        return verdict(pe_range_ok(lim.Rs_ohm, b->Z_base_ohm), f, c->motor.Rs_ohm, 0.0f,
+                       480.0f * b->Z_base_ohm, BOTH_OPEN);
     case DRIVE_LD_PE_RR:
-        return pe_range_fails(lim.Rr_ohm, b->Z_base_ohm)
-                   ? report(f, c->motor.Rr_ohm, 0.0f, 480.0f * b->Z_base_ohm, BOTH_OPEN) : 0;
+        return verdict(pe_range_ok(lim.Rr_ohm, b->Z_base_ohm), f, c->motor.Rr_ohm, 0.0f,
+                       480.0f * b->Z_base_ohm, BOTH_OPEN);
     case DRIVE_LD_PE_LM:
-        return pe_range_fails(lim.Lm_H, b->L_base_H)
-                   ? report(f, c->motor.Lm_H, 0.0f, 480.0f * b->L_base_H, BOTH_OPEN) : 0;
+        return verdict(pe_range_ok(lim.Lm_H, b->L_base_H), f, c->motor.Lm_H, 0.0f,
+                       480.0f * b->L_base_H, BOTH_OPEN);
     case DRIVE_LD_PE_LR:
-        return pe_range_fails(lim.Lr_H, b->L_base_H)
-                   ? report(f, c->motor.Lr_H, 0.0f, 480.0f * b->L_base_H, BOTH_OPEN) : 0;
+        return verdict(pe_range_ok(lim.Lr_H, b->L_base_H), f, c->motor.Lr_H, 0.0f,
+                       480.0f * b->L_base_H, BOTH_OPEN);
     case DRIVE_LD_PE_PSI:
-        return pe_range_fails(lim.psi_Wb, b->psi_base_Wb)
-                   ? report(f, c->motor.Lm_H * c->motor.magnetizing_current_A, 0.0f,
-                            PE_Q24_MAX / 4.0f * b->psi_base_Wb, BOTH_OPEN) : 0;
+        return verdict(pe_range_ok(lim.psi_Wb, b->psi_base_Wb), f,
+                       c->motor.Lm_H * c->motor.magnetizing_current_A, 0.0f,
+                       PE_Q24_MAX / 4.0f * b->psi_base_Wb, BOTH_OPEN);
     default:
         return 0;
     }
@@ -533,9 +537,9 @@ static int16_t check_adaptation(const drive_limit_t *l, const limit_ctx_t *x,
     float Ts = x->g.Ts;
 
     if (which == DRIVE_LD_FEATURES) {
-        return ((id->passes <= 1u && id->standstill == 0u && id->track_rr == 0u) ||
-                c->control.orientation == DRIVE_ORIENT_FLUX_OBS)
-                   ? 0 : report(f, (float)c->control.orientation, 1.0f, 1.0f, 0u);
+        return verdict((int16_t)((id->passes <= 1u && id->standstill == 0u && id->track_rr == 0u) ||
+                                 c->control.orientation == DRIVE_ORIENT_FLUX_OBS),
+                       f, (float)c->control.orientation, 1.0f, 1.0f, 0u);
     }
     if (which == DRIVE_LD_STANDSTILL && id->standstill != 0u) {
         standstill_z_t z;
@@ -556,8 +560,11 @@ static int16_t check_adaptation(const drive_limit_t *l, const limit_ctx_t *x,
                              fmaxf(1.0f / (3120.0f * Ts), 0.01f * b->f_base_Hz),
                              fminf(1.0f / (8.0f * Ts), 30.0f * b->f_base_Hz), 0u);
         }
-        return (need <= mag) ? 0 : report_as(f, "ident.magnetize_s", "s", id->magnetize_time_s,
-                                             (float)need * Ts, 100.0f, 0u);
+        if (need <= mag) {
+            return 0;
+        }
+        return report_as(f, "ident.magnetize_s", "s", id->magnetize_time_s, (float)need * Ts,
+                         100.0f, 0u);
     }
     if (which == DRIVE_LD_TRACKER && id->track_rr != 0u) {
         tr_track_t t;
@@ -592,43 +599,44 @@ static int16_t check_sequence_and_protection(const drive_limit_t *l, const limit
     float target = (c->ident.target_speed_rpm > 0.0f) ? c->ident.target_speed_rpm
                                                       : c->motor.rated_speed_rpm;
     float v;
+    int16_t ok;
 
     switch (which) {
     case DRIVE_LD_TARGET:
         v = 1.2f * c->motor.rated_speed_rpm;
-        return (target <= v) ? 0 : report(f, target, 0.0f, v, LO_OPEN);
+        return verdict((int16_t)(target <= v), f, target, 0.0f, v, LO_OPEN);
     case DRIVE_LD_TARGET_PU:
-        return (g->target_pu <= DRIVE_SPEED_REF_MAX_PU)
-                   ? 0 : report(f, target, 0.0f, DRIVE_SPEED_REF_MAX_PU * b->n_base_rpm, LO_OPEN);
+        return verdict((int16_t)(g->target_pu <= DRIVE_SPEED_REF_MAX_PU), f, target, 0.0f,
+                       DRIVE_SPEED_REF_MAX_PU * b->n_base_rpm, LO_OPEN);
     case DRIVE_LD_DIDT:
-        return (g->didt_pu < Q24_HEADROOM)
-                   ? 0 : report(f, c->motor.rated_current_A_rms, 0.0f,
-                                c->motor.rated_current_A_rms * Q24_HEADROOM / g->didt_pu,
-                                BOTH_OPEN);
+        return verdict((int16_t)(g->didt_pu < Q24_HEADROOM), f, c->motor.rated_current_A_rms, 0.0f,
+                       c->motor.rated_current_A_rms * Q24_HEADROOM / g->didt_pu, BOTH_OPEN);
     case DRIVE_LD_OC_FS:   /* drive_init and protect_init */
-        return (bd->overcurrent_A < bd->current_full_scale_A &&
-                _IQ(bd->overcurrent_A / b->I_base_A) > _IQ(0.0))
-                   ? 0 : report(f, bd->overcurrent_A, 0.0f, bd->current_full_scale_A, BOTH_OPEN);
+        return verdict((int16_t)(bd->overcurrent_A < bd->current_full_scale_A &&
+                                 _IQ(bd->overcurrent_A / b->I_base_A) > _IQ(0.0)),
+                       f, bd->overcurrent_A, 0.0f, bd->current_full_scale_A, BOTH_OPEN);
     case DRIVE_LD_TORQUE_OC:
-        return (c->control.max_torque_current_A <= bd->overcurrent_A)
-                   ? 0 : report(f, c->control.max_torque_current_A, 0.0f, bd->overcurrent_A,
-                                LO_OPEN);
+        return verdict((int16_t)(c->control.max_torque_current_A <= bd->overcurrent_A), f,
+                       c->control.max_torque_current_A, 0.0f, bd->overcurrent_A, LO_OPEN);
     case DRIVE_LD_VDC_MIN:
-        return (bd->vdc_min_V < bd->vdc_nominal_V && _IQ(bd->vdc_min_V / b->V_base_V) > _IQ(0.0))
-                   ? 0 : report(f, bd->vdc_min_V, 0.0f, bd->vdc_nominal_V, BOTH_OPEN);
+        return verdict((int16_t)(bd->vdc_min_V < bd->vdc_nominal_V &&
+                                 _IQ(bd->vdc_min_V / b->V_base_V) > _IQ(0.0)),
+                       f, bd->vdc_min_V, 0.0f, bd->vdc_nominal_V, BOTH_OPEN);
     case DRIVE_LD_VDC_MAX:
         /* below the full scale, so below 64 V_base: the Q24 conversions hold */
-        return (bd->vdc_max_V > bd->vdc_nominal_V && bd->vdc_max_V < bd->vdc_adc_full_scale_V &&
-                _IQ(bd->vdc_max_V / b->V_base_V) > _IQ(bd->vdc_min_V / b->V_base_V))
-                   ? 0 : report(f, bd->vdc_max_V, bd->vdc_nominal_V, bd->vdc_adc_full_scale_V,
-                                BOTH_OPEN);
+        ok = (int16_t)(bd->vdc_max_V > bd->vdc_nominal_V &&
+                       bd->vdc_max_V < bd->vdc_adc_full_scale_V);
+        if (ok != 0) {
+            ok = (int16_t)(_IQ(bd->vdc_max_V / b->V_base_V) > _IQ(bd->vdc_min_V / b->V_base_V));
+        }
+        return verdict(ok,
+                       f, bd->vdc_max_V, bd->vdc_nominal_V, bd->vdc_adc_full_scale_V, BOTH_OPEN);
     case DRIVE_LD_ENC_JUMP: {   /* encoder_check_init: counts a period at DRIVE_ENC_SPEED_MAX_PU */
         float per_line = DRIVE_ENC_SPEED_MAX_PU * b->f_base_Hz / (float)c->motor.pole_pairs *
                          4.0f;
         float jump = per_line * (float)bd->encoder_lines * b->Ts_s;
-        return (jump >= 2.0f && jump <= 16384.0f)
-                   ? 0 : report(f, (float)bd->encoder_lines, 2.0f / (per_line * b->Ts_s),
-                                16384.0f / (per_line * b->Ts_s), 0u);
+        return verdict((int16_t)(jump >= 2.0f && jump <= 16384.0f), f, (float)bd->encoder_lines,
+                       2.0f / (per_line * b->Ts_s), 16384.0f / (per_line * b->Ts_s), 0u);
     }
     default:
         return 0;
@@ -674,11 +682,13 @@ static void fill(drive_limit_fail_t *f, const drive_limit_t *l)
 
 int16_t drive_config_check(const drive_config_t *c, drive_limit_fail_t *fail)
 {
-    drive_limit_fail_t scratch;
-    drive_limit_fail_t *f = (fail != NULL) ? fail : &scratch;
+    drive_limit_fail_t scratch;   /* when the caller wants no report */
+    drive_limit_fail_t *f;
     limit_ctx_t x;
     uint16_t i;
 
+    memset(&scratch, 0, sizeof scratch);
+    f = (fail != NULL) ? fail : &scratch;
     memset(f, 0, sizeof *f);
     for (i = 0u; i < N_LIMITS; i++) {
         const drive_limit_t *l = &k_limits[i];
