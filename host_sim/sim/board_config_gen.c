@@ -1,5 +1,5 @@
 /**
- * board_config_gen: the firmware's firmware/board_config.c from an INI file.
+ * board_config_gen: the firmware's board_config.c from an INI file.
  *
  *   board_config_gen CONFIG.ini [-o OUT.c]      (default: standard output)
  *

@@ -6,7 +6,7 @@
  *   drive side  [nameplate] [board] [controller] [ident]: what the firmware
  *               is told; sim_config_to_drive() turns it into the
  *               drive_config_t, and board_config_gen writes the same
- *               drive_config_t as the board's firmware/board_config.c;
+ *               drive_config_t as the board's board_config.c;
  *   simulated   [plant] [inverter] [sensors] [load] [drift] [simulation]:
  *   world       the true motor, the bridge, the sensors' errors, the load,
  *               the drift scenario, the integration.  A wrong nameplate is a

@@ -1,6 +1,6 @@
 /* The drive side of the INI file as the firmware's drive_config_t: the one
  * conversion the simulator runs the firmware with and board_config_gen
- * writes into the board's firmware/board_config.c.  See sim_config.h. */
+ * writes into the board's board_config.c.  See sim_config.h. */
 #include "sim_config.h"
 
 #include <float.h>

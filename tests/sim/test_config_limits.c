@@ -55,7 +55,7 @@ static void ini_with(char *out, size_t len, const char *text, const char *key, c
     char sec[32], name[48], cur[32] = "";
     const char *dot = strchr(key, '.');
     const char *p = text;
-    size_t o = 0, nl = strlen(name);
+    size_t o = 0, nl;
     int done = 0;
     snprintf(sec, sizeof sec, "%.*s", (int)(dot - key), key);
     snprintf(name, sizeof name, "%s", dot + 1);

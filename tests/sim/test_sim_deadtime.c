@@ -68,8 +68,8 @@ static int run_both(void **state)
 /* (4/pi) (vdc td/Ts + v_drop): 1.528 V for the paper motor's bridge. */
 static double describing_function_V(void)
 {
-    const double v_dt = g_cfg.inverter.vdc_V * g_cfg.inverter.dead_time_s * g_cfg.board.pwm_freq_Hz +
-                        g_cfg.inverter.device_drop_V;
+    const sim_inverter_t *inv = &g_cfg.inverter;
+    const double v_dt = inv->vdc_V * inv->dead_time_s * g_cfg.board.pwm_freq_Hz + inv->device_drop_V;
     return 4.0 / M_PI * v_dt;
 }
 
