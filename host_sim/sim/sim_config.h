@@ -60,7 +60,7 @@ typedef struct {
 typedef struct {
     double filter_cutoff_Hz, euler_passes, paper_regressor, rls_p0, forgetting;
     double magnetize_s, rls_tail_s, target_speed_rpm;
-    /* beyond the paper (issue 8), each but the defaults needs orientation 1 */
+    /* beyond the paper: each but the defaults needs orientation 1 */
     double passes;           /* identification passes 1..4 */
     double standstill;       /* 1: Rs and sigma Ls measured at standstill */
     double track_rr;         /* 1: Rr tracked in RUN */
