@@ -1,9 +1,12 @@
 /**
  * @file board_config.h
- * The board this firmware runs on: the paper's motor (method §6) on a 60 V
- * MOSFET bridge, 20 A Hall sensors, a 1000-line encoder, and the F2812's
- * pins and clocks.  The same numbers as host_sim/config/paper_motor.ini, so
- * that the simulator and the target run the same controller.
+ * The board this firmware runs on: the F2812's pins and clocks here, and the
+ * drive configuration g_board_config in board_config.c, which the build
+ * generates from an INI file (firmware/CMakeLists.txt, -DDRIVE_CONFIG=;
+ * default host_sim/config/paper_motor.ini: the paper's motor, method §6, on a
+ * 60 V MOSFET bridge, 20 A Hall sensors, a 1000-line encoder) with the
+ * simulator's parser and checks, so that the simulator and the target run the
+ * same controller.
  */
 #ifndef BOARD_CONFIG_H
 #define BOARD_CONFIG_H
@@ -36,7 +39,8 @@
 #define BOARD_BUTTON_PRESSED() (GpioDataRegs.GPBDAT.bit.GPIOB0 == 0u)
 /** The fault LED: GPIOF14 (XF pin), active high. */
 
-/** The drive configuration: SI values, every per-unit constant follows. */
+/** The drive configuration: SI values, every per-unit constant follows
+ *  (board_config.c, generated: board_config_gen). */
 extern const drive_config_t g_board_config;
 
 #endif /* BOARD_CONFIG_H */

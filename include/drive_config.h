@@ -2,9 +2,10 @@
  * @file drive_config.h
  * Everything the firmware needs to know about its motor and board, in SI
  * units.  drive_init() derives every per-unit constant and controller gain
- * from it once; nothing in the ISR path reads it.  On the target a const
- * instance lives in firmware/board_config.c; on the host it is read from the
- * INI file.
+ * from it once; nothing in the ISR path reads it.  Both the host and the
+ * target get it from an INI file's drive side (host_sim/sim/sim_config.h): the
+ * simulator converts it at load, the firmware's build writes the same
+ * conversion into a const instance (board_config.c, board_config_gen).
  */
 #ifndef DRIVE_CONFIG_H
 #define DRIVE_CONFIG_H

@@ -61,10 +61,14 @@ def main():
         for comp in (1, 0):
             res[comp] = run(exe, text, comp, Path(tmp) / f"comp{comp}")
     cp = res[1][2]
-    inv = cp["inverter"]
-    f_pwm = float(cp.get("simulation", "pwm_freq_Hz", fallback="15000"))
-    v_dt = (float(inv["vdc_V"]) * float(inv.get("dead_time_s", "1e-6")) * f_pwm +
-            float(inv.get("device_drop_V", "0.3")))
+    # the simulated bridge: [inverter], each value the [board]'s unless given
+    def bridge(key, default):
+        return float(cp.get("inverter", key, fallback=cp.get("board", default[0],
+                                                              fallback=default[1])))
+    f_pwm = float(cp.get("board", "pwm_freq_Hz", fallback="15000"))
+    v_dt = (bridge("vdc_V", ("vdc_nominal_V", "60")) *
+            bridge("dead_time_s", ("dead_time_s", "1e-6")) * f_pwm +
+            bridge("device_drop_V", ("device_drop_V", "0.3")))
     ref = 4.0 / math.pi * v_dt
     print(f"describing function (4/pi)(vdc td/Ts + v_drop) = {ref:.4f} V")
     print(f"{'compensation':<13} {'V err along i':>14} {'across':>9} {'mean |i|':>9} "

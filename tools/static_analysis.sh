@@ -31,6 +31,10 @@ done
 for m in iq:IQ_MATH float:FLOAT_MATH; do
   cmake -S . -B "build/analysis-${m%%:*}" -DMATH_TYPE="${m#*:}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
         -DCMAKE_EXPORT_COMPILE_COMMANDS=ON >/dev/null
+  # the generated board_config.c files are in the compilation database:
+  # make them (board_config_gen, from host_sim/config/*.ini)
+  cmake --build "build/analysis-${m%%:*}" -j2 --target board_config_c board_config_sources \
+        >/dev/null
 done
 # the firmware against TI's register names, as the target_fw_syntax tests do
 fw_defs=(-Ifirmware -Iinclude -Itests/target/ti_shim -Ihost_sim/iqmath -DMATH_TYPE=IQ_MATH

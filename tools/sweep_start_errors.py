@@ -3,15 +3,20 @@
 in Tr, Lm and Rs (issue 8 item 2).
 
 For each (tr, lm, rs) of the grid (default -30, 0, +30 %: 27 runs) motor_sim
-runs the start scenario on the base config with
+runs the start scenario on the base config with a wrong nameplate: [plant]
+holds the true motor (the base file's [plant], each parameter its
+[nameplate]'s unless given) and [nameplate] what the drive believes,
 
-    [controller] Rs_error_pct = rs, Lm_error_pct = lm, Rr_error_pct = rr
+    Rs (1 + rs), Lm (1 + lm), Rr (1 + rr), the leakages as the true ones,
 
-where rr gives the wanted Tr error.  The drive believes Lm(1 + lm) and keeps
-the leakages (sim_config_to_drive), so its Lr is Lm(1 + lm) + Llr and its
-Tr = Lr_believed / Rr_believed; for a believed Tr = Tr (1 + tr):
+where rr gives the wanted Tr error.  The drive's Lr is Lm(1 + lm) + Llr and
+its Tr = Lr_believed / Rr_believed; for a believed Tr = Tr (1 + tr):
 
-    rr = (Lm (1 + lm) + Llr) / (Lr (1 + tr)) - 1       (Lm_H, Llr_H from [motor])
+    rr = (Lm (1 + lm) + Llr) / (Lr (1 + tr)) - 1       (Lm_H, Llr_H of [plant])
+
+(rs and lm are written %g and rr %.6f as percentages, and each believed
+value exactly, so that a case gives the numbers the former
+[controller] *_error_pct keys gave.)
 
 Prints a table (published?, worst |error| and which parameter, each error,
 max |psi_q/psi_d|, faults) and a summary (how many within 3 %, the worst
@@ -49,7 +54,7 @@ ROOT = Path(__file__).resolve().parent.parent
 PARAMS = ("Rs_ohm", "Rr_ohm", "Lm_H", "Lr_H", "psi_r_Wb", "Tr_s")
 SHORT = {"Rs_ohm": "Rs", "Rr_ohm": "Rr", "Lm_H": "Lm", "Lr_H": "Lr", "psi_r_Wb": "psi_r",
          "Tr_s": "Tr"}
-SWEPT = ("Rs_error_pct", "Lm_error_pct", "Rr_error_pct")   # [controller], set by the sweep
+MOTOR = ("Rs_ohm", "Rr_ohm", "Lm_H", "Lls_H", "Llr_H")   # [plant] and [nameplate], set by the sweep
 BOUND_PCT = 3.0
 # the issue-8 sequence (README): observer, standstill Rs and sigma Ls, two
 # passes, Rr/Tr tracking with the fused published set
@@ -120,20 +125,32 @@ def adaptive_duration_s(cfg):
     into RUN and starts from the RLS's Tr)."""
     text = cfg.read_text()
     mag = float(ini_value(text, "ident", "magnetize_s") or 0.3)
-    rated = float(ini_value(text, "motor", "rated_speed_rpm"))
+    rated = float(ini_value(text, "nameplate", "rated_speed_rpm"))
     target = float(ini_value(text, "ident", "target_speed_rpm") or rated)
     ramp = float(ini_value(text, "controller", "speed_ramp_rpm_s"))
     return 2.0 * (0.1 + mag + target / ramp + 3.2) + 6.0
 
 
-def run_case(exe, base_text, extra, case, lm_h, llr_h, tmp, duration_s=0.0):
+def wrong_nameplate(truth, rs, lm, rr):
+    """[plant] = the truth, [nameplate] = the believed motor; each percentage
+    as the sweep prints it (%g, %g, %.6f), the products in double as the
+    simulator computed them from the former *_error_pct keys."""
+    pct = lambda text: 1.0 + float(text) / 100.0
+    over = {("plant", k): repr(v) for k, v in truth.items()}
+    over[("nameplate", "Rs_ohm")] = repr(truth["Rs_ohm"] * pct(f"{rs:g}"))
+    over[("nameplate", "Lm_H")] = repr(truth["Lm_H"] * pct(f"{lm:g}"))
+    over[("nameplate", "Rr_ohm")] = repr(truth["Rr_ohm"] * pct(f"{rr:.6f}"))
+    over[("nameplate", "Lls_H")] = repr(truth["Lls_H"])
+    over[("nameplate", "Llr_H")] = repr(truth["Llr_H"])
+    return over
+
+
+def run_case(exe, base_text, extra, case, truth, tmp, duration_s=0.0):
     """One motor_sim run; returns a row dict."""
     tr, lm, rs = case
-    rr = rr_error_pct(tr, lm, lm_h, llr_h)
+    rr = rr_error_pct(tr, lm, truth["Lm_H"], truth["Llr_H"])
     over = dict(extra)
-    over[("controller", "Rs_error_pct")] = f"{rs:g}"
-    over[("controller", "Lm_error_pct")] = f"{lm:g}"
-    over[("controller", "Rr_error_pct")] = f"{rr:.6f}"
+    over.update(wrong_nameplate(truth, rs, lm, rr))
     d = Path(tmp) / f"tr{tr:+g}_lm{lm:+g}_rs{rs:+g}"
     d.mkdir(parents=True)
     ini = d / "config.ini"
@@ -336,7 +353,7 @@ def parse_sets(sets):
         m = re.fullmatch(r"\s*([^.=\s]+)\.([^=\s]+)\s*=\s*(\S.*?)\s*", s)
         if not m:
             raise SystemExit(f"sweep: --set '{s}' is not SECTION.KEY=VALUE")
-        if m.group(1) == "controller" and m.group(2) in SWEPT:
+        if m.group(1) in ("plant", "nameplate") and m.group(2) in MOTOR:
             raise SystemExit(f"sweep: --set {m.group(1)}.{m.group(2)}: the sweep sets that key")
         over[(m.group(1), m.group(2))] = m.group(3)
     return over
@@ -362,9 +379,11 @@ def main(argv):
     base = cfg.read_text()
     merged = ini_merge(base, extra)
     try:
-        lm_h, llr_h = (float(ini_value(merged, "motor", k)) for k in ("Lm_H", "Llr_H"))
+        # the true motor: [plant], each parameter the [nameplate]'s unless given
+        truth = {k: float(ini_value(merged, "plant", k) or ini_value(merged, "nameplate", k))
+                 for k in MOTOR}
     except (TypeError, ValueError):
-        raise SystemExit(f"sweep: {cfg} has no numeric [motor] Lm_H and Llr_H")
+        raise SystemExit(f"sweep: {cfg} has no numeric [nameplate] {', '.join(MOTOR)}")
     orient = ini_value(merged, "controller", "orientation") or "0"
     cases = [(tr, lm, rs) for rs in grid for lm in grid for tr in grid]
     label = ("adaptive sequence" if a.adaptive else f"orientation {orient}") + \
@@ -379,7 +398,7 @@ def main(argv):
         print(f"sweep: {len(cases)} runs of {exe} on {cfg}, {name}, {a.jobs} at a time")
         with tempfile.TemporaryDirectory(prefix="sweep_") as tmp:
             with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
-                rows = list(pool.map(lambda c, o=over: run_case(exe, base, o, c, lm_h, llr_h,
+                rows = list(pool.map(lambda c, o=over: run_case(exe, base, o, c, truth,
                                                                 tmp, a.duration), cases))
         for r in rows:
             r["sequence"] = name

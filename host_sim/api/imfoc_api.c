@@ -13,9 +13,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "drive_limits.h"
 #include "drive_types.h"
 #include "imfoc_convert.h"
 #include "sim_config.h"
+#include "sim_limits.h"
 
 #define IMFOC_BACKGROUND_DIV 15u   /* 1 kHz background at 15 kHz, as motor_sim */
 
@@ -70,8 +72,16 @@ imfoc_t *imfoc_create(const drive_config_t *cfg, char *err, size_t err_len)
     }
     st = drive_init(&h->drive, cfg);
     if (st != DRIVE_CFG_OK) {
-        set_err(err, err_len, "drive_init rejected the configuration",
-                drive_cfg_status_str(st));
+        drive_limit_fail_t lim;
+        char detail[SIM_CONFIG_ERR_LEN];
+        int n = snprintf(detail, sizeof detail, "%s", drive_cfg_status_str(st));
+        if (drive_config_check(cfg, &lim) != DRIVE_CFG_OK && n > 0 &&
+            (size_t)n + 2u < sizeof detail) {
+            detail[n++] = ':';
+            detail[n++] = ' ';
+            sim_limit_message(detail + n, sizeof detail - (size_t)n, &lim);
+        }
+        set_err(err, err_len, "drive_init rejected the configuration", detail);
         free(h);
         return NULL;
     }

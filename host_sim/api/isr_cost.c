@@ -168,9 +168,9 @@ int main(int argc, char **argv)
     if (!(duration > 0.0)) {
         /* the paper's sequence is in RUN after ~3 s; the adaptive one's
          * passes and its tracker's first second take longer */
-        duration = (cfg.orientation == 1.0) ? 12.0 : 6.0;
+        duration = (cfg.controller.orientation == 1.0) ? 12.0 : 6.0;
     }
-    n_isr = (uint32_t)(duration * cfg.pwm_freq_Hz);
+    n_isr = (uint32_t)(duration * cfg.board.pwm_freq_Hz);
     state_at = calloc(n_isr, 1u);
     kind = calloc(n_isr, 1u);
     if (state_at == NULL || kind == NULL) {

@@ -16,19 +16,19 @@ static const double k_load_level[3] = {0.0, 0.5, -0.3};
 
 int drift_init(drift_t *d, const sim_config_t *c, double window_s)
 {
-    double n_div = floor(c->pwm_freq_Hz / DRIFT_RATE_HZ + 0.5);
-    double n_ring = floor(DRIFT_MEAN_S * c->pwm_freq_Hz + 0.5);
+    double n_div = floor(c->board.pwm_freq_Hz / DRIFT_RATE_HZ + 0.5);
+    double n_ring = floor(DRIFT_MEAN_S * c->board.pwm_freq_Hz + 0.5);
 
     memset(d, 0, sizeof *d);
-    d->rr0_ohm = c->Rr_ohm;
-    d->rise = c->drift_rr_rise_pct / 100.0;
-    d->ramp_s = c->drift_ramp_s;
-    d->start_s = c->drift_start_s;
-    d->period_s = c->drift_load_period_s;
-    d->load_rated_Nm = c->load_const_Nm + c->load_fan_Nm;
+    d->rr0_ohm = c->plant.Rr_ohm;
+    d->rise = c->drift.rr_rise_pct / 100.0;
+    d->ramp_s = c->drift.ramp_s;
+    d->start_s = c->drift.start_s;
+    d->period_s = c->drift.load_period_s;
+    d->load_rated_Nm = c->load.const_Nm + c->load.fan_Nm;
     d->t0_s = -1.0;
     d->div = (n_div >= 1.0) ? (uint32_t)n_div : 1u;
-    d->dt_s = (double)d->div / c->pwm_freq_Hz;
+    d->dt_s = (double)d->div / c->board.pwm_freq_Hz;
     d->cap = (size_t)(fmax(window_s, 0.0) / d->dt_s) + 16u;
     d->ring_len = (n_ring >= 1.0) ? (size_t)n_ring : 1u;
     d->rr_true_ohm = (double *)calloc(d->cap, sizeof *d->rr_true_ohm);

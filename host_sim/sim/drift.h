@@ -16,7 +16,7 @@
  *   the drift and on realistic load changes, not on a torque step that no
  *   thermal process comes with).
  *
- * Rr0 is motor.Rr_ohm; the leakages and Lm stay (copper resistance changes
+ * Rr0 is plant.Rr_ohm; the leakages and Lm stay (copper resistance changes
  * with temperature, inductances do not).  The window of the figures runs
  * from t0 to the end of the run.  Host only.
  */
@@ -42,7 +42,7 @@ typedef struct {
 } drift_obs_t;
 
 typedef struct {
-    /* profile (sim_config_t [drift], [motor], [load]) */
+    /* profile (sim_config_t [drift], [plant], [load]) */
     double rr0_ohm, rise, ramp_s, start_s, period_s, load_rated_Nm;
     double t0_s;                /* drift start; -1 until drift_begin */
     /* 100 Hz series over the window */

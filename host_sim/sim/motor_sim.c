@@ -33,7 +33,8 @@ static void usage(FILE *f)
             "                     drift (then the rotor resistance rises while the load\n"
             "                     changes: [drift] keys; for [ident] track_rr = 1)\n"
             "  --duration S       simulated seconds (default: long enough for the scenario)\n"
-            "  --out DIR          write DIR/trace.csv and DIR/report.json (created if missing)\n"
+            "  --out DIR          write DIR/trace.csv and DIR/report.json (DIR and its parents\n"
+            "                     are created if missing)\n"
             "  --fault NAME@T     inject at T seconds: hall_gain (=rel. error, default 0.2),\n"
             "                     hall_lost (phase b reads 0 A), bus_sag (=rel. drop, default\n"
             "                     0.5), overvoltage (=rel. rise, default 0.5), encoder_lost\n"
@@ -56,7 +57,9 @@ static void usage(FILE *f)
             "  --serial-keep-open with --serial: run on when the client closes the port (for\n"
             "                     separate imfoc start / monitor calls)\n"
             "  --quiet            no progress and no table\n"
-            "  --keys             list every configuration key, its unit and range\n"
+            "  --keys             list every configuration key once: section, unit, default,\n"
+            "                     range, and the side that reads it (drive / sim); then the\n"
+            "                     derived limits drive_init enforces\n"
             "\n"
             "Exit status: 0 ok, 1 usage or configuration error, 2 run failed.\n");
 }
@@ -149,6 +152,35 @@ static int parse_fault(const char *arg, sim_fault_t *f)
         }
     }
     return -1;
+}
+
+/* mkdir -p: every missing folder of @p path, parents first.  Returns 0, or
+ * -1 with errno set and the folder that could not be made in @p failed (a
+ * file in the way: the folder under it, "Not a directory"). */
+static int make_dirs(const char *path, char *failed, size_t len)
+{
+    char buf[4096];
+    size_t n = strlen(path), i;
+
+    snprintf(failed, len, "%s", path);
+    if (n >= sizeof buf) {
+        errno = ENAMETOOLONG;
+        return -1;
+    }
+    memcpy(buf, path, n + 1u);
+    for (i = 1u; i <= n; i++) {
+        char c = buf[i];
+        if ((c != '/' && c != '\0') || buf[i - 1u] == '/') {
+            continue;   /* inside a name, or a repeated '/' */
+        }
+        buf[i] = '\0';
+        if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
+            snprintf(failed, len, "%s", buf);
+            return -1;
+        }
+        buf[i] = c;
+    }
+    return 0;
 }
 
 int main(int argc, char **argv)
@@ -251,8 +283,9 @@ int main(int argc, char **argv)
     if (out_dir != NULL) {
         struct stat st;
         int n_trace, n_report;
-        if (mkdir(out_dir, 0777) != 0 && errno != EEXIST) {
-            fprintf(stderr, "motor_sim: cannot create %s (%s)\n", out_dir, strerror(errno));
+        char failed[4096];
+        if (make_dirs(out_dir, failed, sizeof failed) != 0) {
+            fprintf(stderr, "motor_sim: cannot create %s (%s)\n", failed, strerror(errno));
             return 1;
         }
         if (stat(out_dir, &st) != 0 || !S_ISDIR(st.st_mode)) {

@@ -12,47 +12,47 @@ int plant_init(plant_t *p, const sim_config_t *c, uint16_t t1pr, char *err, unsi
     hall_params_t hp;
     adc_f2812_params_t ap;
     encoder_params_t ep;
-    uint64_t seed = (uint64_t)c->seed;
+    uint64_t seed = (uint64_t)c->sensors.seed;
 
     memset(p, 0, sizeof *p);
-    p->Ts_s = 1.0 / c->pwm_freq_Hz;
+    p->Ts_s = 1.0 / c->board.pwm_freq_Hz;
     p->t1pr = t1pr;
-    p->substeps = (uint16_t)c->substeps;
-    p->load_const_Nm = c->load_const_Nm;
-    p->load_prop_Nm_s = c->load_prop_Nm_s;
-    p->load_fan_Nm = c->load_fan_Nm;
-    p->w_rated_m_rad_s = c->rated_speed_rpm * 2.0 * M_PI / 60.0;
+    p->substeps = (uint16_t)c->simulation.substeps;
+    p->load_const_Nm = c->load.const_Nm;
+    p->load_prop_Nm_s = c->load.prop_Nm_s;
+    p->load_fan_Nm = c->load.fan_Nm;
+    p->w_rated_m_rad_s = c->nameplate.rated_speed_rpm * 2.0 * M_PI / 60.0;
     p->hall_a_gain_fault = 1.0;
     p->vdc_scale = 1.0;
     p->t_visible_s = -1.0;
-    p->i_trip_A = c->overcurrent_A;
-    p->i_fs_A = c->hall_full_scale_A;
+    p->i_trip_A = c->controller.overcurrent_A;
+    p->i_fs_A = c->board.current_full_scale_A;
     p->hw_trip_until_s = -1.0;
 
     memset(&mp, 0, sizeof mp);
-    mp.Rs_ohm = c->Rs_ohm;
-    mp.Rr_ohm = c->Rr_ohm;
-    mp.Lm_H = c->Lm_H;
-    mp.Lls_H = c->Lls_H;
-    mp.Llr_H = c->Llr_H;
-    mp.pole_pairs = (uint16_t)c->pole_pairs;
-    mp.J_kgm2 = c->J_kgm2;
-    mp.B_Nm_s = c->B_Nm_s;
+    mp.Rs_ohm = c->plant.Rs_ohm;
+    mp.Rr_ohm = c->plant.Rr_ohm;
+    mp.Lm_H = c->plant.Lm_H;
+    mp.Lls_H = c->plant.Lls_H;
+    mp.Llr_H = c->plant.Llr_H;
+    mp.pole_pairs = (uint16_t)c->nameplate.pole_pairs;
+    mp.J_kgm2 = c->plant.J_kgm2;
+    mp.B_Nm_s = c->plant.B_Nm_s;
     if (motor_init(&p->motor, &mp) != MOTOR_OK) {
-        snprintf(err, err_len, "motor model rejected the [motor] parameters");
+        snprintf(err, err_len, "motor model rejected the [plant] parameters");
         return 1;
     }
 
     inverter_params_default(&ip);
-    ip.vdc_V = c->vdc_V;
-    ip.r_source_ohm = c->source_resistance_ohm;
-    ip.ripple_V = c->ripple_V;
-    ip.ripple_Hz = c->ripple_Hz;
-    ip.f_pwm_Hz = c->pwm_freq_Hz;
-    ip.dead_time_s = c->dead_time_s;
-    ip.v_drop_V = c->device_drop_V;
-    ip.r_on_ohm = c->r_on_ohm;
-    ip.i_band_A = c->dead_time_band_A_plant;
+    ip.vdc_V = c->inverter.vdc_V;
+    ip.r_source_ohm = c->inverter.source_resistance_ohm;
+    ip.ripple_V = c->inverter.ripple_V;
+    ip.ripple_Hz = c->inverter.ripple_Hz;
+    ip.f_pwm_Hz = c->board.pwm_freq_Hz;
+    ip.dead_time_s = c->inverter.dead_time_s;
+    ip.v_drop_V = c->inverter.device_drop_V;
+    ip.r_on_ohm = c->inverter.r_on_ohm;
+    ip.i_band_A = c->inverter.dead_time_band_A;
     ip.ideal = 0u;
     if (inverter_init(&p->inv, &ip) != 0) {
         snprintf(err, err_len, "inverter model rejected the [inverter] parameters");
@@ -60,25 +60,25 @@ int plant_init(plant_t *p, const sim_config_t *c, uint16_t t1pr, char *err, unsi
     }
 
     hall_params_default(&hp);
-    hp.gain_error = c->hall_gain_error_pct / 100.0;
-    hp.noise_rms_A = c->hall_noise_A_rms;
-    hp.offset_A = c->hall_offset_a_A;
+    hp.gain_error = c->sensors.hall_gain_error_pct / 100.0;
+    hp.noise_rms_A = c->sensors.hall_noise_A_rms;
+    hp.offset_A = c->sensors.hall_offset_a_A;
     hp.seed = seed * 7919u + 1u;
     if (hall_init(&p->hall_a, &hp) != HALL_OK) {
         snprintf(err, err_len, "Hall sensor model rejected the [sensors] parameters");
         return 3;
     }
-    hp.offset_A = c->hall_offset_b_A;
-    hp.gain_error = -0.6 * c->hall_gain_error_pct / 100.0;   /* the two sensors differ */
+    hp.offset_A = c->sensors.hall_offset_b_A;
+    hp.gain_error = -0.6 * c->sensors.hall_gain_error_pct / 100.0;   /* the two sensors differ */
     hp.seed = seed * 7919u + 2u;
     (void)hall_init(&p->hall_b, &hp);
-    if (sig_cond_init_current(&p->cond_i, c->hall_full_scale_A) != SIG_COND_OK ||
-        sig_cond_init_vdc(&p->cond_v, c->vdc_full_scale_V) != SIG_COND_OK) {
+    if (sig_cond_init_current(&p->cond_i, c->board.current_full_scale_A) != SIG_COND_OK ||
+        sig_cond_init_vdc(&p->cond_v, c->board.vdc_full_scale_V) != SIG_COND_OK) {
         snprintf(err, err_len, "signal conditioning rejected the full-scale values");
         return 4;
     }
     adc_f2812_params_default(&ap);
-    ap.noise_lsb_rms = c->adc_noise_lsb;
+    ap.noise_lsb_rms = c->sensors.adc_noise_lsb;
     ap.seed = seed * 7919u + 3u;
     (void)adc_f2812_init(&p->adc_a, &ap);
     ap.seed = seed * 7919u + 4u;
@@ -89,10 +89,10 @@ int plant_init(plant_t *p, const sim_config_t *c, uint16_t t1pr, char *err, unsi
         return 5;
     }
     encoder_params_default(&ep);
-    ep.lines = (uint16_t)c->encoder_lines;
+    ep.lines = (uint16_t)c->board.encoder_lines;
     ep.seed = seed * 7919u + 6u;
     if (encoder_init(&p->enc, &ep, 0.0) != 0) {
-        snprintf(err, err_len, "encoder model rejected sensors.encoder_lines");
+        snprintf(err, err_len, "encoder model rejected board.encoder_lines");
         return 6;
     }
     return 0;

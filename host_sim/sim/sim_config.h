@@ -1,15 +1,25 @@
 /**
  * @file sim_config.h
- * The simulator's configuration: the simulated (true) motor, its load, the
- * inverter, the sensors, and the firmware's drive_config_t, read from an INI
- * file (parsed by inih, Debian's libinih).
+ * The simulator's configuration, read from one INI file (parsed by inih,
+ * Debian's libinih) that serves two consumers:
  *
- * Every key is declared once in a table (sim_config.c) with its section,
- * unit, valid range and whether it is required.  An unknown section or key,
- * a missing required key, a value that is not a finite number, or one outside
- * its range is an error that names the key; cross-checks (Lm < Ls, a bus high
- * enough for rated speed, ...) run after parsing.  No partial configuration
- * is ever used.
+ *   drive side  [nameplate] [board] [controller] [ident]: what the firmware
+ *               is told; sim_config_to_drive() turns it into the
+ *               drive_config_t, and board_config_gen writes the same
+ *               drive_config_t as the board's board_config.c;
+ *   simulated   [plant] [inverter] [sensors] [load] [drift] [simulation]:
+ *   world       the true motor, the bridge, the sensors' errors, the load,
+ *               the drift scenario, the integration.  A wrong nameplate is a
+ *               [plant] that differs from [nameplate].
+ *
+ * Every key is declared once (sim_config.c) with its section, unit, default,
+ * range and side; the ranges of the drive-side keys are the drive's own
+ * (drive_limits.h, the table drive_init validates through), so the INI check
+ * and drive_init refuse the same values and name the same key.  An unknown
+ * section or key, a missing required key, a value that is not a finite
+ * number or is outside its range, and unphysical combinations are errors
+ * that name the key, its value and the limit.  No partial configuration is
+ * ever used.
  */
 #ifndef SIM_CONFIG_H
 #define SIM_CONFIG_H
@@ -18,56 +28,114 @@
 #include <stdint.h>
 #include "drive_config.h"
 
+/* Every member is a double named as its key, one struct per section (the
+ * fuzz target reads sim_config_t as an array of doubles). */
 
+/** [nameplate] (drive): the motor as the firmware believes it. */
 typedef struct {
-    /* [motor]: the simulated machine (the truth the identification must find) */
     double Rs_ohm, Rr_ohm, Lm_H, Lls_H, Llr_H;
     double pole_pairs;
-    double J_kgm2, B_Nm_s;
-    double rated_power_W, rated_voltage_V, rated_current_A, rated_speed_rpm, rated_freq_Hz;
-    /* [load]: T_load = const + k_prop*w_m + fan*(w_m/w_rated)^2 (sign of w_m) */
-    double load_const_Nm, load_prop_Nm_s, load_fan_Nm;
-    /* [inverter] */
-    double vdc_V, source_resistance_ohm, ripple_V, ripple_Hz;
-    double dead_time_s, device_drop_V, r_on_ohm, dead_time_band_A_plant;
-    /* [sensors] */
-    double hall_full_scale_A, hall_gain_error_pct, hall_offset_a_A, hall_offset_b_A;
-    double hall_noise_A_rms, adc_noise_lsb, vdc_full_scale_V, encoder_lines;
-    double seed;
-    /* [controller]: what the firmware believes, and its design targets.
-     * The believed motor values default to the true ones; *_error_pct keys
-     * scale them (a wrong nameplate). */
-    double ctl_Rs_error_pct, ctl_Rr_error_pct, ctl_Lm_error_pct;
+    double rated_current_A, rated_speed_rpm, rated_freq_Hz;
+    double rated_voltage_V, rated_power_W;   /* informative; 0 when not given */
+} sim_nameplate_t;
+
+/** [board] (drive): the power stage and the sensor scaling as the firmware
+ *  knows them (the simulated sensors share the scaling). */
+typedef struct {
+    double pwm_freq_Hz, sysclk_Hz;
+    double dead_time_s;      /* programmed dead band */
+    double device_drop_V;    /* the compensation's drop */
+    double vdc_nominal_V, vdc_full_scale_V, current_full_scale_A, encoder_lines;
+} sim_board_t;
+
+/** [controller] (drive): design targets and protection levels. */
+typedef struct {
     double current_bw_Hz, speed_bw_Hz, inertia_kgm2, max_torque_current_A;
     double speed_ramp_rpm_s, speed_filter_Hz, magnetizing_current_A;
     double overcurrent_A, vdc_max_V, vdc_min_V, dead_time_comp, dead_time_band_A;
-    double orientation;     /* 0: indirect (IFO), 1: rotor-flux observer (drive_config.h) */
-    /* [ident] */
+    double orientation;      /* 0: indirect (IFO), 1: rotor-flux observer (drive_config.h) */
+} sim_controller_t;
+
+/** [ident] (drive): the identification. */
+typedef struct {
     double filter_cutoff_Hz, euler_passes, paper_regressor, rls_p0, forgetting;
-    double magnetize_s, target_speed_rpm, rls_tail_s;
-    /* beyond the paper (issue 8), each but the defaults needs orientation 1 */
-    double ident_passes;    /* identification passes 1..4 */
-    double standstill;   /* 1: Rs measured at standstill before the first acceleration */
-    double track_rr;        /* 1: Rr tracked in RUN */
-    double track_memory_s;  /* the tracker's forgetting time constant */
-    /* [drift]: the thermal-drift scenario (sim_run.h, SCEN_DRIFT) */
-    double drift_rr_rise_pct, drift_ramp_s, drift_start_s, drift_load_period_s;
-    /* [simulation] */
-    double pwm_freq_Hz, sysclk_Hz, substeps;
+    double magnetize_s, rls_tail_s, target_speed_rpm;
+    /* beyond the paper: each but the defaults needs orientation 1 */
+    double passes;           /* identification passes 1..4 */
+    double standstill;       /* 1: Rs and sigma Ls measured at standstill */
+    double track_rr;         /* 1: Rr tracked in RUN */
+    double track_memory_s;   /* the tracker's forgetting time constant */
+} sim_ident_t;
+
+/** [plant] (sim): the true motor, each parameter the nameplate's unless given. */
+typedef struct {
+    double Rs_ohm, Rr_ohm, Lm_H, Lls_H, Llr_H;
+    double J_kgm2, B_Nm_s;
+} sim_plant_t;
+
+/** [inverter] (sim): the simulated bridge. */
+typedef struct {
+    double vdc_V, source_resistance_ohm, ripple_V, ripple_Hz;
+    double dead_time_s, device_drop_V, r_on_ohm, dead_time_band_A;
+} sim_inverter_t;
+
+/** [sensors] (sim): the simulated sensors' errors. */
+typedef struct {
+    double hall_gain_error_pct, hall_offset_a_A, hall_offset_b_A, hall_noise_A_rms;
+    double adc_noise_lsb, seed;
+} sim_sensors_t;
+
+/** [load] (sim): T_load = const + prop w_m + fan (w_m/w_rated)^2 (sign of w_m). */
+typedef struct {
+    double const_Nm, prop_Nm_s, fan_Nm;
+} sim_load_t;
+
+/** [drift] (sim): the thermal-drift scenario (sim_run.h, SCEN_DRIFT). */
+typedef struct {
+    double rr_rise_pct, ramp_s, start_s, load_period_s;
+} sim_drift_t;
+
+/** [simulation] (sim): numerics only. */
+typedef struct {
+    double substeps;
+} sim_numerics_t;
+
+typedef struct {
+    sim_nameplate_t nameplate;
+    sim_board_t board;
+    sim_controller_t controller;
+    sim_ident_t ident;
+    sim_plant_t plant;
+    sim_inverter_t inverter;
+    sim_sensors_t sensors;
+    sim_load_t load;
+    sim_drift_t drift;
+    sim_numerics_t simulation;
 } sim_config_t;
 
 /** Error text buffer size for sim_config_load. */
-#define SIM_CONFIG_ERR_LEN 256
+#define SIM_CONFIG_ERR_LEN 512
 
-/** Load @p path.  Returns 0 on success; otherwise non-zero with a message
- *  naming the file, the line or key, and the reason in @p err. */
+/** sim_config_load's status when drive_init refused a file that every limit
+ *  of its table (drive_limits.h) accepted: a limit missing from the table
+ *  (the fuzz target of the parser looks for it). */
+#define SIM_CONFIG_ERR_UNLISTED 2
+
+/** Load @p path.  Returns 0 on success; otherwise 1 (or
+ *  SIM_CONFIG_ERR_UNLISTED) with a message naming the file, the line or key,
+ *  the value and the limit in @p err. */
 int sim_config_load(const char *path, sim_config_t *cfg, char *err, size_t err_len);
 
-/** Fill the firmware's configuration from the simulator's (what the drive
- *  believes; the nameplate errors applied). */
+/** Set key @p key ("section.key") of a loaded configuration, unchecked (for
+ *  tests and studies; a default that follows another key is not redone).
+ *  Returns 0, or -1 for an unknown key. */
+int sim_config_set(sim_config_t *c, const char *key, double v);
+
+/** The firmware's configuration from the drive-side sections. */
 void sim_config_to_drive(const sim_config_t *cfg, drive_config_t *dc);
 
-/** Print every key with its value, unit and range (for --help / docs). */
+/** Print every key once: section, unit, default or required, range, and the
+ *  side that reads it; then the derived limits (for --keys and the docs). */
 void sim_config_print_keys(void);
 
 #endif /* SIM_CONFIG_H */

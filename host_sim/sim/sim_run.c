@@ -8,8 +8,10 @@
 #include <time.h>
 
 #include "drift.h"
+#include "drive_limits.h"
 #include "drive_types.h"
 #include "hal_host.h"
+#include "sim_limits.h"
 
 #define BACKGROUND_DIV 15u   /* background loop at 1 kHz */
 
@@ -191,10 +193,11 @@ static void trace_row_adaptation(FILE *f, const drive_t *d, const plant_t *p)
  * The drift scenario ends earlier, when its window is over (sim_run). */
 static double default_duration_s(const sim_config_t *c, sim_scenario_t s)
 {
-    double ident = 0.1 + c->magnetize_s + c->target_speed_rpm / c->speed_ramp_rpm_s + 3.2;
-    double d = ident * c->ident_passes;
+    double ident = 0.1 + c->ident.magnetize_s +
+                   c->ident.target_speed_rpm / c->controller.speed_ramp_rpm_s + 3.2;
+    double d = ident * c->ident.passes;
     if (s == SCEN_DRIFT) {
-        return d + c->drift_start_s + c->drift_ramp_s + DRIFT_TAIL_S;
+        return d + c->drift.start_s + c->drift.ramp_s + DRIFT_TAIL_S;
     }
     return (s != SCEN_START) ? d + 2.5 : d;
 }
@@ -205,7 +208,7 @@ static double default_duration_s(const sim_config_t *c, sim_scenario_t s)
 static int ident_complete(const drive_t *d, const sim_config_t *c)
 {
     double pass = (d->telemetry.pass == 0u) ? 1.0 : (double)d->telemetry.pass;
-    return d->telemetry.state == ID_RUN && pass >= c->ident_passes;
+    return d->telemetry.state == ID_RUN && pass >= c->ident.passes;
 }
 
 /* The drift scenario in one PWM period: start it when the identification
@@ -267,8 +270,16 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     sim_config_to_drive(cfg, &dc);
     st = drive_init(&drive, &dc);
     if (st != DRIVE_CFG_OK) {
-        snprintf(err, err_len, "drive_init rejected the configuration: %s",
-                 drive_cfg_status_str(st));
+        /* sim_config_load refuses such a file; a test may set the values */
+        drive_limit_fail_t f;
+        char why[SIM_CONFIG_ERR_LEN];
+        if (drive_config_check(&dc, &f) != DRIVE_CFG_OK) {
+            sim_limit_message(why, sizeof why, &f);
+        } else {
+            snprintf(why, sizeof why, "a limit include/drive_limits.h does not hold");
+        }
+        snprintf(err, err_len, "drive_init rejected the configuration: %s: %s",
+                 drive_cfg_status_str(st), why);
         return 1;
     }
     if (plant_init(&plant, cfg, drive.t1pr, err, err_len) != 0) {
@@ -278,13 +289,13 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     hal_host_bind(&port);
     active = port.cmp;
 
-    Ts = 1.0 / cfg->pwm_freq_Hz;
+    Ts = 1.0 / cfg->board.pwm_freq_Hz;
     duration = (opt->duration_s > 0.0) ? opt->duration_s
                                        : default_duration_s(cfg, opt->scenario);
     res->duration_s = duration;
     n_steps = (uint64_t)(duration / Ts + 0.5);
-    trace_div = (uint64_t)(cfg->pwm_freq_Hz / ((opt->trace_rate_Hz > 0.0) ? opt->trace_rate_Hz
-                                                                            : 1000.0));
+    trace_div = (uint64_t)(cfg->board.pwm_freq_Hz /
+                           ((opt->trace_rate_Hz > 0.0) ? opt->trace_rate_Hz : 1000.0));
     if (trace_div == 0) {
         trace_div = 1;
     }
@@ -310,11 +321,11 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
         trace_header(trace);
     }
     rpm_per_pu = b->n_base_rpm;
-    res->truth.Rs_ohm = cfg->Rs_ohm;
-    res->truth.Rr_ohm = cfg->Rr_ohm;
-    res->truth.Lm_H = cfg->Lm_H;
-    res->truth.Lr_H = cfg->Lm_H + cfg->Llr_H;
-    res->truth.Tr_s = res->truth.Lr_H / cfg->Rr_ohm;
+    res->truth.Rs_ohm = cfg->plant.Rs_ohm;
+    res->truth.Rr_ohm = cfg->plant.Rr_ohm;
+    res->truth.Lm_H = cfg->plant.Lm_H;
+    res->truth.Lr_H = cfg->plant.Lm_H + cfg->plant.Llr_H;
+    res->truth.Tr_s = res->truth.Lr_H / cfg->plant.Rr_ohm;
 
     if (opt->no_autostart == 0u) {
         drive_command(&drive, DRIVE_CMD_START_IDENT);
@@ -419,7 +430,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
             last_fault = drive.telemetry.fault;
             prev_state = state;
 
-            if ((k % (uint64_t)(cfg->pwm_freq_Hz / 100.0)) == 0u && n_rows < cap_rows) {
+            if ((k % (uint64_t)(cfg->board.pwm_freq_Hz / 100.0)) == 0u && n_rows < cap_rows) {
                 rows[n_rows].t = t;
                 to_si(b, &drive.live, &rows[n_rows].p);
                 n_rows++;
@@ -473,7 +484,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                 t_soak_load = t;
             }
             plant.extra_load_Nm = (t < t_soak_load + 1.0 && t >= t_soak_load)
-                                      ? 0.5 * (cfg->load_const_Nm + cfg->load_fan_Nm)
+                                      ? 0.5 * (cfg->load.const_Nm + cfg->load.fan_Nm)
                                       : 0.0;
         }
         if (opt->scenario == SCEN_DRIFT) {
@@ -488,13 +499,14 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                 drive_set_speed(&drive, -drive.seq.speed_target);
                 scen_done = 1;
             } else if (opt->scenario == SCEN_LOAD_STEPS && t >= t_run + 0.5) {
-                plant.extra_load_Nm = (t < t_run + 1.5) ? 0.5 * (cfg->load_const_Nm +
-                                                                 cfg->load_fan_Nm)
+                plant.extra_load_Nm = (t < t_run + 1.5) ? 0.5 * (cfg->load.const_Nm +
+                                                                 cfg->load.fan_Nm)
                                                         : 0.0;
                 scen_done = (t >= t_run + 1.5);
             }
         }
-        if (!opt->quiet && duration > 5.0 && (k % (uint64_t)cfg->pwm_freq_Hz) == 0u && k > 0) {
+        if (!opt->quiet && duration > 5.0 && (k % (uint64_t)cfg->board.pwm_freq_Hz) == 0u &&
+            k > 0) {
             fprintf(stderr, "\r  simulated %.0f of %.0f s", t, duration);
         }
 

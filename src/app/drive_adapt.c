@@ -46,16 +46,42 @@
 #define DRIVE_ADAPT_TR_RATE 0.2f       /* relative per second */
 #define TRACK_DECIM 4u                 /* tracker RLS at 938 Hz (the slow task's 3.75 kHz / 4) */
 #define TRACK_LPF_HZ 10.0f             /* as the regression's Butterworth corner */
-#define TRACK_PHI_MIN_OF_RATED 0.1f    /* least |psi x i|: 10 % of rated flux x rated i_T */
 #define TRACK_VALID_UPDATES 1000u      /* 1 s of tracker updates before Rr_track is valid */
-#define SSZ_F_OF_BW 0.4f               /* injection at 40 % of the current-loop bandwidth */
-#define SSZ_F_MAX_HZ 400.0f            /* ... at most (>= 37 samples per period at 15 kHz) */
-#define SSZ_CYCLES 20u                 /* periods summed */
-#define SSZ_AMPL_OF_IM 0.15f           /* amplitude: 15 % of i_M (no phase current crosses 0) */
-#define SSZ_GAP_S 0.02f                /* DC only after the injection: the current loop and the
-                                          filtered u_M, i_M settle before Rs is taken */
 
 enum { P_RS = 0, P_LM, P_LR, P_LS, P_TR };
+
+float drive_adapt_ssz_freq_Hz(const drive_config_t *c)
+{
+    return fminf(SSZ_F_OF_BW * c->control.current_bw_Hz, SSZ_F_MAX_HZ);
+}
+
+uint16_t drive_adapt_ssz_gap(float Ts)
+{
+    return (uint16_t)(SSZ_GAP_S / Ts + 0.5f);
+}
+
+standstill_z_status_t drive_adapt_ssz_init(standstill_z_t *z, const drive_config_t *c,
+                                           const base_values_t *b, float Ts)
+{
+    const drive_motor_t *m = &c->motor;
+    float f = drive_adapt_ssz_freq_Hz(c);
+    float im_pu = m->magnetizing_current_A / b->I_base_A;
+    return standstill_z_init(z, Ts, b->f_base_Hz, f, SSZ_CYCLES, SSZ_AMPL_OF_IM * im_pu,
+                             standstill_z_corr(f, m->Lm_H, m->Lr_H, m->Rr_ohm, b->L_base_H));
+}
+
+tr_track_status_t drive_adapt_track_init(tr_track_t *t, const drive_config_t *c,
+                                         const base_values_t *b, float Ts)
+{
+    const drive_motor_t *m = &c->motor;
+    float tr_pu = m->Lr_H / m->Rr_ohm / b->t_base_s;
+    float psi_pu = m->Lm_H * m->magnetizing_current_A / b->psi_base_Wb;
+    float it_pu = c->control.max_torque_current_A / b->I_base_A;
+    /* the tracker runs in the slow task (drive_slow.c): its period is Ts_slow */
+    return tr_track_init(t, Ts * (float)DRIVE_SLOTS, TRACK_DECIM, TRACK_LPF_HZ, c->ident.track_memory_s,
+                         TRACK_PHI_MIN_OF_RATED * psi_pu * it_pu, 0.25f / tr_pu, 4.0f / tr_pu,
+                         1.0f / tr_pu);
+}
 
 int16_t drive_adapt_init(drive_t *d, const drive_config_t *c, float Ts)
 {
@@ -69,9 +95,6 @@ int16_t drive_adapt_init(drive_t *d, const drive_config_t *c, float Ts)
     uint16_t passes = (id->passes == 0u) ? 1u : id->passes;
     float wc = 6.2831853f * c->control.current_bw_Hz;
     float rs_pu = m->Rs_ohm / b->Z_base_ohm;
-    float tr_pu = m->Lr_H / m->Rr_ohm / b->t_base_s;
-    float psi_pu = m->Lm_H * m->magnetizing_current_A / b->psi_base_Wb;
-    float it_pu = c->control.max_torque_current_A / b->I_base_A;
 
     a->passes = passes;
     a->standstill = id->standstill;
@@ -92,18 +115,13 @@ int16_t drive_adapt_init(drive_t *d, const drive_config_t *c, float Ts)
     if (id_sequence_set_passes(&d->seq, passes, _IQ(0.4)) != 0) {
         return 1;
     }
-    a->ssz_gap = (uint16_t)(SSZ_GAP_S / Ts + 0.5f);
-    if (id->standstill != 0u) {
-        float f = fminf(SSZ_F_OF_BW * c->control.current_bw_Hz, SSZ_F_MAX_HZ);
-        float im_pu = m->magnetizing_current_A / b->I_base_A;
-        if (standstill_z_init(&d->ssz, Ts, b->f_base_Hz, f, SSZ_CYCLES, SSZ_AMPL_OF_IM * im_pu,
-                              standstill_z_corr(f, m->Lm_H, m->Lr_H, m->Rr_ohm, b->L_base_H)) !=
-                STANDSTILL_Z_OK ||
-            /* the test and the gap fit in the second half of the magnetisation */
-            2u * ((uint32_t)standstill_z_samples(&d->ssz) + a->ssz_gap) >
-                d->seq.magnetize_samples * DRIVE_SLOTS) {
-            return 1;
-        }
+    a->ssz_gap = drive_adapt_ssz_gap(Ts);
+    if (id->standstill != 0u &&
+        (drive_adapt_ssz_init(&d->ssz, c, b, Ts) != STANDSTILL_Z_OK ||
+         /* the test and the gap fit in the second half of the magnetisation */
+         2u * ((uint32_t)standstill_z_samples(&d->ssz) + a->ssz_gap) >
+             d->seq.magnetize_samples * DRIVE_SLOTS)) {
+        return 1;
     }
     a->rs_lo = _IQ(0.25f * rs_pu);
     a->rs_hi = _IQ(fminf(4.0f * rs_pu, FLUX_OBS_RS_MAX));
@@ -117,10 +135,7 @@ int16_t drive_adapt_init(drive_t *d, const drive_config_t *c, float Ts)
     a->from[P_LS] = _IQ(m->Ls_H / b->L_base_H);
     a->from[P_TR] = d->fobs.tr;
     a->lr = a->from[P_LR];
-    if (id->track_rr != 0u &&
-        tr_track_init(&d->track, Ts_slow, TRACK_DECIM, TRACK_LPF_HZ, id->track_memory_s,
-                      TRACK_PHI_MIN_OF_RATED * psi_pu * it_pu, 0.25f / tr_pu, 4.0f / tr_pu,
-                      1.0f / tr_pu) != TR_TRACK_OK) {
+    if (id->track_rr != 0u && drive_adapt_track_init(&d->track, c, b, Ts) != TR_TRACK_OK) {
         return 1;
     }
     return 0;

@@ -73,6 +73,15 @@ static void make_symlink(const char *target, const char *name)
     }
 }
 
+/* A file or an empty directory left by an earlier run, gone. */
+static void remove_if_there(const char *name)
+{
+    const char *path = in_dir(name);
+    if (remove(path) != 0 && errno != ENOENT) {
+        die("cannot remove", path);
+    }
+}
+
 /* Numerical Recipes LCG: deterministic bytes for the garbage files. */
 static uint32_t g_rng = 12345u;
 static unsigned char next_byte(void)
@@ -82,7 +91,7 @@ static unsigned char next_byte(void)
 }
 
 /* The base configuration with @p len bytes of @p text inserted right after
- * its @p section header line ("[motor]\n"). */
+ * its @p section header line ("[nameplate]\n"). */
 static void base_with_after(const char *section, const char *name, const char *text, size_t len)
 {
     const char *m = strstr(g_base, section);
@@ -134,16 +143,16 @@ static void write_long_lines(void)
     }
     line[100000] = '\n';
     line[100001] = '\0';
-    base_with_after("[motor]\n", "long_comment.ini", line, strlen(line));
+    base_with_after("[nameplate]\n", "long_comment.ini", line, strlen(line));
 
     /* a value of 300 characters (trailing zeros of a valid number) */
-    snprintf(line, sizeof line, "B_Nm_s = 1.");
+    snprintf(line, sizeof line, "Rs_ohm = 1.");
     for (i = strlen(line); i < 300; i++) {
         line[i] = '0';
     }
     line[300] = '\n';
     line[301] = '\0';
-    base_with_after("[motor]\n", "long_value.ini", line, strlen(line));
+    base_with_after("[nameplate]\n", "long_value.ini", line, strlen(line));
 
     /* a comment whose tail, beyond inih's 199-character line buffer, reads as
      * a key that the base file leaves at its default: inih's own reader
@@ -170,14 +179,14 @@ static void write_many_keys(void)
 
     f = create("keys_10000_unknown.ini");
     fputs(g_base, f);
-    fputs("\n[motor]\n", f);
+    fputs("\n[nameplate]\n", f);
     for (i = 0; i < N_KEYS; i++) {
         fprintf(f, "key%05d = %d\n", i, i);
     }
     finish(f, "keys_10000_unknown.ini");
 
     f = create("keys_10000_same.ini");
-    fputs("[motor]\n", f);
+    fputs("[nameplate]\n", f);
     for (i = 0; i < N_KEYS; i++) {
         fputs("Rs_ohm = 1.0\n", f);
     }
@@ -208,6 +217,12 @@ static void write_outputs(void)
     f = create("quote\"name.ini");
     fputs(g_base, f);
     finish(f, "quote\"name.ini");
+
+    /* --out under a parent that does not exist: motor_sim creates both */
+    remove_if_there("no_such_dir/sub/trace.csv");
+    remove_if_there("no_such_dir/sub/report.json");
+    remove_if_there("no_such_dir/sub");
+    remove_if_there("no_such_dir");
 
     /* trace.csv cannot be created: it is a directory */
     make_dir(in_dir("out_trace_is_dir"));

@@ -56,7 +56,7 @@ static void check_case(const fault_case_t *c, double t_fault)
     f.t_s = t_fault;
     f.value = c->value;
     assert_int_equal(fault_run(PAPER, &f, 1u, NULL, 0u, FAULT_RUN_S, &cfg, &r), 0);
-    Ts = 1.0 / cfg.pwm_freq_Hz;
+    Ts = 1.0 / cfg.board.pwm_freq_Hz;
     delay = r.fault_time_s[0] - r.t_fault_visible_s;
     print_message("%-34s at %.1f s: code %u at %.6f s, visible %.6f s, delay %.1f periods, "
                   "PWM at end %u, periods switched with a fault %u, max |i| %.2f A\n",
@@ -77,7 +77,7 @@ static void check_case(const fault_case_t *c, double t_fault)
     assert_true(delay <= c->detect_window_s + Ts + 1e-9);
     /* the motor's phase currents never reached the trip level (the short's
      * own current is in the bridge, not the motor) */
-    assert_true(r.max_abs_i_A < cfg.overcurrent_A);
+    assert_true(r.max_abs_i_A < cfg.controller.overcurrent_A);
     if (t_fault > 1.8) {
         /* published before the fault, unchanged after it */
         assert_true(r.t_first_published_s > 0.0 && r.t_first_published_s < t_fault);
@@ -151,7 +151,7 @@ static void test_gain_error_after_publication(void **state)
                   r.max_abs_i_A, r.final_pwm_on);
     assert_int_equal(r.n_faults_seen, 0);
     assert_int_equal(r.final_pwm_on, 1);
-    assert_true(r.max_abs_i_A < cfg.overcurrent_A);
+    assert_true(r.max_abs_i_A < cfg.controller.overcurrent_A);
     assert_int_equal(r.identified, 1);
     assert_int_equal(r.published_changed, 0);
 }

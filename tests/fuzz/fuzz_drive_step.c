@@ -1,7 +1,7 @@
 /*
  * Fuzz target: arbitrary ADC and QEP sequences into the control ISR
  * (drive_step of include/drive.h) after drive_init with a valid
- * configuration: the board's (firmware/board_config.c, g_board_config) or
+ * configuration: the board's (g_board_config, generated from paper_motor.ini) or
  * one of three variants of it that reach the identification states sooner.
  *
  * Properties checked at every ISR (beyond "no undefined behaviour", which
@@ -64,7 +64,7 @@ void fuzz_fail(const char *what, unsigned long step, long value, long limit)
 }
 
 /* Variants of the board configuration, each valid (drive_init accepts it):
- *   0  g_board_config unchanged (paper motor, 0.3 s magnetisation, 1 s ramp)
+ *   0  g_board_config unchanged (paper motor, 0.3 s magnetisation, 0.7 s ramp)
  *   1  0.1 s magnetisation, a 0.1 s ramp to 1350 r/min (= 6 QEP counts per
  *      period: 6 * 15e3 / 4000 * 60), so that SETTLE and RUN come early
  *   2  as 1, with the paper's regressor (eq. 9) and forgetting 0.995

@@ -60,20 +60,29 @@ static int load_all(void **state)
 }
 
 /* The believed Rr error that gives a believed Tr error of tr_pct with the
- * believed Lm lm_pct off (the leakages are kept: sim_config_to_drive). */
+ * believed Lm lm_pct off (the leakages are kept). */
 static double rr_error_for_tr(const sim_config_t *c, double tr_pct, double lm_pct)
 {
-    double lr = c->Lm_H + c->Llr_H;
-    double lr_b = c->Lm_H * (1.0 + lm_pct / 100.0) + c->Llr_H;
+    double lr = c->plant.Lm_H + c->plant.Llr_H;
+    double lr_b = c->plant.Lm_H * (1.0 + lm_pct / 100.0) + c->plant.Llr_H;
     return 100.0 * (lr_b / (lr * (1.0 + tr_pct / 100.0)) - 1.0);
+}
+
+/* A wrong nameplate: the plant's Rs, Lm, Rr off by these percentages, the
+ * leakages as the plant's. */
+static void wrong_nameplate(sim_config_t *c, double rs_pct, double lm_pct, double rr_pct)
+{
+    c->nameplate.Rs_ohm = c->plant.Rs_ohm * (1.0 + rs_pct / 100.0);
+    c->nameplate.Lm_H = c->plant.Lm_H * (1.0 + lm_pct / 100.0);
+    c->nameplate.Rr_ohm = c->plant.Rr_ohm * (1.0 + rr_pct / 100.0);
 }
 
 static void adaptive(sim_config_t *c)
 {
-    c->orientation = 1.0;
-    c->standstill = 1.0;
-    c->ident_passes = 2.0;
-    c->track_rr = 1.0;
+    c->controller.orientation = 1.0;
+    c->ident.standstill = 1.0;
+    c->ident.passes = 2.0;
+    c->ident.track_rr = 1.0;
 }
 
 static double worst_abs(const sim_params_t *e)
@@ -105,9 +114,7 @@ static double nameplate_case(const sim_config_t *base, double tr, double lm, dou
     sim_result_t r;
     const sim_params_t *e = &r.published_end_error_pct;
     adaptive(&c);
-    c.ctl_Rs_error_pct = rs;
-    c.ctl_Lm_error_pct = lm;
-    c.ctl_Rr_error_pct = rr_error_for_tr(base, tr, lm);
+    wrong_nameplate(&c, rs, lm, rr_error_for_tr(base, tr, lm));
     run(&c, SCEN_START, duration_s, &r);
     printf("  believed Tr %+3.0f Lm %+3.0f Rs %+3.0f %%: Rs %+.2f Rr %+.2f Lm %+.2f Lr %+.2f "
            "psi_r %+.2f Tr %+.2f %%; standstill Rs %.4f ohm\n",
@@ -163,7 +170,7 @@ static void test_paper_sequence_contrast(void **state)
     sim_config_t c = g_paper;
     sim_result_t r;
     (void)state;
-    c.ctl_Rr_error_pct = rr_error_for_tr(&g_paper, 30.0, 0.0);
+    wrong_nameplate(&c, 0.0, 0.0, rr_error_for_tr(&g_paper, 30.0, 0.0));
     run(&c, SCEN_START, 0.0, &r);
     printf("paper sequence, believed Tr +30 %%: Tr %+.2f %%, Rr %+.2f %%\n", r.error_pct.Tr_s,
            r.error_pct.Rr_ohm);
@@ -185,7 +192,7 @@ static void drift_case(const sim_config_t *base, const char *name)
     run(&c, SCEN_DRIFT, 0.0, &r);
     printf("%s drift: Rr %.4f -> %.4f ohm; tracked within %.2f %% (lag 0), %.2f %% at a lag "
            "of %.1f s; q/d max %.4f (20 ms mean %.4f); speed error %.1f r/min; %u samples\n",
-           name, c.Rr_ohm, r.drift_rr_true_end_ohm, r.track_err_lag0_pct,
+           name, c.plant.Rr_ohm, r.drift_rr_true_end_ohm, r.track_err_lag0_pct,
            r.track_err_best_lag_pct, r.track_best_lag_s, r.drift_max_q_over_d,
            r.drift_max_q_over_d_20ms, r.drift_speed_ripple_rpm, (unsigned)r.track_samples);
     assert_int_equal(r.n_faults_seen, 0);
@@ -193,7 +200,7 @@ static void drift_case(const sim_config_t *base, const char *name)
     /* the whole window tracked: 65 s at 100 Hz (start 2 s after RUN, the
      * tracker valid 1 s after RUN) */
     assert_true(r.track_samples >= 6400u);
-    assert_true(fabs(r.drift_rr_true_end_ohm / c.Rr_ohm - 1.4) < 1e-9);
+    assert_true(fabs(r.drift_rr_true_end_ohm / c.plant.Rr_ohm - 1.4) < 1e-9);
     assert_true(r.track_best_lag_s <= 3.0);
     assert_true(r.track_err_best_lag_pct < 3.0);
     assert_true(r.drift_max_q_over_d < 0.01);
@@ -219,7 +226,7 @@ static void test_drift_untracked(void **state)
     sim_result_t r;
     (void)state;
     adaptive(&c);
-    c.track_rr = 0.0;
+    c.ident.track_rr = 0.0;
     run(&c, SCEN_DRIFT, 0.0, &r);
     printf("untracked drift: published Rr %.4f ohm, true %.4f ohm\n", r.published_end.Rr_ohm,
            r.drift_rr_true_end_ohm);
@@ -240,12 +247,12 @@ static void test_options_refused(void **state)
     memset(&opt, 0, sizeof opt);
     opt.quiet = 1u;
     opt.duration_s = 0.01;
-    c.track_rr = 1.0;   /* orientation 0 */
+    c.ident.track_rr = 1.0;   /* orientation 0 */
     assert_int_not_equal(sim_run(&c, &opt, &r, err, sizeof err), 0);
     assert_non_null(strstr(err, drive_cfg_status_str(DRIVE_CFG_IDENT)));
     c = g_paper;
     adaptive(&c);
-    c.ident_passes = 5.0;
+    c.ident.passes = 5.0;
     assert_int_not_equal(sim_run(&c, &opt, &r, err, sizeof err), 0);
     assert_non_null(strstr(err, drive_cfg_status_str(DRIVE_CFG_IDENT)));
 }

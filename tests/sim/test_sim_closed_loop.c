@@ -83,8 +83,9 @@ static void test_field_orientation(void **state)
 static void test_speed_tracking(void **state)
 {
     (void)state;
-    assert_true(g_res.max_speed_err_rpm_ramp < 0.02 * g_cfg.rated_speed_rpm);
-    assert_true(fabs(g_res.final_speed_rpm - g_cfg.target_speed_rpm) < 0.005 * g_cfg.rated_speed_rpm);
+    assert_true(g_res.max_speed_err_rpm_ramp < 0.02 * g_cfg.nameplate.rated_speed_rpm);
+    assert_true(fabs(g_res.final_speed_rpm - g_cfg.ident.target_speed_rpm) <
+                0.005 * g_cfg.nameplate.rated_speed_rpm);
 }
 
 /* Issue 3: no current limit exceeded: the phase current stays below the
@@ -92,11 +93,12 @@ static void test_speed_tracking(void **state)
  * the current-loop overshoot, and below the trip level. */
 static void test_current_limits(void **state)
 {
-    double allowed = sqrt(g_cfg.magnetizing_current_A * g_cfg.magnetizing_current_A +
-                          g_cfg.max_torque_current_A * g_cfg.max_torque_current_A);
+    const sim_controller_t *k = &g_cfg.controller;
+    double allowed = sqrt(k->magnetizing_current_A * k->magnetizing_current_A +
+                          k->max_torque_current_A * k->max_torque_current_A);
     (void)state;
     assert_true(g_res.max_abs_i_A < 1.1 * allowed);
-    assert_true(g_res.max_abs_i_A < g_cfg.overcurrent_A);
+    assert_true(g_res.max_abs_i_A < g_cfg.controller.overcurrent_A);
     assert_int_equal(g_res.n_faults_seen, 0);
     assert_int_equal(g_res.final_pwm_on, 1);
 }

@@ -1,11 +1,15 @@
 /*
- * Configuration errors (issue 3 item 3): unknown or missing keys and
- * unphysical values give an error that names the key.  Each case writes a
- * variant of the default file and checks the message.
+ * Configuration errors: unknown or missing keys and unphysical values give
+ * an error that names the key.  Each case writes a variant of the default
+ * file and checks the message.  The layout: the drive side ([nameplate]
+ * [board] [controller] [ident]) and the simulated world ([plant] [inverter]
+ * [sensors] [load] [drift] [simulation]); the limits every drive-side key
+ * shares with drive_init are tested in test_config_limits.c.
  */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -66,12 +70,28 @@ static void expect_error(const char *key, const char *repl, const char *must_con
 static void test_default_file_loads(void **state)
 {
     sim_config_t cfg;
+    drive_config_t dc;
     char err[SIM_CONFIG_ERR_LEN];
     (void)state;
     assert_int_equal(sim_config_load(MC_CONFIG_DIR "/paper_motor.ini", &cfg, err, sizeof err), 0);
-    /* the paper's motor, as method.md §6 */
-    assert_true(cfg.Rs_ohm == 1.031 && cfg.Rr_ohm == 0.465 && cfg.pole_pairs == 2.0);
-    assert_true(cfg.Lm_H + cfg.Lls_H == 0.0092 && cfg.Lm_H + cfg.Llr_H == 0.0092);
+    /* the paper's motor, as method.md §6, on both sides: [plant] gives only
+     * J and B, every motor parameter defaults to the nameplate's */
+    assert_true(cfg.nameplate.Rs_ohm == 1.031 && cfg.nameplate.Rr_ohm == 0.465 &&
+                cfg.nameplate.pole_pairs == 2.0);
+    assert_true(cfg.nameplate.Lm_H + cfg.nameplate.Lls_H == 0.0092 &&
+                cfg.nameplate.Lm_H + cfg.nameplate.Llr_H == 0.0092);
+    assert_true(cfg.plant.Rs_ohm == 1.031 && cfg.plant.Rr_ohm == 0.465 &&
+                cfg.plant.Lm_H == 0.0064 && cfg.plant.Lls_H == 0.0028 &&
+                cfg.plant.Llr_H == 0.0028 && cfg.plant.J_kgm2 == 1.0e-3);
+    /* the simulated bridge defaults to the board's numbers */
+    assert_true(cfg.inverter.vdc_V == 60.0 && cfg.inverter.dead_time_s == 1.0e-6 &&
+                cfg.inverter.device_drop_V == 0.3);
+    /* informative ratings read, target speed resolved to rated */
+    assert_true(cfg.nameplate.rated_voltage_V == 36.0 && cfg.nameplate.rated_power_W == 250.0);
+    assert_true(cfg.ident.target_speed_rpm == 1400.0);
+    sim_config_to_drive(&cfg, &dc);
+    assert_true(dc.motor.Ls_H == 0.0092f && dc.board.vdc_nominal_V == 60.0f &&
+                dc.board.current_full_scale_A == 20.0f && dc.board.encoder_lines == 1000u);
 }
 
 static void test_other_motors_load(void **state)
@@ -83,49 +103,100 @@ static void test_other_motors_load(void **state)
     assert_int_equal(sim_config_load(MC_CONFIG_DIR "/motor_15kw.ini", &cfg, err, sizeof err), 0);
 }
 
+/* A wrong nameplate is a [plant] that differs from [nameplate]: the drive
+ * gets the believed values, the simulated motor the true ones (the file is
+ * the paper motor with Tr +30 %, Lm -30 %, Rs +30 % believed). */
+static void test_wrong_nameplate(void **state)
+{
+    sim_config_t cfg;
+    drive_config_t dc;
+    char err[SIM_CONFIG_ERR_LEN];
+    double tr_true, tr_believed;
+    (void)state;
+    assert_int_equal(sim_config_load(MC_CONFIG_DIR "/paper_motor_wrong_nameplate.ini", &cfg, err,
+                                     sizeof err), 0);
+    assert_true(cfg.plant.Rs_ohm == 1.031 && cfg.plant.Rr_ohm == 0.465 &&
+                cfg.plant.Lm_H == 0.0064 && cfg.plant.Llr_H == 0.0028);
+    sim_config_to_drive(&cfg, &dc);
+    /* the very floats the former Rs/Lm/Rr_error_pct keys (+30, -30, -39.1304) gave */
+    assert_true(dc.motor.Rs_ohm == (float)(1.031 * (1.0 + 30.0 / 100.0)));
+    assert_true(dc.motor.Lm_H == (float)(0.0064 * (1.0 - 30.0 / 100.0)));
+    assert_true(dc.motor.Rr_ohm == (float)(0.465 * (1.0 - 39.1304 / 100.0)));
+    assert_true(dc.motor.Lr_H == (float)(0.0064 * (1.0 - 30.0 / 100.0) + 0.0028));
+    tr_true = (cfg.plant.Lm_H + cfg.plant.Llr_H) / cfg.plant.Rr_ohm;
+    tr_believed = (double)dc.motor.Lr_H / (double)dc.motor.Rr_ohm;
+    assert_true(fabs(tr_believed / tr_true - 1.3) < 1e-5);
+}
+
+/* Every key has one meaning and one section: the compensation's band
+ * ([controller]) and the bridge's ([inverter]) are two keys, each read by
+ * its own side only. */
+static void test_two_dead_time_bands(void **state)
+{
+    sim_config_t cfg;
+    drive_config_t dc;
+    char err[SIM_CONFIG_ERR_LEN];
+    char path[] = "/tmp/mc_cfg_test_XXXXXX";
+    int fd = mkstemp(path);
+    (void)state;
+    assert_true(fd >= 0);
+    write_variant(path, NULL, "[inverter]\ndead_time_band_A = 0.3");
+    assert_int_equal(sim_config_load(path, &cfg, err, sizeof err), 0);
+    sim_config_to_drive(&cfg, &dc);
+    assert_true(cfg.inverter.dead_time_band_A == 0.3 && dc.board.dead_time_band_A == 0.1f);
+    write_variant(path, NULL, "[controller]\ndead_time_band_A = 0.2");
+    assert_int_equal(sim_config_load(path, &cfg, err, sizeof err), 0);
+    sim_config_to_drive(&cfg, &dc);
+    assert_true(cfg.inverter.dead_time_band_A == 0.1 && dc.board.dead_time_band_A == 0.2f);
+    remove(path);
+}
+
 static void test_unknown_key(void **state)
 {
     (void)state;
-    expect_error(NULL, "[motor]\nRx_ohm = 1", "Rx_ohm");
+    expect_error(NULL, "[nameplate]\nRx_ohm = 1", "Rx_ohm");
 }
 
-static void test_unknown_section(void **state)
+/* the former layout's sections and keys are gone, and say so */
+static void test_old_layout_refused(void **state)
 {
     (void)state;
-    expect_error(NULL, "[motorr]\nRs_ohm = 1", "motorr");
+    expect_error(NULL, "[motor]\nRs_ohm = 1", "unknown section [motor]");
+    expect_error(NULL, "[controller]\nLm_error_pct = -30",
+                 "unknown key 'Lm_error_pct' in [controller]");
+    expect_error(NULL, "[sensors]\nencoder_lines = 1000",
+                 "unknown key 'encoder_lines' in [sensors]");
+    expect_error(NULL, "[simulation]\npwm_freq_Hz = 15000", "unknown key 'pwm_freq_Hz'");
 }
 
 static void test_missing_key(void **state)
 {
     (void)state;
-    expect_error("Rr_ohm", "", "motor.Rr_ohm");
+    expect_error("Rr_ohm", "", "missing key 'nameplate.Rr_ohm'");
+    expect_error("J_kgm2", "", "missing key 'plant.J_kgm2'");
+    expect_error("vdc_nominal_V", "", "missing key 'board.vdc_nominal_V'");
 }
 
 static void test_negative_resistance(void **state)
 {
     (void)state;
-    expect_error("Rs_ohm", "Rs_ohm = -1.0", "motor.Rs_ohm");
+    expect_error("Rs_ohm", "Rs_ohm = -1.0",
+                 "key 'nameplate.Rs_ohm' = -1 ohm is outside [0.0001, 100]");
+    expect_error(NULL, "[plant]\nRs_ohm = -1.0",
+                 "key 'plant.Rs_ohm' = -1 ohm is outside [0.0001, 100]");
 }
 
 static void test_zero_pole_pairs(void **state)
 {
     (void)state;
-    expect_error("pole_pairs", "pole_pairs = 0", "motor.pole_pairs");
+    expect_error("pole_pairs", "pole_pairs = 0", "nameplate.pole_pairs");
 }
 
 static void test_fractional_pole_pairs(void **state)
 {
     (void)state;
-    expect_error("pole_pairs", "pole_pairs = 2.5", "motor.pole_pairs");
-}
-
-static void test_lm_error_out_of_range(void **state)
-{
-    (void)state;
-    /* a believed Lm of 5 % of the true one is below the key's range (-90 %);
-     * a believed Lm above the true Ls is a wrong nameplate and accepted
-     * (the believed Ls keeps the leakage) */
-    expect_error(NULL, "[controller]\nLm_error_pct = -95", "Lm_error_pct");
+    expect_error("pole_pairs", "pole_pairs = 2.5",
+                 "key 'nameplate.pole_pairs' = 2.5 must be a whole");
 }
 
 /* orientation is 0 (indirect) or 1 (rotor-flux observer) */
@@ -135,24 +206,47 @@ static void test_orientation_out_of_range(void **state)
     expect_error(NULL, "[controller]\norientation = 2", "controller.orientation");
 }
 
+/* the simulated bus (default: the board's nominal) must drive the
+ * simulated motor to rated speed */
 static void test_bus_too_low(void **state)
 {
     (void)state;
-    expect_error("vdc_V", "vdc_V = 45", "inverter.vdc_V");
+    expect_error(NULL, "[inverter]\nvdc_V = 45", "key 'inverter.vdc_V' = 45 V");
+    expect_error("vdc_nominal_V", "vdc_nominal_V = 45", "key 'inverter.vdc_V' = 45 V "
+                 "(default board.vdc_nominal_V) is too low for rated speed");
+    /* the simulated bus outside the drive's trip levels */
+    expect_error(NULL, "[inverter]\nvdc_V = 85", "key 'inverter.vdc_V' = 85 V");
+}
+
+/* the informative ratings: P <= sqrt(3) V I when both are given */
+static void test_ratings(void **state)
+{
+    (void)state;
+    expect_error("rated_power_W", "rated_power_W = 600", "key 'nameplate.rated_power_W' = 600 W");
+    expect_error("rated_voltage_V", "rated_voltage_V = 0.5", "nameplate.rated_voltage_V");
+}
+
+/* the true motor's Tr decides the magnetisation, not the believed one */
+static void test_magnetisation_true_tr(void **state)
+{
+    (void)state;
+    expect_error(NULL, "[plant]\nRr_ohm = 0.05", "key 'ident.magnetize_s' = 0.3 s is shorter than "
+                 "5 Tr of the simulated motor");
 }
 
 static void test_not_a_number(void **state)
 {
     (void)state;
-    expect_error("J_kgm2", "J_kgm2 = fast", "motor.J_kgm2");
-    expect_error("J_kgm2", "J_kgm2 = nan", "motor.J_kgm2");
-    expect_error("J_kgm2", "J_kgm2 = 1e999", "motor.J_kgm2");
+    expect_error("J_kgm2", "J_kgm2 = fast", "plant.J_kgm2");
+    expect_error("J_kgm2", "J_kgm2 = nan", "plant.J_kgm2");
+    expect_error("J_kgm2", "J_kgm2 = 1e999", "plant.J_kgm2");
+    expect_error("Rs_ohm", "Rs_ohm = 1e999", "nameplate.Rs_ohm");
 }
 
 static void test_duplicate_key(void **state)
 {
     (void)state;
-    expect_error(NULL, "[motor]\nRs_ohm = 1.0", "given twice");
+    expect_error(NULL, "[nameplate]\nRs_ohm = 1.0", "key 'nameplate.Rs_ohm' given twice");
 }
 
 static void test_malformed_line(void **state)
@@ -177,9 +271,9 @@ static int setup(void **state)
     return 0;
 }
 
-/* The issue-8 options need the observer: with orientation 0 (the paper
- * file's default) each is refused naming its key; out-of-range values of
- * the new keys name theirs; the adaptive set with orientation 1 loads. */
+/* The adaptive options need the observer: with orientation 0 (the paper
+ * file's default) each is refused naming controller.orientation; out-of-range
+ * values of the keys name theirs; the adaptive set with orientation 1 loads. */
 static void test_adaptation_keys(void **state)
 {
     sim_config_t cfg;
@@ -187,9 +281,13 @@ static void test_adaptation_keys(void **state)
     char path[] = "/tmp/mc_cfg_test_XXXXXX";
     int fd;
     (void)state;
-    expect_error(NULL, "[ident]\npasses = 2", "ident.passes");
-    expect_error(NULL, "[ident]\nstandstill = 1", "ident.standstill");
-    expect_error(NULL, "[ident]\ntrack_rr = 1", "ident.track_rr");
+    /* the table names controller.orientation, the key to change */
+    expect_error(NULL, "[ident]\npasses = 2", "key 'controller.orientation' = 0 is outside [1, 1]");
+    expect_error(NULL, "[ident]\nstandstill = 1", "ident.standstill and ident.track_rr need");
+    expect_error(NULL, "[ident]\ntrack_rr = 1", "controller.orientation");
+    /* the standstill test needs the second half of the magnetisation */
+    expect_error("magnetize_s", "magnetize_s = 0.2\nstandstill = 1\n[controller]\norientation = 1",
+                 "key 'ident.magnetize_s' = 0.2 s is outside [0.25, 100] s");
     expect_error(NULL, "[controller]\norientation = 1\n[ident]\npasses = 5", "passes");
     expect_error(NULL, "[controller]\norientation = 1\n[ident]\npasses = 1.5", "passes");
     expect_error(NULL, "[ident]\ntrack_memory_s = 0.1", "track_memory_s");
@@ -200,8 +298,8 @@ static void test_adaptation_keys(void **state)
     write_variant(path, NULL, "[controller]\norientation = 1\n[ident]\nstandstill = 1\n"
                               "passes = 2\ntrack_rr = 1\ntrack_memory_s = 2");
     assert_int_equal(sim_config_load(path, &cfg, err, sizeof err), 0);
-    assert_true(cfg.ident_passes == 2.0 && cfg.standstill == 1.0 && cfg.track_rr == 1.0 &&
-                cfg.track_memory_s == 2.0);
+    assert_true(cfg.ident.passes == 2.0 && cfg.ident.standstill == 1.0 &&
+                cfg.ident.track_rr == 1.0 && cfg.ident.track_memory_s == 2.0);
     remove(path);
 }
 
@@ -209,11 +307,13 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_default_file_loads),  cmocka_unit_test(test_other_motors_load),
-        cmocka_unit_test(test_unknown_key),         cmocka_unit_test(test_unknown_section),
+        cmocka_unit_test(test_wrong_nameplate),     cmocka_unit_test(test_two_dead_time_bands),
+        cmocka_unit_test(test_unknown_key),         cmocka_unit_test(test_old_layout_refused),
         cmocka_unit_test(test_missing_key),         cmocka_unit_test(test_negative_resistance),
         cmocka_unit_test(test_zero_pole_pairs),     cmocka_unit_test(test_fractional_pole_pairs),
-        cmocka_unit_test(test_lm_error_out_of_range),     cmocka_unit_test(test_orientation_out_of_range),
+        cmocka_unit_test(test_orientation_out_of_range), cmocka_unit_test(test_ratings),
         cmocka_unit_test(test_bus_too_low),         cmocka_unit_test(test_adaptation_keys),
+        cmocka_unit_test(test_magnetisation_true_tr),
         cmocka_unit_test(test_not_a_number),        cmocka_unit_test(test_duplicate_key),
         cmocka_unit_test(test_malformed_line),      cmocka_unit_test(test_missing_file),
     };

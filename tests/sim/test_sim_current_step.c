@@ -53,7 +53,7 @@ static void test_i_m_step(void **state)
     opt.quiet = 1u;
     opt.duration_s = 0.2;
     opt.trace_path = path;
-    opt.trace_rate_Hz = cfg.pwm_freq_Hz;
+    opt.trace_rate_Hz = cfg.board.pwm_freq_Hz;
     assert_int_equal(sim_run(&cfg, &opt, &res, err, sizeof err), 0);
 
     f = fopen(path, "r");
@@ -84,7 +84,7 @@ static void test_i_m_step(void **state)
         }
     }
     assert_true(k0 > 0);
-    iref = cfg.magnetizing_current_A;
+    iref = cfg.controller.magnetizing_current_A;
     for (k = k0; k < n; k++) {
         double dt = t[k] - t[k0];
         if (t10 < 0.0 && im[k] >= 0.1 * iref) {

@@ -40,7 +40,7 @@ static int run_one(double comp, sim_result_t *res)
         fprintf(stderr, "%s\n", err);
         return -1;
     }
-    g_cfg.dead_time_comp = comp;
+    g_cfg.controller.dead_time_comp = comp;
     if (sim_run(&g_cfg, &opt, res, err, sizeof err) != 0) {
         fprintf(stderr, "%s\n", err);
         return -1;
@@ -68,7 +68,8 @@ static int run_both(void **state)
 /* (4/pi) (vdc td/Ts + v_drop): 1.528 V for the paper motor's bridge. */
 static double describing_function_V(void)
 {
-    const double v_dt = g_cfg.vdc_V * g_cfg.dead_time_s * g_cfg.pwm_freq_Hz + g_cfg.device_drop_V;
+    const sim_inverter_t *inv = &g_cfg.inverter;
+    const double v_dt = inv->vdc_V * inv->dead_time_s * g_cfg.board.pwm_freq_Hz + inv->device_drop_V;
     return 4.0 / M_PI * v_dt;
 }
 
@@ -112,7 +113,7 @@ static void test_rs_bias_with_and_without(void **state)
     (void)state;
     assert_int_equal(g_on.identified, 1);
     assert_int_equal(g_off.identified, 1);
-    apparent_pct = 100.0 * g_off.v_err_along_i_V / g_off.i_mag_steady_A / g_cfg.Rs_ohm;
+    apparent_pct = 100.0 * g_off.v_err_along_i_V / g_off.i_mag_steady_A / g_cfg.plant.Rs_ohm;
     printf("Rs bias: apparent resistance %+.2f %% of Rs, identified %+.2f %% (off), %+.2f %% (on)\n",
            apparent_pct, g_off.error_pct.Rs_ohm, g_on.error_pct.Rs_ohm);
     assert_true(fabs(g_on.error_pct.Rs_ohm) < 1.0);

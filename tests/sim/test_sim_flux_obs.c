@@ -50,8 +50,8 @@ static void run_obs(double rr_pct, sim_result_t *res)
     memset(&opt, 0, sizeof opt);
     opt.scenario = SCEN_START;
     opt.quiet = 1u;
-    cfg.orientation = 1.0;
-    cfg.ctl_Rr_error_pct = rr_pct;
+    cfg.controller.orientation = 1.0;
+    cfg.nameplate.Rr_ohm = cfg.plant.Rr_ohm * (1.0 + rr_pct / 100.0);   /* a wrong nameplate */
     assert_int_equal(sim_run(&cfg, &opt, res, err, sizeof err), 0);
     printf("orientation 1, believed Rr %+.0f %%: error %% Rs %+.2f Rr %+.2f Lm %+.2f Lr %+.2f "
            "psi_r %+.2f Tr %+.2f; max |psi_q/psi_d| %.4f; converged %.3f s\n",
@@ -130,7 +130,7 @@ static void test_bad_orientation(void **state)
     memset(&opt, 0, sizeof opt);
     opt.quiet = 1u;
     opt.duration_s = 0.01;
-    cfg.orientation = 2.0;
+    cfg.controller.orientation = 2.0;
     assert_int_not_equal(sim_run(&cfg, &opt, &res, err, sizeof err), 0);
     assert_non_null(strstr(err, drive_cfg_status_str(DRIVE_CFG_ORIENTATION)));
 }

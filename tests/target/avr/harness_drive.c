@@ -1,5 +1,5 @@
 /* Co-simulation harness of the whole ISR core: drive_init with the target's
- * own board configuration (firmware/board_config.c), then a fixed sequence of
+ * own board configuration (board_config.c, generated from the INI), then a fixed sequence of
  * raw ADC samples and QEP counts through drive_step, built for the host and
  * for the AVR (16-bit int) from the same sources.
  *

@@ -41,15 +41,19 @@ class MotorParams:
 
     @classmethod
     def from_ini(cls, cp):
-        """The true motor, load and bus of a simulator INI (a ConfigParser)."""
-        m, ld, inv = cp["motor"], cp["load"] if cp.has_section("load") else {}, cp["inverter"]
-        g = lambda s, k, d=0.0: float(s.get(k, d)) if hasattr(s, "get") else d
-        Lm = g(m, "Lm_H")
-        return cls(Rs=g(m, "Rs_ohm"), Rr=g(m, "Rr_ohm"), Lm=Lm, Ls=Lm + g(m, "Lls_H"),
-                   Lr=Lm + g(m, "Llr_H"), p=int(g(m, "pole_pairs")), J=g(m, "J_kgm2"),
-                   B=g(m, "B_Nm_s"), load_const=g(ld, "const_Nm"), load_prop=g(ld, "prop_Nm_s"),
-                   load_fan=g(ld, "fan_Nm"), rated_rpm=g(m, "rated_speed_rpm", 1.0),
-                   vdc=g(inv, "vdc_V", 60.0))
+        """The true motor, load and bus of a simulator INI (a ConfigParser):
+        [plant] (each motor parameter the [nameplate]'s unless given), [load],
+        [inverter] vdc_V (default [board] vdc_nominal_V)."""
+        sec = lambda name: cp[name] if cp.has_section(name) else {}
+        np_, pl, ld, inv, bd = (sec(n) for n in ("nameplate", "plant", "load", "inverter", "board"))
+        g = lambda s, k, d=0.0: float(s.get(k, d))
+        true = lambda k: g(pl, k, g(np_, k))   # the plant's, else the nameplate's
+        Lm = true("Lm_H")
+        return cls(Rs=true("Rs_ohm"), Rr=true("Rr_ohm"), Lm=Lm, Ls=Lm + true("Lls_H"),
+                   Lr=Lm + true("Llr_H"), p=int(g(np_, "pole_pairs")), J=g(pl, "J_kgm2"),
+                   B=g(pl, "B_Nm_s"), load_const=g(ld, "const_Nm"), load_prop=g(ld, "prop_Nm_s"),
+                   load_fan=g(ld, "fan_Nm"), rated_rpm=g(np_, "rated_speed_rpm", 1.0),
+                   vdc=g(inv, "vdc_V", g(bd, "vdc_nominal_V", 60.0)))
 
     @property
     def Tr(self):

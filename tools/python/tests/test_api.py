@@ -104,7 +104,7 @@ def test_bad_inputs_give_clear_errors(drv, tmp_path):
         drv.set_speed_rpm(1e9)
     with pytest.raises(ImfocError, match="nonexistent"):
         Drive(tmp_path / "nonexistent.ini")
-    bad = write_config(PAPER, {"motor": {"Rs_ohm": -1.0}}, tmp_path / "bad.ini")
+    bad = write_config(PAPER, {"nameplate": {"Rs_ohm": -1.0}}, tmp_path / "bad.ini")
     with pytest.raises(ImfocError, match="Rs_ohm"):
         Drive(bad)
 

@@ -1,0 +1,72 @@
+/* Private to src/app: the numbers drive_init derives from a drive_config_t
+ * before it hands them to the modules (bases, PWM period, loop gains, the
+ * believed motor's regression coefficients, the extraction's ranges).  One
+ * place, so that drive_init and the table of limits (drive_limits.c) judge
+ * the very same floats.  Float: initialisation only, never the ISR. */
+#ifndef DRIVE_DESIGN_H
+#define DRIVE_DESIGN_H
+
+#include "base_values.h"
+#include "drive_config.h"
+#include "drive_types.h"   /* DRIVE_SLOTS */
+#include "param_extract.h"
+#include "rls.h"
+
+#define DRIVE_TWO_PI_F 6.28318530717958647692f
+#define DRIVE_SQRT3_F 1.73205080756887729353f
+
+/* Rotor-flux observer (orientation 1).  Crossover 3 Hz: the current model's
+ * weight is 3 (w_c/w_e)^2, 3 % at 10 w_c (flux_obs.h), and an offset of
+ * 0.2 A leaves no drift (tests/orient/test_flux_obs.c).  ws_f, used for
+ * decoupling and the modulation angle, is ws low-passed at 200 Hz: the
+ * current noise through sigma Ls i makes the raw angle step noisy, and
+ * 200 Hz lags by 0.8 ms, 0.3 rad/s of w_s on the paper motor's 2000 r/min/s
+ * ramp.  The RLS learns only above FOBS_RLS_WS_OVER_WC w_c, where a wrong
+ * Tr reaches the angle at most 3 (1/10)^2 = 3 % of its current-model error. */
+#define FOBS_WC_HZ 3.0f
+#define FOBS_WS_LPF_HZ 200.0f
+#define FOBS_RLS_WS_OVER_WC 10.0f
+
+#define DRIVE_QEP_WINDOW 16u           /* QEP speed: difference over 16 periods */
+#define DRIVE_IMR_MIN_OF_IM 0.2f       /* ifo's least i_mr: 20 % of the i_M reference */
+#define DRIVE_SPEED_REF_MAX_PU 2.0f    /* the speed reference ramp's limits, +-pu */
+#define DRIVE_ENC_FROZEN_S 0.05f       /* encoder check: counts frozen this long ... */
+#define DRIVE_ENC_SPEED_MAX_PU 4.0f    /* ... or a jump above this speed in one sample */
+#define DRIVE_SETTLE_DIDT 0.05f        /* steady state: di/dt below 5 % of the rated peak
+                                          current per second (drive_init.c says why) */
+
+/** What drive_init gives the modules, in SI or pu as each module takes it. */
+typedef struct {
+    float Ts;          /* PWM period, s */
+    float Ts_slow;     /* the slow task's period, DRIVE_SLOTS Ts, s */
+    float t1pr;        /* EV-A T1 period, counts (up/down: sysclk / (2 f_pwm)) */
+    float sigma;       /* leakage factor 1 - Lm^2/(Ls Lr) */
+    float sls;         /* sigma Ls, H */
+    float cur_kp;      /* current PI: Kp = w_c sigma Ls / Z_base, pu */
+    float cur_ki;      /* Kp Ts / Ti, Ti = sigma Ls / Rs */
+    float spd_kp;      /* speed PI: Kp = w_sc / gain, pu */
+    float spd_ki;      /* Kp Ts_slow w_sc / 4 */
+    float i_max;       /* torque-current limit, pu of I_base */
+    float ramp;        /* speed reference ramp, pu per second */
+    float tr;          /* believed rotor time constant Lr / Rr, s */
+    float im_pu;       /* i_M reference, pu */
+    float target_pu;   /* the sequence's target speed (rated when not set), pu */
+    float didt_pu;     /* steady-state threshold of the filtered di/dt, pu */
+} drive_design_t;
+
+/** The per-unit bases of @p c (base_values_init's status). */
+base_status_t drive_design_bases(base_values_t *b, const drive_config_t *c);
+
+/** Every number of drive_design_t.  @p b from drive_design_bases. */
+void drive_design(drive_design_t *g, const drive_config_t *c, const base_values_t *b);
+
+/** The believed motor's K1..K4 (method §2), pu, as the RLS estimates them
+ *  (K3 or K3' by c->ident.paper_regressor). */
+void drive_design_k_nominal(float k[RLS_N], const drive_config_t *c, const base_values_t *b);
+
+/** The extraction's plausibility ranges: a factor of 4 either way of the
+ *  believed motor, every upper end kept below 120 pu (Q24). */
+void drive_design_param_limits(param_limits_t *lim, const drive_config_t *c,
+                               const base_values_t *b);
+
+#endif /* DRIVE_DESIGN_H */

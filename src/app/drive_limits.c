@@ -1,0 +1,727 @@
+/* The table of the drive's configuration limits.  See drive_limits.h.
+ *
+ * Each derived limit is checked with the expression of the module that needs
+ * it (same floats, same Q24 conversions), so that a configuration this table
+ * accepts is one drive_init accepts; the numbers reported with a failure are
+ * the same limit said in the user's units.  Float: initialisation only. */
+#include "drive_limits.h"
+
+#include <float.h>
+#include <math.h>
+#include <stddef.h>
+#include <string.h>
+
+#include "drive.h"
+#include "drive_adapt.h"
+#include "drive_design.h"
+
+#define LO_OPEN DRIVE_LIMIT_LO_OPEN
+#define HI_OPEN DRIVE_LIMIT_HI_OPEN
+#define BOTH_OPEN (DRIVE_LIMIT_LO_OPEN | DRIVE_LIMIT_HI_OPEN)
+
+/* Constants of other modules that are not in their headers; used here only
+ * to say a limit in the user's units (the checks are the modules' own). */
+#define PE_Q24_MAX 127.0f          /* param_extract.c: largest pu value of a range */
+#define BW_WC_MAX_PU 4.0f          /* bw_filter.c: Wc below 4 w_base */
+#define RAMP_STEP_MIN 9.5367431640625e-7f   /* ramp_gen.c: 2^-20 pu per period */
+#define Q24_HEADROOM 127.0f        /* a pu value converted to Q24 (< 128) */
+#define NO_UPPER FLT_MAX           /* a limit with a lower bound only */
+
+#define ST(s) ((int16_t)(s))
+#define FIELD_F(key, member, unit, st, lo, hi)                                                   \
+    { key, unit, ST(st), DRIVE_LIMIT_F32, (uint16_t)offsetof(drive_config_t, member), 0u,   \
+      lo, hi }
+#define FIELD_U(key, member, unit, st, lo, hi)                                                   \
+    { key, unit, ST(st), DRIVE_LIMIT_U16, (uint16_t)offsetof(drive_config_t, member), 0u,    \
+      lo, hi }
+#define DERIVED(key, unit, st, which) \
+    { key, unit, ST(st), DRIVE_LIMIT_DERIVED, which, 0u, 1.0f, 0.0f }
+#define DERIVED_RANGE(key, unit, st, which, open, lo, hi) \
+    { key, unit, ST(st), DRIVE_LIMIT_DERIVED, which, open, lo, hi }
+
+static const drive_limit_t k_limits[] = {
+    /* every field: the bases first (the derived limits below need them) */
+    FIELD_F("board.pwm_freq_Hz", board.pwm_freq_Hz, "Hz", DRIVE_CFG_BASES, 1000.0f, 50000.0f),
+    FIELD_F("board.sysclk_Hz", board.sysclk_Hz, "Hz", DRIVE_CFG_BASES, 1.0e6f, 1.0e9f),
+    FIELD_F("board.current_full_scale_A", board.current_full_scale_A, "A", DRIVE_CFG_BASES,
+            0.1f, 5000.0f),
+    FIELD_F("board.vdc_nominal_V", board.vdc_nominal_V, "V", DRIVE_CFG_BASES, 1.0f, 2000.0f),
+    FIELD_F("nameplate.rated_freq_Hz", motor.rated_freq_Hz, "Hz", DRIVE_CFG_BASES, 1.0f,
+            1000.0f),
+    FIELD_U("nameplate.pole_pairs", motor.pole_pairs, "-", DRIVE_CFG_BASES, 1.0f, 32.0f),
+    FIELD_F("nameplate.Rs_ohm", motor.Rs_ohm, "ohm", DRIVE_CFG_MOTOR, 1.0e-4f, 100.0f),
+    FIELD_F("nameplate.Rr_ohm", motor.Rr_ohm, "ohm", DRIVE_CFG_MOTOR, 1.0e-4f, 100.0f),
+    FIELD_F("nameplate.Lm_H", motor.Lm_H, "H", DRIVE_CFG_MOTOR, 1.0e-5f, 10.0f),
+    FIELD_F("nameplate.rated_speed_rpm", motor.rated_speed_rpm, "r/min", DRIVE_CFG_MOTOR, 1.0f,
+            1.0e5f),
+    FIELD_F("nameplate.rated_current_A", motor.rated_current_A_rms, "A rms", DRIVE_CFG_MOTOR,
+            0.01f, 2000.0f),
+    FIELD_F("controller.magnetizing_current_A", motor.magnetizing_current_A, "A peak",
+            DRIVE_CFG_MOTOR, 0.01f, 5000.0f),
+    FIELD_F("board.vdc_full_scale_V", board.vdc_adc_full_scale_V, "V at 3.0 V", DRIVE_CFG_SENSORS,
+            1.0f, 5000.0f),
+    FIELD_U("board.encoder_lines", board.encoder_lines, "lines", DRIVE_CFG_SENSORS, 16.0f,
+            (float)QEP_SPEED_LINES_MAX),
+    FIELD_F("controller.speed_filter_Hz", control.speed_filter_Hz, "Hz", DRIVE_CFG_SENSORS, 1.0f,
+            5000.0f),
+    FIELD_F("controller.current_bw_Hz", control.current_bw_Hz, "Hz", DRIVE_CFG_CURRENT_LOOP,
+            10.0f, 3000.0f),
+    FIELD_F("controller.speed_bw_Hz", control.speed_bw_Hz, "Hz", DRIVE_CFG_SPEED_LOOP, 0.1f,
+            200.0f),
+    FIELD_F("controller.inertia_kgm2", control.inertia_kgm2, "kg m^2", DRIVE_CFG_SPEED_LOOP,
+            1.0e-7f, 100.0f),
+    FIELD_F("controller.max_torque_current_A", control.max_torque_current_A, "A peak",
+            DRIVE_CFG_SPEED_LOOP, 0.01f, 5000.0f),
+    FIELD_F("controller.speed_ramp_rpm_s", control.speed_ramp_rpm_s, "r/min/s",
+            DRIVE_CFG_SPEED_LOOP, 1.0f, 1.0e6f),
+    FIELD_U("controller.orientation", control.orientation, "0 IFO, 1 observer",
+            DRIVE_CFG_ORIENTATION, 0.0f, 1.0f),
+    FIELD_F("board.dead_time_s", board.dead_time_s, "s", DRIVE_CFG_VOLTAGE_MODEL, 0.0f, 1.0e-5f),
+    FIELD_F("board.device_drop_V", board.device_drop_V, "V", DRIVE_CFG_VOLTAGE_MODEL, 0.0f, 5.0f),
+    FIELD_U("controller.dead_time_comp", board.dead_time_comp, "0/1", DRIVE_CFG_VOLTAGE_MODEL,
+            0.0f, 1.0f),
+    FIELD_F("controller.dead_time_band_A", board.dead_time_band_A, "A", DRIVE_CFG_VOLTAGE_MODEL,
+            1.0e-3f, 100.0f),
+    FIELD_U("ident.euler_passes", ident.euler_passes, "-", DRIVE_CFG_IDENT, 1.0f,
+            (float)BW_FILTER_N_MAX),
+    FIELD_U("ident.paper_regressor", ident.paper_regressor, "0/1", DRIVE_CFG_IDENT, 0.0f, 1.0f),
+    FIELD_F("ident.rls_p0", ident.rls_p0, "pu", DRIVE_CFG_IDENT, 1.0e-3f, 1.0e6f),
+    FIELD_F("ident.forgetting", ident.forgetting, "-", DRIVE_CFG_IDENT, 0.9f, 1.0f),
+    FIELD_U("ident.passes", ident.passes, "-", DRIVE_CFG_IDENT, 1.0f, (float)ID_PASSES_MAX),
+    FIELD_U("ident.standstill", ident.standstill, "0/1", DRIVE_CFG_IDENT, 0.0f, 1.0f),
+    FIELD_U("ident.track_rr", ident.track_rr, "0/1", DRIVE_CFG_IDENT, 0.0f, 1.0f),
+    FIELD_F("ident.track_memory_s", ident.track_memory_s, "s", DRIVE_CFG_IDENT, 0.2f, 20.0f),
+    FIELD_F("ident.magnetize_s", ident.magnetize_time_s, "s", DRIVE_CFG_SEQUENCE, 0.001f, 100.0f),
+    FIELD_F("ident.target_speed_rpm", ident.target_speed_rpm, "r/min (0: rated)",
+            DRIVE_CFG_SEQUENCE, 0.0f, 1.0e5f),
+    FIELD_F("ident.rls_tail_s", ident.rls_tail_s, "s", DRIVE_CFG_SEQUENCE, 0.0f, 3.0f),
+    FIELD_F("controller.overcurrent_A", board.overcurrent_A, "A peak", DRIVE_CFG_PROTECTION,
+            0.01f, 5000.0f),
+    FIELD_F("controller.vdc_max_V", board.vdc_max_V, "V", DRIVE_CFG_PROTECTION, 1.0f, 5000.0f),
+    FIELD_F("controller.vdc_min_V", board.vdc_min_V, "V", DRIVE_CFG_PROTECTION, 1.0f, 5000.0f),
+
+    /* derived, in drive_init's order (host_sim/sim/sim_limits.c says each in words) */
+    DERIVED_RANGE("nameplate.Lls_H", "H", DRIVE_CFG_MOTOR, DRIVE_LD_LLS, 0u, 1.0e-6f, 1.0f),
+    DERIVED_RANGE("nameplate.Llr_H", "H", DRIVE_CFG_MOTOR, DRIVE_LD_LLR, 0u, 1.0e-6f, 1.0f),
+    DERIVED("controller.magnetizing_current_A", "A", DRIVE_CFG_MOTOR, DRIVE_LD_IM_RATED),
+    DERIVED_RANGE("T1PR", "counts", DRIVE_CFG_PWM, DRIVE_LD_T1PR, 0u, 100.0f, 65535.0f),
+    DERIVED("board.vdc_full_scale_V", "V", DRIVE_CFG_SENSORS, DRIVE_LD_VDC_FS),
+    DERIVED("board.encoder_lines", "lines", DRIVE_CFG_SENSORS, DRIVE_LD_QEP_RES),
+    DERIVED("controller.speed_filter_Hz", "Hz", DRIVE_CFG_SENSORS, DRIVE_LD_SPEED_FILT),
+    DERIVED("Ls", "H", DRIVE_CFG_CURRENT_LOOP, DRIVE_LD_LS_Q24),
+    DERIVED("Lr", "H", DRIVE_CFG_CURRENT_LOOP, DRIVE_LD_LR_Q24),
+    DERIVED("controller.current_bw_Hz", "Hz", DRIVE_CFG_CURRENT_LOOP, DRIVE_LD_WC_PU),
+    DERIVED_RANGE("current-loop Kp", "pu", DRIVE_CFG_CURRENT_LOOP, DRIVE_LD_CUR_KP,
+                  0u, 0.0f, PI_KP_MAX),
+    DERIVED_RANGE("current-loop Ki", "pu", DRIVE_CFG_CURRENT_LOOP, DRIVE_LD_CUR_KI,
+                  0u, 0.0f, PI_KI_MAX),
+    DERIVED("controller.max_torque_current_A", "A", DRIVE_CFG_SPEED_LOOP, DRIVE_LD_IMAX),
+    DERIVED_RANGE("speed-loop Kp", "pu", DRIVE_CFG_SPEED_LOOP, DRIVE_LD_SPD_KP,
+                  0u, 0.0f, PI_KP_MAX),
+    DERIVED_RANGE("speed-loop Ki", "pu", DRIVE_CFG_SPEED_LOOP, DRIVE_LD_SPD_KI,
+                  0u, 0.0f, PI_KI_MAX),
+    DERIVED("controller.speed_ramp_rpm_s", "r/min/s", DRIVE_CFG_SPEED_LOOP, DRIVE_LD_RAMP),
+    DERIVED("controller.magnetizing_current_A", "A", DRIVE_CFG_ORIENTATION, DRIVE_LD_IMR),
+    DERIVED("Tr", "s", DRIVE_CFG_ORIENTATION, DRIVE_LD_TR),
+    DERIVED_RANGE("board.pwm_freq_Hz / nameplate.rated_freq_Hz", "-", DRIVE_CFG_ORIENTATION,
+                  DRIVE_LD_FTS, BOTH_OPEN, 128.0f, 2000.0f),
+    DERIVED_RANGE("slip bound", "pu", DRIVE_CFG_ORIENTATION, DRIVE_LD_SLIP,
+                  0u, 1.0f / 32.0f, NO_UPPER),
+    DERIVED("nameplate.rated_freq_Hz", "Hz", DRIVE_CFG_ORIENTATION, DRIVE_LD_OBS_FBASE),
+    DERIVED("board.pwm_freq_Hz", "Hz", DRIVE_CFG_ORIENTATION, DRIVE_LD_OBS_PWM),
+    DERIVED("nameplate.Rs_ohm", "ohm", DRIVE_CFG_ORIENTATION, DRIVE_LD_OBS_RS),
+    DERIVED("nameplate.Lm_H", "H", DRIVE_CFG_ORIENTATION, DRIVE_LD_OBS_LM),
+    DERIVED("Lr / Lm", "-", DRIVE_CFG_ORIENTATION, DRIVE_LD_OBS_LR),
+    DERIVED("Ls", "H", DRIVE_CFG_ORIENTATION, DRIVE_LD_OBS_LS),
+    DERIVED("sigma Ls", "H", DRIVE_CFG_ORIENTATION, DRIVE_LD_OBS_SLS),
+    DERIVED("board.dead_time_s", "s", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_DEAD),
+    DERIVED("board.device_drop_V", "V", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_DROP),
+    DERIVED("controller.dead_time_band_A", "A", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_BAND),
+    DERIVED_RANGE("ident.filter_cutoff_Hz", "Hz", DRIVE_CFG_IDENT, DRIVE_LD_FILT, 0u, 0.5f, 500.0f),
+    DERIVED("ident.filter_cutoff_Hz", "Hz", DRIVE_CFG_IDENT, DRIVE_LD_FILT_WB),
+    DERIVED("ident.filter_cutoff_Hz", "Hz", DRIVE_CFG_IDENT, DRIVE_LD_FILT_STEP),
+    DERIVED_RANGE("nominal -K1", "pu", DRIVE_CFG_IDENT, DRIVE_LD_K1,
+                  BOTH_OPEN, 0.0f, RLS_THETA_MAX),
+    DERIVED_RANGE("nominal K2", "pu", DRIVE_CFG_IDENT, DRIVE_LD_K2, BOTH_OPEN, 0.0f, RLS_THETA_MAX),
+    DERIVED_RANGE("nominal K3", "pu", DRIVE_CFG_IDENT, DRIVE_LD_K3, BOTH_OPEN, 0.0f, RLS_THETA_MAX),
+    DERIVED_RANGE("nominal -K4", "pu", DRIVE_CFG_IDENT, DRIVE_LD_K4,
+                  BOTH_OPEN, 0.0f, RLS_THETA_MAX),
+    DERIVED("nameplate.Rs_ohm", "ohm", DRIVE_CFG_IDENT, DRIVE_LD_PE_RS),
+    DERIVED("nameplate.Rr_ohm", "ohm", DRIVE_CFG_IDENT, DRIVE_LD_PE_RR),
+    DERIVED("nameplate.Lm_H", "H", DRIVE_CFG_IDENT, DRIVE_LD_PE_LM),
+    DERIVED("Lr", "H", DRIVE_CFG_IDENT, DRIVE_LD_PE_LR),
+    DERIVED("rated flux", "Wb", DRIVE_CFG_IDENT, DRIVE_LD_PE_PSI),
+    DERIVED_RANGE("controller.orientation", "-", DRIVE_CFG_IDENT, DRIVE_LD_FEATURES,
+                  0u, 1.0f, 1.0f),
+    DERIVED("ident.standstill", "-", DRIVE_CFG_IDENT, DRIVE_LD_STANDSTILL),
+    DERIVED("ident.track_rr", "-", DRIVE_CFG_IDENT, DRIVE_LD_TRACKER),
+    DERIVED("ident.target_speed_rpm", "r/min", DRIVE_CFG_SEQUENCE, DRIVE_LD_TARGET),
+    DERIVED("ident.target_speed_rpm", "r/min", DRIVE_CFG_SEQUENCE, DRIVE_LD_TARGET_PU),
+    DERIVED("nameplate.rated_current_A", "A rms", DRIVE_CFG_SEQUENCE, DRIVE_LD_DIDT),
+    DERIVED("controller.overcurrent_A", "A", DRIVE_CFG_PROTECTION, DRIVE_LD_OC_FS),
+    DERIVED("controller.max_torque_current_A", "A", DRIVE_CFG_PROTECTION, DRIVE_LD_TORQUE_OC),
+    DERIVED("controller.vdc_min_V", "V", DRIVE_CFG_PROTECTION, DRIVE_LD_VDC_MIN),
+    DERIVED("controller.vdc_max_V", "V", DRIVE_CFG_PROTECTION, DRIVE_LD_VDC_MAX),
+    DERIVED("board.encoder_lines", "lines", DRIVE_CFG_PROTECTION, DRIVE_LD_ENC_JUMP),
+};
+
+#define N_LIMITS ((uint16_t)(sizeof k_limits / sizeof k_limits[0]))
+
+/* What the derived limits are computed from. */
+typedef struct {
+    const drive_config_t *c;
+    base_values_t b;
+    drive_design_t g;
+} limit_ctx_t;
+
+uint16_t drive_limits_count(void)
+{
+    return N_LIMITS;
+}
+
+const drive_limit_t *drive_limit_get(uint16_t i)
+{
+    return (i < N_LIMITS) ? &k_limits[i] : NULL;
+}
+
+const drive_limit_t *drive_limit_find(const char *key)
+{
+    uint16_t i;
+    for (i = 0u; i < N_LIMITS; i++) {
+        if (strcmp(k_limits[i].key, key) == 0) {
+            return &k_limits[i];
+        }
+    }
+    return NULL;
+}
+
+static int16_t in_range(float x, float lo, float hi, uint16_t open)
+{
+    int16_t above = (int16_t)(((open & LO_OPEN) != 0u) ? (x > lo) : (x >= lo));
+    int16_t below = (int16_t)(((open & HI_OPEN) != 0u) ? (x < hi) : (x <= hi));
+    return (int16_t)(above != 0 && below != 0);
+}
+
+int16_t drive_limit_field_ok(const drive_limit_t *l, float v)
+{
+    return in_range(v, l->lo, l->hi, l->open);
+}
+
+static float field_value(const drive_config_t *c, const drive_limit_t *l)
+{
+    const char *p = (const char *)(const void *)c + l->where;
+    if (l->kind == DRIVE_LIMIT_U16) {
+        return (float)*(const uint16_t *)(const void *)p;
+    }
+    return *(const float *)(const void *)p;
+}
+
+/* A failed derived limit as the user reads it; returns 1 (failed). */
+static int16_t report(drive_limit_fail_t *f, float value, float lo, float hi, uint16_t open)
+{
+    f->value = value;
+    f->lo = lo;
+    f->hi = hi;
+    f->open = open;
+    return 1;
+}
+
+/* The same, for a derived limit whose fault lies with another key. */
+static int16_t report_as(drive_limit_fail_t *f, const char *key, const char *unit, float value,
+                         float lo, float hi, uint16_t open)
+{
+    f->key = key;
+    f->unit = unit;
+    return report(f, value, lo, hi, open);
+}
+
+/* 0 if @p ok, else 1 with the limit reported. */
+static int16_t verdict(int16_t ok, drive_limit_fail_t *f, float value, float lo, float hi,
+                       uint16_t open)
+{
+    if (ok != 0) {
+        return 0;
+    }
+    return report(f, value, lo, hi, open);
+}
+
+/* 1 (and @p f filled) unless @p v is in the entry's own constant range. */
+static int16_t own_range(const drive_limit_t *l, float v, drive_limit_fail_t *f)
+{
+    return verdict(in_range(v, l->lo, l->hi, l->open), f, v, l->lo, l->hi, l->open);
+}
+
+/* A quantity that becomes Q24 somewhere: below Q24_HEADROOM of its base. */
+static int16_t q24(float v, float base, drive_limit_fail_t *f)
+{
+    return verdict((int16_t)(v / base < Q24_HEADROOM), f, v, 0.0f, Q24_HEADROOM * base, BOTH_OPEN);
+}
+
+static int16_t check_motor_and_scaling(const drive_limit_t *l, const limit_ctx_t *x,
+                                       drive_limit_fail_t *f)
+{
+    uint16_t which = l->where;
+    const drive_config_t *c = x->c;
+    const drive_motor_t *m = &c->motor;
+    const base_values_t *b = &x->b;
+    float v;
+
+    switch (which) {
+    case DRIVE_LD_LLS:
+        return own_range(l, m->Ls_H - m->Lm_H, f);
+    case DRIVE_LD_LLR:
+        return own_range(l, m->Lr_H - m->Lm_H, f);
+    case DRIVE_LD_IM_RATED:
+        v = 1.41421356f * m->rated_current_A_rms;
+        return verdict((int16_t)(m->magnetizing_current_A < v), f, m->magnetizing_current_A, 0.0f,
+                       v, BOTH_OPEN);
+    case DRIVE_LD_T1PR:
+        return own_range(l, x->g.t1pr, f);
+    case DRIVE_LD_VDC_FS:   /* dc_bus_init */
+        v = c->board.vdc_adc_full_scale_V / b->V_base_V * (65536.0f / 65520.0f);
+        return verdict((int16_t)(v < DC_BUS_FULL_SCALE_MAX_PU), f, c->board.vdc_adc_full_scale_V,
+                       0.0f, DC_BUS_FULL_SCALE_MAX_PU * b->V_base_V * (65520.0f / 65536.0f),
+                       BOTH_OPEN);
+    case DRIVE_LD_QEP_RES: {   /* qep_speed_init */
+        float cpr = (float)(4 * (int32_t)c->board.encoder_lines);
+        float k1 = (float)b->pole_pairs / (cpr * b->Ts_s * b->f_base_Hz);
+        float k = (float)b->pole_pairs / ((float)DRIVE_QEP_WINDOW * cpr * b->Ts_s * b->f_base_Hz);
+        return verdict((int16_t)(k < 1.0f && k1 < 1.0f), f, (float)c->board.encoder_lines,
+                       (float)b->pole_pairs / (4.0f * b->Ts_s * b->f_base_Hz),
+                       (float)QEP_SPEED_LINES_MAX, LO_OPEN);
+    }
+    case DRIVE_LD_SPEED_FILT:   /* qep_speed_set_decim: the filter runs in the slow task */
+        v = 0.5f / (b->Ts_s * (float)DRIVE_SLOTS);
+        return verdict((int16_t)(c->control.speed_filter_Hz < v), f, c->control.speed_filter_Hz,
+                       0.0f, v, BOTH_OPEN);
+    case DRIVE_LD_LS_Q24:
+        return q24(m->Ls_H, b->L_base_H, f);
+    case DRIVE_LD_LR_Q24:
+        return q24(m->Lr_H, b->L_base_H, f);
+    case DRIVE_LD_WC_PU:   /* drive_adapt_init's w_c in pu */
+        v = DRIVE_TWO_PI_F * c->control.current_bw_Hz / b->w_base_rad_s;
+        return verdict((int16_t)(v < Q24_HEADROOM),
+                       f, c->control.current_bw_Hz, 0.0f, Q24_HEADROOM * b->f_base_Hz, BOTH_OPEN);
+    default:
+        return 0;
+    }
+}
+
+static int16_t check_loops(const drive_limit_t *l, const limit_ctx_t *x,
+                           drive_limit_fail_t *f)
+{
+    uint16_t which = l->where;
+    const drive_config_t *c = x->c;
+    const base_values_t *b = &x->b;
+    const drive_design_t *g = &x->g;
+
+    switch (which) {
+    case DRIVE_LD_CUR_KP:
+        return own_range(l, g->cur_kp, f);
+    case DRIVE_LD_CUR_KI:
+        return own_range(l, g->cur_ki, f);
+    case DRIVE_LD_IMAX:
+        return verdict((int16_t)(g->i_max > 0.0f && g->i_max <= 1.0f), f,
+                       c->control.max_torque_current_A, 0.0f, b->I_base_A, LO_OPEN);
+    case DRIVE_LD_SPD_KP:
+        return own_range(l, g->spd_kp, f);
+    case DRIVE_LD_SPD_KI:
+        return own_range(l, g->spd_ki, f);
+    case DRIVE_LD_RAMP: {   /* ramp_gen_init */
+        float step = g->ramp * g->Ts_slow;   /* the ramp steps in the slow task */
+        return verdict((int16_t)(g->ramp > 0.0f && step >= RAMP_STEP_MIN && step <= 1.0f), f,
+                       c->control.speed_ramp_rpm_s, RAMP_STEP_MIN * b->n_base_rpm / g->Ts_slow,
+                       b->n_base_rpm / g->Ts_slow, 0u);
+    }
+    default:
+        return 0;
+    }
+}
+
+/* ifo_init / ifo_set_tr (and flux_obs_set_tr: the same bounds) */
+static int16_t check_orientation(const drive_limit_t *l, const limit_ctx_t *x,
+                                 drive_limit_fail_t *f)
+{
+    uint16_t which = l->where;
+    const drive_config_t *c = x->c;
+    const base_values_t *b = &x->b;
+    float imr = DRIVE_IMR_MIN_OF_IM * c->motor.magnetizing_current_A / b->I_base_A;
+    float tr_pu = x->g.tr / b->t_base_s;
+    float fts = b->f_base_Hz * b->Ts_s;
+    int16_t ok;
+
+    switch (which) {
+    case DRIVE_LD_IMR:
+        return verdict((int16_t)(imr > 0.0f && imr <= 1.0f), f, c->motor.magnetizing_current_A,
+                       0.0f, b->I_base_A / DRIVE_IMR_MIN_OF_IM, LO_OPEN);
+    case DRIVE_LD_TR:
+        /* the float test first: _IQ() of more than 128 pu overflows */
+        ok = (int16_t)(tr_pu <= IFO_TR_MAX_PU);
+        if (ok != 0) {
+            ok = (int16_t)(_IQ(tr_pu) >= _IQmpy(_IQ(b->Ts_pu), _IQ(IFO_TR_MIN_SAMPLES)) &&
+                           _IQ(tr_pu) <= _IQ(IFO_TR_MAX_PU));
+        }
+        return verdict(ok,
+                       f, x->g.tr, IFO_TR_MIN_SAMPLES * b->Ts_s, IFO_TR_MAX_PU * b->t_base_s, 0u);
+    case DRIVE_LD_FTS:
+        return verdict((int16_t)(fts < 1.0f / 128.0f && fts > 1.0f / 2000.0f), f, 1.0f / fts, l->lo,
+                       l->hi, l->open);
+    case DRIVE_LD_SLIP:
+        return verdict((int16_t)(_IQmpy(_IQ(tr_pu), _IQ(imr)) >= _IQ(IFO_I_T_MAX / IFO_SLIP_MAX)),
+                       f, tr_pu * imr, IFO_I_T_MAX / IFO_SLIP_MAX, NO_UPPER, HI_OPEN);
+    default:
+        return 0;
+    }
+}
+
+/* flux_obs_init and flux_obs_set_inductances, for orientation 1 only */
+static int16_t check_observer(const drive_limit_t *l, const limit_ctx_t *x,
+                              drive_limit_fail_t *f)
+{
+    uint16_t which = l->where;
+    const drive_motor_t *m = &x->c->motor;
+    const base_values_t *b = &x->b;
+    float wc_pu = FOBS_WC_HZ / b->f_base_Hz;
+    float rs = m->Rs_ohm / b->Z_base_ohm;
+    float lm = m->Lm_H / b->L_base_H;
+    _iq lm_q, lr_q, ls_q, sls;
+
+    if (x->c->control.orientation != DRIVE_ORIENT_FLUX_OBS) {
+        return 0;
+    }
+    switch (which) {
+    case DRIVE_LD_OBS_FBASE:
+        return verdict((int16_t)(wc_pu > 0.0f && wc_pu <= FLUX_OBS_WC_MAX_PU &&
+                                 wc_pu * b->Ts_pu <= FLUX_OBS_G_MAX),
+                       f, b->f_base_Hz, FOBS_WC_HZ / FLUX_OBS_WC_MAX_PU, NO_UPPER, HI_OPEN);
+    case DRIVE_LD_OBS_PWM:
+        return verdict((int16_t)(6.2831853f * FOBS_WS_LPF_HZ * b->Ts_s <= 1.0f), f, 1.0f / b->Ts_s,
+                       6.2831853f * FOBS_WS_LPF_HZ, NO_UPPER, HI_OPEN);
+    case DRIVE_LD_OBS_RS:
+        return verdict((int16_t)(rs <= FLUX_OBS_RS_MAX && _IQ(rs) <= _IQ(FLUX_OBS_RS_MAX)), f,
+                       m->Rs_ohm, 0.0f, FLUX_OBS_RS_MAX * b->Z_base_ohm, 0u);
+    case DRIVE_LD_OBS_LM:
+        return verdict((int16_t)(lm <= FLUX_OBS_LM_MAX && _IQ(lm) > _IQ(0.0)), f, m->Lm_H, 0.0f,
+                       FLUX_OBS_LM_MAX * b->L_base_H, LO_OPEN);
+    default:
+        break;
+    }
+    /* the checks below run after DRIVE_LD_OBS_LM: Lm is at most 16 pu */
+    lm_q = _IQ(lm);
+    if (which == DRIVE_LD_OBS_LR) {
+        if (!(m->Lr_H > m->Lm_H && m->Lr_H <= FLUX_OBS_LR_LM_MAX * m->Lm_H)) {
+            return report(f, m->Lr_H / m->Lm_H, 1.0f, FLUX_OBS_LR_LM_MAX, LO_OPEN);
+        }
+        lr_q = _IQ(m->Lr_H / b->L_base_H);
+        return verdict((int16_t)(lr_q > lm_q && lr_q <= _IQmpy(lm_q, _IQ(FLUX_OBS_LR_LM_MAX))), f,
+                       m->Lr_H / m->Lm_H, 1.0f, FLUX_OBS_LR_LM_MAX, LO_OPEN);
+    }
+    if (which == DRIVE_LD_OBS_LS) {
+        if (!(m->Ls_H > m->Lm_H && m->Ls_H / b->L_base_H <= 2.0f * FLUX_OBS_LM_MAX)) {
+            return report(f, m->Ls_H, m->Lm_H, 2.0f * FLUX_OBS_LM_MAX * b->L_base_H, LO_OPEN);
+        }
+        ls_q = _IQ(m->Ls_H / b->L_base_H);
+        return verdict((int16_t)(ls_q > lm_q && ls_q <= _IQ(2.0f * FLUX_OBS_LM_MAX)), f, m->Ls_H,
+                       m->Lm_H, 2.0f * FLUX_OBS_LM_MAX * b->L_base_H, LO_OPEN);
+    }
+    if (which == DRIVE_LD_OBS_SLS) {
+        lr_q = _IQ(m->Lr_H / b->L_base_H);
+        ls_q = _IQ(m->Ls_H / b->L_base_H);
+        sls = ls_q - _IQmpy(lm_q, _IQdiv(lm_q, lr_q));
+        return verdict((int16_t)(sls > _IQ(0.0) && sls <= _IQ(FLUX_OBS_SIGMA_LS_MAX)), f,
+                       _IQtoF(sls) * b->L_base_H, 0.0f, FLUX_OBS_SIGMA_LS_MAX * b->L_base_H,
+                       LO_OPEN);
+    }
+    return 0;
+}
+
+/* volt_calc_init */
+static int16_t check_voltage_model(const drive_limit_t *l, const limit_ctx_t *x,
+                                   drive_limit_fail_t *f)
+{
+    uint16_t which = l->where;
+    const drive_board_t *bd = &x->c->board;
+    const base_values_t *b = &x->b;
+    float v;
+
+    switch (which) {
+    case DRIVE_LD_DEAD:
+        return verdict((int16_t)(bd->dead_time_s / x->g.Ts <= VOLT_CALC_DT_FRAC_MAX), f,
+                       bd->dead_time_s, 0.0f, VOLT_CALC_DT_FRAC_MAX * x->g.Ts, 0u);
+    case DRIVE_LD_DROP:
+        v = bd->device_drop_V / b->V_base_V;
+        return verdict((int16_t)(v >= 0.0f && v <= VOLT_CALC_DROP_MAX_PU), f, bd->device_drop_V,
+                       0.0f, VOLT_CALC_DROP_MAX_PU * b->V_base_V, 0u);
+    case DRIVE_LD_BAND:
+        v = bd->dead_time_band_A / b->I_base_A;
+        return verdict((int16_t)(v >= VOLT_CALC_ITH_MIN_PU && v <= VOLT_CALC_ITH_MAX_PU), f,
+                       bd->dead_time_band_A, VOLT_CALC_ITH_MIN_PU * b->I_base_A,
+                       VOLT_CALC_ITH_MAX_PU * b->I_base_A, 0u);
+    default:
+        return 0;
+    }
+}
+
+/* param_extract_init's test of one range (its pe_range) */
+static int16_t pe_range_ok(const float si[2], float base)
+{
+    float lo = si[0] / base, hi = si[1] / base;
+    return (int16_t)(lo >= 0.0f && hi > lo && hi < PE_Q24_MAX);
+}
+
+/* bw_filter_init, theta_guard_init, param_extract_init */
+static int16_t check_estimator(const drive_limit_t *l, const limit_ctx_t *x,
+                               drive_limit_fail_t *f)
+{
+    uint16_t which = l->where;
+    static const float k_sign[RLS_N] = {-1.0f, 1.0f, 1.0f, -1.0f};
+    const drive_config_t *c = x->c;
+    const base_values_t *b = &x->b;
+    float wc = c->ident.filter_wc_rad_s;
+    float k[RLS_N];
+    param_limits_t lim;
+
+    switch (which) {
+    case DRIVE_LD_FILT:
+        return own_range(l, wc / DRIVE_TWO_PI_F, f);
+    case DRIVE_LD_FILT_WB:
+        return verdict((int16_t)(wc / b->w_base_rad_s < BW_WC_MAX_PU), f, wc / DRIVE_TWO_PI_F, 0.0f,
+                       BW_WC_MAX_PU * b->f_base_Hz, BOTH_OPEN);
+    case DRIVE_LD_FILT_STEP:
+        /* the filters run in the slow task (ident_regressor_init) */
+        return verdict((int16_t)(wc * x->g.Ts_slow <= BW_FILTER_A_MAX), f, wc / DRIVE_TWO_PI_F,
+                       0.0f, BW_FILTER_A_MAX / (DRIVE_TWO_PI_F * x->g.Ts_slow), LO_OPEN);
+    case DRIVE_LD_K1:
+    case DRIVE_LD_K2:
+    case DRIVE_LD_K3:
+    case DRIVE_LD_K4:
+        /* theta_guard_init: each K with the model's sign in (0, RLS_THETA_MAX) */
+        drive_design_k_nominal(k, c, b);
+        return own_range(l, k_sign[which - DRIVE_LD_K1] * k[which - DRIVE_LD_K1], f);
+    default:
+        break;
+    }
+    /* param_extract_init: each range 0.25 .. 4 times the believed value,
+     * capped at 120 pu, must stay a range below 127 pu */
+    drive_design_param_limits(&lim, c, b);
+    switch (which) {
+    case DRIVE_LD_PE_RS:
+        return verdict(pe_range_ok(lim.Rs_ohm, b->Z_base_ohm), f, c->motor.Rs_ohm, 0.0f,
+                       480.0f * b->Z_base_ohm, BOTH_OPEN);
+    case DRIVE_LD_PE_RR:
+        return verdict(pe_range_ok(lim.Rr_ohm, b->Z_base_ohm), f, c->motor.Rr_ohm, 0.0f,
+                       480.0f * b->Z_base_ohm, BOTH_OPEN);
+    case DRIVE_LD_PE_LM:
+        return verdict(pe_range_ok(lim.Lm_H, b->L_base_H), f, c->motor.Lm_H, 0.0f,
+                       480.0f * b->L_base_H, BOTH_OPEN);
+    case DRIVE_LD_PE_LR:
+        return verdict(pe_range_ok(lim.Lr_H, b->L_base_H), f, c->motor.Lr_H, 0.0f,
+                       480.0f * b->L_base_H, BOTH_OPEN);
+    case DRIVE_LD_PE_PSI:
+        return verdict(pe_range_ok(lim.psi_Wb, b->psi_base_Wb), f,
+                       c->motor.Lm_H * c->motor.magnetizing_current_A, 0.0f,
+                       PE_Q24_MAX / 4.0f * b->psi_base_Wb, BOTH_OPEN);
+    default:
+        return 0;
+    }
+}
+
+/* drive_adapt_init: the features need the observer; the standstill test and
+ * the tracker on scratch instances, set up exactly as drive_adapt_init does */
+static int16_t check_adaptation(const drive_limit_t *l, const limit_ctx_t *x,
+                                drive_limit_fail_t *f)
+{
+    uint16_t which = l->where;
+    const drive_config_t *c = x->c;
+    const drive_ident_t *id = &c->ident;
+    const base_values_t *b = &x->b;
+    float Ts = x->g.Ts;
+
+    if (which == DRIVE_LD_FEATURES) {
+        return verdict((int16_t)((id->passes <= 1u && id->standstill == 0u && id->track_rr == 0u) ||
+                                 c->control.orientation == DRIVE_ORIENT_FLUX_OBS),
+                       f, (float)c->control.orientation, 1.0f, 1.0f, 0u);
+    }
+    if (which == DRIVE_LD_STANDSTILL && id->standstill != 0u) {
+        standstill_z_t z;
+        standstill_z_status_t st = drive_adapt_ssz_init(&z, c, b, Ts);
+        /* id_sequence_init's magnetisation (it counts slow-task ticks,
+         * DRIVE_SLOTS periods each) in samples */
+        uint32_t mag = (uint32_t)(id->magnetize_time_s / (Ts * (float)DRIVE_SLOTS) + 0.5f) *
+                       DRIVE_SLOTS;
+        uint32_t need = 2u * ((uint32_t)standstill_z_samples(&z) + drive_adapt_ssz_gap(Ts));
+        if (st == STANDSTILL_Z_ERR_AMPL) {
+            return report_as(f, "controller.magnetizing_current_A", "A",
+                             c->motor.magnetizing_current_A, 0.0f,
+                             0.5f / SSZ_AMPL_OF_IM * b->I_base_A, LO_OPEN);
+        }
+        if (st != STANDSTILL_Z_OK) {
+            /* (the bounds: 8 to 3120 samples a period of the injection, 0.01 to
+             * 30 pu of frequency: standstill_z_init) */
+            return report_as(f, "standstill injection frequency", "Hz",
+                             drive_adapt_ssz_freq_Hz(c),
+                             fmaxf(1.0f / (3120.0f * Ts), 0.01f * b->f_base_Hz),
+                             fminf(1.0f / (8.0f * Ts), 30.0f * b->f_base_Hz), 0u);
+        }
+        if (need <= mag) {
+            return 0;
+        }
+        return report_as(f, "ident.magnetize_s", "s", id->magnetize_time_s, (float)need * Ts,
+                         100.0f, 0u);
+    }
+    if (which == DRIVE_LD_TRACKER && id->track_rr != 0u) {
+        tr_track_t t;
+        tr_track_status_t st = drive_adapt_track_init(&t, c, b, Ts);
+        if (st == TR_TRACK_ERR_RANGE) {
+            /* theta = 1/Tr in pu up to 4 times the believed one, at most 30 */
+            return report_as(f, "Tr", "s", x->g.tr, 4.0f / 30.0f * b->t_base_s, NO_UPPER,
+                             HI_OPEN);
+        }
+        if (st == TR_TRACK_ERR_PHI) {
+            return report_as(f, "controller.max_torque_current_A", "A",
+                             c->control.max_torque_current_A, 0.0f,
+                             b->I_base_A * b->psi_base_Wb /
+                                 (TRACK_PHI_MIN_OF_RATED * c->motor.Lm_H *
+                                  c->motor.magnetizing_current_A), LO_OPEN);
+        }
+        if (st != TR_TRACK_OK) {
+            return report_as(f, "ident.track_memory_s", "s", id->track_memory_s, 0.2f, 20.0f, 0u);
+        }
+    }
+    return 0;
+}
+
+static int16_t check_sequence_and_protection(const drive_limit_t *l, const limit_ctx_t *x,
+                                             drive_limit_fail_t *f)
+{
+    uint16_t which = l->where;
+    const drive_config_t *c = x->c;
+    const drive_board_t *bd = &c->board;
+    const base_values_t *b = &x->b;
+    const drive_design_t *g = &x->g;
+    float target = (c->ident.target_speed_rpm > 0.0f) ? c->ident.target_speed_rpm
+                                                      : c->motor.rated_speed_rpm;
+    float v;
+    int16_t ok;
+
+    switch (which) {
+    case DRIVE_LD_TARGET:
+        v = 1.2f * c->motor.rated_speed_rpm;
+        return verdict((int16_t)(target <= v), f, target, 0.0f, v, LO_OPEN);
+    case DRIVE_LD_TARGET_PU:
+        return verdict((int16_t)(g->target_pu <= DRIVE_SPEED_REF_MAX_PU), f, target, 0.0f,
+                       DRIVE_SPEED_REF_MAX_PU * b->n_base_rpm, LO_OPEN);
+    case DRIVE_LD_DIDT:
+        return verdict((int16_t)(g->didt_pu < Q24_HEADROOM), f, c->motor.rated_current_A_rms, 0.0f,
+                       c->motor.rated_current_A_rms * Q24_HEADROOM / g->didt_pu, BOTH_OPEN);
+    case DRIVE_LD_OC_FS:   /* drive_init and protect_init */
+        return verdict((int16_t)(bd->overcurrent_A < bd->current_full_scale_A &&
+                                 _IQ(bd->overcurrent_A / b->I_base_A) > _IQ(0.0)),
+                       f, bd->overcurrent_A, 0.0f, bd->current_full_scale_A, BOTH_OPEN);
+    case DRIVE_LD_TORQUE_OC:
+        return verdict((int16_t)(c->control.max_torque_current_A <= bd->overcurrent_A), f,
+                       c->control.max_torque_current_A, 0.0f, bd->overcurrent_A, LO_OPEN);
+    case DRIVE_LD_VDC_MIN:
+        return verdict((int16_t)(bd->vdc_min_V < bd->vdc_nominal_V &&
+                                 _IQ(bd->vdc_min_V / b->V_base_V) > _IQ(0.0)),
+                       f, bd->vdc_min_V, 0.0f, bd->vdc_nominal_V, BOTH_OPEN);
+    case DRIVE_LD_VDC_MAX:
+        /* below the full scale, so below 64 V_base: the Q24 conversions hold */
+        ok = (int16_t)(bd->vdc_max_V > bd->vdc_nominal_V &&
+                       bd->vdc_max_V < bd->vdc_adc_full_scale_V);
+        if (ok != 0) {
+            ok = (int16_t)(_IQ(bd->vdc_max_V / b->V_base_V) > _IQ(bd->vdc_min_V / b->V_base_V));
+        }
+        return verdict(ok,
+                       f, bd->vdc_max_V, bd->vdc_nominal_V, bd->vdc_adc_full_scale_V, BOTH_OPEN);
+    case DRIVE_LD_ENC_JUMP: {   /* encoder_check_init: counts a period at DRIVE_ENC_SPEED_MAX_PU */
+        float per_line = DRIVE_ENC_SPEED_MAX_PU * b->f_base_Hz / (float)c->motor.pole_pairs *
+                         4.0f;
+        float jump = per_line * (float)bd->encoder_lines * b->Ts_s;
+        return verdict((int16_t)(jump >= 2.0f && jump <= 16384.0f), f, (float)bd->encoder_lines,
+                       2.0f / (per_line * b->Ts_s), 16384.0f / (per_line * b->Ts_s), 0u);
+    }
+    default:
+        return 0;
+    }
+}
+
+/* 1 if derived limit @p l fails (f filled); every field is in range here. */
+static int16_t check_derived(const drive_limit_t *l, const limit_ctx_t *x,
+                             drive_limit_fail_t *f)
+{
+    uint16_t w = l->where;
+    if (w <= DRIVE_LD_WC_PU) {
+        return check_motor_and_scaling(l, x, f);
+    }
+    if (w <= DRIVE_LD_RAMP) {
+        return check_loops(l, x, f);
+    }
+    if (w <= DRIVE_LD_SLIP) {
+        return check_orientation(l, x, f);
+    }
+    if (w <= DRIVE_LD_OBS_SLS) {
+        return check_observer(l, x, f);
+    }
+    if (w <= DRIVE_LD_BAND) {
+        return check_voltage_model(l, x, f);
+    }
+    if (w <= DRIVE_LD_PE_PSI) {
+        return check_estimator(l, x, f);
+    }
+    if (w <= DRIVE_LD_TRACKER) {
+        return check_adaptation(l, x, f);
+    }
+    return check_sequence_and_protection(l, x, f);
+}
+
+static void fill(drive_limit_fail_t *f, const drive_limit_t *l)
+{
+    f->limit = l;
+    f->key = l->key;
+    f->unit = l->unit;
+    f->status = l->status;
+}
+
+int16_t drive_config_check(const drive_config_t *c, drive_limit_fail_t *fail)
+{
+    drive_limit_fail_t scratch;   /* when the caller wants no report */
+    drive_limit_fail_t *f;
+    limit_ctx_t x;
+    uint16_t i;
+
+    memset(&scratch, 0, sizeof scratch);
+    f = (fail != NULL) ? fail : &scratch;
+    memset(f, 0, sizeof *f);
+    for (i = 0u; i < N_LIMITS; i++) {
+        const drive_limit_t *l = &k_limits[i];
+        float v;
+        if (l->kind == DRIVE_LIMIT_DERIVED) {
+            continue;
+        }
+        v = field_value(c, l);
+        if (!in_range(v, l->lo, l->hi, l->open)) {
+            fill(f, l);
+            (void)report(f, v, l->lo, l->hi, l->open);
+            return f->status;
+        }
+    }
+    /* every field in range: the bases exist (rates and scales > 0, Ts <= 1 ms) */
+    x.c = c;
+    if (drive_design_bases(&x.b, c) != BASE_OK) {
+        return ST(DRIVE_CFG_BASES);   /* not reached with the field ranges above */
+    }
+    drive_design(&x.g, c, &x.b);
+    for (i = 0u; i < N_LIMITS; i++) {
+        const drive_limit_t *l = &k_limits[i];
+        if (l->kind != DRIVE_LIMIT_DERIVED) {
+            continue;
+        }
+        fill(f, l);
+        if (check_derived(l, &x, f) != 0) {
+            return f->status;
+        }
+    }
+    memset(f, 0, sizeof *f);
+    return ST(DRIVE_CFG_OK);
+}
