@@ -254,6 +254,11 @@ class Options:
     # regression, 'prop' the proposal with K2 = the RLS's previous estimate
     rls: tuple = ()
     rls_p0: float = 1e4
+    # errors of the voltage the identification sees (not of the plant's):
+    # a relative gain error (e.g. the bus reading), and a residue of the
+    # dead-time compensation along the current (V)
+    u_gain_err: float = 0.0
+    u_dt_V: float = 0.0
     t_max: float | None = None   # default: end of the last case's RLS window + 0.05 s
 
 
@@ -453,6 +458,8 @@ def simulate(cases, opt: Options = Options(), groups=None):
         i_dq = i_ab * e_k
         th_mid = th_f - 0.5 * dth
         u_fw = u_last * np.exp(-1j * th_mid)              # firmware's voltage of the period
+        if opt.u_gain_err or opt.u_dt_V:
+            u_fw = u_fw * (1.0 + opt.u_gain_err) + opt.u_dt_V * i_dq / np.maximum(np.abs(i_dq), 1e-9)
         snc = np.sinc(dth / (2.0 * np.pi))                # sin(dth/2)/(dth/2)
         u_bar = u_fw * snc                                # exact period mean in the frame
 

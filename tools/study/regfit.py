@@ -34,7 +34,8 @@ FW_COLS = ("phi1", "phi2", "phi3", "phi4", "y",
 # the rotor flux of a shadow current model in the controller's frame (m = m0 + K2 m1),
 # plus the constant and w_r columns (for hybrids): phi = B + K2 E, y = yB + K2 yE.
 PROP_COLS = ("B1", "B2", "B3", "B4", "E1", "E3", "E4", "one", "wr", "yB", "yE",
-             "sM", "sT")   # sample current columns, for hybrids
+             "s_i", "s_u",  # the firmware's sample current and voltage, for ablations
+             "yB2", "yE2")  # y with the derivative of the filtered mean current instead of the sample's
 
 # the exact-oracle regression (period means and true rotor flux from the plant)
 EX_COLS = ("phi1", "phi2", "phi3", "phi4", "y")
@@ -80,11 +81,13 @@ def prop_group(sig):
     X1 = np.column_stack([
         y("tM"), y("ubM"), y("m0M"), -y("wrm0T"),
         y("cM"), y("m1M"), -y("wrm1T"), y("one"), z,
-        dy("iM") - y("wstT"), -y("wscT"), y("iM"), y("uM")])
+        dy("iM") - y("wstT"), -y("wscT"), y("iM"), y("uM"),
+        dy("tM") - y("wstT"), dy("cM") - y("wscT")])
     X2 = np.column_stack([
         y("tT"), y("ubT"), y("m0T"), y("wrm0M"),
         y("cT"), y("m1T"), y("wrm1M"), z, y("wr"),
-        dy("iT") + y("wstM"), y("wscM"), y("iT"), y("uT")])
+        dy("iT") + y("wstM"), y("wscM"), y("iT"), y("uT"),
+        dy("tT") + y("wstM"), dy("cT") + y("wscM")])
     return X1, X2
 
 
@@ -98,11 +101,13 @@ def propd_group(sig):
     X1 = np.column_stack([
         y("tM"), y("ubM"), y("d0M"), -y("wrd0T"),
         y("cM"), y("d1M"), -y("wrd1T"), y("one"), z,
-        dy("iM") - y("wstT"), -y("wscT"), y("iM"), y("uM")])
+        dy("iM") - y("wstT"), -y("wscT"), y("iM"), y("uM"),
+        dy("tM") - y("wstT"), dy("cM") - y("wscT")])
     X2 = np.column_stack([
         y("tT"), y("ubT"), y("d0T"), y("wrd0M"),
         y("cT"), y("d1T"), y("wrd1M"), z, y("wr"),
-        dy("iT") + y("wstM"), y("wscM"), y("iT"), y("uT")])
+        dy("iT") + y("wstM"), y("wscM"), y("iT"), y("uT"),
+        dy("tT") + y("wstM"), dy("cT") + y("wscM")])
     return X1, X2
 
 

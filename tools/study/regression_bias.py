@@ -12,6 +12,8 @@ the findings and numbers are in tools/study/regression_bias.md.
     regression_bias.py swing      ...           operating choices one at a time
     regression_bias.py rate       ...           multi-rate identification, N = 1, 2, 4, 8
     regression_bias.py isr        ...           ISR (PWM) rate 8..45 kHz
+    regression_bias.py sensitivity              a voltage error (real-plant residue) against
+                                                the learning speed (not an ideal-plant result)
     regression_bias.py motor_sim  ...           the fixed-point motor_sim, ideal sensors
                                                 (needs build/host-iq: tools/run_identification.sh
                                                 or cmake --build --preset host-iq --target motor_sim)
@@ -100,9 +102,12 @@ def grid_cases():
 # fits
 # --------------------------------------------------------------------------
 def pu_scale(c, flux_cols=False):
+    """per-unit column scales for the condition number (batch_ls.py's bases);
+    the proposal's flux columns m, w_r m are taken per i_M (m / i_M ~ 1, the
+    firmware's constant regressor), so that both numbers compare"""
     Ib, Vb, wb = c.hall_fs_A, c.vdc / SQRT3, 2 * math.pi * c.rated_freq_Hz
     if flux_cols:
-        return [1 / Ib, 1 / Vb, 1 / Ib, 1 / (wb * Ib)]
+        return [1 / Ib, 1 / Vb, 1 / c.i_m, 1 / (wb * c.i_m)]
     return [1 / Ib, 1 / Vb, 1.0, 1 / wb]
 
 
@@ -122,13 +127,19 @@ def fit_fw(c, res, ci):
 PC = {n: i for i, n in enumerate(rf.PROP_COLS)}
 
 
-def _prop_mats(kappa, flux=True, curv=True):
+def _prop_mats(kappa, flux=True, curv=True, y_mean=False, sample_i=False, fw_u=False):
+    """y_mean: the derivative from the filter of the mean current (one filter
+    per axis instead of two) instead of the sample's; sample_i, fw_u: the
+    firmware's sample current / voltage in the K1 / K2 columns (ablations)"""
     nc = len(rf.PROP_COLS)
     R = np.zeros((nc, 4))
     yv = np.zeros(nc)
-    R[PC["B1"], 0] = 1.0
-    R[PC["E1"], 0] = kappa if curv else 0.0
-    R[PC["B2"], 1] = 1.0
+    if sample_i:
+        R[PC["s_i"], 0] = 1.0
+    else:
+        R[PC["B1"], 0] = 1.0
+        R[PC["E1"], 0] = kappa if curv else 0.0
+    R[PC["s_u" if fw_u else "B2"], 1] = 1.0
     if flux:
         R[PC["B3"], 2] = 1.0
         R[PC["E3"], 2] = kappa if curv else 0.0
@@ -137,12 +148,14 @@ def _prop_mats(kappa, flux=True, curv=True):
     else:
         R[PC["one"], 2] = 1.0
         R[PC["wr"], 3] = 1.0
-    yv[PC["yB"]] = 1.0
-    yv[PC["yE"]] = kappa if curv else 0.0
+    yb, ye = ("yB2", "yE2") if y_mean else ("yB", "yE")
+    yv[PC[yb]] = 1.0
+    yv[PC[ye]] = kappa if curv else 0.0
     return R, yv
 
 
-def fit_prop(c, res, ci, group="propd", kappa=None, k0=1.5, flux=True, curv=True):
+def fit_prop(c, res, ci, group="propd", kappa=None, k0=1.5, flux=True, curv=True, y_mean=False,
+             **abl):
     """The proposal, batch fit.  kappa: the K2 of the ripple correction; None:
     iterate kappa <- fitted K2 from k0 x the nameplate's (the batch analogue of
     using the RLS's previous estimate)."""
@@ -152,12 +165,12 @@ def fit_prop(c, res, ci, group="propd", kappa=None, k0=1.5, flux=True, curv=True
     if kappa is None:
         kappa = k0 * k2n
         for _ in range(12):
-            R, yv = _prop_mats(kappa, flux, curv)
+            R, yv = _prop_mats(kappa, flux, curv, y_mean, **abl)
             th, _ = rf.ls_from_gram(G, R, yv)
             if abs(th[1] / kappa - 1) < 1e-12:
                 break
             kappa = th[1]
-    R, yv = _prop_mats(kappa, flux, curv)
+    R, yv = _prop_mats(kappa, flux, curv, y_mean, **abl)
     th, cond = rf.ls_from_gram(G, R, yv, scale=scale)
     keys = ("d0M", "d1M") if group == "propd" else ("m0M", "m1M")
     if flux:
@@ -315,10 +328,34 @@ def cmd_validate(a):
                     "with exact shadow flux", "proposal RLS (double)"]))
     print("\nlargest |error| of the proposal over these motors (batch and RLS), %: "
           + ", ".join(f"{k} {v:.3f}" for k, v in worst_prop.items()))
-    save(a.out, "validate_grid" if a.grid else "validate", {"rows": rows, "worst_prop": worst_prop})
+    abl_rows = []
+    if not a.grid:
+        variants = (
+            ("proposal", {}),
+            ("K2 of the correction = nameplate x0.8", {"kappa": "0.8"}),
+            ("K2 of the correction = nameplate x1.2", {"kappa": "1.2"}),
+            ("no ripple correction (K2 c = 0)", {"curv": False}),
+            ("sample current in the K1 column", {"sample_i": True}),
+            ("firmware voltage (no sinc)", {"fw_u": True}),
+            ("constant flux (1, w_r) with i_bar, u_bar", {"flux": False}),
+            ("derivative of the filtered mean current", {"y_mean": True}))
+        for ci, c in enumerate(cases):
+            d = {"motor": c.name}
+            for lab, kw in variants:
+                kw = dict(kw)
+                if "kappa" in kw:
+                    kw["kappa"] = float(kw["kappa"]) / (c.sigma * c.Ls)
+                e, _ = fit_prop(c, res, ci, "propd", **kw)
+                d[lab] = fmt_err(e)
+            abl_rows.append(d)
+        labs = [v[0] for v in variants]
+        print("\n### What each piece of the proposal does (batch fit, worst parameter %)\n")
+        print(md_table(abl_rows, ["motor"] + labs))
+    save(a.out, "validate_grid" if a.grid else "validate",
+         {"rows": rows, "worst_prop": worst_prop, "ablation": abl_rows})
 
 
-def swing_variants(c):
+def swing_variants(c, excitation=False):
     """the operating choices of the issue, one at a time, scaled to the motor"""
     T_N = c.T_N
     frac = (c.load_const + c.load_fan) / T_N if T_N > 0 else 0.4
@@ -337,6 +374,14 @@ def swing_variants(c):
          ("ramp x0.5", {"ramp_rpm_s": 0.5 * c.ramp_rpm_s}), ("ramp x2", {"ramp_rpm_s": 2 * c.ramp_rpm_s}),
          ("no load", load(0.0)), ("load 100 %", load(1.0)),
          ("target x0.5", {"target_rpm": 0.5 * c.target_rpm})]
+    if excitation:
+        # the proposed excitation: two ramp rates, the second half of the
+        # speed range at a third of the first's (a step of the acceleration
+        # torque at half speed, independent of the load)
+        r2 = {"profile": "ramp2", "ramp2_rpm_s": c.ramp_rpm_s / 3.0}
+        v += [("two-rate ramp", r2), ("two-rate ramp, no load", {**r2, **load(0.0)}),
+              ("two-rate ramp, target x0.5", {**r2, "target_rpm": 0.5 * c.target_rpm}),
+              ("two-rate ramp, i_M x1.5", {**r2, "i_m": 1.5 * c.i_m, "vdc": vdc_for(1.5 * c.i_m)})]
     return v, frac
 
 
@@ -344,7 +389,7 @@ def cmd_swing(a):
     bases = [case_from_motor(s077_motor())] + (ci_cases() if not a.quick else [])
     cases, meta = [], []
     for b in bases:
-        vs, frac = swing_variants(b)
+        vs, frac = swing_variants(b, excitation=True)
         for lab, over in vs:
             cases.append(replace(b, name=f"{b.name} | {lab}", **over))
             meta.append((b.name, lab))
@@ -405,6 +450,33 @@ def cmd_isr(a):
     save(a.out, "isr", rows)
 
 
+def cmd_sensitivity(a):
+    """Not an ideal-plant result: how a small error of the voltage the
+    identification sees (what a real drive's reconstruction leaves) reaches
+    the proposal's parameters, against the speed it learns up to (w_r Tr)."""
+    bases = [case_from_motor(s077_motor()),
+             case_from_motor(fam.design(11.0, 4, 50.0, 690.0, 0.05))]
+    cases = []
+    for b in bases:
+        for f in (1.0, 0.5, 0.25):
+            cases.append(replace(b, name=f"{b.name}, target x{f:g}", target_rpm=f * b.target_rpm))
+    rows = {}
+    for lab, kw in (("ideal", {}), ("voltage gain +0.1 %", {"u_gain_err": 1e-3}),
+                    ("0.5 V along the current", {"u_dt_V": 0.5})):
+        res = idd.simulate(cases, idd.Options(**kw), groups=GROUPS_MIN)
+        for ci, c in enumerate(cases):
+            e_fw, _ = fit_fw(c, res, ci)
+            e_p, _ = fit_prop(c, res, ci, "propd")
+            r = rows.setdefault(c.name, {"case": c.name, "wrTr": round(c.w_target * c.Tr, 1)})
+            r[f"{lab}: firmware"] = f"Rr {e_fw['Rr']:+.2f} Rs {e_fw['Rs']:+.2f}"
+            r[f"{lab}: proposal"] = f"Rr {e_p['Rr']:+.2f} Rs {e_p['Rs']:+.2f}"
+        print(f"{lab} done", file=sys.stderr)
+    rows = list(rows.values())
+    cols = list(rows[0].keys())
+    print(md_table(rows, cols))
+    save(a.out, "sensitivity", rows)
+
+
 def run_motor_sim(ini_text, tag, tmp):
     exe = ROOT / "build" / "host-iq" / "host_sim" / "sim" / "motor_sim"
     if not exe.exists():
@@ -463,13 +535,14 @@ def cmd_motor_sim(a):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("command", choices=("diagnose", "validate", "swing", "rate", "isr", "motor_sim"))
+    ap.add_argument("command", choices=("diagnose", "validate", "swing", "rate", "isr", "motor_sim",
+                                        "sensitivity"))
     ap.add_argument("--grid", action="store_true", help="validate: the whole family grid")
     ap.add_argument("--quick", action="store_true", help="swing/rate: the 1 kW motor only")
     ap.add_argument("--out", type=Path, default=ROOT / "out" / "regression_bias")
     a = ap.parse_args(argv)
     {"diagnose": cmd_diagnose, "validate": cmd_validate, "swing": cmd_swing, "rate": cmd_rate,
-     "isr": cmd_isr, "motor_sim": cmd_motor_sim}[a.command](a)
+     "isr": cmd_isr, "motor_sim": cmd_motor_sim, "sensitivity": cmd_sensitivity}[a.command](a)
     return 0
 
 
