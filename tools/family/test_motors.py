@@ -1,0 +1,88 @@
+"""Checks of the motor family generator (tools/family/motors.py).
+
+    .venv/bin/python -m pytest -q tools/family
+"""
+import configparser
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import motors as fam  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[2]
+MOTOR_SIM = ROOT / "build" / "host-iq" / "host_sim" / "sim" / "motor_sim"
+
+
+def test_iec_efficiency_matches_the_tables():
+    # IE3 4-pole 1.1 kW 84.1 %, 15 kW 92.1 %; IE2 4-pole 0.25 kW 68.5 % (IEC 60034-30-1 tables)
+    assert abs(100 * fam.efficiency(1.1, 4) - 84.1) < 0.1
+    assert abs(100 * fam.efficiency(15.0, 4) - 92.1) < 0.1
+    assert abs(100 * fam.efficiency(0.25, 4) - 68.5) < 0.1
+
+
+@pytest.mark.parametrize("m", fam.ci_subset() + fam.grid(), ids=lambda m: m.name)
+def test_rated_point_is_consistent(m):
+    p = m.p
+    w_e = 2 * math.pi * m.f_Hz
+    Ls = m.Ls
+    # no-load current at rated voltage and frequency = the magnetising current
+    v0 = abs(complex(m.Rs, w_e * Ls)) * m.i_m
+    assert abs(v0 / (m.V * math.sqrt(2 / 3)) - 1) < 1e-9
+    # air-gap torque at the rated point, and the slip of the rotor-flux frame
+    te = 1.5 * p * m.Lm ** 2 / m.Lr * m.i_m * m.i_t_rated
+    w_sl = m.i_t_rated / (m.Tr * m.i_m)
+    assert abs(w_sl / (m.slip * w_e) - 1) < 1e-9
+    assert te > m.T_N
+    # the bus covers the rated point in linear modulation (motor_sim's check)
+    assert m.vdc_need <= m.vdc + 1e-9
+    assert 0.65 < m.pf < 0.97
+    assert 0.0 < m.sigma < 0.2
+    # sensors: full scale >= 2.5 x rated peak, trips inside the range
+    assert m.hall_fs >= 2.5 * m.I_N * math.sqrt(2) - 1e-9
+    assert m.max_torque_current < m.overcurrent < m.hall_fs
+
+
+def test_ci_subset_spans_the_family_and_fits_the_firmware():
+    ci = fam.ci_subset()
+    assert 6 <= len(ci) <= 8
+    assert {m.poles for m in ci} == {2, 4, 6, 8}
+    assert {m.f_Hz for m in ci} == {50.0, 60.0}
+    assert min(m.V for m in ci) <= 230 and max(m.V for m in ci) >= 690
+    assert min(m.sigma for m in ci) <= 0.05 and max(m.sigma for m in ci) >= 0.15
+    assert min(m.wrTr for m in ci) < 20 and max(m.wrTr for m in ci) > 100
+    assert all(m.fw_ok for m in ci)
+    assert 40 <= len(fam.grid()) <= 80
+
+
+@pytest.mark.parametrize("layout", ["current", "split"])
+def test_key_map_covers_every_value(layout):
+    km = fam.key_map(layout)
+    vals = fam.ini_values(fam.ci_subset()[0])
+    assert set(vals) == set(km)
+    sections = {s for s, _ in km.values()}
+    assert sections <= set(fam.SECTION_ORDER[layout])
+
+
+@pytest.mark.parametrize("layout", ["current", "split"])
+def test_ini_round_trip(layout):
+    m = fam.ci_subset()[3]
+    cp = configparser.ConfigParser(inline_comment_prefixes=(";",))
+    cp.read_string(fam.to_ini(m, layout))
+    km = fam.key_map(layout)
+    for k, v in fam.ini_values(m).items():
+        s, name = km[k]
+        assert abs(float(cp.get(s, name)) - v) <= 1e-5 * max(1.0, abs(v)), k
+
+
+@pytest.mark.skipif(not MOTOR_SIM.exists(), reason="motor_sim not built")
+def test_motor_sim_accepts_the_ci_subset(tmp_path):
+    for m in fam.ci_subset():
+        ini = tmp_path / f"{m.name}.ini"
+        ini.write_text(fam.to_ini(m))
+        r = subprocess.run([str(MOTOR_SIM), "--config", str(ini), "--duration", "0.05", "--quiet"],
+                           capture_output=True, text=True)
+        assert r.returncode == 0, (m.name, r.stdout, r.stderr)
