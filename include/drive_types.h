@@ -37,14 +37,20 @@
 
 /** The multi-rate schedule of the ISR (drive_step.c): every ISR runs the
  *  fast path, and one of DRIVE_SLOTS slow tasks in turn, so that each ISR
- *  carries an equal share and the slow tasks run at f_pwm / DRIVE_SLOTS. */
-#define DRIVE_SLOTS_LOG2 2u
+ *  carries an equal share and the slow tasks run at f_pwm / DRIVE_SLOTS
+ *  (1.875 kHz at 15 kHz).  Eight slots: no slow task needs more than one
+ *  eighth of the slow work (drive_slow.c lists what runs where, and why). */
+#define DRIVE_SLOTS_LOG2 3u
 #define DRIVE_SLOTS (1u << DRIVE_SLOTS_LOG2)
 typedef enum {
-    DRIVE_SLOT_SPEED = 0,   /* speed ramp + PI, sequence, adaptation, slow constants, snapshots */
-    DRIVE_SLOT_FILTERS,     /* the regression's Butterworth filters on the window means */
+    DRIVE_SLOT_SPEED = 0,   /* checks at the slow rate, QEP speeds, speed ramp + PI, slow constants */
+    DRIVE_SLOT_FILTERS_A,   /* the regression's window means, the i_M, i_T, u_M, u_T filters */
+    DRIVE_SLOT_FILTERS_B,   /* the w_s i and w_r filters, y1, y2, the rows; may the RLS learn */
     DRIVE_SLOT_RLS_ROW1,    /* RLS: forgetting + row 1 */
-    DRIVE_SLOT_RLS_ROW2     /* RLS: row 2, then the estimator guard */
+    DRIVE_SLOT_SEQUENCE,    /* identification sequence, adaptation, telemetry, snapshots */
+    DRIVE_SLOT_RLS_ROW2,    /* RLS: row 2, then the estimator guard */
+    DRIVE_SLOT_OBSERVER,    /* the rotor-flux observer (orientation 1) */
+    DRIVE_SLOT_LOG          /* no drive work: the firmware's data log runs in this ISR */
 } drive_slot_t;
 
 /** Gains and constants derived once by drive_init (pu, Q24). */
@@ -164,7 +170,10 @@ struct drive {
     _iq theta_k, theta_prev;    /* Q24 pu [0, 1): the frame angle of this and the last sample */
     _iq ws_k;                   /* Q24 pu: the frame's speed over the period that just ended */
     _iq ws_ctl;                 /* Q24 pu: the frame speed for decoupling and modulation */
-    _iq i_t_ref;                /* Q24 pu: the speed loop's torque-current reference */
+    _iq i_t_ref;                /* Q24 pu: the torque-current reference of this period */
+    _iq i_t_step;               /* Q24 pu: its step per period towards the speed loop's
+                                   latest output (drive_slow.c: first-order hold over the
+                                   slow period; |.| <= 2 / DRIVE_SLOTS) */
     _iq im_inject;              /* Q24 pu: added to the i_M reference (standstill test) */
     uint16_t reg_count;         /* encoder count at the last FILTERS slot (the regression's window) */
 

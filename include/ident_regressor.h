@@ -136,8 +136,16 @@ static inline void ident_regressor_accumulate(ident_regressor_t *r)
 
 /** Every 2^decim_log2 samples, after that many accumulate calls: the
  *  window means (rounded) through the filters, y1, y2 and the regressors;
- *  the sums restart at 0. */
+ *  the sums restart at 0.  = ident_regressor_filter_a, then _b. */
 void ident_regressor_filter(ident_regressor_t *r);
+
+/** The filter step in two halves, for two ISRs of the slow schedule: (a)
+ *  the window means (the sums restart at 0: accumulate may run between a
+ *  and b), the i_M, i_T, u_M, u_T filters; (b) the three product/speed
+ *  filters, y1, y2 and the regressors.  a then b = ident_regressor_filter,
+ *  bit for bit. */
+void ident_regressor_filter_a(ident_regressor_t *r);
+void ident_regressor_filter_b(ident_regressor_t *r);
 
 /** accumulate + filter: one sample of the undecimated path (decim_log2 = 0). */
 void ident_regressor_step(ident_regressor_t *r);

@@ -11,16 +11,23 @@
  *                 (out of the leg) the lower diode conducts during the dead
  *                 time and the pole loses vdc td/Ts, plus the device drop
  *                 v_drop; while i_x < 0 it gains the same.
- *   compensated:  p_x = vdc d_x - sgn(i_x) v_drop
- *                       - (sgn(i_x1) + sgn(i_x2)) vdc td/(2 Ts)   (0 < d_x < 1)
+ *   compensated:  p_x = vdc d_x - (sgn(i_x1) + sgn(i_x2)) e_x / 2,
+ *                 e_x = vdc td/Ts + v_drop             (0 < d_x < 1)
+ *                 e_x = v_drop                         (d = 0 or 1: a clamped
+ *                                                       leg has no edge)
  *                 where i_x1, i_x2 are the currents at the two switching
  *                 edges, (1 - d_x)/2 and (1 + d_x)/2 into the period; with
  *                 the current linear over the period (mid value i_x, change
  *                 di_x from the two samples that bound it),
- *                 i_x1,2 = i_x -+ (d_x/2) di_x.  Near a zero crossing the
- *                 two edges can see opposite signs: half the dead-time error.
- *                 A leg clamped at d = 0 or 1 does not switch: drop only.
- *                 (With di = 0 this is sgn(i_x) (vdc td/Ts + v_drop).)
+ *                 i_x1,2 = i_x -+ (d_x/2) di_x.  Each edge carries half the
+ *                 period's error: near a zero crossing the two edges can see
+ *                 opposite signs, and the error is that of the edges' mean
+ *                 sign (for the drop, which follows the current through the
+ *                 period, the mean of the edges' signs is the mean sign of a
+ *                 current that crosses zero between them, to first order).
+ *                 With di = 0 this is sgn(i_x) (vdc td/Ts + v_drop), the
+ *                 error a steady current sees (what a standstill measurement
+ *                 of the bridge gives).
  * sgn() has a linear zone: sgn(i) = sat(i / i_thresh, -1, 1), so that noise
  * near a zero crossing does not make the estimate chatter (and the average
  * error there, which does shrink near zero current, is followed smoothly).
@@ -77,6 +84,7 @@ typedef struct {
     _iq dt_frac;       /* td / Ts, Q24, [0, 0.25] */
     _iq dt_half;       /* td / (2 Ts): the error of one edge, Q24 */
     _iq v_drop;        /* device forward drop, pu of V_base, Q24, [0, 1] */
+    _iq v_drop_half;   /* v_drop / 2, Q24 */
     _iq i_thresh;      /* half-width of the linear zone of sgn(), pu, Q24 */
     _iq16 inv_i_thresh;/* 1 / i_thresh, Q16, [1, 2000] */
     /* outputs */
@@ -97,51 +105,38 @@ typedef struct {
 volt_calc_status_t volt_calc_init(volt_calc_t *v, float dead_time_s, float Ts_s,
                                   float drop_pu, float i_thresh_pu, uint16_t comp_enable);
 
-/* sgn(i) with a linear zone of half-width i_thresh: sat(i / i_thresh, +-1).
- * Outside the zone (the common case: every leg but one near its zero
- * crossing) exactly +-1 by two compares, no product.  Inside, the
- * Q24*Q16 -> Q24 product is within +-1 (+ the rounding of 1/i_thresh) and
- * saturated to +-1.  The inverse is Q16 so that a narrow zone (down to
- * 0.0005 pu: a large drive's dead-time transition of a few tenths of an
- * ampere) is representable. */
+/* sgn(i) with a linear zone of half-width i_thresh: sat(i / i_thresh, +-1),
+ * two saturations and one product, no branch (the cost is the same on
+ * every leg and every sample: the worst ISR is what the deadline sees).
+ * i is limited to +-i_thresh first, so that the Q24*Q16 -> Q24 product
+ * stays within +-(1 + 2^-8) (no overflow whatever |i|); 1/i_thresh is Q16
+ * (a zone down to 0.0005 pu: a large drive's dead-time transition of a few
+ * tenths of an ampere) and rounded up (volt_calc_init), so the product is
+ * >= 1 at the edge and the last saturation makes it exactly +-1 there and
+ * beyond. */
 static inline _iq volt_calc_sgn(const volt_calc_t *v, _iq i)
 {
-    if (i >= v->i_thresh) {
-        return _IQ(1.0);
-    }
-    if (i <= -v->i_thresh) {
-        return _IQ(-1.0);
-    }
-    return _IQsat(_IQmpyIQX(i, GLOBAL_Q, v->inv_i_thresh, 16), _IQ(1.0), _IQ(-1.0));
+    const _iq ic = _IQsat(i, v->i_thresh, -v->i_thresh);
+    return _IQsat(_IQmpyIQX(ic, GLOBAL_Q, v->inv_i_thresh, 16), _IQ(1.0), _IQ(-1.0));
 }
 
 /* Mean pole-voltage error of one leg over the period (volt_calc_step):
- * drop sgn(i_mid) + v_dt_half (sgn(i_mid - (d/2) di) + sgn(i_mid + (d/2)
- * di)), v_dt_half = vdc td/(2 Ts).  A leg away from its zero crossing,
- * |i_mid| >= i_thresh + |di|/2 (>= |(d/2) di| for d <= 1), has all three
- * signs exactly +-1: the error is +-verr = +-(drop + 2 v_dt_half), the
- * same value bit for bit, with no product.  A leg that does not switch
- * (d = 0 or 1) has no edge and no dead time: the drop alone.  Q24 products,
- * each |.| <= 4 pu; the sum <= 5 pu. */
-static inline _iq volt_calc_leg_error(const volt_calc_t *v, _iq i_mid, _iq di, _iq d,
-                                      _iq v_dt_half, _iq verr)
+ * (sgn(i_mid - h) + sgn(i_mid + h)) e_half, h = d di_half = (d/2) di, the
+ * edges' currents; e_half = (vdc td/Ts + v_drop)/2 for a switching leg,
+ * v_drop/2 for a clamped one.  Branch-free: 2 sgn, 2 products.  |h| <= 16,
+ * |i_mid -+ h| <= 48 pu; the result |.| <= 5 pu. */
+static inline _iq volt_calc_leg_error(const volt_calc_t *v, _iq i_mid, _iq di_half, _iq d,
+                                      _iq e_half)
 {
-    const _iq far = v->i_thresh + ((di >= _IQ(0.0)) ? di : -di) / 2;   /* |.| <= 33 */
-    if (d > _IQ(0.0) && d < _IQ(1.0)) {
-        if (i_mid >= far) {
-            return verr;
-        }
-        if (i_mid <= -far) {
-            return -verr;
-        }
-        {
-            const _iq half_di = _IQmpy(_IQmpy(d, _IQ(0.5)), di);        /* (d/2) di, Q24 */
-            return _IQmpy(volt_calc_sgn(v, i_mid), v->v_drop) +
-                   _IQmpy(volt_calc_sgn(v, i_mid - half_di) + volt_calc_sgn(v, i_mid + half_di),
-                          v_dt_half);
-        }
-    }
-    return _IQmpy(volt_calc_sgn(v, i_mid), v->v_drop);
+    const _iq h = _IQmpy(d, di_half);   /* Q24*Q24 -> Q24 */
+    return _IQmpy(volt_calc_sgn(v, i_mid - h) + volt_calc_sgn(v, i_mid + h), e_half);
+}
+
+/* e_half for a leg with duty d: the drop alone when the leg is clamped
+ * (d <= 0 or d >= 1: SVPWM clamps only in over-modulation). */
+static inline _iq volt_calc_leg_e(_iq d, _iq e_switching, _iq e_clamped)
+{
+    return (d > _IQ(0.0) && d < _IQ(1.0)) ? e_switching : e_clamped;
 }
 
 /**
@@ -153,9 +148,9 @@ static inline _iq volt_calc_leg_error(const volt_calc_t *v, _iq i_mid, _iq di, _
  * the truncations of vdc*td/Ts, of i/i_thresh (times verr) and of
  * sgn*verr: 2 + verr LSB more per pole, 4 + 2 verr LSB in va.  Overflow:
  * none in the valid range (every intermediate below 64 pu); sgn() is
- * saturated to [-1, 1].  Per sample: 3 products for the poles, 1 for the
- * compensation of every leg away from its zero crossing (the common case)
- * and a few more for the one leg near it, 2 for the Clarke transform.
+ * saturated to [-1, 1].  Per sample: 3 products for the poles, 2 for the
+ * half changes, 2 sgn's and 2 products for each leg's compensation, 2 for
+ * the Clarke transform: the same on every sample.
  */
 static inline void volt_calc_step(volt_calc_t *v)
 {
@@ -172,12 +167,14 @@ static inline void volt_calc_step(volt_calc_t *v)
          * linear over the period, i_edge = i_mid -+ (d/2) di.  The device
          * drop follows the period-mean current.  Q24*Q24 -> Q24 products,
          * |vdc td/Ts| <= 4, |(d/2) di| <= 32, |i_edge| <= 64 pu. */
-        const _iq v_dt_half = _IQmpy(v->vdc, v->dt_half);
-        const _iq verr = v->v_drop + v_dt_half + v_dt_half;
-        pa -= volt_calc_leg_error(v, v->ia, v->dia, v->da, v_dt_half, verr);
-        pb -= volt_calc_leg_error(v, v->ib, v->dib, v->db, v_dt_half, verr);
-        pc -= volt_calc_leg_error(v, _IQ(0.0) - v->ia - v->ib,
-                                  _IQ(0.0) - v->dia - v->dib, v->dc, v_dt_half, verr);
+        const _iq e_cl = v->v_drop_half;
+        const _iq e_sw = _IQmpy(v->vdc, v->dt_half) + e_cl;   /* (vdc td/Ts + v_drop)/2 */
+        const _iq dia_h = _IQmpy(v->dia, _IQ(0.5));           /* |.| <= 16 */
+        const _iq dib_h = _IQmpy(v->dib, _IQ(0.5));
+        pa -= volt_calc_leg_error(v, v->ia, dia_h, v->da, volt_calc_leg_e(v->da, e_sw, e_cl));
+        pb -= volt_calc_leg_error(v, v->ib, dib_h, v->db, volt_calc_leg_e(v->db, e_sw, e_cl));
+        pc -= volt_calc_leg_error(v, _IQ(0.0) - v->ia - v->ib, _IQ(0.0) - dia_h - dib_h, v->dc,
+                                  volt_calc_leg_e(v->dc, e_sw, e_cl));
     }
 
     /* Common mode of the floating star: (pa + pb + pc)/3, sum <= 63.
@@ -192,16 +189,10 @@ static inline void volt_calc_step(volt_calc_t *v)
     v->vbeta = _IQmpyIQX(v->vb - v->vc, GLOBAL_Q, FOC_ONE_BY_SQRT3_Q30, 30);
 }
 
-/* One phase's error for the feed-forward: +-verr outside the linear zone
- * (no product), sgn(i) verr inside it.  |.| <= 5 pu. */
+/* One phase's error for the feed-forward: sgn(i) verr (|.| <= 5 pu), one
+ * product and the sgn's, no branch. */
 static inline _iq volt_calc_ff_phase(const volt_calc_t *v, _iq i, _iq verr)
 {
-    if (i >= v->i_thresh) {
-        return verr;
-    }
-    if (i <= -v->i_thresh) {
-        return -verr;
-    }
     return _IQmpy(volt_calc_sgn(v, i), verr);
 }
 

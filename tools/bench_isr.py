@@ -104,8 +104,11 @@ FIRMWARE_ISR = (("firmware/isr.c", "isr_control"), ("firmware/isr.c", "isr_elaps
                 ("firmware/hal_pwm_f2812.c", "hal_isr_overrun"),
                 ("firmware/hal_pwm_f2812.c", "pwm_f2812_period"),
                 ("firmware/hal_qep_f2812.c", "hal_qep_read_count"),
-                ("firmware/datalog.c", "datalog_step"),
-                ("src/app/drive_step.c", "drive_get_log_signals"))
+                ("src/app/drive_slow.c", "drive_log_due"))
+# ... and what isr_control runs only in the ISR of the slot without drive
+# work (drive_log_due: DRIVE_SLOT_LOG, the schedule's last slot)
+FIRMWARE_LOG_SLOT = (("firmware/datalog.c", "datalog_step"),
+                     ("src/app/drive_step.c", "drive_get_log_signals"))
 
 # source file stem (.c and its .h, whose inline step functions run in the
 # ISR) -> module of the report (others: GLUE)
@@ -275,15 +278,17 @@ def function_body(path, name):
 
 
 def firmware_cost(inl):
-    """Cycles per ISR of the firmware ISR path, every line once (static)."""
-    per_fn = {}
-    for path, fn in FIRMWARE_ISR:
-        per_fn[f"{Path(path).name}:{fn}"] = sum(line_cycles(count_line(ln, inl))
-                                              for ln in function_body(path, fn))
+    """Cycles of the firmware ISR path, every line once (static): per ISR,
+    and in the log slot's ISR only."""
+    per_fn, log_fn = {}, {}
+    for table, out in ((FIRMWARE_ISR, per_fn), (FIRMWARE_LOG_SLOT, log_fn)):
+        for path, fn in table:
+            out[f"{Path(path).name}:{fn}"] = sum(line_cycles(count_line(ln, inl))
+                                               for ln in function_body(path, fn))
     # the calls of these functions are costed where they are made: on the
     # lines of their callers (isr_control's here, drive_isr's in the host
     # build); isr_control is the interrupt itself (ISR_ENTRY_EXIT)
-    return ISR_ENTRY_EXIT + sum(per_fn.values()), per_fn
+    return ISR_ENTRY_EXIT + sum(per_fn.values()), per_fn, sum(log_fn.values()), log_fn
 
 
 # ---- running isr_cost and reading its gcov dumps ----------------------------
@@ -453,7 +458,7 @@ class LineCoster:
 def estimate(build, config, uniform, jobs):
     exe, objdir = isr_cost_paths(build)
     coster = LineCoster()
-    fixed, fw_fns = firmware_cost(coster.inl)
+    fixed, fw_fns, log_cost, log_fns = firmware_cost(coster.inl)
     with tempfile.TemporaryDirectory(prefix="bench_isr_") as tmp:
         r = subprocess.run([str(exe), str(config), "--out", tmp, "--uniform", str(uniform)],
                            capture_output=True, text=True)
@@ -473,7 +478,8 @@ def estimate(build, config, uniform, jobs):
     for s, lines in zip(samples, dumps):
         calls = {}
         c_lines, _, _ = coster.cost(lines, calls)
-        s["cycles"] = fixed + c_lines
+        fw = fixed + (log_cost if s["slot"] == data["slots"] - 1 else 0)
+        s["cycles"] = fw + c_lines
         # the IQmath calls attributed to lines must cover every call counted
         # (more is possible: both arms of a ?: are costed, errs high)
         for op, n in zip(names, s["iq"]):
@@ -493,9 +499,10 @@ def estimate(build, config, uniform, jobs):
                 for ln, n in d.items():
                     t[ln] = max(t.get(ln, 0), n)
         c_lines, mods, hot = coster.cost(wl)
-        worst = fixed + c_lines
+        fw = fixed + (log_cost if slot == data["slots"] - 1 else 0)
+        worst = fw + c_lines
         mods = dict(mods)
-        mods[FIRMWARE] = fixed
+        mods[FIRMWARE] = fw
         uni = [s["cycles"] for s, _ in members if s["uniform"]] or \
               [s["cycles"] for s, _ in members]
         st = states.setdefault(state, {"classes": {}})
@@ -510,6 +517,7 @@ def estimate(build, config, uniform, jobs):
                       "worst": cl[wslot]["worst"], "worst_slot": wslot,
                       "isrs": data["state_isrs"].get(state, 0), "classes": cl}
     return {"states": out, "fixed": fixed, "firmware_functions": fw_fns,
+            "log_slot_cycles": log_cost, "log_slot_functions": log_fns,
             "slots": data["slots"], "isrs": data["isrs"]}
 
 
@@ -532,6 +540,8 @@ def main(argv=None):
                     help="ISRs sampled evenly per (state, slot), besides the transitions")
     ap.add_argument("--hot", type=int, default=0, help="also list the N costliest lines of "
                                                        "the worst ISR")
+    ap.add_argument("--hot-slot", type=int, default=None,
+                    help="with --hot: this slot's worst ISR instead of the state's worst slot")
     ap.add_argument("--hot-state", default=None,
                     help="with --hot: of this state's worst ISR instead (e.g. CALIBRATE)")
     ap.add_argument("--slots", action="store_true", help="also list the worst ISR of every slot")
@@ -591,13 +601,19 @@ def main(argv=None):
         if a.hot:
             worst_state = a.hot_state or max(r["states"], key=lambda k: r["states"][k]["worst"])
             v = r["states"][worst_state]
-            print(f"  costliest lines of the worst ISR ({worst_state}, slot {v['worst_slot']}):")
-            for c, where, code in sorted(v["classes"][v["worst_slot"]]["hot"],
-                                         reverse=True)[:a.hot]:
+            slot = v["worst_slot"] if a.hot_slot is None else a.hot_slot
+            cl = v["classes"][slot]
+            mods = ", ".join(f"{k} {c:.0f}" for k, c in
+                             sorted(cl["modules"].items(), key=lambda kv: -kv[1]) if c >= 1)
+            print(f"  costliest lines of the worst ISR ({worst_state}, slot {slot}, "
+                  f"{cl['worst']:.0f} cycles: {mods}):")
+            for c, where, code in sorted(cl["hot"], reverse=True)[:a.hot]:
                 print(f"    {c:6.0f}  {where:34s} {code[:60]}")
     fw = next(iter(results.values()))
     print(f"fixed per ISR {fw['fixed']:.0f} cycles: entry/exit {ISR_ENTRY_EXIT}, firmware "
           + ", ".join(f"{k} {v:.0f}" for k, v in fw["firmware_functions"].items()))
+    print(f"in the log slot's ISR (slot {fw['slots'] - 1}) {fw['log_slot_cycles']:.0f} more: "
+          + ", ".join(f"{k} {v:.0f}" for k, v in fw["log_slot_functions"].items()))
     print("cycles per operation: " + ", ".join(f"{k} {v}" for k, v in OTHER_COST.items()) +
           f", peripheral register access +{PERIPH_WAIT}; assumed IQmath: " +
           ", ".join(f"{k} {v}" for k, v in ASSUMED_CYCLES.items()))

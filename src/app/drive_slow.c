@@ -1,22 +1,32 @@
 /**
  * The slow tasks of the multi-rate ISR (drive_step.c): one per ISR, in turn,
- * each at f_pwm / DRIVE_SLOTS (3.75 kHz at 15 kHz).  Every slot's work is
+ * each at f_pwm / DRIVE_SLOTS (1.875 kHz at 15 kHz).  Every slot's work is
  * bounded and similar in size, so that no ISR carries more than the fast
  * path plus one of them.
  *
- *   SPEED     identification sequence, adaptation (drive_adapt.c), speed
- *             ramp + PI (i_T reference for the fast current loop), the
- *             slow constants of the fast path (1/(Tr i_mr) of the slip, the
- *             bus for the SVPWM's 1/vdc), telemetry and the snapshots for
- *             the background
- *   FILTERS   the regression's filters on the window means (method §5),
- *             y1, y2 and the rows; whether the RLS may update
- *   RLS_ROW1  forgetting + row 1 (method §3)
- *   RLS_ROW2  row 2, then the estimator guard on the completed sample
+ *   0 SPEED       the checks that need no more than this rate (current
+ *                 feedback through its 2 ms filter, the encoder's 50 ms
+ *                 frozen test), the QEP's speeds, the speed ramp + PI (i_T
+ *                 reference for the fast current loop: a few Hz of
+ *                 bandwidth), the fast path's slow constants (1/(Tr i_mr)
+ *                 of the slip, the bus the SVPWM divides by)
+ *   1 FILTERS_A   the regression's window means (the sums restart), the
+ *                 i_M, i_T, u_M, u_T filters (method §5)
+ *   2 FILTERS_B   the w_s i_T, w_s i_M and w_r filters, y1, y2 and the
+ *                 rows; whether the RLS may update
+ *   3 RLS_ROW1    forgetting + row 1 (method §3)
+ *   4 SEQUENCE    identification sequence (times of 0.1-1 s), adaptation
+ *                 (drive_adapt.c), telemetry and the snapshots for the
+ *                 background
+ *   5 RLS_ROW2    row 2, then the estimator guard on the completed sample
+ *   6 OBSERVER    the rotor-flux observer on the window's means (mode 1)
+ *   7 LOG         nothing of the drive's: the firmware's data log
  *
- * The order within a slow period is SPEED, FILTERS, ROW1, ROW2: the rows
- * use the regressors the FILTERS slot formed in the same period, the
- * sequence sees the filtered di/dt of the previous one.
+ * The rows use the regressors slots 1-2 formed in the same slow period; the
+ * sequence sees the filtered di/dt of this period and judges the RLS's
+ * enable for the next one.  The 10 Hz regression band and the speed loop's
+ * few Hz leave a wide margin below 1.875 kHz; the window mean of 8 samples
+ * before the filters is their anti-alias stage (ident_regressor.h).
  */
 #include "drive_internal.h"
 
@@ -73,10 +83,18 @@ static void speed_loop(drive_t *d)
         d->pi_speed.fbk = d->qep.speed;
         d->pi_speed.ff = _IQ(0.0);
         pi_step(&d->pi_speed);
-        d->i_t_ref = d->pi_speed.out;
+        /* to the current loop as a ramp over the slow period, not a step
+         * every DRIVE_SLOTS periods: a step of the reference would pass
+         * the current PI's proportional gain to the voltage at once (the
+         * soak's over-modulation at rated speed); the fast path adds
+         * i_t_step every period and reaches the output, within
+         * DRIVE_SLOTS - 1 LSB, one slow period later.  |out - ref| <= 2 pu
+         * (both within +-i_max <= 1) */
+        d->i_t_step = (d->pi_speed.out - d->i_t_ref) / (int32_t)DRIVE_SLOTS;
     } else {
         pi_reset(&d->pi_speed);
         d->i_t_ref = _IQ(0.0);
+        d->i_t_step = _IQ(0.0);
     }
 }
 
@@ -121,8 +139,6 @@ static void task_speed(drive_t *d)
     /* the encoder's speeds right before the speed loop uses them (every
      * sample of delay in its feedback costs phase at a reversal) */
     qep_speed_update(&d->qep);
-    sequence(d);
-    drive_adapt_slow(d);
     speed_loop(d);
     /* the fast path's slow constants: the slip gain 1/(Tr i_mr) (one
      * division; i_mr moves with Tr >= 10 Ts) and the bus the SVPWM divides
@@ -131,19 +147,32 @@ static void task_speed(drive_t *d)
         ifo_update_slip_gain(&d->ifo);
     }
     d->svgen.vdc = d->bus.vdc;
+}
+
+static void task_sequence(drive_t *d)
+{
+    sequence(d);
+    drive_adapt_slow(d);
     telemetry(d);
 }
 
-/* Regression signals and whether the RLS may learn (method §2-§5). */
-static void task_filters(drive_t *d)
+/* The regression's window means and its first four filters (method §5). */
+static void task_filters_a(drive_t *d)
+{
+    /* the regression's rotor speed over exactly the window the other six
+     * signals were summed over (the mean of its one-period speeds) */
+    d->reg.wr = qep_mean_speed(&d->qep, &d->reg_count);
+    ident_regressor_filter_a(&d->reg);
+}
+
+/* The other three filters, the rows, and whether the RLS may learn
+ * (method §2-§5). */
+static void task_filters_b(drive_t *d)
 {
     ident_regressor_t *r = &d->reg;
     uint16_t rls_on = d->seq.rls_on;
 
-    /* the regression's rotor speed over exactly the window the other six
-     * signals were summed over (the mean of its one-period speeds) */
-    r->wr = qep_mean_speed(&d->qep, &d->reg_count);
-    ident_regressor_filter(r);
+    ident_regressor_filter_b(r);
     if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
         if (d->fobs_hold != 0u) {
             rls_on = 0u;   /* the frame is held on the encoder angle */
@@ -185,18 +214,33 @@ void drive_slow_task(drive_t *d, uint16_t slot)
     case DRIVE_SLOT_SPEED:
         task_speed(d);
         break;
-    case DRIVE_SLOT_FILTERS:
-        task_filters(d);
+    case DRIVE_SLOT_FILTERS_A:
+        task_filters_a(d);
+        break;
+    case DRIVE_SLOT_FILTERS_B:
+        task_filters_b(d);
         break;
     case DRIVE_SLOT_RLS_ROW1:
         rls_step_row1(&d->rls);
         break;
+    case DRIVE_SLOT_SEQUENCE:
+        task_sequence(d);
+        break;
     case DRIVE_SLOT_RLS_ROW2:
-    default:
         task_row2(d);
+        break;
+    case DRIVE_SLOT_OBSERVER:
+    case DRIVE_SLOT_LOG:
+    default:
         break;
     }
     /* fault and state reach telemetry in the ISR that latched them */
     d->telemetry.state = (uint16_t)d->seq.state;
     d->telemetry.fault = (uint16_t)d->prot.fault;
+}
+
+uint16_t drive_log_due(const drive_t *d)
+{
+    /* drive_step advanced d->slot past the slot it ran */
+    return (uint16_t)(d->slot == ((DRIVE_SLOT_LOG + 1u) & (DRIVE_SLOTS - 1u)));
 }

@@ -238,6 +238,7 @@ static inline void control(drive_t *d)
     d->pi_id.ref = d->seq.im_cmd + d->im_inject;
     d->pi_id.fbk = d->park.ds;
     d->pi_id.ff = -_IQmpy(ws, _IQmpy(d->k.sigma_ls, d->park.qs));
+    d->i_t_ref += d->i_t_step;   /* the speed loop's output, held first-order (drive_slow.c) */
     d->pi_iq.ref = d->i_t_ref;
     d->pi_iq.fbk = d->park.qs;
     d->pi_iq.ff = _IQmpy(ws, _IQmpy(d->k.sigma_ls, d->park.ds) + emf_flux);

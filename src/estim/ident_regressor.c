@@ -64,7 +64,7 @@ static inline _iq ident_mean(_iq sum, uint16_t n)
 #endif
 }
 
-void ident_regressor_filter(ident_regressor_t *r)
+void ident_regressor_filter_a(ident_regressor_t *r)
 {
     const uint16_t n = r->decim_log2;
     const _iq um = ident_mean(r->s_um, n);
@@ -95,6 +95,10 @@ void ident_regressor_filter(ident_regressor_t *r)
     bw_filter_step(&r->f_it);
     bw_filter_update(&r->f_um);
     bw_filter_update(&r->f_ut);
+}
+
+void ident_regressor_filter_b(ident_regressor_t *r)
+{
     bw_filter_update(&r->f_ws_it);
     bw_filter_update(&r->f_ws_im);
     bw_filter_update(&r->f_wr);
@@ -107,6 +111,12 @@ void ident_regressor_filter(ident_regressor_t *r)
     r->i_tf = r->f_it.y;
     r->u_tf = r->f_ut.y;
     r->wr_f = r->f_wr.y;
+}
+
+void ident_regressor_filter(ident_regressor_t *r)
+{
+    ident_regressor_filter_a(r);
+    ident_regressor_filter_b(r);
 }
 
 void ident_regressor_step(ident_regressor_t *r)

@@ -17,6 +17,7 @@
 #include <cmocka.h>
 
 #include "fault_run.h"
+#include "drive_types.h"   /* DRIVE_SLOTS */
 #include "protect.h"
 
 #define PAPER MC_CONFIG_DIR "/paper_motor.ini"
@@ -31,14 +32,15 @@ typedef struct {
 
 /* detect_window_s: 0 for a fault that one sample shows; the encoder's frozen
  * test waits 50 ms by design (encoder_check.h) and runs in the slow task
- * (one sample in DRIVE_SLOTS = 4: 3 periods more); a sensor reading 0 A
+ * (one sample in DRIVE_SLOTS: DRIVE_SLOTS - 1 periods more); a sensor reading 0 A
  * shows nothing wrong in one sample (0 A is a legal reading): the current
  * check sees the consequence through its 2 ms low-pass (current_check.h) */
 static const fault_case_t k_cases[] = {
     {"short a-b, 20 uH", PLANT_FAULT_SHORT, 20.0, FAULT_OVERCURRENT, 0.0},
     {"bus overvoltage +50 %", PLANT_FAULT_OVERVOLTAGE, 0.5, FAULT_BUS_OVERVOLTAGE, 0.0},
     {"bus sag -50 %", PLANT_FAULT_BUS_SAG, 0.5, FAULT_BUS_UNDERVOLTAGE, 0.0},
-    {"encoder frozen", PLANT_FAULT_ENCODER_LOST, 0.0, FAULT_ENCODER, 0.05 + 3.0 / 15000.0},
+    {"encoder frozen", PLANT_FAULT_ENCODER_LOST, 0.0, FAULT_ENCODER,
+     0.05 + (double)(DRIVE_SLOTS - 1u) / 15000.0},
     {"encoder jump 100 counts", PLANT_FAULT_ENCODER_JUMP, 100.0, FAULT_ENCODER, 0.0},
     {"bus feedback at the ADC rail", PLANT_FAULT_ADC_RAIL, 0.0, FAULT_ADC_RAIL, 0.0},
     {"PDPINTA (power stage trip)", PLANT_FAULT_HW_TRIP, 100.0, FAULT_HW_TRIP, 0.0},

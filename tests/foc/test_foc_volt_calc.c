@@ -33,21 +33,30 @@ static void test_init(void **state)
     assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, 0.05f, nan, 1u), VOLT_CALC_ERR_THRESH);
     assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, 0.05f, 0.02f, 2u), VOLT_CALC_ERR_ENABLE);
     assert_memory_equal(&v, &z, sizeof v);
-    /* constants: td/Ts = 0.03, 1/0.02 = 50; _IQ truncates (1 LSB), and
-     * 1/i_thresh is formed in float first (2^-24 relative, 3e-6 pu at 50) */
+    /* constants: td/Ts = 0.03, 1/0.02 = 50; _IQ truncates (1 LSB); in
+     * IQ_MATH 1/i_thresh is the stored threshold's inverse rounded up (so
+     * that i_thresh * inv >= 1: sgn() exactly +-1 at the zone's edge), 50
+     * within the threshold's truncation (1 LSB of 0.02: 3e-6 relative) and
+     * one Q16 LSB; in float it is formed in float (2^-24 relative) */
     assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, 0.05f, 0.02f, 1u), VOLT_CALC_OK);
     assert_true(fabs(iq2d(v.dt_frac) - 0.03) <= foc_tol(1.1, 2.0, 1.0));
     assert_true(fabs(iq2d(v.v_drop) - 0.05) <= foc_tol(1.1, 2.0, 1.0));
+#if MATH_TYPE == IQ_MATH
+    assert_true((int64_t)v.i_thresh * (int64_t)v.inv_i_thresh >= ((int64_t)1 << 40));
+    assert_true((int64_t)v.i_thresh * (int64_t)(v.inv_i_thresh - 1) < ((int64_t)1 << 40));
+    assert_true(fabs((double)_IQ16toF(v.inv_i_thresh) - 50.0) <= 50.0 * 3.0e-6 + 1.0 / 65536.0);
+#else
     assert_true(fabs((double)_IQ16toF(v.inv_i_thresh) - 50.0) <= 50.0 * (double)FLT_EPSILON + foc_tol(1.0, 1.0, 1.0));
+#endif
     assert_int_equal(v.comp_enable, 1u);
 }
 
 /* The formula, in double, with the module's stored constants (their
- * quantisation is checked in test_init): each switching leg (0 < d < 1)
- *   pole_x = vdc d_x - sgn(i_x) v_drop
- *            - (sgn(i_x - d_x di_x / 2) + sgn(i_x + d_x di_x / 2)) vdc td/(2 Ts)
- * (the currents at the two edges of a centre-aligned period), a clamped leg
- * only the drop; sgn(i) = sat(i / i_thresh, +-1); ic = -ia - ib. */
+ * quantisation is checked in test_init): each leg
+ *   pole_x = vdc d_x - (sgn(i_x - d_x di_x / 2) + sgn(i_x + d_x di_x / 2)) e_x / 2
+ * (the currents at the two edges of a centre-aligned period), e_x = vdc
+ * td/Ts + v_drop for a switching leg (0 < d < 1), v_drop for a clamped
+ * one; sgn(i) = sat(i / i_thresh, +-1); ic = -ia - ib. */
 static double sgn_lin(double i, double th, double inv)
 {
     if (i >= th) {
@@ -82,12 +91,10 @@ static void reference(const volt_calc_t *v, double out[5])
     for (x = 0; x < 3; x++) {
         p[x] = vdc * d[x];
         if (v->comp_enable) {
-            p[x] -= sgn_lin(i[x], th, inv) * iq2d(v->v_drop);
-            if (d[x] > 0.0 && d[x] < 1.0) {
-                p[x] -= (sgn_lin(i[x] - 0.5 * d[x] * di[x], th, inv) +
-                         sgn_lin(i[x] + 0.5 * d[x] * di[x], th, inv)) *
-                        vdc * iq2d(v->dt_half);
-            }
+            const double e_half = ((d[x] > 0.0 && d[x] < 1.0) ? vdc * iq2d(v->dt_half) : 0.0) +
+                                  0.5 * iq2d(v->v_drop);
+            p[x] -= (sgn_lin(i[x] - 0.5 * d[x] * di[x], th, inv) +
+                     sgn_lin(i[x] + 0.5 * d[x] * di[x], th, inv)) * e_half;
         }
     }
     m = (p[0] + p[1] + p[2]) / 3.0;
@@ -99,12 +106,12 @@ static void reference(const volt_calc_t *v, double out[5])
 }
 
 /* Bounds.  IQ_MATH: each pole is a truncated product (< 1 LSB); with the
- * compensation it also carries the truncations of vdc td/(2Ts) (1 LSB,
- * times |sum of sgn| <= 2), of i/i_thresh (1 LSB, times verr pu), of
- * sgn * v_drop and of sum * vdc td/(2Ts) (1 LSB each): 5 + verr LSB.  The
- * edge currents i -+ (d/2) di carry the truncations of d/2 (1 LSB, times
- * |di|) and of the product (1 LSB); through sgn's slope 1/i_thresh and the
- * weight vdc td/(2Ts) that is E = 2 (1 + |di|) inv vdc td/(2Ts) LSB more.
+ * compensation it also carries the truncations of e/2 = vdc td/(2Ts) +
+ * v_drop/2 (2 LSB, times |sum of sgn| <= 2), of i/i_thresh (1 LSB each
+ * edge, times verr pu) and of the product (1 LSB): 5 + verr LSB.  The
+ * edge currents i -+ d (di/2) carry the truncations of di/2 (1 LSB, times
+ * d <= 1) and of the product (1 LSB); through sgn's slope 1/i_thresh and the
+ * weight e/2 that is E = 2 (2 + |di|) inv e/2 LSB more.
  * P = 5 + verr + E (1 without compensation).  The common mode averages
  * three poles and adds its own truncation (1 LSB) and the Q30 constant's
  * (sum * 2^-30 < 0.05 LSB): va, vb, vc, valpha within 2P + 1.05; vbeta =
@@ -116,12 +123,13 @@ static void check(volt_calc_t *v, double *worst)
     double ref[5], d[3], i[3], di[3];
     const double vdc = iq2d(v->vdc);
     const double verr = v->comp_enable ? vdc * iq2d(v->dt_frac) + iq2d(v->v_drop) : 0.0;
-    const double slope = (double)_IQ16toF(v->inv_i_thresh) * vdc * iq2d(v->dt_half);
+    const double slope = (double)_IQ16toF(v->inv_i_thresh) *
+                         (vdc * iq2d(v->dt_half) + 0.5 * iq2d(v->v_drop));
     double E = 0.0, Ef = 0.0, P;
     int x;
     leg_inputs(v, d, i, di);
     for (x = 0; x < 3; x++) {
-        E = fmax(E, 2.0 * (1.0 + fabs(di[x])) * slope);
+        E = fmax(E, 2.0 * (2.0 + fabs(di[x])) * slope);
         Ef = fmax(Ef, 4.0 * (fabs(i[x]) + fabs(di[x])) * slope);
     }
     P = v->comp_enable ? 5.0 + verr + E : 1.0;
@@ -257,8 +265,8 @@ static void test_compensation_physics(void **state)
 /* Physics at a zero crossing inside the period.  Phase a: mid-period
  * current +0.05 pu rising by 0.4 pu over the period, d = 0.5: the edges at
  * Ts/4 and 3Ts/4 see -0.05 and +0.15 pu (beyond the 0.02 threshold), so the
- * first edge gains vdc td/(2Ts) and the second loses it: no net dead-time
- * error, only the drop (current positive on average).  The same current
+ * first edge gains half the period's error and the second loses it: no net
+ * error (the drop follows the edges' mean sign, 0 here).  The same current
  * held constant loses the whole vdc td/Ts + v_drop.  A leg clamped at
  * d = 1 has no edge: only the drop. */
 static void test_edge_currents(void **state)
@@ -285,9 +293,9 @@ static void test_edge_currents(void **state)
     /* phase b: -0.025 -+ 0.05: edges at +0.025 and -0.075 -> sgn +1, -1 */
     e_cross = iq2d(v.va) - iq2d(off.va);
     bnd = foc_tol(40.0, 64.0, 1.0);
-    /* pole errors: a -drop, b 0 (drop sgn(-0.025) = -1 -> +drop), c = -a-b:
-     * ic = -0.025, dic = -0.2 -> edges +0.025, -0.075: +drop */
-    assert_true(fabs(e_cross - (2.0 / 3.0 * (-drop) - 1.0 / 3.0 * (drop + drop))) <= bnd);
+    /* pole errors: a 0 (edges -0.05, +0.15), b 0 (edges +0.025, -0.075),
+     * c = -a-b: ic = -0.025, dic = -0.2 -> edges +0.025, -0.075: 0 */
+    assert_true(fabs(e_cross) <= bnd);
     v.dia = _IQ(0.0);
     v.dib = _IQ(0.0);
     volt_calc_step(&v);

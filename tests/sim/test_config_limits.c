@@ -206,7 +206,7 @@ typedef struct {
     double boundary;         /* its limit, computed from the paper motor */
     int upper;               /* 1: the key must stay below the boundary */
     const char *named;       /* the key both messages name */
-    edit_t extra[5];         /* what the case needs besides (NULL key: none) */
+    edit_t extra[8];         /* what the case needs besides (NULL key: none) */
     double in, out;          /* a whole-number key: the values (else 0.1 % either side) */
 } derived_case_t;
 
@@ -227,12 +227,12 @@ typedef struct {
 
 static void derived_case(const derived_case_t *k)
 {
-    edit_t e[6];
+    edit_t e[9];
     unsigned n = 0;
     char err[SIM_CONFIG_ERR_LEN];
     drive_limit_fail_t f;
     double step = (k->upper ? -1.0 : 1.0) * 1e-3;
-    while (n < 5u && k->extra[n].key != NULL) {
+    while (n < 8u && k->extra[n].key != NULL) {
         e[n] = k->extra[n];
         n++;
     }
@@ -294,7 +294,8 @@ static void test_derived_limits(void **state)
         CASE("observer low-pass", "board.pwm_freq_Hz", 2.0 * PI_ * 200.0, 0, "board.pwm_freq_Hz",
              {"controller.orientation", 1.0}, {"nameplate.rated_freq_Hz", 9.0},
              {"nameplate.rated_speed_rpm", 250.0}, {"ident.target_speed_rpm", 250.0},
-             {"controller.current_bw_Hz", 200.0}),
+             {"controller.current_bw_Hz", 200.0}, {"controller.speed_filter_Hz", 50.0},
+             {"ident.filter_cutoff_Hz", 5.0}),
         CASE("observer Rs", "nameplate.Rs_ohm", 4.0 * Z_BASE, 1, "nameplate.Rs_ohm",
              {"controller.orientation", 1.0}, {"plant.Rs_ohm", 1.031}),
         CASE("observer Lm", "nameplate.Lm_H", 16.0 * L_BASE, 1, "nameplate.Lm_H",
@@ -304,7 +305,7 @@ static void test_derived_limits(void **state)
         CASE("compensation band", "controller.dead_time_band_A", 0.0005 * 20.0, 0,
              "controller.dead_time_band_A", NONE),
         CASE("regression filter", "ident.filter_cutoff_Hz", 4.0 * 50.0, 1,
-             "ident.filter_cutoff_Hz", {"board.pwm_freq_Hz", 20000.0}),
+             "ident.filter_cutoff_Hz", {"board.pwm_freq_Hz", 40000.0}),
         CASE("regression filter step (slow task)", "ident.filter_cutoff_Hz",
              0.3 / (2.0 * PI_ * TS * DRIVE_SLOTS), 1, "ident.filter_cutoff_Hz", NONE),
         CASE("standstill test fits", "ident.magnetize_s", ssz_s, 0, "ident.magnetize_s",
