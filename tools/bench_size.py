@@ -116,7 +116,7 @@ def sources(board_config=None):
     src = sorted((ROOT / "src").rglob("*.c"))
     fw = sorted((ROOT / "firmware").glob("*.c"))
     iq = [ROOT / "host_sim/iqmath/iqmath_div_sqrt.c", ROOT / "host_sim/iqmath/iqmath_trig.c"]
-    extra = [Path(board_config)] if board_config else []
+    extra = [Path(board_config).resolve()] if board_config else []
     return src + fw + iq + extra
 
 
