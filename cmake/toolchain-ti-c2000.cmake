@@ -16,7 +16,9 @@
 #                         DSP281x_headers/source/DSP281x_GlobalVariableDefs.c
 #   C2000_IQMATH_ROOT     TI's C28x IQmath (SPRC087, or C2000Ware's
 #                         libraries/math/IQmath/c28): include/IQmathLib.h and
-#                         lib/IQmath.lib
+#                         lib/IQmath_coff.lib (C2000Ware) or lib/IQmath.lib
+#                         (SPRC087, COFF)
+# and C2000_ABI (default coffabi, the only one the F2812 build supports).
 # The host IQmath (host_sim/iqmath) is never on the target's include path:
 # firmware/CMakeLists.txt checks that.
 
@@ -39,6 +41,15 @@ endif()
 
 set(CMAKE_C_COMPILER "${C2000_CL2000}")
 set(CMAKE_ASM_COMPILER "${C2000_CL2000}")
+
+# The processor options, in CMAKE_<LANG>_FLAGS: CMake's TI rules put them in
+# <FLAGS> of every compile and, on the link line, before --run_linker, where
+# the shell still reads them (after --run_linker every option is the
+# linker's: SPRU514 "Invoking the linker through the compiler").
+# C28x (-v28), large memory model (-ml), unified memory (-mt), no FPU.
+set(C2000_ABI "coffabi" CACHE STRING "cl2000 --abi (coffabi or eabi)")
+set(CMAKE_C_FLAGS_INIT "-v28 -ml -mt --float_support=none --abi=${C2000_ABI}")
+set(CMAKE_ASM_FLAGS_INIT "-v28 -ml -mt --float_support=none --abi=${C2000_ABI}")
 # the compiler cannot link a test program without a linker command file
 set(CMAKE_TRY_COMPILE_TARGET_TYPE STATIC_LIBRARY)
 

@@ -1,6 +1,8 @@
 /*
  * F2812_flash.cmd: the stand-alone (boot to flash) image of the F2812
- * firmware.  Use with F2812_headers.cmd (peripheral register frames).
+ * firmware.  Use with F2812_headers.cmd (peripheral register frames); it
+ * #includes F2812_isr_path.cmd (generated, the ISR path's functions), found
+ * through the link's --search_path (firmware/CMakeLists.txt, the CCS project).
  *
  * Memory map: TMS320F2812 data sheet (SPRS174), "F2812 memory map" and
  * "Flash sectors" tables; tools/target/check_linker_cmd.py checks every
@@ -8,20 +10,33 @@
  * The C28x has one unified memory: PAGE 0 (program) and PAGE 1 (data) name
  * the same address space, so no range may appear on both pages.
  *
- * RAM budget (16-bit words):
- *   L0+L1 SARAM 8K  ramfuncs RUN: the control ISR and its HAL reads/writes,
- *                   the whole portable core (compiled --ramfunc=on: every
- *                   core function, _init included, is in .TI.ramfunc) and
- *                   IQmath.lib's code (section IQmath).  Estimated 5-6K;
- *                   the link fails if it does not fit (.map shows the size).
+ * RAM budget, 16-bit words.  Estimates of tools/bench_size.py (Thumb-2
+ * stand-in compiler x 1.2; CTest target_ram_fit checks each block at 70 %):
+ *   L0+L1 SARAM 8K  ramfuncs RUN: exactly the control ISR's call graph
+ *                   (F2812_isr_path.cmd: the src/ functions by input section,
+ *                   compiled --gen_func_subsections=on), the firmware's ISR
+ *                   and HAL functions (#pragma CODE_SECTION "ramfuncs"),
+ *                   flash_init (reprograms the wait states) and TI's IQmath
+ *                   code (section IQmath, TI's IQmath examples run it from
+ *                   RAM too: 2812_IQmath_lnk.cmd).  Estimated 9 500 words:
+ *                   MORE than L0+L1; the link fails ("placement fails for
+ *                   object ramfuncs") if the cl2000 code is that large.
  *                   L0/L1 are CSM-secure RAM: secure code may run there.
- *   H0 SARAM 8K     .ebss (drive_t, telemetry 0.6K, statics) and dlog
- *                   (the data log, 4 x 256 x 32 bit = 2K, fixed address
- *                   for the CCS graph window)
- *   M1 SARAM 1K     .stack (ISR + background, no recursion)
- *   M0 SARAM 1K     .esysmem (no heap is used: -heap 0) and spare
- * Flash 128K: code in J..E, constants in F, ramfuncs LOAD image in D, C..B
- * spare, A holds only codestart (BEGIN), the CSM reserved words and password.
+ *   H0 SARAM 8K     .ebss (drive_t 1 464, telemetry rings 537, statics:
+ *                   2 009) and dlog (the data log, 2 068, fixed address
+ *                   for the CCS graph window): 4 077
+ *   M0+M1 SARAM 2K  .stack (--stack_size=0x600 in firmware/CMakeLists.txt;
+ *                   the stack pointer is 16 bits, so the stack must be in the
+ *                   low 64K words: M0/M1 or L0/L1, SPRU430) estimated 701
+ *                   (deepest background chain + deepest ISR chain + the
+ *                   interrupt context); .esysmem (no heap: --heap_size=0)
+ * Flash 128K: code in J..E (estimated 12 400 words outside ramfuncs),
+ * constants in F, ramfuncs LOAD image in D, C..B spare, A holds only
+ * codestart (BEGIN), the CSM reserved words and password.
+ * IQmathTables (sin/cos/atan/div/sqrt seed tables) stay in boot ROM
+ * (NOLOAD; 1 wait state, SPRS174): TI's IQmath functions read them there.
+ * Constants (.econst) and switch tables (.switch) the ISR reads are in flash
+ * (5 wait states): a cost for the ISR's cycles, not a placement error.
  */
 
 MEMORY
@@ -46,15 +61,21 @@ PAGE 0 :   /* program */
    RESET      : origin = 0x3FFFC0, length = 0x000002   /* boot ROM reset vector */
 
 PAGE 1 :   /* data */
-   RAMM0      : origin = 0x000000, length = 0x000400
-   RAMM1      : origin = 0x000400, length = 0x000400
+   RAMM0M1    : origin = 0x000000, length = 0x000800   /* M0 + M1 SARAM */
    RAMH0      : origin = 0x3F8000, length = 0x002000
 }
 
 SECTIONS
 {
    codestart        : > BEGIN,      PAGE = 0
-   ramfuncs         : { *(ramfuncs) *(.TI.ramfunc) *(IQmath) }
+   /* exactly the ISR path: the firmware's #pragma'd functions, the src/
+    * functions of F2812_isr_path.cmd (named input sections take precedence
+    * over the generic .text below: SPRU513 "Subsections"), TI's IQmath */
+   ramfuncs         : {
+                         *(ramfuncs)
+#include "F2812_isr_path.cmd"
+                         *(IQmath)
+                      }
                       LOAD = FLASHD, RUN = RAML0L1,
                       LOAD_START(_RamfuncsLoadStart),
                       LOAD_END(_RamfuncsLoadEnd),
@@ -68,8 +89,8 @@ SECTIONS
    IQmathTables     : > IQTABLES,   PAGE = 0, TYPE = NOLOAD
    .reset           : > RESET,      PAGE = 0, TYPE = DSECT   /* boot ROM supplies it */
 
-   .stack           : > RAMM1,      PAGE = 1
+   .stack           : > RAMM0M1,    PAGE = 1
    .ebss            : > RAMH0,      PAGE = 1
    dlog             : > RAMH0,      PAGE = 1
-   .esysmem         : > RAMM0,      PAGE = 1
+   .esysmem         : > RAMM0M1,    PAGE = 1
 }

@@ -1,49 +1,73 @@
 /*
- * F2812_ram.cmd: the debug image, loaded by CCS into RAM and started in
- * "boot to H0" mode (or run from the debugger).  Use with F2812_headers.cmd.
+ * F2812_ram.cmd: the debug image that CCS loads into RAM, without
+ * programming the flash (FIRMWARE_IMAGE=ram).  Use with F2812_headers.cmd;
+ * #includes F2812_isr_path.cmd as F2812_flash.cmd does.
  * Memory map: SPRS174, as in F2812_flash.cmd (checked by the same CI test).
  *
- * Budget (16-bit words): H0 8K = code (.text, constants, init tables);
- * L0 4K = ramfuncs (LOAD = RUN here: flash_copy_ramfuncs copies the section
- * onto itself, a no-op, so main.c is the same for both images);
- * L1 4K = .ebss + dlog; M1 1K = stack; M0 1K = .esysmem / spare.
+ * What fits (16-bit words, estimates of tools/bench_size.py
+ * --linker-cmd linker/F2812_ram.cmd): the on-chip RAM is 18K (M0 1K, M1 1K,
+ * L0 4K, L1 4K, H0 8K); the firmware needs about 30K: ramfuncs (the ISR
+ * path) 9 500, the other code 12 400, constants 2 800, .ebss + dlog 4 100,
+ * stack 1 500.  So a RAM-only image of the whole firmware does NOT fit the
+ * F2812's internal RAM.  This image therefore needs a board with external
+ * SRAM on XINTF zone 6 (0x100000, 64K words here, as the eZdsp F2812 board
+ * has; the XINTF timing registers reset to their slowest setting, SPRU067,
+ * so CCS can load there before any code ran), which takes the
+ * code that runs at most once per telemetry frame (init, background,
+ * telemetry, the float emulation) and the constants.  Everything that runs
+ * in the ISR is on-chip as in the flash image:
+ *   L0+L1 8K   ramfuncs, loaded in place (LOAD = RUN: flash_copy_ramfuncs
+ *              copies the section onto itself, a no-op, so main.c is the
+ *              same for both images).  Estimated 9 500: does not fit, as in
+ *              the flash image.
+ *   H0 8K      codestart (boot-to-H0 entry, 2 words), .ebss (2 009) and
+ *              dlog (2 068)
+ *   M0+M1 2K   .stack (0x600) and .esysmem (no heap)
+ *   XINTF 6    .text, .cinit, .pinit, .switch, .econst (about 15 000)
+ * On a board without external RAM use the flash image.  How to load: CCS
+ * "Load Program" of the FIRMWARE_IMAGE=ram build (the loader sets the PC to
+ * _c_int00), or a reset in the boot ROM's "jump to H0 SARAM" mode (boot mode
+ * pins: SPRS174 "Boot mode selection"), which branches to BEGINH0.
  */
 
 MEMORY
 {
 PAGE 0 :
    BEGINH0    : origin = 0x3F8000, length = 0x000002   /* boot-to-H0 entry */
-   PRAMH0     : origin = 0x3F8002, length = 0x001FFE
-   RAML0      : origin = 0x008000, length = 0x001000
+   RAML0L1    : origin = 0x008000, length = 0x002000   /* L0 + L1 SARAM, ramfuncs */
+   XRAM6      : origin = 0x100000, length = 0x010000   /* external SRAM, XINTF zone 6 */
    CSM_PWL    : origin = 0x3F7FF8, length = 0x000008   /* CsmPwlFile (F2812_headers.cmd) */
    IQTABLES   : origin = 0x3FF000, length = 0x000B50
    RESET      : origin = 0x3FFFC0, length = 0x000002
 
 PAGE 1 :
-   RAMM0      : origin = 0x000000, length = 0x000400
-   RAMM1      : origin = 0x000400, length = 0x000400
-   RAML1      : origin = 0x009000, length = 0x001000
+   RAMM0M1    : origin = 0x000000, length = 0x000800   /* M0 + M1 SARAM */
+   RAMH0      : origin = 0x3F8002, length = 0x001FFE
 }
 
 SECTIONS
 {
    codestart        : > BEGINH0,    PAGE = 0
-   ramfuncs         : { *(ramfuncs) *(.TI.ramfunc) *(IQmath) }
-                      LOAD = RAML0, RUN = RAML0,
+   ramfuncs         : {
+                         *(ramfuncs)
+#include "F2812_isr_path.cmd"
+                         *(IQmath)
+                      }
+                      LOAD = RAML0L1, RUN = RAML0L1,
                       LOAD_START(_RamfuncsLoadStart),
                       LOAD_END(_RamfuncsLoadEnd),
                       RUN_START(_RamfuncsRunStart),
                       PAGE = 0
-   .text            : > PRAMH0,     PAGE = 0
-   .cinit           : > PRAMH0,     PAGE = 0
-   .pinit           : > PRAMH0,     PAGE = 0
-   .switch          : > PRAMH0,     PAGE = 0
-   .econst          : > PRAMH0,     PAGE = 0
+   .text            : > XRAM6,      PAGE = 0
+   .cinit           : > XRAM6,      PAGE = 0
+   .pinit           : > XRAM6,      PAGE = 0
+   .switch          : > XRAM6,      PAGE = 0
+   .econst          : > XRAM6,      PAGE = 0
    IQmathTables     : > IQTABLES,   PAGE = 0, TYPE = NOLOAD
    .reset           : > RESET,      PAGE = 0, TYPE = DSECT
 
-   .stack           : > RAMM1,      PAGE = 1
-   .ebss            : > RAML1,      PAGE = 1
-   dlog             : > RAML1,      PAGE = 1
-   .esysmem         : > RAMM0,      PAGE = 1
+   .stack           : > RAMM0M1,    PAGE = 1
+   .ebss            : > RAMH0,      PAGE = 1
+   dlog             : > RAMH0,      PAGE = 1
+   .esysmem         : > RAMM0M1,    PAGE = 1
 }

@@ -7,9 +7,13 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 # libclang-rt-14-dev: clang's sanitizer and libFuzzer runtimes (tools/fuzz.sh);
-# only "recommended" by clang, so --no-install-recommends would leave it out
+# only "recommended" by clang, so --no-install-recommends would leave it out.
+# gcc-arm-none-eabi + libnewlib-arm-none-eabi (its C library, only suggested
+# by the compiler): the stand-in compiler of tools/bench_size.py (the F2812
+# code and RAM size, CTests target_ram_fit_*, target_isr_path_cmd_*).
 debs=(cmake make gcc pkg-config libcmocka-dev libinih-dev python3
-      gcc-avr avr-libc simavr clang cppcheck clang-tidy libclang-rt-14-dev)
+      gcc-avr avr-libc simavr clang cppcheck clang-tidy libclang-rt-14-dev
+      gcc-arm-none-eabi libnewlib-arm-none-eabi)
 missing=()
 for p in "${debs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

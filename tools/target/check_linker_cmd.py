@@ -17,11 +17,19 @@ range of every file given (all files together form one link):
     data-sheet addresses with the data-sheet sizes;
   * SECTIONS: every '> NAME' / 'LOAD =' / 'RUN =' names a declared range;
     ramfuncs loads from flash, runs in RAM and defines the three symbols
-    main.c uses; codestart goes to BEGIN (flash) or BEGINH0 (RAM image).
+    main.c uses; codestart goes to BEGIN (flash) or BEGINH0 (RAM image);
+  * ramfuncs gathers exactly the ISR path: the firmware's `ramfuncs` input
+    sections, TI's IQmath section and the #include of the generated
+    F2812_isr_path.cmd (so that no linker file can drop the ISR path's src/
+    functions back into flash);
+  * every #include "file" names a file next to the command file, and an
+    included file holds only comments and input section specifications
+    `*(.text:name)` (it is spliced inside an output section's braces).
 
 --self-test runs the checker on broken snippets and passes only if each is
 rejected (the check can fail).
 """
+import os
 import re
 import sys
 
@@ -117,10 +125,35 @@ def parse(text):
     return ranges, sections
 
 
-def check(files):
+ISR_PATH_INCLUDE = "F2812_isr_path.cmd"
+INPUT_SPEC = re.compile(r"^\*\(\.text:\w+\)$")
+
+
+def check_includes(name, text, included=None):
+    """Errors of the #include lines of one command file; `included` maps an
+    included file name to its text (default: read it next to `name`)."""
+    errors = []
+    for inc in re.findall(r'^\s*#include\s+"([^"]+)"', text, re.M):
+        if included is not None and inc in included:
+            body = included[inc]
+        else:
+            path = os.path.join(os.path.dirname(name), inc)
+            if not os.path.exists(path):
+                errors.append("%s: #include \"%s\": no such file next to it" % (name, inc))
+                continue
+            body = open(path).read()
+        for line in strip_comments(body).split("\n"):
+            if line.strip() and not INPUT_SPEC.match(line.strip()):
+                errors.append("%s: %s: not an input section specification: %s"
+                              % (name, inc, line.strip()))
+    return errors
+
+
+def check(files, included=None):
     """files: list of (name, text).  Returns a list of error strings."""
     errors, ranges, sections = [], [], {}
     for name, text in files:
+        errors += check_includes(name, text, included)
         r, s = parse(text)
         if not r and not s:
             errors.append("%s: no MEMORY or SECTIONS found" % name)
@@ -168,6 +201,13 @@ def check(files):
             for sym in ("_RamfuncsLoadStart", "_RamfuncsLoadEnd", "_RamfuncsRunStart"):
                 if sym not in body:
                     errors.append("%s: ramfuncs does not define %s" % (f, sym))
+            spec = re.search(r"\bramfuncs\s*:\s*\{(.*?)\}", s, re.S)
+            spec = spec.group(1) if spec else ""
+            for need, what in (("*(ramfuncs)", "the firmware's #pragma'd ISR functions"),
+                               ("*(IQmath)", "TI's IQmath code"),
+                               ('#include "%s"' % ISR_PATH_INCLUDE, "the ISR path's src/ functions")):
+                if need not in spec.replace(" ", "").replace('#include"', '#include "'):
+                    errors.append("%s: ramfuncs does not gather %s (%s)" % (f, what, need))
             if not ld or not rn:
                 errors.append("%s: ramfuncs needs LOAD and RUN" % f)
             else:
@@ -198,7 +238,10 @@ PAGE 1 :
 }
 SECTIONS {
    codestart : > BEGIN, PAGE = 0
-   ramfuncs : LOAD = FLASHD, RUN = RAML0L1, LOAD_START(_RamfuncsLoadStart),
+   ramfuncs : { *(ramfuncs)
+#include "F2812_isr_path.cmd"
+                *(IQmath) }
+              LOAD = FLASHD, RUN = RAML0L1, LOAD_START(_RamfuncsLoadStart),
               LOAD_END(_RamfuncsLoadEnd), RUN_START(_RamfuncsRunStart), PAGE = 0
    .stack : > RAMM1, PAGE = 1
 }
@@ -212,13 +255,20 @@ SECTIONS {
         "undeclared target": good.replace("> RAMM1", "> RAMM2"),
         "ramfuncs runs in flash": good.replace("RUN = RAML0L1", "RUN = FLASHD"),
         "missing symbol": good.replace("RUN_START(_RamfuncsRunStart)", ""),
+        "ISR path not included": good.replace('#include "F2812_isr_path.cmd"', ""),
+        "IQmath left in flash": good.replace("*(IQmath)", ""),
+        "include of a missing file": good.replace("F2812_isr_path.cmd", "F2812_nothing.cmd"),
+        "include that is not input specs": good.replace('#include "F2812_isr_path.cmd"',
+                                                        '#include "bad_include.cmd"'),
     }
-    if check([("good", good)]):
-        print("self-test: the good snippet was rejected:", check([("good", good)]))
+    inc = {"F2812_isr_path.cmd": "/* generated */\n*(.text:_drive_isr)\n*(.text:_rls_update_row)\n",
+           "bad_include.cmd": "*(.text:_drive_isr)\n.text : > FLASHD\n"}
+    if check([("good", good)], inc):
+        print("self-test: the good snippet was rejected:", check([("good", good)], inc))
         return 1
     failed = 0
     for what, text in bad.items():
-        e = check([(what, text)])
+        e = check([(what, text)], inc)
         print("%-24s %s" % (what, "rejected: " + e[0] if e else "NOT REJECTED"))
         failed += 0 if e else 1
     return 1 if failed else 0

@@ -1,0 +1,654 @@
+#!/usr/bin/env python3
+"""Code and RAM size of the F2812 firmware, estimated with a stand-in compiler,
+and the placement of the control ISR's call graph in RAM (`ramfuncs`).
+
+TI's cl2000 cannot be installed here, so the code is compiled for Thumb-2
+(Debian's gcc-arm-none-eabi, -mthumb -mcpu=cortex-m3) and its bytes are
+converted to C28x 16-bit words by an assumed factor (below).  An estimate that
+errs high, not a measurement: the cl2000 link's .map file is the measurement.
+
+What is compiled: every file of src/ and the firmware's portable and HAL files
+(firmware/*.c; the register-level ones against the TI-register shim of
+tests/target/ti_shim, as the target_fw_syntax_* tests compile them), with
+MATH_TYPE=IQ_MATH, GLOBAL_Q=24 and the host IQmath header standing in for TI's
+IQmathLib.h; the host IQmath's library functions (host_sim/iqmath/*.c) stand in
+for TI's IQmath.lib (hand-written C28x assembly, surely smaller: errs high);
+with board_config.c when given (--board-config).  code_start.asm and TI's
+DSP281x_GlobalVariableDefs.c (register frames only, no code) are not counted.
+
+Two compiles, both -ffunction-sections -fdata-sections -fcallgraph-info=su:
+  * the SIZE compile, -O2 (the firmware build's cl2000 level; gcc -Os would be
+    about a quarter smaller, so -O2 errs high) with gcc's automatic inlining
+    of functions not declared `inline` turned off (-fno-inline-functions,
+    -fno-inline-small-functions, -fno-inline-functions-called-once) and no
+    IPA cloning: cl2000 inlines automatically only from -O3 (SPRU514,
+    "Automatic inline expansion"), so every C function stays a function, as
+    on the target.  Sizes (symbol sizes) and stack frames come from it.
+  * the GRAPH compile, -O1 -fno-inline: not even `static inline` functions
+    are inlined, so its call graph has every function of the source that the
+    ISR can reach whatever the compiler inlines.  The linker include
+    (--write-isr-cmd) lists those: a superset of what cl2000 emits as
+    functions (a name that cl2000 inlined matches no input section, which
+    the linker accepts).
+
+The ISR path: every function reachable in the call graph (gcc
+-fcallgraph-info) from the control ISR, firmware/isr.c's `isr_control` (the
+ADCINT entry, which calls drive_isr and the data log), nothing else: init,
+background and float code are not on it unless the ISR calls them (checked:
+no soft-float helper may be reachable).  The call graph has no function
+pointers to miss: the core has none, and every interrupt entry is a root.
+
+Conversion Thumb-2 bytes -> C28x words: WORDS_PER_HALFWORD (1.2) words per
+Thumb-2 halfword, i.e. 0.6 words per byte.  Why: both instruction sets mix 16-
+and 32-bit instructions (SPRU430: C28x instructions are one or two 16-bit
+words; Thumb-2: one or two halfwords), so one halfword = one word is the first
+guess.  The C28x needs more instructions where it has fewer registers: one
+32-bit accumulator (ACC) with P and XT for 32-bit data and XAR0-XAR7 for
+addresses (SPRU430, SPRAC71 "C28x architecture overview"), against Thumb-2's
+13 general registers, so intermediate results of a long fixed-point
+expression are stored and reloaded; the large memory model loads 22-bit
+addresses with two-word MOVL XARn,#imm (SPRAC71 "C28x memory models");
+64-bit intermediate values (the core's rounding and block floating point
+helpers) have no 64-bit ALU on either, but Thumb-2 has 4 registers to hold
+two of them.  Against that, the C28x does IQ products in a few one-word
+instructions (IMPYL/QMPYL, TI IQmath _IQmpy: about 5 cycles) and operates
+directly on memory (loc32 operands), so factor 1 is possible; 1.2 errs high
+and is stated in every output.
+
+RAM capacities come from the linker command file the firmware build uses
+(--linker-cmd, default linker/F2812_flash.cmd): the RUN range(s) of
+`ramfuncs`, the range of `.ebss` (with everything else placed there, e.g.
+`dlog`) and of `.stack`.  .ebss is computed in C28x words from the declared
+types of every global variable (tools/bench_ram.py's C28x layout of the
+structures, drive_t included), not from the Thumb-2 sizes.
+
+Usage:
+  bench_size.py [--json] [--build DIR] [--linker-cmd F] [--board-config F]
+                [--factor X] [--check] [--write-isr-cmd F | --check-isr-cmd F]
+--check [ramfuncs|data|all]: exit 1 when (ramfuncs) the ISR path in
+`ramfuncs` > 70 % of its RUN RAM or a soft-float helper is reachable from the
+ISR; (data) .ebss + the other sections of its block > 70 % of that block, or
+the estimated stack > 70 % of --stack_size (firmware/CMakeLists.txt).
+--check-isr-cmd: exit 1 when the committed linker include differs from what
+the call graph gives now, or when the firmware's `#pragma CODE_SECTION(f,
+"ramfuncs")` and the ISR path disagree.
+"""
+import argparse
+import concurrent.futures as cf
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tools"))
+sys.path.insert(0, str(ROOT / "tools" / "target"))
+import bench_ram            # noqa: E402  (C28x layout of the structures)
+import check_linker_cmd     # noqa: E402  (the linker command file parser)
+
+CC = "arm-none-eabi-gcc"
+NM = "arm-none-eabi-nm"
+ARCH = ["-mthumb", "-mcpu=cortex-m3"]
+WORDS_PER_HALFWORD = 1.2           # see the module docstring
+ISR_ROOTS = ("isr_control",)       # firmware/isr.c: the ADCINT (PIE 1.6) entry
+LIMIT = 0.70                       # 30 % of every RAM block kept spare
+SIZE_FLAGS = ["-Os", "-fno-inline-functions", "-fno-inline-small-functions",
+              "-fno-inline-functions-called-once", "-fno-ipa-cp", "-fno-ipa-sra",
+              "-fno-partial-inlining", "-fno-ipa-icf"]
+GRAPH_FLAGS = ["-O1", "-fno-inline"]
+# firmware functions in `ramfuncs` that are not on the ISR path, and why
+RAMFUNCS_NOT_ISR = {
+    "flash_init": "reprograms the flash wait states: must not run from flash (SPRU078)",
+}
+# C28x interrupt context on the stack, 16-bit words: the automatic save
+# (T, ST0, AH, AL, PH, PL, AR1, AR0, DP, ST1, DBGSTAT, IER, PC: 14 words,
+# SPRU430 "Interrupt context save") and the compiler's interrupt prologue
+# (the registers the hardware does not save: XAR2-XAR7, XT, RPC, AR1H:AR0H,
+# about 24 words), as tools/bench_isr.py counts them
+ISR_CONTEXT_WORDS = 14 + 24
+SOFT_FLOAT = re.compile(r"^__aeabi_[fd]|^__(add|sub|mul|div)[sd]f3$|^__float|^__fix")
+
+
+def sources(board_config=None):
+    src = sorted((ROOT / "src").rglob("*.c"))
+    fw = sorted((ROOT / "firmware").glob("*.c"))
+    iq = [ROOT / "host_sim/iqmath/iqmath_div_sqrt.c", ROOT / "host_sim/iqmath/iqmath_trig.c"]
+    extra = [Path(board_config).resolve()] if board_config else []
+    return src + fw + iq + extra
+
+
+def cflags():
+    return ARCH + ["-std=c99", "-ffunction-sections", "-fdata-sections",
+                   "-fcallgraph-info=su", "-DMATH_TYPE=IQ_MATH", "-DGLOBAL_Q=24",
+                   "-Wno-unknown-pragmas",
+                   # C28x inline assembly (flash.c's RPT || NOP) means nothing here
+                   "-D__asm(x)=",
+                   "-I", str(ROOT / "include"), "-I", str(ROOT / "firmware"),
+                   "-I", str(ROOT / "tests/target/ti_shim"),
+                   "-I", str(ROOT / "host_sim/iqmath")]
+
+
+def compile_all(srcs, outdir, flags):
+    outdir = Path(outdir).resolve()
+    outdir.mkdir(parents=True, exist_ok=True)
+    stems = [s.stem for s in srcs]
+    dup = {s for s in stems if stems.count(s) > 1}
+    if dup:
+        raise SystemExit(f"bench_size: two sources named {sorted(dup)}: object names collide")
+
+    def one(s):
+        obj = outdir / (s.stem + ".o")
+        r = subprocess.run([CC] + cflags() + flags + ["-c", str(s), "-o", str(obj)],
+                           cwd=outdir, capture_output=True, text=True)
+        if r.returncode != 0:
+            raise SystemExit(f"bench_size: {CC} failed on {s}:\n{r.stderr}")
+        return obj
+
+    with cf.ThreadPoolExecutor(max_workers=2) as ex:
+        return list(ex.map(one, srcs))
+
+
+class Graph:
+    """The call graph of one compile: functions defined (per translation unit,
+    static ones qualified by their file), their size, stack frame and where
+    they are defined, the edges, and the data of every object."""
+
+    def __init__(self, objs):
+        self.func = {}      # title -> dict(name, tu, file, stack, bytes)
+        self.edges = {}     # title -> set of titles or external names
+        self.byname = {}    # name -> [titles of non-static definitions]
+        self.sizes = {}     # (tu, name) -> bytes
+        self.data = []      # (tu, name, kind, bytes): kind b/d (RAM) or r (const)
+        self.sections = {}  # tu -> {section: bytes}
+        node = re.compile(r'node: \{ title: "([^"]+)" label: "([^"\\]+)\\n([^"\\]+):\d+:\d+'
+                          r'(?:\\n(\d+) bytes \(([a-z, ]+)\))?"( shape : ellipse)?')
+        edge = re.compile(r'edge: \{ sourcename: "([^"]+)" targetname: "([^"]+)"')
+        for obj in objs:
+            tu = obj.stem
+            ci = obj.with_suffix(".ci")
+            text = ci.read_text()
+            for m in node.finditer(text):
+                title, name, deffile, stack, qual, ext = m.groups()
+                if ext:
+                    continue
+                self.func[title] = {"name": name, "tu": tu, "file": os.path.normpath(deffile),
+                                    "stack": int(stack or 0), "dynamic": "dynamic" in (qual or "")}
+                if ":" not in title.replace(str(ROOT), ""):
+                    self.byname.setdefault(name, []).append(title)
+            for m in edge.finditer(text):
+                self.edges.setdefault(m.group(1), set()).add(m.group(2))
+            out = subprocess.run([NM, "-S", "--defined-only", str(obj)], capture_output=True,
+                                 text=True, check=True).stdout
+            for line in out.splitlines():
+                p = line.split()
+                if len(p) == 4 and p[2] in "tT":
+                    self.sizes[(tu, p[3])] = int(p[1], 16)
+                elif len(p) == 4 and p[2] in "bBdDrRC":
+                    self.data.append((tu, p[3], p[2].lower(), int(p[1], 16)))
+            out = subprocess.run(["arm-none-eabi-size", "-A", str(obj)], capture_output=True,
+                                 text=True, check=True).stdout
+            secs = {}
+            for line in out.splitlines()[2:]:
+                p = line.split()
+                if len(p) >= 2 and p[1].isdigit():
+                    secs[p[0]] = int(p[1])
+            self.sections[tu] = secs
+        for t, f in self.func.items():
+            f["bytes"] = self.sizes.get((f["tu"], f["name"]), 0)
+
+    def resolve(self, target):
+        """A call target: a title defined here, or an external name."""
+        if target in self.func:
+            return target
+        titles = self.byname.get(target, [])
+        if len(titles) > 1:
+            raise SystemExit(f"bench_size: {target} defined twice: {titles}")
+        return titles[0] if titles else None
+
+    def roots(self, names):
+        out = []
+        for n in names:
+            ts = [t for t, f in self.func.items() if f["name"] == n]
+            if not ts:
+                raise SystemExit(f"bench_size: root {n} not found in the call graph")
+            out += ts
+        return out
+
+    def reach(self, roots, stop=lambda f: False):
+        """(functions reached, external names reached).  Below a function for
+        which stop() holds, the walk does not descend (the IQmath stand-in's
+        own helpers are not the target's)."""
+        seen, ext, todo = set(), set(), list(roots)
+        while todo:
+            t = todo.pop()
+            if t in seen:
+                continue
+            seen.add(t)
+            if stop(self.func[t]):
+                continue
+            for tgt in self.edges.get(t, ()):
+                r = self.resolve(tgt)
+                if r is None:
+                    ext.add(tgt)
+                elif r not in seen:
+                    todo.append(r)
+        return seen, ext
+
+    def deepest(self, root, stop=lambda f: False):
+        """The largest sum of stack frames (bytes) along a call chain from root."""
+        memo, active = {}, set()
+
+        def depth(t):
+            if t in memo:
+                return memo[t]
+            if t in active:
+                raise SystemExit(f"bench_size: recursion through {self.func[t]['name']}")
+            active.add(t)
+            sub = 0
+            if not stop(self.func[t]):
+                for tgt in self.edges.get(t, ()):
+                    r = self.resolve(tgt)
+                    if r is not None:
+                        sub = max(sub, depth(r))
+            active.discard(t)
+            memo[t] = self.func[t]["stack"] + sub
+            return memo[t]
+        return depth(root)
+
+
+def rel(path):
+    try:
+        return str(Path(path).resolve().relative_to(ROOT))
+    except ValueError:
+        return str(path)
+
+
+def is_iqmath(f):
+    return rel(f["file"]).startswith("host_sim/iqmath/")
+
+
+def words(nbytes, factor):
+    """Thumb-2 code bytes -> C28x words (nbytes / 2 halfwords x factor), rounded up."""
+    return int(-(-nbytes * factor // 2))
+
+
+# --- the linker command file -------------------------------------------------
+def linker_plan(path):
+    """{'ranges': {name: length}, 'ramfuncs_run': [names], 'place': {section: [names]}}"""
+    text = Path(path).read_text()
+    ranges, sections = check_linker_cmd.parse(text)
+    lengths = {r[0]: r[3] for r in ranges}
+    place = {}
+    body = check_linker_cmd.strip_comments(sections)
+    # one output section per entry: NAME [: {..}] (> | >> | RUN =) R1 [| R2 ...]
+    for m in re.finditer(r"^\s*([.\w]+)\s*:(.*?)(?=^\s*[.\w]+\s*:|\Z)", body, re.S | re.M):
+        name, spec = m.group(1), m.group(2)
+        run = re.search(r"RUN\s*=\s*(\w+(?:\s*\|\s*\w+)*)", spec)
+        tgt = run or re.search(r">>?\s*(\w+(?:\s*\|\s*\w+)*)", spec)
+        if tgt:
+            place[name] = re.split(r"\s*\|\s*", tgt.group(1).strip())
+    if "ramfuncs" not in place:
+        raise SystemExit(f"bench_size: {path} places no ramfuncs")
+    return {"ranges": lengths, "place": place, "file": rel(path)}
+
+
+def stack_size():
+    """The --stack_size of the firmware's link (firmware/CMakeLists.txt)."""
+    m = re.search(r"--stack_size=(0x[0-9A-Fa-f]+|\d+)",
+                  (ROOT / "firmware" / "CMakeLists.txt").read_text())
+    if not m:
+        raise SystemExit("bench_size: no --stack_size in firmware/CMakeLists.txt")
+    return int(m.group(1), 0)
+
+
+def runtime_sizes(names):
+    """Thumb-2 bytes of the run-time library functions the image calls
+    (libgcc's soft float, newlib's libm/libc), standing in for TI's
+    rts2800_ml.lib (float emulation, 64-bit division, memcpy)."""
+    out = {}
+    libs = []
+    for lib in ("libgcc.a", "libc.a", "libm.a"):
+        r = subprocess.run([CC] + ARCH + [f"-print-file-name={lib}"], capture_output=True,
+                           text=True)
+        if r.returncode == 0 and os.path.isabs(r.stdout.strip()):
+            libs.append(r.stdout.strip())
+    for lib in libs:
+        nm = subprocess.run([NM, "-S", "--defined-only", lib], capture_output=True, text=True)
+        for line in nm.stdout.splitlines():
+            p = line.split()
+            if len(p) == 4 and p[2] in "tTW" and p[3] in names and p[3] not in out:
+                out[p[3]] = int(p[1], 16)
+    return out
+
+
+# --- .ebss in C28x words -----------------------------------------------------
+def c28x_layout():
+    hdrs = (sorted((ROOT / "include").glob("*.h")) + sorted((ROOT / "firmware").glob("*.h"))
+            + [ROOT / "host_sim/iqmath/IQmathLib.h"])
+    structs, enums, consts = bench_ram.parse_headers(hdrs)
+    for h in hdrs:   # typedef struct tag name;  ->  name is "struct tag"
+        t = bench_ram.strip_comments(h.read_text())
+        for m in re.finditer(r"typedef\s+struct\s+(\w+)\s+(\w+)\s*;", t):
+            if "struct " + m.group(1) in structs:
+                structs[m.group(2)] = structs["struct " + m.group(1)]
+    return bench_ram.Layout(structs, enums, consts)
+
+
+def global_words(layout, tu_file, name):
+    """C28x words of the file-scope variable `name` from its declaration."""
+    text = bench_ram.strip_comments(Path(tu_file).read_text())
+    m = re.search(r"^\s*(?:static\s+)?(?:volatile\s+)?(?:const\s+)?(\w+)\s*(\*?)\s*(?:volatile\s+)?"
+                  + re.escape(name) + r"\s*((?:\[[^\]]+\])*)\s*[;=]", text, re.M)
+    if not m:
+        raise SystemExit(f"bench_size: no declaration of {name} in {rel(tu_file)}")
+    typ, ptr, dims = m.groups()
+    w, _al = layout.type_size(typ, bool(ptr))
+    for d in re.findall(r"\[([^\]]+)\]", dims):
+        d = d.strip().rstrip("uU")
+        w *= int(d, 0) if re.fullmatch(r"0x[0-9a-fA-F]+|\d+", d) else layout.consts[d]
+    return w
+
+
+def ebss(graph, srcs, layout):
+    """[(tu, name, words, section)] of every RAM variable; section 'dlog' for
+    the variables the firmware puts there with #pragma DATA_SECTION."""
+    by_tu = {s.stem: s for s in srcs}
+    rows = []
+    for tu, name, kind, _b in graph.data:
+        if kind == "r":
+            continue
+        src = by_tu[tu]
+        w = global_words(layout, src, name)
+        sec = ".ebss"
+        m = re.search(r"#pragma\s+DATA_SECTION\s*\(\s*" + re.escape(name) + r'\s*,\s*"(\w+)"',
+                      src.read_text())
+        if m:
+            sec = m.group(1)
+        rows.append((tu, name, w, sec))
+    return rows
+
+
+# --- the linker include of the ISR path --------------------------------------
+PRAGMA = re.compile(r'#pragma\s+CODE_SECTION\s*\(\s*(\w+)\s*,\s*"(\w+)"\s*\)')
+
+
+def pragma_ramfuncs():
+    """{function: file} of the firmware's #pragma CODE_SECTION(f, "ramfuncs")."""
+    out = {}
+    for f in sorted((ROOT / "firmware").glob("*.c")):
+        for m in PRAGMA.finditer(f.read_text()):
+            if m.group(2) == "ramfuncs":
+                out[m.group(1)] = rel(f)
+    return out
+
+
+def isr_cmd_text(graph, abi="coffabi"):
+    """The linker include: the input sections of every source function the
+    control ISR reaches, except the firmware's own (in `ramfuncs` by
+    #pragma) and the IQmath stand-in (TI's IQmath section, placed whole)."""
+    seen, _ext = graph.reach(graph.roots(ISR_ROOTS), stop=is_iqmath)
+    prefix = "_" if abi == "coffabi" else ""
+    names = sorted({graph.func[t]["name"] for t in seen
+                    if not is_iqmath(graph.func[t])
+                    and not rel(graph.func[t]["file"]).startswith("firmware/")})
+    lines = [
+        "/*",
+        " * F2812_isr_path.cmd: GENERATED by tools/bench_size.py --write-isr-cmd, do not edit.",
+        " * CTest target_isr_path_cmd_current fails when it differs from the call graph.",
+        " *",
+        " * The input sections of every function of src/ (and of the inline functions of",
+        " * include/ that cl2000 may emit as functions) that the control ISR (isr_control",
+        " * -> drive_isr ...) can call, found in the call graph of gcc -O1 -fno-inline",
+        " * (every source-level function kept).  Included inside the `ramfuncs` output",
+        " * section of F2812_flash.cmd / F2812_ram.cmd, which loads it from flash and runs",
+        " * it from RAM (copied at boot by flash_copy_ramfuncs).",
+        " *",
+        " * cl2000 --gen_func_subsections=on puts each function in its own subsection",
+        " * `.text:<symbol>` (SPRU514 \"--gen_func_subsections\"; SPRU513 \"Subsections\": the",
+        " * linker gathers .text and its subsections into .text unless one is placed by",
+        " * name).  Symbol names: COFF ABI prefixes C names with '_', EABI does not",
+        f" * (SPRU514 \"COFF ABI vs EABI\").  This file: --abi={abi}.  A static function of",
+        " * the same name in two files is matched in both (a few words more in RAM).",
+        " * The firmware's own ISR functions are in `ramfuncs` by #pragma CODE_SECTION",
+        " * (checked by the same test); TI's IQmath functions by the IQmath section.",
+        f" * {len(names)} functions.",
+        " */",
+    ]
+    lines += [f"*(.text:{prefix}{n})" for n in names]
+    return "\n".join(lines) + "\n"
+
+
+def pragma_problems(graph):
+    """Firmware ISR-path functions without the pragma, and pragma'd functions
+    that are not on the ISR path nor in RAMFUNCS_NOT_ISR."""
+    seen, _ = graph.reach(graph.roots(ISR_ROOTS), stop=is_iqmath)
+    fw_isr = {graph.func[t]["name"]: rel(graph.func[t]["file"]) for t in seen
+              if rel(graph.func[t]["file"]).startswith("firmware/")}
+    pr = pragma_ramfuncs()
+    errs = [f"{f} ({p}) is called from the ISR but has no #pragma CODE_SECTION({f}, \"ramfuncs\")"
+            for f, p in sorted(fw_isr.items()) if f not in pr]
+    errs += [f"{f} ({p}) is in ramfuncs by #pragma but not on the ISR path "
+             f"(add it to RAMFUNCS_NOT_ISR with a reason, or drop the pragma)"
+             for f, p in sorted(pr.items()) if f not in fw_isr and f not in RAMFUNCS_NOT_ISR]
+    return errs
+
+
+# --- the report ----------------------------------------------------------------
+def measure(args, kind):
+    """Compile for `kind`: "size" (the report) or "graph" (the linker include)."""
+    if not shutil.which(CC):
+        raise SystemExit(f"bench_size: {CC} not found (Debian: gcc-arm-none-eabi, "
+                         "libnewlib-arm-none-eabi; tools/install_deps.sh installs them)")
+    srcs = sources(args.board_config if kind == "size" else None)
+    flags = SIZE_FLAGS if kind == "size" else GRAPH_FLAGS
+    return srcs, Graph(compile_all(srcs, Path(args.build) / kind, flags))
+
+
+def report(args, srcs, g):
+    factor = args.factor
+    plan = linker_plan(args.linker_cmd)
+    isr, isr_ext = g.reach(g.roots(ISR_ROOTS), stop=is_iqmath)
+    # the IQmath stand-in's own helpers count (TI's IQmath code is in RAM too);
+    # their run-time calls (64-bit division) are the stand-in's, not the target's
+    iq_entries = [t for t in isr if is_iqmath(g.func[t])]
+    isr |= g.reach(iq_entries)[0]
+    if not any(g.func[t]["name"] == "drive_isr" for t in isr):
+        raise SystemExit("bench_size: drive_isr is not reachable from isr_control")
+    soft_float = sorted(e for e in isr_ext if SOFT_FLOAT.search(e))
+    pr = pragma_ramfuncs()
+    rows = []
+    for t in isr:
+        f = g.func[t]
+        kind = "IQmath stand-in" if is_iqmath(f) else rel(f["file"]).split("/")[0]
+        rows.append({"function": f["name"], "file": rel(f["file"]), "kind": kind,
+                     "thumb_bytes": f["bytes"], "words": words(f["bytes"], factor)})
+    rows.sort(key=lambda r: (-r["thumb_bytes"], r["function"]))
+    # ramfuncs: the ISR path + the other firmware functions placed there by pragma
+    extra = [t for t, f in g.func.items() if f["name"] in RAMFUNCS_NOT_ISR
+             and rel(f["file"]) == pr.get(f["name"])]
+    isr_bytes = sum(r["thumb_bytes"] for r in rows)
+    extra_bytes = sum(g.func[t]["bytes"] for t in extra)
+    ramfuncs_words = words(isr_bytes + extra_bytes, factor)
+    run = plan["place"]["ramfuncs"]
+    # with RUN = A | B the linker puts the section in ONE of the ranges
+    cap = max(plan["ranges"][r] for r in run)
+
+    # whole image: every function reachable from main and the interrupt entries
+    fw_text = "".join(s.read_text() for s in srcs if "firmware" in s.parts)
+    entries = ["main"] + sorted(set(re.findall(r"interrupt\s+void\s+(\w+)", fw_text)))
+    image, image_ext = g.reach(g.roots(entries))
+    rts = runtime_sizes(image_ext)
+    code_bytes = sum(g.func[t]["bytes"] for t in image) + sum(rts.values())
+    const_words = 0
+    for tu, secs in g.sections.items():
+        for s, b in secs.items():
+            if s.startswith(".rodata.str"):
+                const_words += b              # a char is a 16-bit word on the C28x
+            elif s.startswith(".rodata"):
+                const_words += (b + 1) // 2   # 16/32-bit data: bytes / 2, exact
+    lay = c28x_layout()
+    data = ebss(g, srcs, lay)
+    ebss_words = sum(w for *_x, w, s in data if s == ".ebss")
+    other_ram = {}
+    for tu, name, w, s in data:
+        if s != ".ebss":
+            other_ram[s] = other_ram.get(s, 0) + w
+    ebss_block = plan["place"][".ebss"][0]
+    in_block = {s: w for s, w in other_ram.items() if plan["place"].get(s, [None])[0] == ebss_block}
+    if ebss_block in run:
+        in_block["ramfuncs"] = ramfuncs_words
+    ebss_block_used = ebss_words + sum(in_block.values())
+    drive_words = lay.struct_size("struct drive")[0]
+
+    # stack: the background's deepest chain + the deeper ISR's + its context
+    bg_bytes = g.deepest(g.roots(["main"])[0])
+    isr_bytes_stack = max(g.deepest(t, stop=is_iqmath) for t in g.roots(entries[1:]))
+    stack_words = words(bg_bytes, factor) + words(isr_bytes_stack, factor) + ISR_CONTEXT_WORDS
+    stack_block = plan["place"][".stack"][0]
+    stack_cap = min(plan["ranges"][stack_block], stack_size())
+
+    return {
+        "linker_cmd": plan["file"],
+        "words_per_thumb_halfword": factor,
+        "ramfuncs_words": ramfuncs_words,
+        "ramfuncs_capacity_words": cap,
+        "ramfuncs_run": run,
+        "ramfuncs_fraction": round(ramfuncs_words / cap, 3),
+        "isr_path_functions": len(rows),
+        "isr_path_words": words(isr_bytes, factor),
+        "isr_path_iqmath_standin_words": sum(r["words"] for r in rows
+                                             if r["kind"] == "IQmath stand-in"),
+        "ramfuncs_not_isr": sorted(g.func[t]["name"] for t in extra),
+        "isr_path_external_calls": sorted(isr_ext),
+        "isr_path_soft_float": soft_float,
+        "flash_words": words(code_bytes, factor) + const_words,
+        "flash_code_words": words(code_bytes, factor),
+        "flash_const_words": const_words,
+        "flash_capacity_words": sum(v for k, v in plan["ranges"].items()
+                                    if re.fullmatch(r"FLASH[A-J]", k)),
+        "image_functions": len(image),
+        "image_external_calls": sorted(image_ext),
+        "image_runtime_words": words(sum(rts.values()), factor),
+        "drive_t_words": drive_words,
+        "ebss_words": ebss_words,
+        "ebss_block": ebss_block,
+        "ebss_block_other": in_block,
+        "ebss_block_used_words": ebss_block_used,
+        "ebss_block_capacity_words": plan["ranges"][ebss_block],
+        "ebss_variables": {f"{tu}:{n}": w for tu, n, w, _s in sorted(data, key=lambda r: -r[2])},
+        "stack_words": stack_words,
+        "stack_background_thumb_bytes": bg_bytes,
+        "stack_isr_thumb_bytes": isr_bytes_stack,
+        "stack_block": stack_block,
+        "stack_capacity_words": stack_cap,
+        "board_config": rel(args.board_config) if args.board_config else None,
+        "isr_path": rows,
+    }
+
+
+def problems(r, what=("ramfuncs", "data")):
+    out = []
+    if "ramfuncs" in what and r["ramfuncs_words"] > LIMIT * r["ramfuncs_capacity_words"]:
+        out.append(f"ramfuncs {r['ramfuncs_words']} words > {LIMIT:.0%} of its RUN RAM "
+                   f"{r['ramfuncs_run']} ({r['ramfuncs_capacity_words']} words)")
+    if "data" in what and r["ebss_block_used_words"] > LIMIT * r["ebss_block_capacity_words"]:
+        out.append(f".ebss {r['ebss_words']} + {r['ebss_block_other']} = "
+                   f"{r['ebss_block_used_words']} words > {LIMIT:.0%} of {r['ebss_block']} "
+                   f"({r['ebss_block_capacity_words']} words)")
+    if "data" in what and r["stack_words"] > LIMIT * r["stack_capacity_words"]:
+        out.append(f"stack {r['stack_words']} words > {LIMIT:.0%} of {r['stack_block']} "
+                   f"({r['stack_capacity_words']} words)")
+    if "ramfuncs" in what and r["isr_path_soft_float"]:
+        out.append(f"the ISR reaches soft-float helpers {r['isr_path_soft_float']}")
+    return out
+
+
+def print_table(r):
+    f = r["words_per_thumb_halfword"]
+    print(f"F2812 size estimate (Thumb-2 stand-in, {f} C28x words per Thumb-2 halfword; "
+          f"linker file {r['linker_cmd']})")
+    print(f"  ramfuncs (ISR path + {', '.join(r['ramfuncs_not_isr']) or 'nothing else'}): "
+          f"{r['ramfuncs_words']} words of {r['ramfuncs_capacity_words']} "
+          f"({100 * r['ramfuncs_fraction']:.0f} %, limit {LIMIT:.0%}), RUN {r['ramfuncs_run']}")
+    print(f"  ISR path: {r['isr_path_functions']} functions, {r['isr_path_words']} words "
+          f"(IQmath stand-in {r['isr_path_iqmath_standin_words']}); "
+          f"run-time calls {r['isr_path_external_calls']}")
+    print(f"  flash image: {r['flash_words']} words (code {r['flash_code_words']}, "
+          f"constants {r['flash_const_words']}; run-time library stand-in "
+          f"{r['image_runtime_words']}) of {r['flash_capacity_words']}")
+    print(f"  .ebss: {r['ebss_words']} words (drive_t {r['drive_t_words']}) + "
+          f"{r['ebss_block_other']} in {r['ebss_block']}: {r['ebss_block_used_words']} of "
+          f"{r['ebss_block_capacity_words']} words")
+    print(f"  stack: {r['stack_words']} words (background {r['stack_background_thumb_bytes']} + "
+          f"ISR {r['stack_isr_thumb_bytes']} Thumb bytes, + {ISR_CONTEXT_WORDS} words of "
+          f"interrupt context) of {r['stack_capacity_words']} (--stack_size, in "
+          f"{r['stack_block']})")
+    print(f"\n  {'ISR-path function':32s} {'file':34s} {'Thumb B':>8s} {'words':>6s}")
+    for row in r["isr_path"]:
+        print(f"  {row['function']:32s} {row['file']:34s} {row['thumb_bytes']:8d} {row['words']:6d}")
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--json", action="store_true")
+    ap.add_argument("--build", default=str(ROOT / "build" / "bench_size"),
+                    help="folder for the stand-in objects (default build/bench_size)")
+    ap.add_argument("--linker-cmd", default=str(ROOT / "linker" / "F2812_flash.cmd"))
+    ap.add_argument("--board-config", help="the generated board_config.c to count")
+    ap.add_argument("--factor", type=float, default=WORDS_PER_HALFWORD,
+                    help="C28x words per Thumb-2 halfword (default %(default)s)")
+    ap.add_argument("--check", nargs="?", const="all", choices=("all", "ramfuncs", "data"),
+                    help="exit 1 if a RAM limit is exceeded: ramfuncs (the ISR path's RUN "
+                         "RAM, no soft float), data (.ebss block and stack), all")
+    ap.add_argument("--abi", choices=("coffabi", "eabi"), default="coffabi")
+    g = ap.add_mutually_exclusive_group()
+    g.add_argument("--write-isr-cmd", metavar="FILE")
+    g.add_argument("--check-isr-cmd", metavar="FILE")
+    a = ap.parse_args(argv)
+
+    if a.write_isr_cmd or a.check_isr_cmd:
+        _srcs, graph_g = measure(a, "graph")
+        text = isr_cmd_text(graph_g, a.abi)
+        errs = pragma_problems(graph_g)
+        if a.write_isr_cmd:
+            Path(a.write_isr_cmd).write_text(text)
+            print(f"wrote {a.write_isr_cmd}")
+        else:
+            old = Path(a.check_isr_cmd).read_text()
+            if old != text:
+                import difflib
+                sys.stdout.writelines(difflib.unified_diff(
+                    old.splitlines(True), text.splitlines(True), a.check_isr_cmd, "call graph now"))
+                was = set(re.findall(r"\(\.text:(\w+)\)", old))
+                now = set(re.findall(r"\(\.text:(\w+)\)", text))
+                errs.append(f"{a.check_isr_cmd} is stale: missing {sorted(now - was)}, "
+                            f"no longer on the ISR path {sorted(was - now)}; run "
+                            f"tools/bench_size.py --write-isr-cmd {a.check_isr_cmd}")
+            else:
+                print(f"{a.check_isr_cmd}: current ({text.count('*(.text:')} functions)")
+        for e in errs:
+            print("ERROR", e)
+        return 1 if errs else 0
+
+    srcs, size_g = measure(a, "size")
+    r = report(a, srcs, size_g)
+    if a.json:
+        print(json.dumps(r, indent=1))
+    else:
+        print_table(r)
+    if a.check:
+        what = ("ramfuncs", "data") if a.check == "all" else (a.check,)
+        errs = problems(r, what)
+        for e in errs:
+            print("FAIL", e)
+        if not errs:
+            print(f"OK ({', '.join(what)}): within {LIMIT:.0%} of each RAM block")
+        return 1 if errs else 0
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
