@@ -17,7 +17,7 @@
  * the same name in two files is matched in both (a few words more in RAM).
  * The firmware's own ISR functions are in `ramfuncs` by #pragma CODE_SECTION
  * (checked by the same test); TI's IQmath functions by the IQmath section.
- * 126 functions.
+ * 131 functions.
  */
 *(.text:_angle_diff_pu)
 *(.text:_angle_sincos)
@@ -43,6 +43,7 @@
 *(.text:_drive_get_log_signals)
 *(.text:_drive_ifo_frame)
 *(.text:_drive_isr)
+*(.text:_drive_log_due)
 *(.text:_drive_set_run_ifo)
 *(.text:_drive_slow_task)
 *(.text:_drive_step)
@@ -68,7 +69,8 @@
 *(.text:_ident_in)
 *(.text:_ident_mean)
 *(.text:_ident_regressor_accumulate)
-*(.text:_ident_regressor_filter)
+*(.text:_ident_regressor_filter_a)
+*(.text:_ident_regressor_filter_b)
 *(.text:_identify_accumulate)
 *(.text:_ifo_align)
 *(.text:_ifo_frame_from_rotor)
@@ -128,8 +130,10 @@
 *(.text:_svgen_step)
 *(.text:_take_mail)
 *(.text:_take_snapshot)
-*(.text:_task_filters)
+*(.text:_task_filters_a)
+*(.text:_task_filters_b)
 *(.text:_task_row2)
+*(.text:_task_sequence)
 *(.text:_task_speed)
 *(.text:_telemetry)
 *(.text:_theta_guard_reset)
@@ -140,6 +144,7 @@
 *(.text:_transform_currents)
 *(.text:_volt_calc_feedforward)
 *(.text:_volt_calc_ff_phase)
+*(.text:_volt_calc_leg_e)
 *(.text:_volt_calc_leg_error)
 *(.text:_volt_calc_sgn)
 *(.text:_volt_calc_step)
