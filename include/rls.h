@@ -118,11 +118,12 @@
 #include "IQmathLib.h"
 
 #define RLS_N 4                 /* parameters */
-#define RLS_PHI_MAX 8.0f        /* pu, regressor saturation */
+#define RLS_NP 10               /* unique entries of the symmetric P */
+#define RLS_PHI_MAX 4.0f        /* pu, |phi_j| < RLS_PHI_MAX (a power of two: one test) */
+#define RLS_PHI_SAT 3.9999f     /* pu, a regressor beyond it is saturated to this */
 #define RLS_THETA_MAX 15.99f    /* pu, estimate saturation */
 #define RLS_E_MAX 15.99f        /* pu, innovation clamp */
 #define RLS_PE_LIM 60           /* |Pe_i| bound */
-#define RLS_H_MAX 0.99999999    /* clamp of the square-root gain h (Q28): below 1 */
 
 typedef enum {
     RLS_FORM_CONST = 0,   /* c = 1 pu, theta3 = K3_pu (eq. 7) */
@@ -147,20 +148,28 @@ typedef struct {
     /* parameters (rls_init) */
     uint16_t form;               /* rls_form_t */
     uint16_t forget;             /* 1 if lambda < 1 */
-    _iq30 inv_lambda;            /* Q30: 1/lambda in [1, 1.112] */
-    _iq trace_max_m;             /* Q24 in [0.5, 1): trace_max = m 2^e */
+    _iq30 lambda;                /* Q30: the forgetting factor, in [0.9, 1] */
+    _iq30 trace_max_m;           /* Q30 in [0.5, 1): trace_max = m 2^e */
     int16_t trace_max_e;
+    int16_t pe_fast;             /* pe_ref <= pe_fast: trace(P) / lambda <= trace_max for sure */
     /* outputs */
     _iq theta[RLS_N];            /* Q24 pu: K1, K2, K3 (or K3'), K4 */
     _iq innov[2];                /* Q24: a-priori errors of rows 1, 2 */
     uint16_t windup_hold;        /* 1: the last sample skipped forgetting */
-    uint32_t sat_count;          /* saturations (never wraps) */
+    uint32_t sat_count;          /* updates in which a value was saturated or clamped
+                                    (counted once per update; never wraps) */
     uint32_t pd_count;           /* skipped/repaired non-PD updates */
     uint32_t n_updates;          /* scalar updates done */
     /* state */
-    _iq30 Pn[RLS_N][RLS_N];      /* Q30 mantissas, symmetric */
-    int16_t Pe[RLS_N];           /* P_ij = 2^(Pe_i + Pe_j) Pn_ij */
-    _iq theta_res[RLS_N];        /* theta below 1/2 LSB24 (IQ: Q48; FLOAT: Kahan term) */
+    _iq30 Pn[RLS_NP];            /* Q30 mantissas of the symmetric Pn: the upper triangle,
+                                    row by row (00 01 02 03 11 12 13 22 23 33) */
+    int16_t Pe[RLS_N];           /* P_ij = 2^(Pe_i + Pe_j) Pn_ij / w */
+    int16_t pe_ref;              /* max_i Pe_i */
+    int16_t dl[RLS_N];           /* min(pe_ref - Pe_i, 31) */
+    _iq30 d[RLS_N];              /* Q30: 2^-dl_i (0 if dl_i > 30) */
+    _iq30 w;                     /* Q30 in [0.25, 1]: the forgetting steps so far */
+    _iq theta_x[RLS_N];          /* IQ: theta in Q26 (the state; theta[] is it rounded
+                                    to Q24); FLOAT: the Kahan term of theta[] */
     uint16_t row_next;           /* rls_step_row: 0 = row 1 next, 1 = row 2 next */
 } rls_t;
 
