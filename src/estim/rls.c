@@ -372,14 +372,33 @@ static void rls_phi_sat(_iq phi[RLS_N], const _iq phi_in[RLS_N])
     }
 }
 
+/* pe_ref down to max Pe_j after a rescaling: by c = the CSB of OR d_j
+ * (max d_j = 2^(30 - c) raw: every d_j a power of two or 0), the d_j times
+ * 2^c and the dl_j minus c; 0 when the largest Pe_j is still pe_ref.  (A d_j
+ * of 0, dl_j 31, stays until its row comes within 2^30 again.) */
+static inline void rls_ref_down(rls_t *r)
+{
+    _iq30 *d = r->d;
+    int16_t c = rls_norm(rls_mag4(d[0], d[1], d[2], d[3]), 30);
+    _iq sc = rls_shl(RLS_ONE_RAW, c, 0);
+    r->pe_ref = (int16_t)(r->pe_ref - c);
+    d[0] *= sc;                              /* max d_j 2^c = 2^30: in range */
+    d[1] *= sc;
+    d[2] *= sc;
+    d[3] *= sc;
+    r->dl[0] = (int16_t)(r->dl[0] - c);
+    r->dl[1] = (int16_t)(r->dl[1] - c);
+    r->dl[2] = (int16_t)(r->dl[2] - c);
+    r->dl[3] = (int16_t)(r->dl[3] - c);
+}
+
 /* Row and column i of Pn times 2^s, Pe_i minus s (P unchanged), so that Pn_ii
  * (d, raw in (0, 2^28)) is back in [0.25, 1): its CSB n >= 3, s = (n - 1) / 2
  * >= 1, d 4^s in [2^28, 2^30).  While P is PD |Pn_ij| <= sqrt(Pn_ii Pn_jj)
  * < 2^-s, so every |Pn_ij| 2^s < 1 (exact shifts).  Pn_ii <= 0, or an
  * |Pn_ij| >= 2^-s (positive definiteness lost by rounding): row and column
  * reset (Pn_ii = 0.5, no correlation, Pe_i kept), counted in pd_count.
- * pe_ref stays (an upper bound of the Pe_j: dl_i, d_i of this row only)
- * until no d_j is 1/2 or more; then all are recomputed.  Pe_i stays above
+ * dl_i, d_i follow; pe_ref comes down with the largest Pe_j (rls_ref_down).  Pe_i stays above
  * -RLS_PE_LIM: P_ii >= 1 / (1/p0 + sum phi_i^2) > 4^-20 after 2^32 updates
  * of |phi| < 4. */
 static void rls_rescale(rls_t *r, int16_t i)
@@ -401,9 +420,7 @@ static void rls_rescale(rls_t *r, int16_t i)
             r->Pe[i] = (int16_t)(r->Pe[i] - s);
             r->dl[i] = rls_clamp((int16_t)(r->dl[i] + s), 0, 31);
             r->d[i] = rls_shr(r->d[i], s, 0);
-            if (rls_mag4(r->d[0], r->d[1], r->d[2], r->d[3]) < _IQ30(0.5)) {
-                rls_refs(r);
-            }
+            rls_ref_down(r);
             return;
         }
     }
@@ -438,7 +455,7 @@ static uint16_t rls_clamp_all(rls_t *r)
 /* At the end of a sample: every Pn_ii back in [0.25, 1) (P shrank along
  * that parameter by 4 since its last rescaling: a few times per decade of
  * P), or repaired. */
-static void rls_renorm(rls_t *r)
+static inline void rls_renorm(rls_t *r)
 {
     const _iq30 *p = r->Pn;
     if (p[P00] < _IQ30(0.25)) { rls_rescale(r, 0); }
@@ -454,18 +471,20 @@ static void rls_renorm(rls_t *r)
 static uint16_t rls_trace_exceeds(const rls_t *r, _iq30 wl)
 {
     const _iq30 *p = r->Pn;
-    _iq28 tr = _IQ28(0.0), rhs;
-    int16_t i, sh;
-    for (i = 0; i < RLS_N; i++) {
-        _iq30 t = rls_shr(p[rls_ix[i][i]], 2, 2);        /* Q30 -> Q28 */
-        tr += (r->dl[i] >= 15) ? _IQ28(0.0) : rls_shr(t, (int16_t)(2 * r->dl[i]), 0);
-    }
+    const int16_t *dl = r->dl;
+    _iq28 tr, rhs;
+    int16_t sh;
+    /* Pn_ii Q30 -> Q28 (>> 2), times 4^-dl_i (floor; 0 for dl_i >= 15) */
+    tr = rls_shr(p[P00], rls_clamp((int16_t)(2 + 2 * dl[0]), 0, 31), 2)
+       + rls_shr(p[P11], rls_clamp((int16_t)(2 + 2 * dl[1]), 0, 31), 2);
+    tr += rls_shr(p[P22], rls_clamp((int16_t)(2 + 2 * dl[2]), 0, 31), 2)
+       + rls_shr(p[P33], rls_clamp((int16_t)(2 + 2 * dl[3]), 0, 31), 2);
     rhs = _IQ30mpy(r->trace_max_m, wl);                  /* Q30, in (0.2, 1) */
     sh = (int16_t)(r->trace_max_e - 2 * r->pe_ref - 2);   /* Q30 -> Q28, times 2^(e - 2 pe_ref) */
     if (sh >= 2) {
         return 0u;                   /* rhs >= 4 > tr: within the bound */
     }
-    rhs = (sh >= 0) ? rls_shl(rhs, sh, 2) : ((sh < -31) ? _IQ28(0.0) : rls_shr(rhs, (int16_t)-sh, 2));
+    rhs = (sh >= 0) ? rls_shl(rhs, sh, 2) : rls_shr(rhs, rls_clamp((int16_t)-sh, 0, 31), 2);
     return (uint16_t)(tr > rhs);
 }
 
@@ -485,11 +504,11 @@ static void rls_forget_w(rls_t *r)
     }
     r->windup_hold = 0u;
     if (wl < _IQ30(0.25)) {
-        int16_t i;
         wl = rls_shl(wl, 2, 0);      /* < 1: no overflow */
-        for (i = 0; i < RLS_N; i++) {
-            r->Pe[i] = (int16_t)(r->Pe[i] + 1);   /* <= log4(4 trace_max) < 52 */
-        }
+        r->Pe[0] = (int16_t)(r->Pe[0] + 1);   /* <= log4(4 trace_max) < 52 */
+        r->Pe[1] = (int16_t)(r->Pe[1] + 1);
+        r->Pe[2] = (int16_t)(r->Pe[2] + 1);
+        r->Pe[3] = (int16_t)(r->Pe[3] + 1);
         r->pe_ref = (int16_t)(r->pe_ref + 1);
     }
     r->w = wl;
