@@ -27,7 +27,7 @@
 #define P23 8
 #define P33 9
 
-/* the same index for any (i, j), for init */
+/* the same index for any (i, j): init and the rare paths */
 static const int16_t rls_ix[RLS_N][RLS_N] = {
     {P00, P01, P02, P03}, {P01, P11, P12, P13}, {P02, P12, P22, P23}, {P03, P13, P23, P33}};
 
@@ -80,6 +80,15 @@ static inline uint32_t rls_hi(_iq m)
     return ~((uint32_t)m + (uint32_t)m - 1u);
 }
 
+/** Nonzero iff one of a, b, c, d is outside the open (-m, m): rls_out4 and
+ *  the same with x + m - 1, which is negative (huge) only for x = -m. */
+static inline uint32_t rls_out4_open(_iq a, _iq b, _iq c, _iq d, _iq m, uint32_t hi)
+{
+    uint32_t m1 = (uint32_t)m - 1u;
+    uint32_t x = ((uint32_t)a + m1) | ((uint32_t)b + m1) | ((uint32_t)c + m1) | ((uint32_t)d + m1);
+    return (x & hi) | rls_out4(a, b, c, d, m, hi);
+}
+
 /* hi of rls_out4 for |phi| < RLS_PHI_MAX = 4 (2^26 raw) */
 #define RLS_PHI_HI (~(uint32_t)0x7FFFFFF)
 
@@ -92,7 +101,8 @@ static inline uint32_t rls_out_of_range(const _iq30 p[RLS_NP], const _iq tx[RLS_
     const uint32_t o = (uint32_t)1 << 30;
     uint32_t x = ((uint32_t)p[P01] + o) | ((uint32_t)p[P02] + o) | ((uint32_t)p[P03] + o);
     x |= ((uint32_t)p[P12] + o) | ((uint32_t)p[P13] + o) | ((uint32_t)p[P23] + o);
-    x |= ((uint32_t)tx[0] + o) | ((uint32_t)tx[1] + o) | ((uint32_t)tx[2] + o) | ((uint32_t)tx[3] + o);
+    x |= ((uint32_t)tx[0] + o) | ((uint32_t)tx[1] + o);
+    x |= ((uint32_t)tx[2] + o) | ((uint32_t)tx[3] + o);
     return x & ((uint32_t)1 << 31);
 }
 
@@ -185,6 +195,13 @@ static inline uint32_t rls_hi(_iq m)
 {
     (void)m;
     return 0u;
+}
+
+static inline uint32_t rls_out4_open(_iq a, _iq b, _iq c, _iq d, _iq m, uint32_t hi)
+{
+    (void)hi;
+    return (uint32_t)((a <= -m) | (a >= m) | (b <= -m) | (b >= m) | (c <= -m) | (c >= m)
+                      | (d <= -m) | (d >= m));
 }
 
 #define RLS_PHI_HI 0u
@@ -549,7 +566,7 @@ static _iq rls_row_update(rls_t *r, const _iq phi_in[RLS_N], _iq y)
     _iq *tx = rls_theta_state(r);
     const _iq *ph = phi_in;
     _iq phs[RLS_N];
-    _iq22 e22, es;
+    _iq22 e22, es, ae;
     _iq27 v0, v1, v2, v3;            /* 2^-dl_j phi_j (Q27), then psi_j (Q30) */
     _iq28 g0, g1, g2, g3;
     _iq27 h0, h1, h2, h3;
@@ -619,7 +636,8 @@ static _iq rls_row_update(rls_t *r, const _iq phi_in[RLS_N], _iq y)
      * a < 0: q 4^a + w (the shifts capped at 30: the term is then below 1
      * LSB28 of the other) */
     f = rls_clamp(a, 0, 32767);
-    den = rls_shr(q, rls_clamp((int16_t)(2 * (f - a)), 0, 30), 0) + rls_shr(r->w, rls_clamp((int16_t)(2 + 2 * f), 0, 30), 2);
+    den = rls_shr(r->w, rls_clamp((int16_t)(2 + 2 * f), 0, 30), 2);
+    den += rls_shr(q, rls_clamp((int16_t)(2 * (f - a)), 0, 30), 0);
     /* den = dm 4^k, dm in [0.25, 1) (Q29): the CSB n of den (>= 1 raw,
      * < 2^31) puts it in [2^30, 2^31); k = 2 - (n + 1) / 2 in [-13, 1] */
     n = rls_norm(den, 28);
@@ -638,8 +656,8 @@ static _iq rls_row_update(rls_t *r, const _iq phi_in[RLS_N], _iq y)
     h1 = _IQ30mpy(g1, c);
     h2 = _IQ30mpy(g2, c);
     h3 = _IQ30mpy(g3, c);
-    sc = rls_shr(_IQ27(1.0), up, 0);         /* |h| 2^up < 1 */
-    if (rls_out4(h0, h1, h2, h3, sc, rls_hi(sc)) != 0u) {
+    sc = rls_shr(_IQ27(1.0), up, 0);         /* |h| 2^up < 1: h h' < 1 fits Q31 */
+    if (rls_out4_open(h0, h1, h2, h3, sc, rls_hi(sc)) != 0u) {
         /* not PD: |h_i| clamped below 1 (the downdate then takes a diagonal
          * to <= 0, and rls_renorm resets that parameter) */
         sc -= RLS_LSB;
@@ -676,9 +694,9 @@ static _iq rls_row_update(rls_t *r, const _iq phi_in[RLS_N], _iq y)
      * the product keeps ~27 significant bits however small e is.  IQ: el =
      * eps 2^(t - 3) (raw, rls_theta_add); t > 3 (|increment| >= 16 pu:
      * theta saturates anyway) is taken as 3. */
-    e22 = _IQabs(es);
-    n = rls_norm(e22, 22);
-    el = _IQ30mpy(rm, rls_shl(e22, n, -9));          /* Q29 * [0.5, 1) -> Q30 */
+    ae = _IQabs(es);
+    n = rls_norm(ae, 22);
+    el = _IQ30mpy(rm, rls_shl(ae, n, -9));           /* Q29 * [0.5, 1) -> Q30 */
     t = (int16_t)(r->pe_ref - f - k + 9 - n);
 #if MATH_TYPE == IQ_MATH
     el = rls_shr(el, rls_clamp((int16_t)(3 - t), 0, 31), 0);
