@@ -121,7 +121,7 @@ STEM_MODULE = {
     "ipark": "Clarke/Park/inverse Park", "angle": "sin/cos",
     "ifo": "orientation (IFO)", "flux_obs": "orientation (observer)",
     "ident_regressor": "regression inputs + filters", "bw_filter": "regression inputs + filters",
-    "rls": "RLS", "estim_bfp": "RLS", "theta_guard": "RLS",
+    "rls": "RLS", "estim_bfp": "RLS", "theta_guard": "estimator guard",
     "id_sequence": "sequence", "ramp_gen": "speed ramp + PIs", "pi_ctrl": "speed ramp + PIs",
     "svgen": "SVPWM", "tr_track": "adaptation", "standstill_z": "adaptation",
     "drive_adapt": "adaptation", "iq_rmpy": "rounded products (iq_rmpy)",
