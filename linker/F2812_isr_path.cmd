@@ -128,7 +128,7 @@
 *(.text:_rls_step_row1)
 *(.text:_rls_step_row2)
 *(.text:_rls_theta_add)
-*(.text:_rls_theta_set)
+*(.text:_rls_theta_saturate)
 *(.text:_rls_theta_state)
 *(.text:_rls_trace_exceeds)
 *(.text:_rls_update)

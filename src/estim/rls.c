@@ -449,6 +449,20 @@ static void rls_rescale(rls_t *r, int16_t i)
     p[ix[i]] = _IQ30(0.5);
 }
 
+/* theta_i = +-RLS_THETA_MAX (the saturation, in the ISR): constants only,
+ * no float at run time (rls_theta_set's rounding is for init). */
+static void rls_theta_saturate(rls_t *r, int16_t i, uint16_t negative)
+{
+#if MATH_TYPE == IQ_MATH
+    static const _iq26 lim = _IQ26(RLS_THETA_MAX);   /* folded at compile time */
+    r->theta_x[i] = (negative != 0u) ? -lim : lim;
+    r->theta[i] = _IQ26toIQ(r->theta_x[i] + (int32_t)2);
+#else
+    r->theta[i] = (negative != 0u) ? -RLS_THETA_MAX : RLS_THETA_MAX;
+    r->theta_x[i] = 0.0f;
+#endif
+}
+
 /* The rare paths after a row: an off-diagonal at 1 (only if P is not PD:
  * clamped to 1 - 2^-30), a theta at 16 (saturated to RLS_THETA_MAX).
  * Returns 1 (a value was clamped). */
@@ -463,7 +477,7 @@ static uint16_t rls_clamp_all(rls_t *r)
     }
     for (i = 0; i < RLS_N; i++) {
         if (_IQabs(tx[i]) >= _IQ26(16.0)) {
-            rls_theta_set(r, i, (tx[i] > _IQ26(0.0)) ? RLS_THETA_MAX : -RLS_THETA_MAX);
+            rls_theta_saturate(r, i, (uint16_t)(tx[i] < _IQ26(0.0)));
         }
     }
     return 1u;
