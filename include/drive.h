@@ -55,6 +55,9 @@ typedef struct {
     uint16_t params_tracked; /* 1: the published Rs is the standstill one and Rr, Tr the tracked
                                 ones (each background pass while track_valid); Lm, Lr, psi_r
                                 stay the RLS's */
+    uint16_t rls_dropped;    /* RLS samples lost to a full ISR -> background queue (the
+                                background fell behind by more than DRIVE_RLSQ_LEN slow
+                                periods), saturating */
 } drive_telemetry_t;
 
 /** drive_init results: 0 or the first configuration field found bad. */

@@ -76,6 +76,37 @@ typedef struct {
     uint16_t ready;     /* set by the ISR, cleared by the background */
 } drive_snapshot_t;
 
+/** ISR -> background: the regression's samples for the RLS.  The RLS and
+ *  its guard run in the background (drive_rls_bg.c), on every sample in
+ *  the order the ISR formed them: the ISR forms the filtered rows at the
+ *  slow rate (drive_slow.c) and queues them; a queue of DRIVE_RLSQ_LEN
+ *  entries rides out DRIVE_RLSQ_LEN - 1 slow periods of a busy background.  Events travel with the next entry and act before
+ *  its update: a restart of the RLS (a new pass), the steady-state
+ *  snapshot, a live snapshot.  Single writer each side: the ISR writes an
+ *  entry, then head; the background reads up to head, then writes tail
+ *  (16-bit stores: atomic on the C28x). */
+#ifndef DRIVE_RLSQ_LEN
+#define DRIVE_RLSQ_LEN 16u          /* power of two: 8.5 ms of background latency at 1.875 kHz
+                                       (the 8 KB AVR co-simulation builds with 4) */
+#endif
+#define DRIVE_RLSQ_UPDATE 1u        /* the sample updates the RLS (rls_on) */
+#define DRIVE_RLSQ_RESTART 2u       /* before it: the RLS restarts from rls_start */
+#define DRIVE_RLSQ_EXTRACT 4u       /* before it: the steady-state snapshot (snap) */
+#define DRIVE_RLSQ_LIVE 8u          /* before it: a live snapshot (live_snap) */
+typedef struct {
+    _iq y1, y2;                     /* Q24 pu per pu time: rls_t's left-hand sides */
+    _iq i_mf, u_mf, i_tf, u_tf, wr_f;   /* Q24 pu: its regressors */
+    uint16_t flags;                 /* DRIVE_RLSQ_* */
+} drive_rls_sample_t;
+typedef struct {
+    drive_rls_sample_t e[DRIVE_RLSQ_LEN];
+    volatile uint16_t head;         /* next entry the ISR writes */
+    volatile uint16_t tail;         /* next entry the background reads */
+    uint16_t pending;               /* ISR: events waiting for the next entry */
+    uint16_t dropped;               /* ISR: samples lost to a full queue (saturates) */
+    uint16_t max_fill;              /* ISR: the most entries waiting at a push */
+} drive_rls_queue_t;
+
 /** Background -> ISR: a pass's extracted parameters (pu), one-slot mailbox
  *  as drive_snapshot_t (the background writes while ready = 0, sets ready
  *  last; the ISR reads while ready = 1 and clears it last). */
@@ -177,8 +208,9 @@ struct drive {
     _iq im_inject;              /* Q24 pu: added to the i_M reference (standstill test) */
     uint16_t reg_count;         /* encoder count at the last FILTERS slot (the regression's window) */
 
-    drive_snapshot_t snap;      /* ISR -> background: the steady-state extraction */
-    drive_snapshot_t live_snap; /* ISR -> background: running estimates, 100 Hz */
+    drive_rls_queue_t rlsq;     /* ISR -> background: the RLS's samples and events */
+    drive_snapshot_t snap;      /* the steady-state extraction's input (background) */
+    drive_snapshot_t live_snap; /* running estimates' input, 100 Hz (background) */
     uint16_t live_div;          /* samples since the last live snapshot */
     param_extract_t live;       /* background: estimates from the running RLS */
     drive_telemetry_t telemetry;

@@ -402,8 +402,8 @@ void drive_adapt_slow(drive_t *d)
         a->prev_state = st;
     }
     if (d->seq.rls_restart != 0u) {
-        d->rls = d->rls_start;
-        theta_guard_reset(&d->guard);
+        /* the background's RLS restarts before the next queued sample */
+        d->rlsq.pending |= DRIVE_RLSQ_RESTART;
     }
     if (d->adapt_mail.ready != 0u) {
         take_mail(d);

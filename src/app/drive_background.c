@@ -149,6 +149,8 @@ void drive_background(drive_t *d)
     d->pending_cmd = DRIVE_CMD_NONE;
     handle_command(d, cmd);
 
+    drive_rls_drain(d);   /* the RLS on the ISR's queued samples, and their snapshots */
+
     if (d->snap.ready != 0u) {
         extract(&d->pex, &d->snap, d->rls.form);
         if (d->adapt.fused == 0u) {

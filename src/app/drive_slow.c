@@ -32,18 +32,6 @@
 
 #include "drive_adapt.h"
 
-/* Hand the last good theta and the filtered i_M to the background
- * (drive_background.c): data first, the ready flag last. */
-static void take_snapshot(drive_snapshot_t *snap, const drive_t *d)
-{
-    uint16_t i;
-    for (i = 0u; i < RLS_N; i++) {
-        snap->theta[i] = d->guard.theta_good[i];
-    }
-    snap->i_m = d->reg.i_mf;
-    snap->ready = 1u;
-}
-
 static void sequence(drive_t *d)
 {
     id_sequence_t *s = &d->seq;
@@ -60,14 +48,14 @@ static void sequence(drive_t *d)
          * integrated offsets while the bridge was off) */
         flux_obs_reset(&d->fobs);
     }
+    /* the snapshots, taken by the background in the RLS's own order: the
+     * events ride with the next queued sample (drive_rls_bg.c) */
     if (s->extract_now != 0u) {
-        take_snapshot(&d->snap, d);
+        d->rlsq.pending |= DRIVE_RLSQ_EXTRACT;
     }
     if (++d->live_div >= d->k.live_period) {
         d->live_div = 0u;
-        if (d->live_snap.ready == 0u) {
-            take_snapshot(&d->live_snap, d);
-        }
+        d->rlsq.pending |= DRIVE_RLSQ_LIVE;
     }
 }
 
@@ -106,8 +94,6 @@ static void telemetry(drive_t *d)
     t->i_m = d->park.ds;
     t->i_t = d->park.qs;
     t->vdc = d->bus.vdc;
-    t->rls_sat_count = d->rls.sat_count;
-    t->theta_rejects = d->guard.reject_count;
 }
 
 /* Current feedback check: the M-T currents against the references the
@@ -165,14 +151,50 @@ static void task_filters_a(drive_t *d)
     ident_regressor_filter_a(&d->reg);
 }
 
+/* Queue this slow period's rows for the background's RLS (drive_rls_bg.c)
+ * with the events waiting for it; nothing when there is neither.  A full
+ * queue drops the sample (counted) and keeps the events for the next. */
+static void rls_push(drive_t *d, uint16_t update)
+{
+    drive_rls_queue_t *q = &d->rlsq;
+    const ident_regressor_t *r = &d->reg;
+    const uint16_t flags = (uint16_t)(q->pending | ((update != 0u) ? DRIVE_RLSQ_UPDATE : 0u));
+    const uint16_t head = q->head;
+    const uint16_t fill = (uint16_t)((head - q->tail) & (DRIVE_RLSQ_LEN - 1u));
+    drive_rls_sample_t *e;
+
+    if (flags == 0u) {
+        return;
+    }
+    if (fill >= DRIVE_RLSQ_LEN - 1u) {
+        if (q->dropped < 0xFFFFu) {
+            q->dropped++;
+        }
+        return;
+    }
+    e = &q->e[head];
+    e->y1 = r->y1;
+    e->y2 = r->y2;
+    e->i_mf = r->i_mf;
+    e->u_mf = r->u_mf;
+    e->i_tf = r->i_tf;
+    e->u_tf = r->u_tf;
+    e->wr_f = r->wr_f;
+    e->flags = flags;
+    q->pending = 0u;
+    q->head = (uint16_t)((head + 1u) & (DRIVE_RLSQ_LEN - 1u));   /* the entry first, then head */
+    if (fill + 1u > q->max_fill) {
+        q->max_fill = (uint16_t)(fill + 1u);
+    }
+}
+
 /* The other three filters, the rows, and whether the RLS may learn
- * (method §2-§5). */
+ * (method §2-§5); the rows go to the background's RLS. */
 static void task_filters_b(drive_t *d)
 {
-    ident_regressor_t *r = &d->reg;
     uint16_t rls_on = d->seq.rls_on;
 
-    ident_regressor_filter_b(r);
+    ident_regressor_filter_b(&d->reg);
     if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
         if (d->fobs_hold != 0u) {
             rls_on = 0u;   /* the frame is held on the encoder angle */
@@ -184,28 +206,7 @@ static void task_filters_b(drive_t *d)
             /* the observer's frame above its crossover, or RUN on ifo */
         }
     }
-    d->rls.y1 = r->y1;
-    d->rls.y2 = r->y2;
-    d->rls.i_mf = r->i_mf;
-    d->rls.u_mf = r->u_mf;
-    d->rls.i_tf = r->i_tf;
-    d->rls.u_tf = r->u_tf;
-    d->rls.wr_f = r->wr_f;
-    d->rls.enable = rls_on;
-}
-
-/* Row 2 completes the sample: the estimator guard judges it (the snapshots
- * take the last good theta, theta_guard.h). */
-static void task_row2(drive_t *d)
-{
-    uint16_t i;
-    rls_step_row2(&d->rls);
-    for (i = 0u; i < RLS_N; i++) {
-        d->guard.theta[i] = d->rls.theta[i];
-    }
-    d->guard.updated = d->rls.enable;
-    d->guard.windup_hold = d->rls.windup_hold;
-    theta_guard_step(&d->guard);
+    rls_push(d, rls_on);
 }
 
 void drive_slow_task(drive_t *d, uint16_t slot)
@@ -220,15 +221,11 @@ void drive_slow_task(drive_t *d, uint16_t slot)
     case DRIVE_SLOT_FILTERS_B:
         task_filters_b(d);
         break;
-    case DRIVE_SLOT_RLS_ROW1:
-        rls_step_row1(&d->rls);
-        break;
     case DRIVE_SLOT_SEQUENCE:
         task_sequence(d);
         break;
+    case DRIVE_SLOT_RLS_ROW1:
     case DRIVE_SLOT_RLS_ROW2:
-        task_row2(d);
-        break;
     case DRIVE_SLOT_OBSERVER:
     case DRIVE_SLOT_LOG:
     default:

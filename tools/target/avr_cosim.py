@@ -36,7 +36,10 @@ import sys
 STRICT = ["-std=c99", "-Wall", "-Wextra", "-Wconversion", "-Wsign-conversion",
           "-Wshadow", "-Wstrict-prototypes", "-Wmissing-prototypes", "-Wundef",
           "-Wdouble-promotion", "-Werror"]
-DEFS = ["-DMATH_TYPE=IQ_MATH", "-DGLOBAL_Q=24"]
+# the RLS queue (drive_types.h) at 4 entries: the harnesses run the
+# background every 15 steps (2 entries at most) and the 8 KB of RAM hold
+# every constant of avr-gcc's image
+DEFS = ["-DMATH_TYPE=IQ_MATH", "-DGLOBAL_Q=24", "-DDRIVE_RLSQ_LEN=4u"]
 
 
 def sources(root, dirs):
