@@ -43,13 +43,13 @@
 #define DRIVE_SLOTS_LOG2 3u
 #define DRIVE_SLOTS (1u << DRIVE_SLOTS_LOG2)
 typedef enum {
-    DRIVE_SLOT_SPEED = 0,   /* checks at the slow rate, QEP speeds, speed ramp + PI, slow constants */
+    DRIVE_SLOT_SPEED = 0,   /* speed ramp + PI, the fast path's slow constants */
     DRIVE_SLOT_FILTERS_A,   /* the regression's window means, the i_M, i_T, u_M, u_T filters */
     DRIVE_SLOT_FILTERS_B,   /* the w_s i and w_r filters, y1, y2, the rows; may the RLS learn */
-    DRIVE_SLOT_RLS_ROW1,    /* RLS: forgetting + row 1 */
-    DRIVE_SLOT_SEQUENCE,    /* identification sequence, adaptation, telemetry, snapshots */
-    DRIVE_SLOT_RLS_ROW2,    /* RLS: row 2, then the estimator guard */
-    DRIVE_SLOT_OBSERVER,    /* the rotor-flux observer (orientation 1) */
+    DRIVE_SLOT_CHECKS,      /* current-feedback and encoder-frozen checks, QEP speeds */
+    DRIVE_SLOT_SEQUENCE,    /* identification sequence, adaptation, telemetry, snapshot events */
+    DRIVE_SLOT_OBSERVER,    /* the rotor-flux observer on the window's means (orientation 1) */
+    DRIVE_SLOT_SPARE,       /* nothing yet */
     DRIVE_SLOT_LOG          /* no drive work: the firmware's data log runs in this ISR */
 } drive_slot_t;
 
@@ -166,6 +166,15 @@ struct drive {
                                    the tracked Tr (drive_adapt.c) */
     uint16_t fobs_hold;         /* orientation 1: frame held on the encoder angle (|psi_r| <
                                    psi_min or magnetising) */
+    /* orientation 1: the observer's window (summed every period, drive_step.c)
+     * and its angle between steps (extrapolated every period on ws_f) */
+    _iq obs_su_alpha, obs_su_beta;  /* Q24 pu: sum of the periods' voltages, each limited to
+                                       the observer's input range (|.| <= 8 x 4) */
+    _iq obs_si_alpha, obs_si_beta;  /* Q24 pu: sum of the samples' currents (|.| <= 8 x 1.2:
+                                       the sensors' full scale is I_base) */
+    _iq obs_i0_alpha, obs_i0_beta;  /* Q24 pu: the current at the window's start sample */
+    _iq obs_theta;                  /* Q24 pu [0, 1): the frame angle of this sample */
+    _iq obs_dtheta;                 /* Q24 pu: its step per period, ws_f f_base Ts */
     svgen_t svgen;
     volt_calc_t volt;
     /* identification */

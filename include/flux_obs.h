@@ -45,25 +45,30 @@
  * only) matter above it; the RLS identifies these without Tr
  * (sigma Ls = 1/K2; Rs from K1, K3').
  *
- * Discretisation (sample k, period Ts; inputs: i(k), the mean voltage u over
- * the period k-1 -> k, the rotor angle theta_r(k)):
- *   psi_s(k) = psi_s(k-1) + Ts (u - Rs (i(k-1) + i(k))/2 + u_c(k-1))
- *              (exact for u constant over the period, trapezoidal in i)
- *   psi_r^r(k) = psi_r^r(k-1) + kf (Lm (i^r(k-1) + i^r(k))/2 - psi_r^r(k-1)),
- *              kf = 1 - exp(-Ts/Tr) (first-order hold, O((Ts/Tr)^2))
+ * Discretisation: one step every n samples (n = 1, or the drive's slow
+ * task, flux_obs_set_step), step period T = n Ts; inputs at sample k: i(k),
+ * the mean voltage u and the mean current i_mean over the step's n periods
+ * (k-n -> k), the rotor angle theta_r(k):
+ *   psi_s(k) = psi_s(k-n) + T (u - Rs i_mean + u_c(k-n))
+ *              (exact for u constant over each period and i linear over
+ *              each: i_mean is the trapezoidal mean of the n + 1 samples;
+ *              with n = 1, (i(k-1) + i(k))/2)
+ *   psi_r^r(k) = psi_r^r(k-n) + kf (Lm (i^r(k-n) + i^r(k))/2 - psi_r^r(k-n)),
+ *              kf = 1 - exp(-T/Tr) (first-order hold, O((T/Tr)^2); in rotor
+ *              coordinates the current turns only at the slip frequency, so
+ *              the step's two ends describe it)
  *   C(s) in scaled states z = w_c int(e), y = u_c / w_c (e = psi_s,cm - psi_s):
- *      z += g e,  y += g (3 e + z - 3 y),  u_c = w_c y,   g = w_c Ts
- *   forward Euler at g <= 0.05 (the crossover is far below the sample
- *   rate: 3 Hz at 15 kHz is g = 1.3e-3); every per-sample gain is g, not
- *   w_c^3 Ts (4.5e-6 at 3 Hz), so the rounded integrators' dead zone is
- *   only 0.5 LSB / g = 2.4e-5 pu of flux (it would be 0.0066 pu with the
- *   w_c^3 Ts gain in Q24).
+ *      z += g e,  y += g (3 e + z - 3 y),  u_c = w_c y,   g = w_c T
+ *   forward Euler at g <= 0.05 (the crossover is far below the step
+ *   rate: 3 Hz at 1.875 kHz is g = 0.01); every per-step gain is g, not
+ *   w_c^3 T, so the rounded integrators' dead zone is only 0.5 LSB / g of
+ *   flux.
  *
  * Outputs at sample k: psi_r(k) (alpha, beta), |psi_r|, its angle theta(k)
- * in [0, 1) (the frame angle for the Park transform of i(k)), theta_prev =
- * theta(k-1), ws = the frame's actual speed over the last period (angle step
- * / (f_base Ts)), ws_f = ws low-passed (for decoupling and the modulation
- * angle: ws carries the current noise through sigma Ls i).
+ * in [0, 1), theta_prev = theta(k-n), ws = the flux's speed over the step
+ * (angle step / (n f_base Ts)), ws_f = ws low-passed (for decoupling and the
+ * modulation angle, and the caller's angle between steps: ws carries the
+ * current noise through sigma Ls i).
  *
  * Parameters are changed at run time in pu without float (flux_obs_set_rs,
  * flux_obs_set_tr, flux_obs_set_inductances); rate limiting and blending of
@@ -121,7 +126,11 @@ typedef enum {
 typedef struct {
     /* inputs (set before each flux_obs_step) */
     _iq i_alpha, i_beta;    /* Q24, stator current at this sample, pu of I_base */
-    _iq u_alpha, u_beta;    /* Q24, mean stator voltage over the period that just ended, pu of V_base */
+    _iq u_alpha, u_beta;    /* Q24, mean stator voltage over the step (the n periods that just
+                               ended), pu of V_base */
+    _iq i_mean_alpha, i_mean_beta;  /* Q24, mean stator current over the step (trapezoidal:
+                               the n periods' end samples), pu; n > 1 only: with n = 1 the
+                               step forms (i(k-1) + i(k))/2 itself */
     _iq theta_r;            /* Q24, rotor electrical angle at this sample (encoder), pu [0, 1) */
     /* parameters */
     _iq rs;                 /* Q24, Rs, pu of Z_base */
@@ -131,20 +140,22 @@ typedef struct {
     _iq lm_lr;              /* Q24, Lm / Lr (< 1) */
     _iq tr;                 /* Q24, Tr, pu time */
     _iq kf;                 /* Q24, 1 - exp(-Ts/Tr) */
-    _iq ts;                 /* Q24, Ts, pu time (kept for flux_obs_set_tr) */
-    _iq30 ts30;             /* Q30, Ts, pu time (flux integration) */
+    uint16_t n;             /* samples per step (flux_obs_init): the step's period is n Ts */
+    _iq ts;                 /* Q24, n Ts, pu time (kept for flux_obs_set_tr) */
+    _iq30 ts30;             /* Q30, n Ts, pu time (flux integration) */
     _iq wc;                 /* Q24, crossover w_c, pu of w_base */
-    _iq g;                  /* Q24, w_c Ts (per-sample gain of the correction states) */
+    _iq g;                  /* Q24, w_c n Ts (per-step gain of the correction states) */
     _iq inv_wc;             /* Q24, 1 / w_c (flux_obs_set_rs_dc), at most 100 pu */
-    _iq kf_ws;              /* Q24, 1 - exp(-2 pi f_ws Ts): ws low-pass coefficient */
-    _iq20 inv_k_theta;      /* Q20, 1 / (f_base Ts): pu speed per revolution per sample */
-    _iq dth_max;            /* Q24, largest angle step converted to ws (|ws| <= FLUX_OBS_WS_MAX) */
+    _iq kf_ws;              /* Q24, 1 - exp(-2 pi f_ws n Ts): ws low-pass coefficient */
+    _iq20 inv_k_theta;      /* Q20, 1 / (n f_base Ts): pu speed per revolution per step */
+    _iq dth_max;            /* Q24, largest angle step converted to ws (|ws| <= FLUX_OBS_WS_MAX,
+                               and below half a revolution) */
     /* outputs */
     _iq psi_alpha, psi_beta;        /* Q24, rotor flux (observer), pu of psi_base */
     _iq psi_mag;                    /* Q24, |psi_r|, pu */
     _iq theta;                      /* Q24, rotor flux angle at this sample, pu [0, 1) */
     _iq theta_prev;                 /* Q24, the same at the previous sample */
-    _iq ws;                         /* Q24, frame speed over the last period, pu of w_base */
+    _iq ws;                         /* Q24, frame speed over the last step, pu of w_base */
     _iq ws_f;                       /* Q24, ws low-passed, pu */
     _iq psi_cm_alpha, psi_cm_beta;  /* Q24, current-model rotor flux (diagnostic), pu */
     _iq uc_alpha, uc_beta;          /* Q24, correction voltage u_c (diagnostic), pu of V_base */
@@ -168,6 +179,17 @@ typedef struct {
 flux_obs_status_t flux_obs_init(flux_obs_t *o, const base_values_t *b, float Rs_ohm,
                                 float Ls_H, float Lr_H, float Lm_H, float Tr_s, float wc_Hz,
                                 float ws_lpf_Hz);
+
+/** Run the observer once every @p n samples (a power of two up to 8: the
+ *  drive's slow task) on the step's mean voltage and mean current: the
+ *  constants follow the step n Ts (the voltage integral, the current
+ *  model's kf, the correction's g, the ws scaling and low-pass).  Call
+ *  after flux_obs_init (and before the setters: flux_obs_set_tr takes the
+ *  step from it).  Returns FLUX_OBS_ERR_BASE (nothing changed) for an n
+ *  that is not a power of two in [1, 8] or makes w_c n Ts > 0.05, a ws
+ *  low-pass step above 1, or Tr below 10 steps. */
+flux_obs_status_t flux_obs_set_step(flux_obs_t *o, const base_values_t *b, uint16_t n,
+                                    float wc_Hz, float ws_lpf_Hz);
 
 /** Zero the state and outputs (demagnetised machine: all fluxes 0). */
 void flux_obs_reset(flux_obs_t *o);
@@ -219,8 +241,5 @@ flux_obs_status_t flux_obs_set_inductances(flux_obs_t *o, _iq lm_pu, _iq lr_pu, 
  */
 void flux_obs_step(flux_obs_t *o);
 
-/** The flux angle at the middle of the last period (for rotating the
- *  voltage applied over it), along the shorter arc, in [0, 1). */
-_iq flux_obs_theta_mid(const flux_obs_t *o);
 
 #endif /* FLUX_OBS_H */

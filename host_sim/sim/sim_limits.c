@@ -41,8 +41,9 @@ static const char *const k_why[DRIVE_LD_COUNT] = {
                       "within 64 pu",
     [DRIVE_LD_OBS_FBASE] = "with controller.orientation = 1: the observer's 3 Hz crossover "
                            "within 1 pu",
-    [DRIVE_LD_OBS_PWM] = "with controller.orientation = 1: the observer's 200 Hz low-pass at "
-                         "most 1 rad a PWM period",
+    [DRIVE_LD_OBS_PWM] = "with controller.orientation = 1: the observer steps every 8 PWM "
+                         "periods (DRIVE_SLOTS); its 200 Hz low-pass at most 1 rad a step and "
+                         "the believed Tr at least 10 steps",
     [DRIVE_LD_OBS_RS] = "with controller.orientation = 1: at most 4 Z_base",
     [DRIVE_LD_OBS_LM] = "with controller.orientation = 1: at most 16 L_base",
     [DRIVE_LD_OBS_LR] = "with controller.orientation = 1: (nameplate.Lm_H + nameplate.Llr_H) / "

@@ -336,8 +336,10 @@ static void track(drive_t *d)
     t->w_sl = d->fobs.ws_f - d->qep.speed_raw;
     t->psi_alpha = d->fobs.psi_alpha;
     t->psi_beta = d->fobs.psi_beta;
-    t->i_alpha = d->clarke.alpha;
-    t->i_beta = d->clarke.beta;
+    /* the current of the observer's last step: its flux and this current
+     * belong to the same sample */
+    t->i_alpha = d->fobs.i_alpha;
+    t->i_beta = d->fobs.i_beta;
     t->enable = (uint16_t)(d->seq.state == ID_RUN && a->blending == 0u);
     tr_track_step(t);
     if (t->n_updates != n0) {

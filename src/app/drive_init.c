@@ -195,8 +195,12 @@ int16_t drive_init(drive_t *d, const drive_config_t *c)
     d->k.orientation = c->control.orientation;
     drive_set_run_ifo(d, 0u);   /* the control frame: ifo's in mode 0, the observer's in 1 */
     if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
+        /* one step per slow period, on the window's mean voltage and
+         * current (drive_slow.c, OBSERVER slot) */
         if (flux_obs_init(&d->fobs, &d->base, m->Rs_ohm, m->Ls_H, m->Lr_H, m->Lm_H, Tr,
-                          FOBS_WC_HZ, FOBS_WS_LPF_HZ) != FLUX_OBS_OK) {
+                          FOBS_WC_HZ, FOBS_WS_LPF_HZ) != FLUX_OBS_OK ||
+            flux_obs_set_step(&d->fobs, &d->base, DRIVE_SLOTS, FOBS_WC_HZ, FOBS_WS_LPF_HZ) !=
+                FLUX_OBS_OK) {
             return DRIVE_CFG_ORIENTATION;
         }
         d->k.rls_ws_min = _IQ(FOBS_RLS_WS_OVER_WC * FOBS_WC_HZ / d->base.f_base_Hz);

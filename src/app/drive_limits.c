@@ -390,13 +390,20 @@ static int16_t check_observer(const drive_limit_t *l, const limit_ctx_t *x,
         return 0;
     }
     switch (which) {
-    case DRIVE_LD_OBS_FBASE:
+    case DRIVE_LD_OBS_FBASE:   /* the observer steps once a slow period (flux_obs_set_step) */
         return verdict((int16_t)(wc_pu > 0.0f && wc_pu <= FLUX_OBS_WC_MAX_PU &&
-                                 wc_pu * b->Ts_pu <= FLUX_OBS_G_MAX),
+                                 wc_pu * b->Ts_pu * (float)DRIVE_SLOTS <= FLUX_OBS_G_MAX),
                        f, b->f_base_Hz, FOBS_WC_HZ / FLUX_OBS_WC_MAX_PU, NO_UPPER, HI_OPEN);
-    case DRIVE_LD_OBS_PWM:
-        return verdict((int16_t)(6.2831853f * FOBS_WS_LPF_HZ * b->Ts_s <= 1.0f), f, 1.0f / b->Ts_s,
-                       6.2831853f * FOBS_WS_LPF_HZ, NO_UPPER, HI_OPEN);
+    case DRIVE_LD_OBS_PWM: {
+        /* its step DRIVE_SLOTS Ts: the ws low-pass at most 1 rad a step,
+         * the believed Tr at least FLUX_OBS_TR_MIN_SAMPLES steps */
+        const float step = b->Ts_s * (float)DRIVE_SLOTS;
+        const float f_min = fmaxf(6.2831853f * FOBS_WS_LPF_HZ,
+                                  FLUX_OBS_TR_MIN_SAMPLES / x->g.tr) * (float)DRIVE_SLOTS;
+        return verdict((int16_t)(6.2831853f * FOBS_WS_LPF_HZ * step <= 1.0f &&
+                                 x->g.tr >= FLUX_OBS_TR_MIN_SAMPLES * step),
+                       f, 1.0f / b->Ts_s, f_min, NO_UPPER, HI_OPEN);
+    }
     case DRIVE_LD_OBS_RS:
         return verdict((int16_t)(rs <= FLUX_OBS_RS_MAX && _IQ(rs) <= _IQ(FLUX_OBS_RS_MAX)), f,
                        m->Rs_ohm, 0.0f, FLUX_OBS_RS_MAX * b->Z_base_ohm, 0u);

@@ -4,26 +4,27 @@
  * bounded and similar in size, so that no ISR carries more than the fast
  * path plus one of them.
  *
- *   0 SPEED       the checks that need no more than this rate (current
- *                 feedback through its 2 ms filter, the encoder's 50 ms
- *                 frozen test), the QEP's speeds, the speed ramp + PI (i_T
- *                 reference for the fast current loop: a few Hz of
- *                 bandwidth), the fast path's slow constants (1/(Tr i_mr)
- *                 of the slip, the bus the SVPWM divides by)
+ *   0 SPEED       the QEP's speeds, the speed ramp + PI (i_T reference
+ *                 for the fast current loop, held first-order over the slow
+ *                 period: a few Hz of bandwidth), the fast path's slow
+ *                 constants (1/(Tr i_mr) of the slip, the bus the SVPWM
+ *                 divides by)
  *   1 FILTERS_A   the regression's window means (the sums restart), the
  *                 i_M, i_T, u_M, u_T filters (method §5)
  *   2 FILTERS_B   the w_s i_T, w_s i_M and w_r filters, y1, y2 and the
- *                 rows; whether the RLS may update
- *   3 RLS_ROW1    forgetting + row 1 (method §3)
+ *                 rows, queued for the background's RLS (drive_rls_bg.c:
+ *                 one RLS sample is a quarter of a period's cycles, and the
+ *                 recursion needs its samples in order, not in time)
+ *   3 CHECKS      the checks that need no more than this rate: current
+ *                 feedback through its 2 ms filter, the encoder's 50 ms
+ *                 frozen test
  *   4 SEQUENCE    identification sequence (times of 0.1-1 s), adaptation
- *                 (drive_adapt.c), telemetry and the snapshots for the
- *                 background
- *   5 RLS_ROW2    row 2, then the estimator guard on the completed sample
- *   6 OBSERVER    the rotor-flux observer on the window's means (mode 1)
+ *                 (drive_adapt.c), telemetry, the snapshot events
+ *   5 OBSERVER    the rotor-flux observer on the window's means (mode 1)
+ *   6 SPARE       nothing
  *   7 LOG         nothing of the drive's: the firmware's data log
  *
- * The rows use the regressors slots 1-2 formed in the same slow period; the
- * sequence sees the filtered di/dt of this period and judges the RLS's
+ * The sequence sees the filtered di/dt of this period and judges the RLS's
  * enable for the next one.  The 10 Hz regression band and the speed loop's
  * few Hz leave a wide margin below 1.875 kHz; the window mean of 8 samples
  * before the filters is their anti-alias stage (ident_regressor.h).
@@ -115,13 +116,17 @@ static void check_current(drive_t *d)
     }
 }
 
-static void task_speed(drive_t *d)
+static void task_checks(drive_t *d)
 {
     check_current(d);
     /* the encoder's frozen test: no count in 50 ms against torque current */
     d->enc_chk.count = d->qep.count;
     d->enc_chk.i_t = d->park.qs;
     encoder_check_frozen(&d->enc_chk);
+}
+
+static void task_speed(drive_t *d)
+{
     /* the encoder's speeds right before the speed loop uses them (every
      * sample of delay in its feedback costs phase at a reversal) */
     qep_speed_update(&d->qep);
@@ -140,6 +145,58 @@ static void task_sequence(drive_t *d)
     sequence(d);
     drive_adapt_slow(d);
     telemetry(d);
+}
+
+/* The window mean of a sum of DRIVE_SLOTS samples, rounded half up: the
+ * truncating product by the exact 1/DRIVE_SLOTS (Q30) is floor(), the half
+ * LSB added first makes it round (|sum| < 64 pu: no wrap).  FLOAT: exact. */
+static inline _iq window_mean(_iq sum)
+{
+#if MATH_TYPE == IQ_MATH
+    return _IQmpyIQX(sum + ((int32_t)1 << (DRIVE_SLOTS_LOG2 - 1u)), GLOBAL_Q,
+                     (int32_t)1 << (30u - DRIVE_SLOTS_LOG2), 30);   /* Q24 * Q30 (1/8) -> Q24 */
+#else
+    return sum * (1.0f / (float)DRIVE_SLOTS);
+#endif
+}
+
+/* The rotor-flux observer's step on the window's means (flux_obs.h): the
+ * mean voltage of its DRIVE_SLOTS periods, the trapezoidal mean current of
+ * its DRIVE_SLOTS + 1 samples (sum of the window's samples less half the
+ * change from the window's start sample to this one), this sample's
+ * current and encoder angle; then the frame's angle from here on
+ * (drive_step.c: theta advances by ws_f every period until the next step). */
+static void task_observer(drive_t *d)
+{
+    flux_obs_t *o = &d->fobs;
+    const _iq ia = d->clarke.alpha;
+    const _iq ib = d->clarke.beta;
+
+    o->u_alpha = window_mean(d->obs_su_alpha);
+    o->u_beta = window_mean(d->obs_su_beta);
+    /* |sum| <= 9.6, |i - i0| <= 2.4 pu */
+    o->i_mean_alpha = window_mean(d->obs_si_alpha - _IQmpy(ia - d->obs_i0_alpha, _IQ(0.5)));
+    o->i_mean_beta = window_mean(d->obs_si_beta - _IQmpy(ib - d->obs_i0_beta, _IQ(0.5)));
+    o->i_alpha = ia;
+    o->i_beta = ib;
+    o->theta_r = d->qep.theta_elec;
+    d->obs_su_alpha = d->obs_su_beta = _IQ(0.0);
+    d->obs_si_alpha = d->obs_si_beta = _IQ(0.0);
+    d->obs_i0_alpha = ia;
+    d->obs_i0_beta = ib;
+    flux_obs_step(o);
+    /* the frame stays on the encoder angle (as ifo at standstill, slip 0)
+     * while the flux is near zero (its angle is noise) and through the
+     * magnetisation: a flux rise is a transient the voltage model
+     * integrates with its Rs error, which the correction removes only over
+     * ~1/w_c (believed Rs +30 %: the observer flux reversed 7 ms into the
+     * magnetisation).  The current builds the flux along the encoder angle,
+     * so the observer's angle agrees with it when the acceleration starts. */
+    d->fobs_hold = (uint16_t)(o->psi_mag < d->k.psi_min || d->seq.state == ID_MAGNETIZE);
+    /* theta at this sample; the fast path adds the step from the next one
+     * on (f_base Ts revolutions per pu speed: Q24 * Q30 -> Q24) */
+    d->obs_theta = o->theta;
+    d->obs_dtheta = _IQmpyIQX(o->ws_f, GLOBAL_Q, d->ifo.k_theta, 30);
 }
 
 /* The regression's window means and its first four filters (method §5). */
@@ -221,12 +278,18 @@ void drive_slow_task(drive_t *d, uint16_t slot)
     case DRIVE_SLOT_FILTERS_B:
         task_filters_b(d);
         break;
+    case DRIVE_SLOT_CHECKS:
+        task_checks(d);
+        break;
     case DRIVE_SLOT_SEQUENCE:
         task_sequence(d);
         break;
-    case DRIVE_SLOT_RLS_ROW1:
-    case DRIVE_SLOT_RLS_ROW2:
     case DRIVE_SLOT_OBSERVER:
+        if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
+            task_observer(d);
+        }
+        break;
+    case DRIVE_SLOT_SPARE:
     case DRIVE_SLOT_LOG:
     default:
         break;

@@ -46,17 +46,20 @@
  *
  * Orientation (drive_control_t.orientation, fixed at drive_init):
  *   0 IFO       as above (the paper's; steps 4 and 8 run the ifo module).
- *   1 observer  step 4 runs the rotor-flux observer (flux_obs.h) on the
- *               Clarke currents, the voltage of the period that just ended
- *               (the one the regression uses) and the encoder angle, and
- *               Parks with its angle; step 5 rotates the voltage at its
- *               mid-period angle and uses its angle step as w_s, and the RLS
- *               updates only while |w_s| > 10 w_c (drive_init.c: where the
- *               voltage model dominates and the angle does not depend on Tr);
- *               until the magnetisation ends the frame is held on the
- *               encoder angle (drive_frame_angle); step 7
- *               decouples with its filtered w_s and (Lm/Lr)|psi_r|; step 8 is
- *               empty; the observer is reset when the magnetisation starts.
+ *   1 observer  step 4 sums the Clarke currents and the voltage of the
+ *               period that just ended (the one the regression uses) over
+ *               the slow period; the OBSERVER slot steps the rotor-flux
+ *               observer (flux_obs.h) on the window's means and the encoder
+ *               angle, and between its steps the frame angle advances every
+ *               period by ws_f (the observer's flux speed: 0.53 ms of
+ *               extrapolation, a few thousandths of a radian at a steady
+ *               slip); step 5 uses the frame's actual angle step as w_s, and
+ *               the RLS updates only while |w_s| > 10 w_c (drive_init.c:
+ *               where the voltage model dominates and the angle does not
+ *               depend on Tr); until the magnetisation ends the frame is
+ *               held on the encoder angle (fobs_hold); step 7 decouples with
+ *               ws_f and (Lm/Lr)|psi_r|; step 8 is empty; the observer is
+ *               reset when the magnetisation starts.
  *               In RUN with tracking (run_ifo) the control frame is ifo's,
  *               on the tracked Tr (steps 4 and 8 as mode 0), while the
  *               observer runs on as the tracker's reference.
@@ -158,25 +161,14 @@ static inline void transform_currents(drive_t *d)
     d->park.alpha = d->clarke.alpha;
     d->park.beta = d->clarke.beta;
     if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
-        /* frame angle theta_k = the observer's rotor-flux angle at this
-         * sample; u: the mean voltage of the period that just ended (0 while
-         * the bridge was off), exactly what the regression uses */
-        flux_obs_t *o = &d->fobs;
-        o->i_alpha = d->clarke.alpha;
-        o->i_beta = d->clarke.beta;
-        o->u_alpha = d->volt.valpha;
-        o->u_beta = d->volt.vbeta;
-        o->theta_r = d->qep.theta_elec;
-        flux_obs_step(o);
-        /* the frame stays on the encoder angle (as ifo at standstill, slip 0)
-         * while the flux is near zero (its angle is noise) and through the
-         * magnetisation (state of the last sample): a flux rise is a
-         * transient the voltage model integrates with its Rs error, which
-         * the correction removes only over ~1/w_c (believed Rs +30 %: the
-         * observer flux reversed 7 ms into the magnetisation).  The current
-         * builds the flux along the encoder angle, so the observer's angle
-         * agrees with it when the acceleration starts. */
-        d->fobs_hold = (uint16_t)(o->psi_mag < d->k.psi_min || d->seq.state == ID_MAGNETIZE);
+        /* the observer's window (its step: drive_slow.c, OBSERVER slot):
+         * the voltage of the period that just ended (0 while the bridge was
+         * off; limited to the observer's input range, so that 8 of them
+         * stay inside Q24) and this sample's current */
+        d->obs_su_alpha += _IQsat(d->volt.valpha, _IQ(FLUX_OBS_IN_MAX), _IQ(-FLUX_OBS_IN_MAX));
+        d->obs_su_beta += _IQsat(d->volt.vbeta, _IQ(FLUX_OBS_IN_MAX), _IQ(-FLUX_OBS_IN_MAX));
+        d->obs_si_alpha += d->clarke.alpha;
+        d->obs_si_beta += d->clarke.beta;
     }
     d->ifo.theta_r = d->qep.theta_elec;
     if (d->frame_ifo != 0u) {
@@ -185,16 +177,17 @@ static inline void transform_currents(drive_t *d)
         d->theta_k = d->ifo.theta;
         d->theta_prev = d->ifo.theta_prev;
         d->ws_k = d->ifo.ws_frame;
-    } else if (d->fobs_hold != 0u) {
-        /* held on the encoder angle (magnetisation, no flux): the frame
-         * turns with the rotor */
-        d->theta_prev = d->theta_k;
-        d->theta_k = d->qep.theta_elec;
-        d->ws_k = d->qep.speed_1;
     } else {
-        d->theta_k = d->fobs.theta;
-        d->theta_prev = d->fobs.theta_prev;
-        d->ws_k = d->fobs.ws;
+        /* the observer's angle, carried between its steps on ws_f (it
+         * ran at the last OBSERVER slot); or, held (magnetisation, no flux),
+         * the encoder angle: the frame turns with the rotor */
+        d->theta_prev = d->theta_k;
+        d->obs_theta = angle_wrap_unit(d->obs_theta + d->obs_dtheta);
+        d->theta_k = (d->fobs_hold != 0u) ? d->qep.theta_elec : d->obs_theta;
+        /* the frame's actual speed over the period (the regression's w_s):
+         * the angle step, whatever moved it; Q24 * Q20 -> Q24, |step| < 0.5 */
+        d->ws_k = _IQmpyIQX(angle_diff_pu(d->theta_k, d->theta_prev), GLOBAL_Q,
+                            d->ifo.inv_k_theta, 20);
     }
     /* every frame angle is in [0, 1) (ifo wraps it, the observer's atan2 and
      * the encoder's count are there by construction): no wrap */

@@ -31,6 +31,7 @@ void flux_obs_reset(flux_obs_t *o)
 {
     o->i_alpha = o->i_beta = _IQ(0.0);
     o->u_alpha = o->u_beta = _IQ(0.0);
+    o->i_mean_alpha = o->i_mean_beta = _IQ(0.0);
     o->theta_r = _IQ(0.0);
     o->psi_alpha = o->psi_beta = _IQ(0.0);
     o->psi_mag = _IQ(0.0);
@@ -89,6 +90,7 @@ flux_obs_status_t flux_obs_init(flux_obs_t *o, const base_values_t *b, float Rs_
         return FLUX_OBS_ERR_WS_LPF;
     }
 
+    o->n = 1u;
     o->ts = _IQ(b->Ts_pu);
     o->ts30 = _IQ30(b->Ts_pu);
     o->inv_k_theta = _IQ20(1.0f / fts);
@@ -128,6 +130,34 @@ flux_obs_status_t flux_obs_init(flux_obs_t *o, const base_values_t *b, float Rs_
     o->inv_wc = _IQ(fminf(1.0f / wc_pu, 100.0f));
     o->kf_ws = _IQ(1.0f - expf(-x_ws));
     return FLUX_OBS_OK;
+}
+
+flux_obs_status_t flux_obs_set_step(flux_obs_t *o, const base_values_t *b, uint16_t n,
+                                    float wc_Hz, float ws_lpf_Hz)
+{
+    float fts, T_pu, wc_pu, x_ws, x_dth;
+    if (b == 0 || !(n == 1u || n == 2u || n == 4u || n == 8u) || !(o->ts > _IQ(0.0))) {
+        return FLUX_OBS_ERR_BASE;
+    }
+    fts = b->f_base_Hz * b->Ts_s * (float)n;   /* revolutions per step at 1 pu speed */
+    T_pu = b->Ts_pu * (float)n;                 /* < 8 * 2 pi / 128 = 0.4: Q30 */
+    wc_pu = wc_Hz / b->f_base_Hz;
+    x_ws = 6.2831853f * ws_lpf_Hz * b->Ts_s * (float)n;
+    if (!(wc_pu * T_pu <= FLUX_OBS_G_MAX) || !(x_ws > 0.0f && x_ws <= 1.0f) ||
+        !(o->tr >= _IQ(FLUX_OBS_TR_MIN_SAMPLES * T_pu))) {
+        return FLUX_OBS_ERR_BASE;
+    }
+    o->n = n;
+    o->ts = _IQ(T_pu);
+    o->ts30 = _IQ30(T_pu);
+    o->inv_k_theta = _IQ20(1.0f / fts);
+    /* |ws| <= FLUX_OBS_WS_MAX, and the step below half a revolution (the
+     * angle difference's own range) */
+    x_dth = fminf(FLUX_OBS_WS_MAX * fts, 0.499f);
+    o->dth_max = _IQ(x_dth);
+    o->g = _IQ(wc_pu * T_pu);
+    o->kf_ws = _IQ(1.0f - expf(-x_ws));
+    return flux_obs_set_tr(o, o->tr);   /* kf for the new step */
 }
 
 flux_obs_status_t flux_obs_set_rs(flux_obs_t *o, _iq rs_pu)
@@ -252,7 +282,7 @@ void flux_obs_step(flux_obs_t *o)
 {
     uint16_t sat = 0u;
     uint16_t ws_sat = 0u;
-    _iq ia, ib, ua, ub;
+    _iq ia, ib, ua, ub, ima, imb;
     _iq s, c;
     _iq ird, irq;
     _iq psia, psib;
@@ -263,11 +293,19 @@ void flux_obs_step(flux_obs_t *o)
     ib = sat_sym(o->i_beta, IN_MAX, &sat);
     ua = sat_sym(o->u_alpha, IN_MAX, &sat);
     ub = sat_sym(o->u_beta, IN_MAX, &sat);
+    if (o->n == 1u) {
+        /* one period: the trapezoid of its two end samples */
+        ima = _IQmpy(ia + o->i_alpha_prev, _IQ(0.5));
+        imb = _IQmpy(ib + o->i_beta_prev, _IQ(0.5));
+    } else {
+        ima = sat_sym(o->i_mean_alpha, IN_MAX, &sat);
+        imb = sat_sym(o->i_mean_beta, IN_MAX, &sat);
+    }
 
-    /* voltage model: psi_s(k) = psi_s(k-1) + Ts (u - Rs i_mean + u_c(k-1)).
+    /* voltage model: psi_s(k) = psi_s(k-n) + T (u - Rs i_mean + u_c(k-n)).
      * Integrand |.| <= 4 + 4*4 + 1*10 = 30; Q24 * Q30 -> Q24 truncated */
-    ea = ua - _IQmpy(o->rs, _IQmpy(ia + o->i_alpha_prev, _IQ(0.5))) + o->uc_alpha;
-    eb = ub - _IQmpy(o->rs, _IQmpy(ib + o->i_beta_prev, _IQ(0.5))) + o->uc_beta;
+    ea = ua - _IQmpy(o->rs, ima) + o->uc_alpha;
+    eb = ub - _IQmpy(o->rs, imb) + o->uc_beta;
     o->psis_alpha = sat_sym(o->psis_alpha + _IQmpyIQX(ea, GLOBAL_Q, o->ts30, 30), PSI_MAX, &sat);
     o->psis_beta = sat_sym(o->psis_beta + _IQmpyIQX(eb, GLOBAL_Q, o->ts30, 30), PSI_MAX, &sat);
 
@@ -326,14 +364,3 @@ void flux_obs_step(flux_obs_t *o)
     o->sat = sat;
 }
 
-_iq flux_obs_theta_mid(const flux_obs_t *o)
-{
-    _iq m = o->theta_prev + _IQmpy(angle_diff_pu(o->theta, o->theta_prev), _IQ(0.5));
-
-    if (m >= _IQ(1.0)) {
-        m -= _IQ(1.0);
-    } else if (m < _IQ(0.0)) {
-        m += _IQ(1.0);
-    }
-    return m;
-}
