@@ -44,12 +44,12 @@
 #define DRIVE_SLOTS (1u << DRIVE_SLOTS_LOG2)
 typedef enum {
     DRIVE_SLOT_SPEED = 0,   /* speed ramp + PI, the fast path's slow constants */
-    DRIVE_SLOT_FILTERS_A,   /* the regression's window means, the i_M, i_T, u_M, u_T filters */
-    DRIVE_SLOT_FILTERS_B,   /* the w_s i and w_r filters, y1, y2, the rows; may the RLS learn */
-    DRIVE_SLOT_CHECKS,      /* current-feedback and encoder-frozen checks, QEP speeds */
+    DRIVE_SLOT_FILTERS_A,   /* the regression's window means, the i_M, i_T filters */
+    DRIVE_SLOT_FILTERS_B,   /* the u_M, u_T, w_s i_T filters */
+    DRIVE_SLOT_FILTERS_C,   /* the w_s i_M, w_r filters, the rows to the RLS; the checks */
     DRIVE_SLOT_SEQUENCE,    /* identification sequence, adaptation, telemetry, snapshot events */
-    DRIVE_SLOT_OBSERVER,    /* the rotor-flux observer on the window's means (orientation 1) */
-    DRIVE_SLOT_SPARE,       /* nothing yet */
+    DRIVE_SLOT_OBSERVER_A,  /* the rotor-flux observer's models (orientation 1) */
+    DRIVE_SLOT_OBSERVER_B,  /* its rotor flux, angle and speed */
     DRIVE_SLOT_LOG          /* no drive work: the firmware's data log runs in this ISR */
 } drive_slot_t;
 

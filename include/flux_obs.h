@@ -241,5 +241,13 @@ flux_obs_status_t flux_obs_set_inductances(flux_obs_t *o, _iq lm_pu, _iq lr_pu, 
  */
 void flux_obs_step(flux_obs_t *o);
 
+/** flux_obs_step in two parts, for two ISRs of a slow schedule: (a) the
+ *  inputs, the voltage and current models and the correction; (b) the
+ *  rotor flux, its magnitude, angle and speed (from the state and current
+ *  part a left: the inputs may change in between).  a then b =
+ *  flux_obs_step, bit for bit. */
+void flux_obs_step_a(flux_obs_t *o);
+void flux_obs_step_b(flux_obs_t *o);
+
 
 #endif /* FLUX_OBS_H */

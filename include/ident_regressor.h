@@ -139,13 +139,14 @@ static inline void ident_regressor_accumulate(ident_regressor_t *r)
  *  the sums restart at 0.  = ident_regressor_filter_a, then _b. */
 void ident_regressor_filter(ident_regressor_t *r);
 
-/** The filter step in two halves, for two ISRs of the slow schedule: (a)
- *  the window means (the sums restart at 0: accumulate may run between a
- *  and b), the i_M, i_T, u_M, u_T filters; (b) the three product/speed
- *  filters, y1, y2 and the regressors.  a then b = ident_regressor_filter,
- *  bit for bit. */
+/** The filter step in three parts, for three ISRs of the slow schedule:
+ *  (a) the window means (the sums restart at 0: accumulate may run between
+ *  the parts) and the i_M, i_T filters (with their derivatives); (b) the
+ *  u_M, u_T and w_s i_T filters; (c) the w_s i_M and w_r filters, y1, y2
+ *  and the regressors.  a, b, c = ident_regressor_filter, bit for bit. */
 void ident_regressor_filter_a(ident_regressor_t *r);
 void ident_regressor_filter_b(ident_regressor_t *r);
+void ident_regressor_filter_c(ident_regressor_t *r);
 
 /** accumulate + filter: one sample of the undecimated path (decim_log2 = 0). */
 void ident_regressor_step(ident_regressor_t *r);

@@ -10,18 +10,20 @@
  *                 constants (1/(Tr i_mr) of the slip, the bus the SVPWM
  *                 divides by)
  *   1 FILTERS_A   the regression's window means (the sums restart), the
- *                 i_M, i_T, u_M, u_T filters (method §5)
- *   2 FILTERS_B   the w_s i_T, w_s i_M and w_r filters, y1, y2 and the
- *                 rows, queued for the background's RLS (drive_rls_bg.c:
- *                 one RLS sample is a quarter of a period's cycles, and the
- *                 recursion needs its samples in order, not in time)
- *   3 CHECKS      the checks that need no more than this rate: current
- *                 feedback through its 2 ms filter, the encoder's 50 ms
- *                 frozen test
+ *                 i_M, i_T filters and their derivatives (method §5)
+ *   2 FILTERS_B   the u_M, u_T and w_s i_T filters
+ *   3 FILTERS_C   the w_s i_M and w_r filters, y1, y2 and the rows, queued
+ *                 for the background's RLS (drive_rls_bg.c: one RLS sample
+ *                 is a quarter of a period's cycles, and the recursion needs
+ *                 its samples in order, not in time); the checks that need
+ *                 no more than this rate (current feedback through its 2 ms
+ *                 filter, the encoder's 50 ms frozen test)
  *   4 SEQUENCE    identification sequence (times of 0.1-1 s), adaptation
  *                 (drive_adapt.c), telemetry, the snapshot events
- *   5 OBSERVER    the rotor-flux observer on the window's means (mode 1)
- *   6 SPARE       nothing
+ *   5 OBSERVER_A  the rotor-flux observer on the window's means (mode 1):
+ *                 its voltage and current models and their correction
+ *   6 OBSERVER_B  its rotor flux, magnitude, angle and speed; the frame's
+ *                 angle from here on
  *   7 LOG         nothing of the drive's: the firmware's data log
  *
  * The sequence sees the filtered di/dt of this period and judges the RLS's
@@ -31,6 +33,7 @@
  */
 #include "drive_internal.h"
 
+#include "angle.h"
 #include "drive_adapt.h"
 
 static void sequence(drive_t *d)
@@ -166,7 +169,7 @@ static inline _iq window_mean(_iq sum)
  * change from the window's start sample to this one), this sample's
  * current and encoder angle; then the frame's angle from here on
  * (drive_step.c: theta advances by ws_f every period until the next step). */
-static void task_observer(drive_t *d)
+static void task_observer_a(drive_t *d)
 {
     flux_obs_t *o = &d->fobs;
     const _iq ia = d->clarke.alpha;
@@ -184,7 +187,16 @@ static void task_observer(drive_t *d)
     d->obs_si_alpha = d->obs_si_beta = _IQ(0.0);
     d->obs_i0_alpha = ia;
     d->obs_i0_beta = ib;
-    flux_obs_step(o);
+    flux_obs_step_a(o);
+}
+
+/* The observer's rotor flux, angle and speed from its models' state
+ * (flux_obs_step_b); then the frame's angle from here on (drive_step.c:
+ * theta advances by ws_f every period until the next step). */
+static void task_observer_b(drive_t *d)
+{
+    const flux_obs_t *o = &d->fobs;
+    flux_obs_step_b(&d->fobs);
     /* the frame stays on the encoder angle (as ifo at standstill, slip 0)
      * while the flux is near zero (its angle is noise) and through the
      * magnetisation: a flux rise is a transient the voltage model
@@ -193,10 +205,11 @@ static void task_observer(drive_t *d)
      * magnetisation).  The current builds the flux along the encoder angle,
      * so the observer's angle agrees with it when the acceleration starts. */
     d->fobs_hold = (uint16_t)(o->psi_mag < d->k.psi_min || d->seq.state == ID_MAGNETIZE);
-    /* theta at this sample; the fast path adds the step from the next one
-     * on (f_base Ts revolutions per pu speed: Q24 * Q30 -> Q24) */
-    d->obs_theta = o->theta;
+    /* theta was the flux angle at the sample of part a, one period ago: this
+     * sample's is one step further; the fast path adds the step from the
+     * next one on (f_base Ts revolutions per pu speed: Q24 * Q30 -> Q24) */
     d->obs_dtheta = _IQmpyIQX(o->ws_f, GLOBAL_Q, d->ifo.k_theta, 30);
+    d->obs_theta = angle_wrap_unit(o->theta + d->obs_dtheta);
 }
 
 /* The regression's window means and its first four filters (method §5). */
@@ -245,13 +258,13 @@ static void rls_push(drive_t *d, uint16_t update)
     }
 }
 
-/* The other three filters, the rows, and whether the RLS may learn
- * (method §2-§5); the rows go to the background's RLS. */
-static void task_filters_b(drive_t *d)
+/* The last two filters, the rows and whether the RLS may learn (method
+ * §2-§5); the rows go to the background's RLS. */
+static void task_filters_c(drive_t *d)
 {
     uint16_t rls_on = d->seq.rls_on;
 
-    ident_regressor_filter_b(&d->reg);
+    ident_regressor_filter_c(&d->reg);
     if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
         if (d->fobs_hold != 0u) {
             rls_on = 0u;   /* the frame is held on the encoder angle */
@@ -264,6 +277,7 @@ static void task_filters_b(drive_t *d)
         }
     }
     rls_push(d, rls_on);
+    task_checks(d);
 }
 
 void drive_slow_task(drive_t *d, uint16_t slot)
@@ -276,20 +290,24 @@ void drive_slow_task(drive_t *d, uint16_t slot)
         task_filters_a(d);
         break;
     case DRIVE_SLOT_FILTERS_B:
-        task_filters_b(d);
+        ident_regressor_filter_b(&d->reg);
         break;
-    case DRIVE_SLOT_CHECKS:
-        task_checks(d);
+    case DRIVE_SLOT_FILTERS_C:
+        task_filters_c(d);
         break;
     case DRIVE_SLOT_SEQUENCE:
         task_sequence(d);
         break;
-    case DRIVE_SLOT_OBSERVER:
+    case DRIVE_SLOT_OBSERVER_A:
         if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
-            task_observer(d);
+            task_observer_a(d);
         }
         break;
-    case DRIVE_SLOT_SPARE:
+    case DRIVE_SLOT_OBSERVER_B:
+        if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
+            task_observer_b(d);
+        }
+        break;
     case DRIVE_SLOT_LOG:
     default:
         break;

@@ -93,13 +93,17 @@ void ident_regressor_filter_a(ident_regressor_t *r)
     /* only i_M and i_T need the derivative output */
     bw_filter_step(&r->f_im);
     bw_filter_step(&r->f_it);
-    bw_filter_update(&r->f_um);
-    bw_filter_update(&r->f_ut);
 }
 
 void ident_regressor_filter_b(ident_regressor_t *r)
 {
+    bw_filter_update(&r->f_um);
+    bw_filter_update(&r->f_ut);
     bw_filter_update(&r->f_ws_it);
+}
+
+void ident_regressor_filter_c(ident_regressor_t *r)
+{
     bw_filter_update(&r->f_ws_im);
     bw_filter_update(&r->f_wr);
 
@@ -117,6 +121,7 @@ void ident_regressor_filter(ident_regressor_t *r)
 {
     ident_regressor_filter_a(r);
     ident_regressor_filter_b(r);
+    ident_regressor_filter_c(r);
 }
 
 void ident_regressor_step(ident_regressor_t *r)

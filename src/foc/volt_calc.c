@@ -28,11 +28,12 @@ volt_calc_status_t volt_calc_init(volt_calc_t *v, float dead_time_s, float Ts_s,
     v->v_drop_half = _IQ(0.5f * drop_pu);
     v->i_thresh = _IQ(i_thresh_pu);
 #if MATH_TYPE == IQ_MATH
-    /* rounded up, so that i_thresh * inv >= 1 (Q24*Q16 -> Q24, truncated):
-     * sgn() is then exactly +-1 at and beyond the zone's edge;
+    /* the stored threshold's inverse, rounded down, so that i_thresh * inv
+     * <= 1 (Q24*Q16 -> Q24, truncated): sgn() of a current limited to
+     * +-i_thresh is within [-1, 1] without a second saturation, and at the
+     * zone's edge below 1 by at most i_thresh * 2^8 + 1 LSB (volt_calc.h);
      * i_thresh >= 0.0005 pu keeps the quotient below 2^31 (1.3e8) */
-    v->inv_i_thresh = (_iq16)((((int64_t)1 << 40) + (int64_t)v->i_thresh - 1) /
-                              (int64_t)v->i_thresh);
+    v->inv_i_thresh = (_iq16)(((int64_t)1 << 40) / (int64_t)v->i_thresh);
 #else
     v->inv_i_thresh = _IQ16(1.0f / i_thresh_pu);
 #endif

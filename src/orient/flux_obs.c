@@ -278,16 +278,13 @@ static void correct_axis(const flux_obs_t *o, _iq e, _iq *z, _iq *y, uint16_t *s
     *z = zn;
 }
 
-void flux_obs_step(flux_obs_t *o)
+void flux_obs_step_a(flux_obs_t *o)
 {
     uint16_t sat = 0u;
-    uint16_t ws_sat = 0u;
     _iq ia, ib, ua, ub, ima, imb;
     _iq s, c;
     _iq ird, irq;
-    _iq psia, psib;
     _iq ea, eb;
-    _iq d;
 
     ia = sat_sym(o->i_alpha, IN_MAX, &sat);
     ib = sat_sym(o->i_beta, IN_MAX, &sat);
@@ -314,7 +311,7 @@ void flux_obs_step(flux_obs_t *o)
     c = _IQcosPU(o->theta_r);
     ird = _IQmpy(c, ia) + _IQmpy(s, ib);
     irq = _IQmpy(c, ib) - _IQmpy(s, ia);
-    /* first-order hold: Lm times the mean of i^r(k-1), i^r(k).  |i^r| <=
+    /* first-order hold: Lm times the mean of i^r(k-n), i^r(k).  |i^r| <=
      * 4 sqrt(2) and Lm <= 16: |Lm i| <= 91, saturated to PSI_CM_MAX (60), so
      * psi^r, a low-pass of it (kf in (0, 0.1]), stays within 60 and the
      * increment within 120 (Q24 holds 128).  Rounded products (kf ~ 3e-3:
@@ -342,6 +339,18 @@ void flux_obs_step(flux_obs_t *o)
     correct_axis(o, eb, &o->z_beta, &o->y_beta, &sat);
     o->uc_alpha = _IQmpy(o->wc, o->y_alpha);   /* |.| <= 1 * 10 */
     o->uc_beta = _IQmpy(o->wc, o->y_beta);
+    o->sat = sat;
+}
+
+void flux_obs_step_b(flux_obs_t *o)
+{
+    uint16_t sat = o->sat;
+    uint16_t ws_sat = 0u;
+    /* the current of step a, as it used it */
+    const _iq ia = o->i_alpha_prev;
+    const _iq ib = o->i_beta_prev;
+    _iq psia, psib;
+    _iq d;
 
     /* rotor flux: (Lr/Lm)(psi_s - sigma Ls i), |.| <= 4 (8 + 16) = 96 */
     psia = _IQmpy(o->lr_lm, o->psis_alpha - _IQmpy(o->sigma_ls, ia));
@@ -362,5 +371,11 @@ void flux_obs_step(flux_obs_t *o)
      * |ws - ws_f| <= 100 < 128 (Q24); product < 64: in range; rounded */
     o->ws_f += _IQrmpy(o->kf_ws, o->ws - o->ws_f);
     o->sat = sat;
+}
+
+void flux_obs_step(flux_obs_t *o)
+{
+    flux_obs_step_a(o);
+    flux_obs_step_b(o);
 }
 

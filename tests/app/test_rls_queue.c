@@ -4,7 +4,7 @@
  * background that falls behind loses samples by count, never the events.
  *
  * The reference is independent of the queue: an rls_t of its own, stepped
- * right after each ISR whose slow slot formed the rows (FILTERS_B) with the
+ * right after each ISR whose slow slot formed the rows (FILTERS_C) with the
  * regressor's outputs (d->reg) and the sequence's enable, restarted from
  * rls_start where the sequence asks for a new pass.  The closed loop runs
  * the paper motor from the start of the identification through the
@@ -51,7 +51,7 @@ static void isr(loop_t *l)
     if (slot == DRIVE_SLOT_SEQUENCE && d->seq.rls_restart != 0u) {
         l->ref = d->rls_start;   /* a new pass (the adaptive sequence only) */
     }
-    if (slot == DRIVE_SLOT_FILTERS_B && d->seq.rls_on != 0u) {
+    if (slot == DRIVE_SLOT_FILTERS_C && d->seq.rls_on != 0u) {
         const ident_regressor_t *r = &d->reg;
         l->ref.y1 = r->y1;
         l->ref.y2 = r->y2;
@@ -153,14 +153,14 @@ static void test_full_queue_counts_and_keeps_events(void **state)
     /* an event while full waits for the next free entry */
     d->rlsq.pending |= DRIVE_RLSQ_EXTRACT;
     d->snap.ready = 0u;
-    while (d->slot != DRIVE_SLOT_FILTERS_B) {
+    while (d->slot != DRIVE_SLOT_FILTERS_C) {
         isr(l);
     }
     isr(l);   /* FILTERS_B with the queue still full */
     assert_int_equal(d->rlsq.pending & DRIVE_RLSQ_EXTRACT, DRIVE_RLSQ_EXTRACT);
     drive_background(d);   /* empties it (the extraction is not due: snap read here) */
     assert_int_equal(d->telemetry.rls_dropped, d->rlsq.dropped);
-    while (d->slot != DRIVE_SLOT_FILTERS_B) {
+    while (d->slot != DRIVE_SLOT_FILTERS_C) {
         isr(l);
     }
     isr(l);

@@ -34,16 +34,16 @@ static void test_init(void **state)
     assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, 0.05f, 0.02f, 2u), VOLT_CALC_ERR_ENABLE);
     assert_memory_equal(&v, &z, sizeof v);
     /* constants: td/Ts = 0.03, 1/0.02 = 50; _IQ truncates (1 LSB); in
-     * IQ_MATH 1/i_thresh is the stored threshold's inverse rounded up (so
-     * that i_thresh * inv >= 1: sgn() exactly +-1 at the zone's edge), 50
+     * IQ_MATH 1/i_thresh is the stored threshold's inverse rounded down (so
+     * that i_thresh * inv <= 1: sgn() within +-1 with one saturation), 50
      * within the threshold's truncation (1 LSB of 0.02: 3e-6 relative) and
      * one Q16 LSB; in float it is formed in float (2^-24 relative) */
     assert_int_equal(volt_calc_init(&v, 2e-6f, TS_S, 0.05f, 0.02f, 1u), VOLT_CALC_OK);
     assert_true(fabs(iq2d(v.dt_frac) - 0.03) <= foc_tol(1.1, 2.0, 1.0));
     assert_true(fabs(iq2d(v.v_drop) - 0.05) <= foc_tol(1.1, 2.0, 1.0));
 #if MATH_TYPE == IQ_MATH
-    assert_true((int64_t)v.i_thresh * (int64_t)v.inv_i_thresh >= ((int64_t)1 << 40));
-    assert_true((int64_t)v.i_thresh * (int64_t)(v.inv_i_thresh - 1) < ((int64_t)1 << 40));
+    assert_true((int64_t)v.i_thresh * (int64_t)v.inv_i_thresh <= ((int64_t)1 << 40));
+    assert_true((int64_t)v.i_thresh * (int64_t)(v.inv_i_thresh + 1) > ((int64_t)1 << 40));
     assert_true(fabs((double)_IQ16toF(v.inv_i_thresh) - 50.0) <= 50.0 * 3.0e-6 + 1.0 / 65536.0);
 #else
     assert_true(fabs((double)_IQ16toF(v.inv_i_thresh) - 50.0) <= 50.0 * (double)FLT_EPSILON + foc_tol(1.0, 1.0, 1.0));
@@ -59,13 +59,9 @@ static void test_init(void **state)
  * one; sgn(i) = sat(i / i_thresh, +-1); ic = -ia - ib. */
 static double sgn_lin(double i, double th, double inv)
 {
-    if (i >= th) {
-        return 1.0;
-    }
-    if (i <= -th) {
-        return -1.0;
-    }
-    return fmin(fmax(i * inv, -1.0), 1.0);
+    /* the current limited to the zone, times the stored inverse: +-th inv
+     * (within 2^-16 th of 1) beyond the zone, as the module computes it */
+    return fmin(fmax(i, -th), th) * inv;
 }
 
 static void leg_inputs(const volt_calc_t *v, double d[3], double i[3], double di[3])
