@@ -51,7 +51,7 @@ static interrupt void isr_control(void)
 {
     uint16_t t;
 
-    drive_isr(s_drive);    /* hal_adc_read (re-arm) ... hal_isr_overrun */
+    const uint16_t overran = drive_isr(s_drive);   /* hal_adc_read (re-arm) ... hal_isr_overrun */
 
     /* i_M, i_T, speed, Rr for a CCS graph (datalog.h), in the ISR whose
      * slow slot is empty (drive_log_due): the log's cost never adds to the
@@ -62,7 +62,7 @@ static interrupt void isr_control(void)
     }
 
     s_ticks++;
-    t = (hal_isr_overrun() != 0u) ? 0xFFFFu : isr_elapsed();
+    t = (overran != 0u) ? 0xFFFFu : isr_elapsed();
     if (t > s_load_max) {
         s_load_max = t;
     }

@@ -85,8 +85,9 @@ const char *drive_cfg_status_str(int16_t status);
 int16_t drive_init(drive_t *d, const drive_config_t *cfg);
 /** One control period: the body of the control ISR (hal_adc_read first,
  *  which on the F2812 also re-arms the ADC and the interrupt; the overrun
- *  check last). */
-void drive_isr(drive_t *d);
+ *  check last).  Returns that check: 1 if this ISR ran past its period
+ *  (hal_isr_overrun), for the caller's load figure. */
+uint16_t drive_isr(drive_t *d);
 /** The data log's four channels (i_M, i_T, speed, published Rr; pu, Q
  *  GLOBAL_Q) as the ISR last left them: for the firmware's data log, read
  *  without copying the whole telemetry snapshot. */

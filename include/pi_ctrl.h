@@ -130,8 +130,9 @@ static inline void pi_step(pi_ctrl_t *p)
     const _iq di = iq_rmpy(p->ki, e);   /* = _IQrmpy bit for bit: |ki e| < 64 (iq_rmpy.h) */
     /* Headroom of the integrator before the output reaches a limit:
      * |.| <= 16 + 64 + 16 = 96 */
-    const _iq ui_hi = p->out_max - up - p->ff;
-    const _iq ui_lo = p->out_min - up - p->ff;
+    const _iq upff = up + p->ff;   /* |.| <= 64 + 16 */
+    const _iq ui_hi = p->out_max - upff;
+    const _iq ui_lo = p->out_min - upff;
     _iq v;
 
     /* Clamping anti-windup: an upward increment may take the integrator at
@@ -150,7 +151,7 @@ static inline void pi_step(pi_ctrl_t *p)
     const _iq ui = _IQsat(p->ui + di, upper, lower);   /* |ui + di| <= 16 + 64 = 80 */
     p->ui = ui;
 
-    v = up + ui + p->ff;   /* |.| <= 64 + 16 + 16 = 96 */
+    v = upff + ui;   /* |.| <= 64 + 16 + 16 = 96 */
     p->out = _IQsat(v, p->out_max, p->out_min);
     /* at or beyond a limit: the integrator is then held in that direction */
     p->sat = (uint16_t)((v >= p->out_max) | (v <= p->out_min));   /* no branch */

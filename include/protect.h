@@ -40,13 +40,28 @@ typedef struct {
     /* parameters */
     _iq i_trip;                /* pu */
     _iq vdc_max, vdc_min;      /* pu */
+    _iq i_span;                /* 2 i_trip, pu (protect_check's range test) */
     /* outputs */
     fault_code_t fault;        /* latched; FAULT_NONE when healthy */
     uint16_t trip;             /* 1 while a fault is latched */
 } protect_t;
 
-/** Levels in pu.  Returns 1 if a level is not positive or vdc_min >= vdc_max. */
+/** Levels in pu.  Returns 1 if a level is not positive, i_trip >= 32 pu or
+ *  vdc_min >= vdc_max. */
 int16_t protect_init(protect_t *p, _iq i_trip, _iq vdc_max, _iq vdc_min);
+/* 1 if |i| > i_trip.  IQ_MATH: i + i_trip outside [0, 2 i_trip] as one
+ * unsigned compare, the sum taken in uint32_t (defined wrap): every i in
+ * [-i_trip, i_trip] maps to [0, 2 i_trip], every other int32_t value beyond
+ * it (i_trip < 32 pu keeps 2 i_trip < 2^31). */
+static inline uint16_t protect_over(const protect_t *p, _iq i)
+{
+#if MATH_TYPE == IQ_MATH
+    return (uint16_t)(((uint32_t)i + (uint32_t)p->i_trip) > (uint32_t)p->i_span);
+#else
+    return (uint16_t)(_IQabs(i) > p->i_trip);
+#endif
+}
+
 /* The first fault among this sample's inputs, in the priority order of
  * protect_step; strict: check the undervoltage also with the bridge off
  * (protect_clear). */
@@ -57,11 +72,9 @@ static inline fault_code_t protect_check(const protect_t *p, uint16_t strict)
      * which, in priority order */
     const uint16_t uv = (uint16_t)((p->pwm_on | strict) != 0u) & (uint16_t)(p->vdc < p->vdc_min);
     const uint16_t any = (uint16_t)(p->hw_trip | p->adc_rail | p->encoder_fault |
-                                    p->current_fault) |
-                         (uint16_t)(_IQabs(p->ia) > p->i_trip) |
-                         (uint16_t)(_IQabs(p->ib) > p->i_trip) |
-                         (uint16_t)(_IQabs(p->ic) > p->i_trip) |
-                         (uint16_t)(p->vdc > p->vdc_max) | uv;
+                                    p->current_fault | uv) |
+                         protect_over(p, p->ia) | protect_over(p, p->ib) |
+                         protect_over(p, p->ic) | (uint16_t)(p->vdc > p->vdc_max);
     if (any == 0u) {
         return FAULT_NONE;
     }

@@ -88,8 +88,9 @@ static inline uint16_t svgen_compare(const svgen_t *s, _iq d)
 #else
     const int32_t twice = (int32_t)(d * (float)s->t1pr_x2);
 #endif
-    const int32_t on = (twice + 1) / 2;                                  /* [0, T1PR] */
-    return (uint16_t)((int32_t)s->t1pr - on);
+    /* twice >= 0 (d >= 0): the halving as an unsigned shift */
+    const uint32_t on = ((uint32_t)twice + 1u) >> 1;                     /* [0, T1PR] */
+    return (uint16_t)((uint32_t)s->t1pr - on);
 }
 
 /**

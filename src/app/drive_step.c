@@ -280,8 +280,9 @@ static inline void modulate(drive_t *d, hal_pwm_compare_t *out)
     out->cmpr[2] = d->svgen.cmpr[2];
 }
 
-void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
-                hal_pwm_compare_t *out)
+/* The body of drive_step, inline in drive_isr (no call per period). */
+static inline void step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
+                        hal_pwm_compare_t *out)
 {
     uint16_t pwm_on;
     const uint16_t slot = d->slot;
@@ -330,14 +331,20 @@ void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
     d->telemetry.pwm_on = pwm_on;
 }
 
-void drive_isr(drive_t *d)
+void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
+                hal_pwm_compare_t *out)
+{
+    step(d, adc, qep_count, out);
+}
+
+uint16_t drive_isr(drive_t *d)
 {
     hal_adc_sample_t adc;
     hal_pwm_compare_t cmp;
 
     hal_adc_read(&adc);
     d->prot.hw_trip = hal_pwm_tripped();
-    drive_step(d, &adc, hal_qep_read_count(), &cmp);
+    step(d, &adc, hal_qep_read_count(), &cmp);
     hal_pwm_write(&cmp);
     if (d->telemetry.pwm_on != 0u) {
         hal_pwm_enable();
@@ -353,6 +360,7 @@ void drive_isr(drive_t *d)
         protect_latch(&d->prot, FAULT_ISR_OVERRUN);
         hal_pwm_disable();
     }
+    return d->ovr.overrun;
 }
 
 void drive_get_log_signals(const drive_t *d, _iq sig[4])

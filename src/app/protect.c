@@ -13,7 +13,9 @@ int16_t protect_init(protect_t *p, _iq i_trip, _iq vdc_max, _iq vdc_min)
     p->i_trip = i_trip;
     p->vdc_max = vdc_max;
     p->vdc_min = vdc_min;
-    if (!(i_trip > _IQ(0.0)) || !(vdc_min > _IQ(0.0)) || !(vdc_max > vdc_min)) {
+    p->i_span = i_trip + i_trip;
+    if (!(i_trip > _IQ(0.0)) || !(i_trip < _IQ(32.0)) || !(vdc_min > _IQ(0.0)) ||
+        !(vdc_max > vdc_min)) {
         return 1;
     }
     return 0;

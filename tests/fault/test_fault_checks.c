@@ -338,6 +338,34 @@ static void test_protect_priority_and_clear(void **state)
     assert_int_equal(p.fault, FAULT_CURRENT_SENSOR);
 }
 
+/* protect_over against |i| > i_trip over the whole int32_t range: both sides
+ * of the trip by one LSB and the extremes (the IQ build's unsigned range test
+ * must not wrap into "in range"). */
+static void test_protect_over_range(void **state)
+{
+    protect_t p;
+    static const int32_t extremes[] = { INT32_MIN, INT32_MIN + 1, -1, 0, 1,
+                                        INT32_MAX - 1, INT32_MAX };
+    (void)state;
+    assert_int_equal(protect_init(&p, _IQ(0.9), _IQ(1.3), _IQ(0.7)), 0);
+    assert_int_equal(protect_over(&p, p.i_trip), 0u);
+    assert_int_equal(protect_over(&p, -p.i_trip), 0u);
+#if MATH_TYPE == IQ_MATH
+    assert_int_equal(protect_over(&p, p.i_trip + 1), 1u);
+    assert_int_equal(protect_over(&p, -p.i_trip - 1), 1u);
+    for (size_t k = 0; k < sizeof extremes / sizeof extremes[0]; ++k) {
+        const int64_t mag = extremes[k] < 0 ? -(int64_t)extremes[k] : (int64_t)extremes[k];
+        assert_int_equal(protect_over(&p, extremes[k]), (uint16_t)(mag > p.i_trip));
+    }
+#else
+    (void)extremes;
+    assert_int_equal(protect_over(&p, p.i_trip * 1.0001f), 1u);
+    assert_int_equal(protect_over(&p, -p.i_trip * 1.0001f), 1u);
+#endif
+    /* a level the unsigned test cannot hold is refused */
+    assert_int_equal(protect_init(&p, _IQ(40.0), _IQ(41.0), _IQ(0.7)), 1);
+}
+
 /* Healthy runs (no fault injected) of every scenario on the paper motor and
  * of the 1.1 kW motor: no protection trips, and the current check stays
  * below two thirds of its trip level.  Measured: the worst is the
@@ -381,6 +409,7 @@ int main(void)
         cmocka_unit_test(test_theta_guard),
         cmocka_unit_test(test_theta_guard_required),
         cmocka_unit_test(test_protect_priority_and_clear),
+        cmocka_unit_test(test_protect_over_range),
         cmocka_unit_test(test_healthy_runs_margin),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
