@@ -341,6 +341,13 @@ int main(int argc, char **argv)
         fprintf(stderr, "motor_sim: cannot write %s\n", report_path);
         return 2;
     }
+    if (res.plant_diverged_at_s >= 0.0) {
+        fprintf(stderr, "motor_sim: the simulated motor's state stopped being finite at %.6f s "
+                "(its integration diverged): the run ended there%s\n", res.plant_diverged_at_s,
+                (out_dir != NULL) ? "; report.json has null for each figure that was not a "
+                                    "number (\"non_finite\")" : "");
+        return 2;
+    }
     if (!opt.quiet) {
         printf("motor_sim: %s, scenario %s, %.2f s simulated in %.2f s (%.0fx real time)\n",
                config, sim_scenario_name(opt.scenario), res.duration_s, res.wall_s,

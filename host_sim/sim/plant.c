@@ -135,6 +135,14 @@ void plant_inject(plant_t *p, plant_fault_t kind, double value)
     }
 }
 
+int plant_finite(const plant_t *p)
+{
+    const motor_t *m = &p->motor;
+    return isfinite(m->w_m_rad_s) && isfinite(m->theta_m_rad) && isfinite(m->i_alpha_A) &&
+           isfinite(m->i_beta_A) && isfinite(m->psi_r_alpha_Wb) && isfinite(m->psi_r_beta_Wb) &&
+           isfinite(p->i_short_A);
+}
+
 uint16_t plant_trip_line(const plant_t *p) { return (uint16_t)(p->t_s < p->hw_trip_until_s); }
 
 void plant_sample(plant_t *p, hal_host_port_t *port)

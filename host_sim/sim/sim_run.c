@@ -267,6 +267,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     res->t_first_overmod_s = -1.0;
     res->t_last_overmod_s = -1.0;
     res->t_accel_start_s = -1.0;
+    res->plant_diverged_at_s = -1.0;
     sim_config_to_drive(cfg, &dc);
     st = drive_init(&drive, &dc);
     if (st != DRIVE_CFG_OK) {
@@ -514,6 +515,11 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
          * loaded at this underflow; the output enable acts at once */
         plant_period(&plant, &active, port.outputs_enabled);
         active = port.cmp;
+        if (!plant_finite(&plant)) {
+            /* nothing after this is a result: end the run here */
+            res->plant_diverged_at_s = t + Ts;
+            break;
+        }
     }
     if (!opt->quiet && duration > 5.0) {
         fprintf(stderr, "\n");

@@ -129,6 +129,10 @@ typedef struct {
     double drift_max_q_over_d_20ms; /* max |20 ms mean of psi_rq/psi_rd| */
     double drift_speed_ripple_rpm;  /* max |speed ref - speed| */
     double drift_rr_true_end_ohm;   /* the plant's Rr at the end */
+    /* the plant's state stopped being finite numbers (the integration
+     * diverged; sim_config_check refuses the time constants that make it):
+     * the time, and the run ended there; -1: never */
+    double plant_diverged_at_s;
 } sim_result_t;
 
 /** Run; returns 0, or non-zero with a message in err (drive_init or a model

@@ -234,6 +234,41 @@ static void test_magnetisation_true_tr(void **state)
                  "5 Tr of the simulated motor");
 }
 
+/* What the plant cannot integrate is refused at load, naming the key and
+ * the least value (sim_config_check.c: every time constant at least one RK4
+ * substep; J over the load's slope at 4 pu at least one PWM period, over
+ * which the plant holds the load torque).  1e-7 kg m^2 is inside the key's
+ * range and drove the paper motor's plant to NaN.  Paper motor: the load
+ * slope 2 x 0.30 N m x (4 x 2 pi 50 / 2) / (2 pi 1400 / 60)^2 = 0.01754 N m s
+ * gives J >= 0.01754 / 15000 = 1.169e-6 kg m^2. */
+static void test_plant_integration_limits(void **state)
+{
+    char path[] = "/tmp/mc_cfg_test_XXXXXX";
+    int fd;
+    sim_config_t cfg;
+    char err[SIM_CONFIG_ERR_LEN];
+    (void)state;
+    expect_error("J_kgm2", "J_kgm2 = 1e-7", "key 'plant.J_kgm2' = 1e-07 kg m^2 is too small to "
+                 "integrate: the simulated motor's mechanical time constant");
+    expect_error("J_kgm2", "J_kgm2 = 1.16e-6", "key 'plant.J_kgm2' = 1.16e-06 kg m^2 is too "
+                 "small to integrate: J over the load's slope at 4 pu of speed (load.prop_Nm_s, "
+                 "load.fan_Nm) = 6.61e-05 s is shorter than the PWM period 6.67e-05 s");
+    expect_error("J_kgm2", "J_kgm2 = 1.16e-6", "at least 1.17e-06 kg m^2");
+    /* more substeps resolve the mechanical mode, not the held load */
+    expect_error("J_kgm2", "J_kgm2 = 1e-7\n[simulation]\nsubsteps = 64\n[plant]", "J over the load's slope at 4 pu of speed");
+    /* just above: loads */
+    fd = mkstemp(path);
+    assert_true(fd >= 0);
+    write_variant(path, "J_kgm2", "J_kgm2 = 1.18e-6");
+    if (sim_config_load(path, &cfg, err, sizeof err) != 0) {
+        fail_msg("J = 1.18e-6 refused: %s", err);
+    }
+    remove(path);
+    /* almost no leakage: the electrical mode (1.3 us) below the 16.7 us substep */
+    expect_error(NULL, "[plant]\nLls_H = 1e-6\nLlr_H = 1e-6",
+                 "the simulated motor's electrical time constant");
+}
+
 static void test_not_a_number(void **state)
 {
     (void)state;
@@ -314,6 +349,7 @@ int main(void)
         cmocka_unit_test(test_orientation_out_of_range), cmocka_unit_test(test_ratings),
         cmocka_unit_test(test_bus_too_low),         cmocka_unit_test(test_adaptation_keys),
         cmocka_unit_test(test_magnetisation_true_tr),
+        cmocka_unit_test(test_plant_integration_limits),
         cmocka_unit_test(test_not_a_number),        cmocka_unit_test(test_duplicate_key),
         cmocka_unit_test(test_malformed_line),      cmocka_unit_test(test_missing_file),
     };
