@@ -172,6 +172,24 @@ static int check_world(const sim_config_t *c, char *err, size_t len)
                            0.95 * vmax_phase);
         return 1;
     }
+    /* the bridge's own losses on top (the drive's table asks the same of
+     * the programmed dead time, DRIVE_LD_HEADROOM): two device drops and the
+     * dead time's vdc td f_pwm within the same 95 % */
+    if (need + 2.0 * inv->device_drop_V + inv->vdc_V * inv->dead_time_s * c->board.pwm_freq_Hz >
+        0.95 * vmax_phase) {
+        double td_max = (0.95 * vmax_phase - need - 2.0 * inv->device_drop_V) /
+                        (inv->vdc_V * c->board.pwm_freq_Hz);
+        sim_config_set_err(err, len, "key 'inverter.dead_time_s' = %g s (default "
+                           "board.dead_time_s) eats the modulation range: the simulated motor "
+                           "needs %.1f V peak per phase at rated speed, the bridge loses %.1f V "
+                           "(2 inverter.device_drop_V + inverter.vdc_V inverter.dead_time_s "
+                           "board.pwm_freq_Hz), the bus gives %.1f V (with 5 %% margin): at most "
+                           "%.3g s", inv->dead_time_s, need,
+                           2.0 * inv->device_drop_V +
+                               inv->vdc_V * inv->dead_time_s * c->board.pwm_freq_Hz,
+                           0.95 * vmax_phase, (td_max > 0.0) ? td_max : 0.0);
+        return 1;
+    }
     if (check_integration(c, err, len) != 0) {
         return 1;
     }

@@ -78,9 +78,20 @@ static const char *const k_why[DRIVE_LD_COUNT] = {
                             "the test with its pause in the second half of ident.magnetize_s",
     [DRIVE_LD_TRACKER] = "the Rr/Tr tracker (ident.track_rr = 1): its range Tr/4 .. 4 Tr within "
                          "30 pu of 1/Tr, and its guard",
-    [DRIVE_LD_TARGET] = "at most 1.2 nameplate.rated_speed_rpm",
+    [DRIVE_LD_TARGET] = "what the identification can use: at least the largest of 20 % of "
+                        "nameplate.rated_speed_rpm (the RLS's back-EMF excitation), 10 encoder "
+                        "counts a time constant of the regression's filter (150 (2 pi "
+                        "ident.filter_cutoff_Hz) / board.encoder_lines r/min) and, with "
+                        "controller.orientation = 1, the RLS's 30 Hz stator-frequency gate "
+                        "(1800 / nameplate.pole_pairs r/min); at most 1.2 "
+                        "nameplate.rated_speed_rpm (-1 in the INI: the rated speed)",
     [DRIVE_LD_TARGET_PU] = "within the speed reference's 2 pu "
                            "(60 nameplate.rated_freq_Hz / nameplate.pole_pairs r/min a pu)",
+    [DRIVE_LD_HEADROOM] = "the modulation headroom at the target speed: the believed motor's "
+                          "phase voltage there (i_M and the rest of the rated current as "
+                          "torque current) plus 2 board.device_drop_V plus the dead time's "
+                          "board.vdc_nominal_V board.dead_time_s board.pwm_freq_Hz within 95 % "
+                          "of board.vdc_nominal_V / sqrt(3) (linear SVPWM)",
     [DRIVE_LD_DIDT] = "the steady-state di/dt threshold (5 % of the rated peak a second) in Q24",
     [DRIVE_LD_OC_FS] = "below the current sensors' full scale board.current_full_scale_A",
     [DRIVE_LD_TORQUE_OC] = "at most the trip level controller.overcurrent_A",

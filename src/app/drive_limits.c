@@ -27,6 +27,40 @@
 #define Q24_HEADROOM 127.0f        /* a pu value converted to Q24 (< 128) */
 #define NO_UPPER FLT_MAX           /* a limit with a lower bound only */
 
+/* The identification's target speed (drive_limits.h, DRIVE_LD_TARGET), at
+ * least the largest of:
+ *  - TARGET_MIN_OF_RATED of the rated speed: the RLS separates the back-EMF
+ *    term K4 w_r from the resistive and dead-time voltages only with enough
+ *    speed; measured (motor_sim, IQ_MATH) the worst published error rises
+ *    below it: paper 50 r/min 2.3 %, 1.1 kW 100 r/min 3.8 %, 15 kW 100 r/min
+ *    3.2 %; from 20 % (280-290 r/min) all three stay within 1.3 %;
+ *  - TARGET_COUNTS_PER_TAU encoder counts a time constant 1/w_c of the
+ *    regression's Butterworth filter: the rotor speed w_r it filters comes
+ *    from the count, whose quantisation the filter averages only over that
+ *    many counts (n >= 10 x 60 w_c / (4 lines) r/min: 9.4 r/min for the
+ *    paper's 1000 lines at 10 Hz, 590 r/min for 16 lines);
+ *  - with orientation 1, the RLS's gate: it learns only while the stator
+ *    frequency is above FOBS_RLS_WS_OVER_WC FOBS_WC_HZ = 30 Hz
+ *    (drive_slow.c), i.e. 60 x 30 / p r/min (900 r/min at p = 2: at
+ *    700 r/min the paper motor's adaptive sequence published 14.8 % off).
+ * and at most TARGET_MAX_OF_RATED of the rated speed. */
+#define TARGET_MIN_OF_RATED 0.2f
+#define TARGET_MAX_OF_RATED 1.2f
+#define TARGET_COUNTS_PER_TAU 10.0f
+
+/* The modulation headroom the identification needs at its target speed
+ * (DRIVE_LD_HEADROOM): the believed motor's steady phase voltage with the
+ * magnetising current and the rest of the rated current as torque current,
+ * u_d = Rs i_d - w sigma Ls i_q, u_q = Rs i_q + w Ls i_d (w: the target's
+ * electrical speed), plus what the bridge loses, two device drops and the
+ * dead time's vdc td f_pwm per leg (the same budget as tools/family sizes
+ * its buses with), within HEADROOM_FRACTION of the linear SVPWM range
+ * vdc / sqrt(3).  Beyond it the current loops saturate or the modulator
+ * clips during the acceleration, and the regression's voltage is no longer
+ * the bridge's: 10 us at 15 kHz (9 V of the paper motor's 34.6 V) published
+ * Rr +21 %, 5 us at 50 kHz (15 V) +131 %. */
+#define HEADROOM_FRACTION 0.95f
+
 #define ST(s) ((int16_t)(s))
 #define FIELD_F(key, member, unit, st, lo, hi)                                                   \
     { key, unit, ST(st), DRIVE_LIMIT_F32, (uint16_t)offsetof(drive_config_t, member), 0u,   \
@@ -157,6 +191,7 @@ static const drive_limit_t k_limits[] = {
     DERIVED("ident.track_rr", "-", DRIVE_CFG_IDENT, DRIVE_LD_TRACKER),
     DERIVED("ident.target_speed_rpm", "r/min", DRIVE_CFG_SEQUENCE, DRIVE_LD_TARGET),
     DERIVED("ident.target_speed_rpm", "r/min", DRIVE_CFG_SEQUENCE, DRIVE_LD_TARGET_PU),
+    DERIVED("board.dead_time_s", "s", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_HEADROOM),
     DERIVED("nameplate.rated_current_A", "A rms", DRIVE_CFG_SEQUENCE, DRIVE_LD_DIDT),
     DERIVED("controller.overcurrent_A", "A", DRIVE_CFG_PROTECTION, DRIVE_LD_OC_FS),
     DERIVED("controller.max_torque_current_A", "A", DRIVE_CFG_PROTECTION, DRIVE_LD_TORQUE_OC),
@@ -605,12 +640,47 @@ static int16_t check_sequence_and_protection(const drive_limit_t *l, const limit
     int16_t ok;
 
     switch (which) {
-    case DRIVE_LD_TARGET:
-        v = 1.2f * c->motor.rated_speed_rpm;
-        return verdict((int16_t)(target <= v), f, target, 0.0f, v, LO_OPEN);
+    case DRIVE_LD_TARGET: {
+        float floor_obs = (c->control.orientation == DRIVE_ORIENT_FLUX_OBS)
+                              ? 60.0f * FOBS_RLS_WS_OVER_WC * FOBS_WC_HZ / (float)c->motor.pole_pairs
+                              : 0.0f;
+        float floor_enc = TARGET_COUNTS_PER_TAU * 60.0f * c->ident.filter_wc_rad_s /
+                          (4.0f * (float)bd->encoder_lines);
+        float lo = fmaxf(fmaxf(TARGET_MIN_OF_RATED * c->motor.rated_speed_rpm, floor_enc),
+                         floor_obs);
+        v = TARGET_MAX_OF_RATED * c->motor.rated_speed_rpm;
+        if (lo > v && floor_obs >= lo) {
+            /* no target can reach the observer's gate: the motor's rated
+             * frequency is below it */
+            return report_as(f, "controller.orientation", "-", 1.0f, 0.0f, 0.0f, 0u);
+        }
+        return verdict((int16_t)(target >= lo && target <= v), f, target, lo, v, 0u);
+    }
     case DRIVE_LD_TARGET_PU:
         return verdict((int16_t)(g->target_pu <= DRIVE_SPEED_REF_MAX_PU), f, target, 0.0f,
                        DRIVE_SPEED_REF_MAX_PU * b->n_base_rpm, LO_OPEN);
+    case DRIVE_LD_HEADROOM: {
+        const drive_motor_t *m = &c->motor;
+        float w = DRIVE_TWO_PI_F * target / 60.0f * (float)m->pole_pairs;
+        float ipk = 1.41421356f * m->rated_current_A_rms;
+        float id = m->magnetizing_current_A;
+        float iq = (ipk > id) ? sqrtf(ipk * ipk - id * id) : 0.0f;
+        float ud = m->Rs_ohm * id - w * g->sls * iq;
+        float uq = m->Rs_ohm * iq + w * m->Ls_H * id;
+        float lin = HEADROOM_FRACTION / DRIVE_SQRT3_F;   /* of vdc */
+        float budget = lin * bd->vdc_nominal_V - sqrtf(ud * ud + uq * uq) -
+                       2.0f * bd->device_drop_V;
+        float per_s = bd->vdc_nominal_V * bd->pwm_freq_Hz;   /* V per second of dead time */
+        if (!(budget > 0.0f)) {
+            /* no dead time fits: the bus is too low for the target */
+            float k = lin - bd->dead_time_s * bd->pwm_freq_Hz;   /* > 0: td <= Ts/4 */
+            return report_as(f, "board.vdc_nominal_V", "V", bd->vdc_nominal_V,
+                             (sqrtf(ud * ud + uq * uq) + 2.0f * bd->device_drop_V) / k,
+                             NO_UPPER, LO_OPEN | HI_OPEN);
+        }
+        return verdict((int16_t)(bd->dead_time_s * per_s <= budget), f, bd->dead_time_s, 0.0f,
+                       budget / per_s, 0u);
+    }
     case DRIVE_LD_DIDT:
         return verdict((int16_t)(g->didt_pu < Q24_HEADROOM), f, c->motor.rated_current_A_rms, 0.0f,
                        c->motor.rated_current_A_rms * Q24_HEADROOM / g->didt_pu, BOTH_OPEN);

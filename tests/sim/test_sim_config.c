@@ -212,8 +212,10 @@ static void test_bus_too_low(void **state)
 {
     (void)state;
     expect_error(NULL, "[inverter]\nvdc_V = 45", "key 'inverter.vdc_V' = 45 V");
-    expect_error("vdc_nominal_V", "vdc_nominal_V = 45", "key 'inverter.vdc_V' = 45 V "
-                 "(default board.vdc_nominal_V) is too low for rated speed");
+    /* a nominal bus too low for the target: the drive's own headroom limit
+     * (DRIVE_LD_HEADROOM) names it first */
+    expect_error("vdc_nominal_V", "vdc_nominal_V = 45", "key 'board.vdc_nominal_V' = 45 V is "
+                 "outside (57.6313, inf) V: the modulation headroom at the target speed");
     /* the simulated bus outside the drive's trip levels */
     expect_error(NULL, "[inverter]\nvdc_V = 85", "key 'inverter.vdc_V' = 85 V");
 }
@@ -267,6 +269,54 @@ static void test_plant_integration_limits(void **state)
     /* almost no leakage: the electrical mode (1.3 us) below the 16.7 us substep */
     expect_error(NULL, "[plant]\nLls_H = 1e-6\nLlr_H = 1e-6",
                  "the simulated motor's electrical time constant");
+}
+
+/* ident.target_speed_rpm: -1 is the rated speed (the documented sentinel);
+ * 0 and other negative values are errors (they silently meant rated); a
+ * speed below what the identification can use is refused with the floor
+ * (1 r/min never published and said nothing) */
+static void test_target_speed(void **state)
+{
+    char path[] = "/tmp/mc_cfg_test_XXXXXX";
+    int fd;
+    sim_config_t cfg;
+    char err[SIM_CONFIG_ERR_LEN];
+    (void)state;
+    expect_error("magnetize_s", "magnetize_s = 0.3\ntarget_speed_rpm = 0",
+                 "key 'ident.target_speed_rpm' = 0 r/min is not a speed the identification can "
+                 "run at: give the target (r/min, > 0) or -1 for the nameplate's rated speed");
+    expect_error("magnetize_s", "magnetize_s = 0.3\ntarget_speed_rpm = -0.5",
+                 "key 'ident.target_speed_rpm' = -0.5 r/min is not a speed");
+    expect_error("magnetize_s", "magnetize_s = 0.3\ntarget_speed_rpm = -2",
+                 "key 'ident.target_speed_rpm' = -2 r/min is not a speed");
+    expect_error("magnetize_s", "magnetize_s = 0.3\ntarget_speed_rpm = 1",
+                 "key 'ident.target_speed_rpm' = 1 r/min is outside [280, 1680] r/min: what the "
+                 "identification can use");
+    fd = mkstemp(path);
+    assert_true(fd >= 0);
+    write_variant(path, "magnetize_s", "magnetize_s = 0.3\ntarget_speed_rpm = -1");
+    if (sim_config_load(path, &cfg, err, sizeof err) != 0) {
+        fail_msg("target -1 refused: %s", err);
+    }
+    assert_true(cfg.ident.target_speed_rpm == 1400.0);
+    remove(path);
+}
+
+/* A dead time that eats the modulation range is refused by the drive's
+ * table (board.dead_time_s, DRIVE_LD_HEADROOM) and, for the bridge's own,
+ * by the simulated world's check (inverter.dead_time_s): 10 us at 15 kHz
+ * published Rr +21 %, 5 us at 50 kHz +131 % */
+static void test_dead_time_headroom(void **state)
+{
+    (void)state;
+    expect_error("dead_time_s", "dead_time_s = 1e-5", "key 'board.dead_time_s' = 1e-05 s is "
+                 "outside [0, 2.40407e-06] s: the modulation headroom at the target speed");
+    expect_error("dead_time_s", "dead_time_s = 5e-6\npwm_freq_Hz = 50000",
+                 "key 'board.dead_time_s' = 5e-06 s is outside [0, 7.2122e-07] s: the "
+                 "modulation headroom");
+    expect_error(NULL, "[inverter]\ndead_time_s = 1e-5", "key 'inverter.dead_time_s' = 1e-05 s "
+                 "(default board.dead_time_s) eats the modulation range: the simulated motor "
+                 "needs 30.1 V peak per phase at rated speed, the bridge loses 9.6 V");
 }
 
 static void test_not_a_number(void **state)
@@ -350,6 +400,8 @@ int main(void)
         cmocka_unit_test(test_bus_too_low),         cmocka_unit_test(test_adaptation_keys),
         cmocka_unit_test(test_magnetisation_true_tr),
         cmocka_unit_test(test_plant_integration_limits),
+        cmocka_unit_test(test_target_speed),
+        cmocka_unit_test(test_dead_time_headroom),
         cmocka_unit_test(test_not_a_number),        cmocka_unit_test(test_duplicate_key),
         cmocka_unit_test(test_malformed_line),      cmocka_unit_test(test_missing_file),
     };
