@@ -309,16 +309,23 @@ static void test_protect_priority_and_clear(void **state)
     (void)state;
     assert_int_equal(protect_init(&p, _IQ(0.9), _IQ(1.3), _IQ(0.7)), 0);
     p.vdc = _IQ(1.0);
-    /* rail and overvoltage at once: the rail wins (a railed reading is no voltage) */
+    /* a rail with the bus inside its limits: ADC_RAIL */
+    p.adc_rail = 1u;
+    protect_step(&p);
+    assert_int_equal(p.fault, FAULT_ADC_RAIL);
+    p.adc_rail = 0u;
+    assert_int_equal(protect_clear(&p), 1u);
+    /* rail and overvoltage at once (the bus reading at its top rail is at
+     * least the full scale): an overvoltage, what the drive must assume */
     p.adc_rail = 1u;
     p.vdc = _IQ(2.0);
     protect_step(&p);
-    assert_int_equal(p.fault, FAULT_ADC_RAIL);
+    assert_int_equal(p.fault, FAULT_BUS_OVERVOLTAGE);
     /* first fault stays latched */
     p.adc_rail = 0u;
     p.ia = _IQ(1.0);
     protect_step(&p);
-    assert_int_equal(p.fault, FAULT_ADC_RAIL);
+    assert_int_equal(p.fault, FAULT_BUS_OVERVOLTAGE);
     /* not cleared while a cause is present: overcurrent, or a low bus even
      * with the bridge off */
     assert_int_equal(protect_clear(&p), 0u);

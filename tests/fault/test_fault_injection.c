@@ -40,7 +40,12 @@ static const fault_case_t k_cases[] = {
     {"bus sag -50 %", PLANT_FAULT_BUS_SAG, 0.5, FAULT_BUS_UNDERVOLTAGE, 0.0},
     {"encoder frozen", PLANT_FAULT_ENCODER_LOST, 0.0, FAULT_ENCODER, 0.05 + 3.0 / 15000.0},
     {"encoder jump 100 counts", PLANT_FAULT_ENCODER_JUMP, 100.0, FAULT_ENCODER, 0.0},
-    {"bus feedback at the ADC rail", PLANT_FAULT_ADC_RAIL, 0.0, FAULT_ADC_RAIL, 0.0},
+    /* beyond the bus sensor's range (60 V x 1.7 = 102 V, full scale 100 V): the
+     * reading at its rail is an overvoltage */
+    {"bus overvoltage +70 % (ADC rail)", PLANT_FAULT_OVERVOLTAGE, 0.7, FAULT_BUS_OVERVOLTAGE, 0.0},
+    /* the bus divider's low side open, the pin at the clamp: the drive reads a
+     * bus at its top rail and cannot tell it from a real one */
+    {"bus feedback at the ADC rail", PLANT_FAULT_ADC_RAIL, 0.0, FAULT_BUS_OVERVOLTAGE, 0.0},
     {"PDPINTA (power stage trip)", PLANT_FAULT_HW_TRIP, 100.0, FAULT_HW_TRIP, 0.0},
     {"phase-b sensor lost (reads 0 A)", PLANT_FAULT_HALL_LOST, 0.0, FAULT_CURRENT_SENSOR, 0.002},
 };
