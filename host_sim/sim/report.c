@@ -147,7 +147,6 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
     FILE *f = fopen(path, "w");
     unsigned i;
     int write_failed;
-    (void)cfg;
     if (f == NULL) {
         return -1;
     }
@@ -164,6 +163,11 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
 #endif
     );
     jw_field(&w, "duration_s", r->duration_s);
+    if (opt->trace_path != NULL) {
+        /* the trace's row spacing (motor_sim may thin the 1 ms default to fit its limit) */
+        fprintf(f, "  \"trace_every_periods\": %llu,\n",
+                (unsigned long long)sim_trace_every(cfg, opt));
+    }
     jw_field(&w, "wall_s", r->wall_s);
     fprintf(f, "  \"published\": %s,\n", r->identified ? "true" : "false");
     fprintf(f, "  \"settle_timeout\": %s,\n", r->settle_timeout ? "true" : "false");

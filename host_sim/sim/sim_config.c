@@ -233,7 +233,7 @@ static int check_value(const key_spec_t *k, double v, char *err, size_t len)
             f.lo = l->lo;
             f.hi = l->hi;
             f.open = l->open;
-            sim_limit_message(err, len, &f);
+            sim_limit_message_value(err, len, &f, v);
             return 1;
         }
         if (whole && v != floor(v)) {
@@ -288,7 +288,11 @@ static int on_key(void *user, const char *section, const char *name, const char 
     while (end != NULL && (*end == ' ' || *end == '\t')) {
         end++;
     }
-    if (value[0] == '\0' || end == NULL || *end != '\0' || errno != 0 || !isfinite(v)) {
+    /* strtod's ERANGE: an overflow (1e999, +-HUGE_VAL) is no finite number;
+     * an underflow (1e-320) is a finite, subnormal one, and the range check
+     * below judges it with the key's range */
+    if (value[0] == '\0' || end == NULL || *end != '\0' || !isfinite(v) ||
+        (errno != 0 && !(errno == ERANGE && fabs(v) < 1.0))) {
         sim_config_set_err(ctx->err, sizeof ctx->err, "key '%s.%s': '%s' is not a finite number",
                            section, name, value);
         return 0;

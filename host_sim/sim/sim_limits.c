@@ -125,13 +125,18 @@ static int is_ini_key(const char *key)
 
 void sim_limit_message(char *buf, size_t len, const drive_limit_fail_t *f)
 {
+    sim_limit_message_value(buf, len, f, (double)f->value);
+}
+
+void sim_limit_message_value(char *buf, size_t len, const drive_limit_fail_t *f, double value)
+{
     char range[80];
     const char *unit = (strcmp(f->unit, "-") == 0) ? "" : f->unit;
     const char *why = (f->limit != NULL && f->limit->kind == DRIVE_LIMIT_DERIVED)
                           ? sim_limit_why(f->limit->where) : "";
     sim_limit_range(range, sizeof range, f->lo, f->hi, f->open);
     snprintf(buf, len, "%s%s%s = %g%s%s is outside %s%s%s%s%s", is_ini_key(f->key) ? "key '" : "",
-             f->key, is_ini_key(f->key) ? "'" : "", (double)f->value, unit[0] ? " " : "", unit,
+             f->key, is_ini_key(f->key) ? "'" : "", value, unit[0] ? " " : "", unit,
              range, unit[0] ? " " : "", unit, why[0] ? ": " : "", why);
 }
 
