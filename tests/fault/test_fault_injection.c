@@ -161,9 +161,34 @@ static void test_gain_error_after_publication(void **state)
     assert_int_equal(r.published_changed, 0);
 }
 
+/* A phase-a sensor reading twice the current (gain error +100 %) from the
+ * start: the run's extraction is implausible, and nothing may be published
+ * (the published-set gate: publishing an implausible extraction gave a set
+ * of zeros); the drive keeps running.  Paper motor and the 1.1 kW motor. */
+static void test_gross_gain_error_publishes_nothing(void **state)
+{
+    static const char *const inis[2] = {PAPER, MC_CONFIG_DIR "/motor_1kw.ini"};
+    const sim_fault_t f = {PLANT_FAULT_HALL_GAIN, 0.0, 1.0};
+    sim_config_t cfg;
+    sim_result_t r;
+    unsigned k;
+    (void)state;
+    for (k = 0; k < 2u; k++) {
+        assert_int_equal(fault_run(inis[k], &f, 1u, NULL, 0u, 5.0, &cfg, &r), 0);
+        print_message("%s, hall gain +100 %%: published %u (first at %.3f s), extractions refused "
+                      "%u, faults %u, final state %u\n", inis[k], r.identified,
+                      r.t_first_published_s, r.publish_rejects, r.n_faults_seen, r.final_state);
+        assert_int_equal(r.identified, 0);
+        assert_true(r.t_first_published_s < 0.0);
+        /* the sequence reached its extraction, and refused it */
+        assert_true(r.publish_rejects >= 1u);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_gross_gain_error_publishes_nothing),
         cmocka_unit_test(test_faults_after_publication),
         cmocka_unit_test(test_faults_during_identification),
         cmocka_unit_test(test_offset_at_calibration),
