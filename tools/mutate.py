@@ -258,9 +258,10 @@ MUTANTS = [
       "r->y1 = r->f_im.dy - r->f_ws_it.y;", "r->y1 = r->f_im.dy + r->f_ws_it.y;",
       "row 1 of the regression (method eq. 5) with the cross-coupling of the wrong sign"),
     # ---- configuration limits ---------------------------------------------------
-    M("headroom_margin_1", "src/app/drive_limits.c",
-      "#define HEADROOM_FRACTION 0.95f", "#define HEADROOM_FRACTION 1.0f",
-      "the modulation headroom without its 5 % margin"),
+    M("dead_time_loss_40pct", "src/app/drive_limits.c",
+      "#define HEADROOM_LOSS_OF_VOLTAGE 0.3f", "#define HEADROOM_LOSS_OF_VOLTAGE 0.4f",
+      "a dead-time loss of 40 % of the motor's voltage at the target accepted (8 us on the "
+      "paper motor: Tr -5 %)"),
     M("target_floor_10pct", "src/app/drive_limits.c",
       "#define TARGET_MIN_OF_RATED 0.2f", "#define TARGET_MIN_OF_RATED 0.1f",
       "a target speed below what the RLS's excitation needs accepted"),

@@ -87,11 +87,12 @@ static const char *const k_why[DRIVE_LD_COUNT] = {
                         "nameplate.rated_speed_rpm (-1 in the INI: the rated speed)",
     [DRIVE_LD_TARGET_PU] = "within the speed reference's 2 pu "
                            "(60 nameplate.rated_freq_Hz / nameplate.pole_pairs r/min a pu)",
-    [DRIVE_LD_HEADROOM] = "the modulation headroom at the target speed: the believed motor's "
-                          "phase voltage there (i_M and the rest of the rated current as "
-                          "torque current) plus 2 board.device_drop_V plus the dead time's "
-                          "board.vdc_nominal_V board.dead_time_s board.pwm_freq_Hz within 95 % "
-                          "of board.vdc_nominal_V / sqrt(3) (linear SVPWM)",
+    [DRIVE_LD_HEADROOM] = "the dead time against the voltage at the target speed: what the "
+                          "bridge loses per leg, board.vdc_nominal_V board.dead_time_s "
+                          "board.pwm_freq_Hz + board.device_drop_V, at most 30 % of the "
+                          "believed motor's no-load phase voltage there, "
+                          "|Rs + j w Ls| controller.magnetizing_current_A (beyond, the "
+                          "compensated reference clips once the motor is loaded)",
     [DRIVE_LD_DIDT] = "the steady-state di/dt threshold (5 % of the rated peak a second) in Q24",
     [DRIVE_LD_OC_FS] = "below the current sensors' full scale board.current_full_scale_A",
     [DRIVE_LD_TORQUE_OC] = "at most the trip level controller.overcurrent_A",

@@ -212,10 +212,8 @@ static void test_bus_too_low(void **state)
 {
     (void)state;
     expect_error(NULL, "[inverter]\nvdc_V = 45", "key 'inverter.vdc_V' = 45 V");
-    /* a nominal bus too low for the target: the drive's own headroom limit
-     * (DRIVE_LD_HEADROOM) names it first */
-    expect_error("vdc_nominal_V", "vdc_nominal_V = 45", "key 'board.vdc_nominal_V' = 45 V is "
-                 "outside (57.6313, inf) V: the modulation headroom at the target speed");
+    expect_error("vdc_nominal_V", "vdc_nominal_V = 45", "key 'inverter.vdc_V' = 45 V "
+                 "(default board.vdc_nominal_V) is too low for rated speed");
     /* the simulated bus outside the drive's trip levels */
     expect_error(NULL, "[inverter]\nvdc_V = 85", "key 'inverter.vdc_V' = 85 V");
 }
@@ -303,17 +301,20 @@ static void test_target_speed(void **state)
 }
 
 /* A dead time that eats the modulation range is refused by the drive's
- * table (board.dead_time_s, DRIVE_LD_HEADROOM) and, for the bridge's own,
- * by the simulated world's check (inverter.dead_time_s): 10 us at 15 kHz
- * published Rr +21 %, 5 us at 50 kHz +131 % */
+ * table (board.dead_time_s, DRIVE_LD_HEADROOM: the loss against the
+ * motor's voltage at the target speed) and, for the bridge's own, by the
+ * simulated world's check (inverter.dead_time_s: the true motor's need at
+ * rated current plus the loss within 95 % of the range): 10 us at 15 kHz
+ * published Rr +21 %, 5 us at 50 kHz +121 % */
 static void test_dead_time_headroom(void **state)
 {
     (void)state;
     expect_error("dead_time_s", "dead_time_s = 1e-5", "key 'board.dead_time_s' = 1e-05 s is "
-                 "outside [0, 2.40407e-06] s: the modulation headroom at the target speed");
+                 "outside [0, 5.98392e-06] s: the dead time against the voltage at the target "
+                 "speed");
     expect_error("dead_time_s", "dead_time_s = 5e-6\npwm_freq_Hz = 50000",
-                 "key 'board.dead_time_s' = 5e-06 s is outside [0, 7.2122e-07] s: the "
-                 "modulation headroom");
+                 "key 'board.dead_time_s' = 5e-06 s is outside [0, 1.79518e-06] s: the dead "
+                 "time against the voltage");
     expect_error(NULL, "[inverter]\ndead_time_s = 1e-5", "key 'inverter.dead_time_s' = 1e-05 s "
                  "(default board.dead_time_s) eats the modulation range: the simulated motor "
                  "needs 30.1 V peak per phase at rated speed, the bridge loses 9.6 V");
