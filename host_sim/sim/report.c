@@ -126,14 +126,14 @@ static const char *fault_name(uint16_t code)
  * number, with what it was; and where the plant diverged. */
 static void json_non_finite(jw_t *w, const sim_result_t *r)
 {
-    unsigned i, n = (w->n_bad < REPORT_MAX_NON_FINITE) ? w->n_bad : REPORT_MAX_NON_FINITE;
+    unsigned i;
     fprintf(w->f, "  \"non_finite\": {");
-    for (i = 0; i < n; i++) {
+    for (i = 0; i < w->n_bad && i < REPORT_MAX_NON_FINITE; i++) {
         fprintf(w->f, "%s\"%s\": \"%s: not a finite number, written as null\"", i ? ", " : "",
                 w->bad[i], isnan(w->bad_v[i]) ? "nan" : (w->bad_v[i] > 0.0 ? "+inf" : "-inf"));
     }
-    if (w->n_bad > n) {
-        fprintf(w->f, "%s\"more\": \"%u more\"", n ? ", " : "", w->n_bad - n);
+    if (w->n_bad > REPORT_MAX_NON_FINITE) {
+        fprintf(w->f, ", \"more\": \"%u more\"", w->n_bad - REPORT_MAX_NON_FINITE);
     }
     fprintf(w->f, "},\n");
     json_num_or_null(w, "plant_diverged_at_s", r->plant_diverged_at_s,
