@@ -378,7 +378,7 @@ int main(int argc, char **argv)
     char trace_path[1024], report_path[1024];
     sim_serial_options_t ser;
     sim_serial_t *serial = NULL;
-    const char *fault_arg[SIM_MAX_FAULTS], *cmd_arg[SIM_MAX_CMDS];
+    const char *fault_arg[SIM_MAX_FAULTS] = {NULL}, *cmd_arg[SIM_MAX_CMDS] = {NULL};
     const char *duration_arg = NULL;
     double trace_max_mb = SIM_TRACE_MAX_MB_DEFAULT;
     char why[512];

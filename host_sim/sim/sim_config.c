@@ -18,7 +18,7 @@
 #include "sim_config_check.h"
 #include "sim_limits.h"
 
-#define TARGET_RATED -1.0   /* ident.target_speed_rpm: the nameplate's rated speed */
+#define TARGET_RATED (-1.0)  /* ident.target_speed_rpm: the nameplate's rated speed */
 
 #define REQ 1  /* the key must be present */
 #define OPT 0  /* the key may be omitted: its default applies */
