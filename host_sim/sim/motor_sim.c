@@ -104,9 +104,11 @@ static void usage(FILE *f)
             "                     are created if missing)\n"
             "  --trace-every N    one trace row every N PWM periods (default: 1 ms, 15 at\n"
             "                     15 kHz); a whole number in [1, 1e9]\n"
-            "  --trace-max-mb M   largest trace.csv, MB (default %g, at most %g): a run whose\n"
-            "                     trace would be larger is refused before it starts, saying the\n"
-            "                     --trace-every that fits\n"
+            "  --trace-max-mb M   largest trace.csv, MB (default %g, at most %g): the 1 ms\n"
+            "                     default is thinned to fit (a note says so); with\n"
+            "                     --trace-every given, a run whose trace would be larger is\n"
+            "                     refused, saying the --trace-every that fits; a --serial\n"
+            "                     session without --duration stops tracing at the limit\n"
             "  --fault NAME@T[=V] inject at T seconds (before the run's last PWM period); V\n"
             "                     must change something (not 0; in its range):\n",
             scenario_names(), SIM_TRACE_MAX_MB_DEFAULT, SIM_TRACE_MAX_MB_LIMIT);
@@ -522,7 +524,11 @@ int main(int argc, char **argv)
             return 1;
         }
         opt.trace_path = trace_path;
-        if (size_trace(&cfg, &opt, trace_max_mb) != 0) {
+        if (ser.link_path != NULL && duration_arg == NULL) {
+            /* a session the client ends: no length to size the trace by; it
+             * stops at the limit (the run goes on), saying so */
+            opt.trace_max_bytes = trace_max_mb * 1e6;
+        } else if (size_trace(&cfg, &opt, trace_max_mb) != 0) {
             return 1;
         }
     }
@@ -560,6 +566,11 @@ int main(int argc, char **argv)
     if (out_dir != NULL && report_write_json(report_path, &cfg, config, &opt, &res) != 0) {
         fprintf(stderr, "motor_sim: cannot write %s\n", report_path);
         return 2;
+    }
+    if (res.trace_truncated_at_s >= 0.0) {
+        fprintf(stderr, "motor_sim: %s reached --trace-max-mb %g at %.3f s: the rest of the run "
+                "is not traced (--trace-every thins it)\n", trace_path, trace_max_mb,
+                res.trace_truncated_at_s);
     }
     if (res.plant_diverged_at_s >= 0.0) {
         fprintf(stderr, "motor_sim: the simulated motor's state stopped being finite at %.6f s "

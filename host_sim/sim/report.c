@@ -164,9 +164,12 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
     );
     jw_field(&w, "duration_s", r->duration_s);
     if (opt->trace_path != NULL) {
-        /* the trace's row spacing (motor_sim may thin the 1 ms default to fit its limit) */
+        /* the trace's row spacing (motor_sim may thin the 1 ms default to fit its limit),
+         * and where it stopped at its size limit (a serial session: no length known) */
         fprintf(f, "  \"trace_every_periods\": %llu,\n",
                 (unsigned long long)sim_trace_every(cfg, opt));
+        json_num_or_null(&w, "trace_truncated_at_s", r->trace_truncated_at_s,
+                         r->trace_truncated_at_s >= 0.0);
     }
     jw_field(&w, "wall_s", r->wall_s);
     fprintf(f, "  \"published\": %s,\n", r->identified ? "true" : "false");

@@ -302,6 +302,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     res->t_last_overmod_s = -1.0;
     res->t_accel_start_s = -1.0;
     res->plant_diverged_at_s = -1.0;
+    res->trace_truncated_at_s = -1.0;
     sim_config_to_drive(cfg, &dc);
     st = drive_init(&drive, &dc);
     if (st != DRIVE_CFG_OK) {
@@ -490,10 +491,15 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                         (double)_IQtoF(drive.reg.u_tf), (double)_IQtoF(drive.reg.wr_f));
                 trace_bytes += (double)trace_row_adaptation(trace, &drive, &plant);
                 if (opt->trace_max_bytes > 0.0 && trace_bytes > opt->trace_max_bytes) {
-                    /* the estimate before the run (motor_sim) keeps far from this */
+                    /* the trace ends here, the run goes on (motor_sim sizes the trace
+                     * before a run of known length so that this is not reached; a
+                     * serial-link session has none) */
                     trace_full = 1;
-                    res->duration_s = t;
-                    break;
+                    res->trace_truncated_at_s = t;
+                    if (fclose(trace) != 0) {
+                        trace_full = 2;
+                    }
+                    trace = NULL;
                 }
             }
         }
@@ -609,13 +615,10 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
             snprintf(err, err_len, "error writing %s", opt->trace_path);
             return 4;
         }
-        if (trace_full) {
-            snprintf(err, err_len, "%s reached its size limit, %.6g MB, at %.3f s (the run ended "
-                     "there): one row every %u PWM periods is too many for this run",
-                     opt->trace_path, opt->trace_max_bytes / 1e6, res->duration_s,
-                     (unsigned)trace_div);
-            return 4;
-        }
+    }
+    if (trace_full == 2) {
+        snprintf(err, err_len, "error writing %s", opt->trace_path);
+        return 4;
     }
     return 0;
 }

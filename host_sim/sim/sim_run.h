@@ -54,9 +54,10 @@ typedef struct {
     const char *trace_path;      /* CSV, or NULL */
     double trace_rate_Hz;        /* rows per simulated second (default 1000) */
     uint32_t trace_every;        /* one row every this many PWM periods (0: trace_rate_Hz) */
-    double trace_max_bytes;      /* the trace ends the run with an error beyond this size
-                                    (0: no limit); motor_sim sizes the trace before the run
-                                    (sim_trace_bytes) so that this is never reached */
+    double trace_max_bytes;      /* the trace stops (the run goes on) beyond this size
+                                    (0: no limit): trace_truncated_at_s; motor_sim sizes the
+                                    trace before a run of known length (sim_trace_bytes) so
+                                    that this is not reached */
     uint16_t quiet;              /* no progress on stderr */
     uint16_t n_faults;
     sim_fault_t faults[SIM_MAX_FAULTS];
@@ -146,6 +147,7 @@ typedef struct {
      * diverged; sim_config_check refuses the time constants that make it):
      * the time, and the run ended there; -1: never */
     double plant_diverged_at_s;
+    double trace_truncated_at_s;    /* the trace reached trace_max_bytes and stopped; -1: no */
 } sim_result_t;
 
 /** Run; returns 0, or non-zero with a message in err (drive_init or a model

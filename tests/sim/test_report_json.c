@@ -18,6 +18,7 @@
 #include <cmocka.h>
 
 #include "report.h"
+#include "sim_config.h"
 
 static char g_text[65536];
 
@@ -161,6 +162,53 @@ static void test_many_non_finite(void **state)
     assert_non_null(strstr(g_text, "\"more\": \"18 more\""));
 }
 
+/* A trace at its size limit stops and the run goes on (a serial session has
+ * no length to size its trace by): 20 kB of a 0.5 s run at 1 ms, about 60
+ * rows of ~330 bytes; the file ends within one row (400 bytes) of the
+ * limit, the run reaches its end, the report says where the trace stopped. */
+static void test_trace_stops_at_its_limit(void **state)
+{
+    char dir[] = "/tmp/mc_trace_XXXXXX";
+    char trace[256], report[256], err[256];
+    sim_config_t cfg;
+    sim_options_t opt;
+    sim_result_t r;
+    FILE *f;
+    long size;
+    (void)state;
+    assert_non_null(mkdtemp(dir));
+    snprintf(trace, sizeof trace, "%s/trace.csv", dir);
+    snprintf(report, sizeof report, "%s/report.json", dir);
+    assert_int_equal(sim_config_load(MC_CONFIG_DIR "/paper_motor.ini", &cfg, err, sizeof err), 0);
+    memset(&opt, 0, sizeof opt);
+    opt.scenario = SCEN_START;
+    opt.duration_s = 0.5;
+    opt.quiet = 1u;
+    opt.trace_path = trace;
+    opt.trace_max_bytes = 20000.0;
+    assert_int_equal(sim_run(&cfg, &opt, &r, err, sizeof err), 0);
+    f = fopen(trace, "r");
+    assert_non_null(f);
+    assert_int_equal(fseek(f, 0L, SEEK_END), 0);
+    size = ftell(f);
+    fclose(f);
+    printf("  trace stopped at %.4f s, %ld bytes; run to %.3f s\n", r.trace_truncated_at_s, size,
+           r.duration_s);
+    assert_true(size > 20000L && size <= 20000L + (long)SIM_TRACE_ROW_BYTES);
+    assert_true(r.trace_truncated_at_s > 0.03 && r.trace_truncated_at_s < 0.1);
+    assert_true(fabs(r.duration_s - 0.5) < 1e-9);
+    assert_int_equal(report_write_json(report, &cfg, "paper_motor.ini", &opt, &r), 0);
+    f = fopen(report, "r");
+    assert_non_null(f);
+    size = (long)fread(g_text, 1, sizeof g_text - 1, f);
+    g_text[size] = '\0';
+    fclose(f);
+    assert_non_null(strstr(g_text, "\"trace_truncated_at_s\": 0.0"));
+    remove(trace);
+    remove(report);
+    rmdir(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -168,6 +216,7 @@ int main(void)
         cmocka_unit_test(test_finite_report),
         cmocka_unit_test(test_non_finite_figures),
         cmocka_unit_test(test_many_non_finite),
+        cmocka_unit_test(test_trace_stops_at_its_limit),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
