@@ -150,9 +150,9 @@ MUTANTS = [
       "commands from two sources in one period: the second replaced the first"),
     # ---- control ------------------------------------------------------------
     M("pi_antiwindup_removed", "include/pi_ctrl.h",
-      "const _iq ui = _IQsat(p->ui + di, upper, lower);",
-      "const _iq ui = _IQsat(p->ui + di, p->out_max, p->out_min);",
-      "the integrator winds up while the output is saturated"),
+      "const _iq upper = _IQsat(ui_hi, p->out_max, p->ui);",
+      "const _iq upper = _IQsat(p->out_max, p->out_max, ui_hi);",
+      "the integrator winds up (upward) while the output is saturated"),
     M("pi_output_unsaturated", "include/pi_ctrl.h",
       "p->out = _IQsat(v, p->out_max, p->out_min);", "p->out = v;",
       "the controller's output beyond its limits"),

@@ -150,6 +150,22 @@ static void test_stop_wins_over_start_in_the_same_period(void **state)
         assert_int_equal(r.final_pwm_on, 0);
         assert_int_equal(r.n_faults_seen, 0);
     }
+    /* the same from IDLE (stopped in the calibration at 0.01 s, at rest): a
+     * start that came with a stop must not start the drive */
+    for (k = 0; k < 2u; k++) {
+        sim_cmd_t c[3];
+        c[0].t_s = 0.01;
+        c[0].cmd = DRIVE_CMD_STOP;
+        c[1] = orders[k][0];
+        c[2] = orders[k][1];
+        c[1].t_s = c[2].t_s = 0.5;
+        assert_int_equal(fault_run(PAPER, NULL, 0u, c, 3u, 1.0, &cfg, &r), 0);
+        print_message("from IDLE, stop + start at 0.5 s (order %u): final state %u PWM %u\n", k,
+                      r.final_state, r.final_pwm_on);
+        assert_int_equal(r.final_state, ID_IDLE);
+        assert_int_equal(r.final_pwm_on, 0);
+        assert_true(r.t_accel_start_s < 0.0);
+    }
 }
 
 int main(void)

@@ -112,7 +112,9 @@ def main(out):
     seeds["latched_trip_reset_start"] = latched(1, CAL + rec(log2n=6, flags=TRIP | ECHO)
                                                 + rec(log2n=2) + rec(CMD_RESET, 0)
                                                 + rec(CMD_START, 0) + rec(log2n=11, flags=ECHO))
-    seeds["latched_stop_start_idle"] = latched(1, rec(CMD_STOP, 0) + rec(CMD_START, 0)
+    # (4 periods first: the background ran at period 0, the next tick is at 15,
+    # so that the stop and the start of periods 4 and 5 meet there)
+    seeds["latched_stop_start_idle"] = latched(1, rec(log2n=2) + rec(CMD_STOP, 0) + rec(CMD_START, 0)
                                                + rec(log2n=6) + rec(CMD_START, 0)
                                                + rec(log2n=10) + rec(log2n=11, flags=ECHO))
     seeds["latched_three_at_once"] = latched(5, CAL + rec(log2n=12, flags=ECHO)
