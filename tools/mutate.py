@@ -5,7 +5,8 @@ suite of the host-iq build.  Run by hand (it takes an hour or more), not in CI.
     tools/mutate.py --list                       the mutants: name, file, why
     tools/mutate.py [--only A,B] [--jobs N]      run them (default: all, one job)
                     [--phase1 LABELS] [--phase2 LABELS] [--no-phase2]
-                    [--mutant-timeout S] [--keep] [--report FILE]
+                    [--mutant-timeout S] [--preset host-iq|host-float|host-asan]
+                    [--keep] [--report FILE]
 
 Each mutant is one edit of one source file: a snippet that occurs exactly
 once in it, its replacement, and why the behaviour it breaks matters.  A
@@ -28,6 +29,9 @@ moved on: fix the list).  The score is killed / (killed + survived).  The
 unmutated copy is built and phase 1 run once first: a failing baseline stops
 the run.
 
+--preset: the build the mutants are tested in (default host-iq; host-asan
+adds ASan + UBSan, which kills a mutant whose only effect is undefined
+behaviour, e.g. a float converted to an integer beyond its range).
 --jobs N: N scratch copies, each with its own build, each taking the next
 mutant (the machine's cores are shared: on 2 cores use --jobs 1 or 2).
 The report (default out/mutation/report.md) lists every mutant with its
@@ -321,7 +325,7 @@ NOT_RUN_RE = re.compile(r"^\s*\d+/\d+ Test\s+#\d+: (\S+) \.*\s*\*\*\*Not Run", r
 class Scratch:
     """One copy of the tree with its own host-iq build."""
 
-    def __init__(self, index, files, build_jobs, lock):
+    def __init__(self, index, files, build_jobs, lock, preset):
         self.dir = Path(tempfile.mkdtemp(prefix=f"mutate-{os.getpid()}-{index}-"))
         self.lock = lock
         self.build_jobs = build_jobs
@@ -332,18 +336,21 @@ class Scratch:
             dst = self.dir / f
             dst.parent.mkdir(parents=True, exist_ok=True)
             shutil.copy2(src, dst)
-        self.build = self.dir / "build" / "host-iq"
+        self.preset = preset
+        self.build = self.dir / "build" / preset
 
     def configure_and_build(self, timeout):
-        rc, out = run(["cmake", "--preset", "host-iq"], self.dir, timeout)
+        rc, out = run(["cmake", "--preset", self.preset], self.dir, timeout)
         if rc != 0:
             return False, out
-        rc, out = run(["cmake", "--build", "--preset", "host-iq", f"-j{self.build_jobs}"],
+        rc, out = run(["cmake", "--build", "--preset", self.preset, f"-j{self.build_jobs}"],
                       self.dir, timeout)
         return rc == 0, out
 
     def ctest(self, phase, timeout):
-        env = dict(os.environ, CTEST_OUTPUT_ON_FAILURE="0")
+        env = dict(os.environ, CTEST_OUTPUT_ON_FAILURE="0",
+                   ASAN_OPTIONS="detect_leaks=1:abort_on_error=1",
+                   UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1")
         cmd = ["ctest", "--test-dir", str(self.build), "--stop-on-failure", "-j1", *phase]
         return run(cmd, self.dir, timeout, env)
 
@@ -391,6 +398,8 @@ def main(argv=None):
     ap.add_argument("--no-phase2", action="store_true", help="phase 1 only (faster, weaker)")
     ap.add_argument("--mutant-timeout", type=float, default=2400.0,
                     help="seconds for one mutant's build and tests (default 2400)")
+    ap.add_argument("--preset", default="host-iq", choices=("host-iq", "host-float", "host-asan"),
+                    help="the build the mutants are tested in (default host-iq)")
     ap.add_argument("--keep", action="store_true", help="keep the scratch copies")
     ap.add_argument("--report", default=str(ROOT / "out" / "mutation" / "report.md"))
     args = ap.parse_args(argv)
@@ -417,10 +426,10 @@ def main(argv=None):
     todo = [m for m in todo if m.name not in results]
 
     files = tracked_files()
-    log(lock, f"mutate.py: {len(todo)} mutants, {jobs} scratch copies, phase 1 ctest "
+    log(lock, f"mutate.py: {len(todo)} mutants, {jobs} scratch copies, {args.preset}, phase 1 ctest "
               f"{' '.join(args.phase1)}" + ("" if args.no_phase2 else
                                             f", phase 2 ctest {' '.join(args.phase2)}"))
-    scratches = [Scratch(i, files, build_jobs, lock) for i in range(jobs)]
+    scratches = [Scratch(i, files, build_jobs, lock, args.preset) for i in range(jobs)]
     t_start = time.time()
     try:
         for s in scratches:
@@ -462,7 +471,7 @@ def main(argv=None):
              f"{sum(r[0] == 'stillborn' for r in results.values())} stillborn, "
              f"{sum(r[0] == 'stale' for r in results.values())} stale; "
              f"score {score:.1f} % (killed / (killed + survived)); "
-             f"phase 1 ctest {' '.join(args.phase1)}"
+             f"{args.preset}; phase 1 ctest {' '.join(args.phase1)}"
              + ("" if args.no_phase2 else f", phase 2 ctest {' '.join(args.phase2)}")
              + f"; {time.time() - t_start:.0f} s", "",
              "| mutant | file | status | killed by | s | why it matters |", "|---|---|---|---|---|---|"]
