@@ -102,8 +102,19 @@ void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
                 hal_pwm_compare_t *out);
 /** Low-priority work for the background loop (publishing, telemetry). */
 void drive_background(drive_t *d);
-/** Queue a command; acted on by the next drive_background(). */
+/** Request a command; acted on by the next drive_background().  Requests
+ *  are latched bits, one per command (DRIVE_CMD_BIT), so that commands from
+ *  several sources in one background period (the start button and an SCI
+ *  frame, or --cmd at the same time in the simulator) are all kept; a
+ *  repeated request counts once.  drive_background takes them in a fixed
+ *  order, whatever order they came in: RESET_FAULT first (a START in the
+ *  same period then finds the fault cleared), then STOP, then START, which
+ *  is dropped when STOP came in the same period (stop wins: a stop is never
+ *  overridden).  Call it from the background context only, as
+ *  drive_background (the bits are set by a read-modify-write). */
 void drive_command(drive_t *d, drive_cmd_t cmd);
+/** The request bit of a command in drive_t.cmd_requests. */
+#define DRIVE_CMD_BIT(cmd) ((uint16_t)(1u << (unsigned)(cmd)))
 /** Set the speed the sequence runs at (pu of w_base; used from ACCELERATE on). */
 void drive_set_speed(drive_t *d, _iq speed_pu);
 /** The frame angle theta_k the last drive_step Park-transformed its currents

@@ -223,7 +223,8 @@ struct drive {
     uint16_t live_div;          /* samples since the last live snapshot */
     param_extract_t live;       /* background: estimates from the running RLS */
     drive_telemetry_t telemetry;
-    drive_cmd_t pending_cmd;
+    uint16_t cmd_requests;      /* DRIVE_CMD_BIT of each command requested since the last
+                                   drive_background (drive_command) */
 };
 
 #endif /* DRIVE_TYPES_H */

@@ -84,11 +84,11 @@ static inline fault_code_t protect_check(const protect_t *p, uint16_t strict)
     if (_IQabs(p->ia) > p->i_trip || _IQabs(p->ib) > p->i_trip || _IQabs(p->ic) > p->i_trip) {
         return FAULT_OVERCURRENT;
     }
-    if (p->adc_rail != 0u) {
-        return FAULT_ADC_RAIL;
-    }
     if (p->vdc > p->vdc_max) {
         return FAULT_BUS_OVERVOLTAGE;
+    }
+    if (p->adc_rail != 0u) {
+        return FAULT_ADC_RAIL;
     }
     if ((p->pwm_on != 0u || strict != 0u) && p->vdc < p->vdc_min) {
         return FAULT_BUS_UNDERVOLTAGE;
@@ -114,9 +114,12 @@ static inline void protect_latch(protect_t *p, fault_code_t code)
 /** Check this sample's inputs; latch the first fault seen, in this priority:
  *  hardware trip, overcurrent (a phase reading at a rail is also beyond the
  *  trip level, which is below full scale: a clipped real overcurrent reports
- *  as overcurrent), ADC rail (so a bus reading at a rail is not taken for
- *  an over- or under-voltage), bus over-, under-voltage, encoder, current
- *  feedback. */
+ *  as overcurrent), bus overvoltage (a bus reading at its top rail is at
+ *  least the full scale, above the trip level (drive_limits.h: vdc_max below
+ *  the full scale): the bus is at least that high, or its divider is open,
+ *  and the drive cannot tell which; it reports what it must assume, an
+ *  overvoltage), ADC rail (a reading at a rail that no level explains),
+ *  bus undervoltage, encoder, current feedback. */
 static inline void protect_step(protect_t *p)
 {
     protect_latch(p, protect_check(p, 0u));

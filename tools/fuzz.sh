@@ -2,6 +2,13 @@
 # Bounded libFuzzer run of the two fuzz targets (tests/fuzz): arbitrary ADC
 # and QEP sequences into the control ISR (fuzz_drive_step) and arbitrary
 # bytes into the INI parser (fuzz_sim_config), under ASan + UBSan.
+# fuzz_drive_step's first byte picks the configuration (the paper's
+# sequence, three faster variants, each also with the adaptive sequence:
+# observer, standstill tests, passes, tracking) and whether commands are
+# handled at once or wait for the 1 kHz background tick, so that several
+# (reset, stop, start) meet in one period as from the button and the link;
+# the seeds (tests/fuzz/gen_drive_seeds.py) include stop / fault / reset /
+# restart sequences in both sequences.
 #
 #   tools/fuzz.sh [--seconds N | --runs N] [--math IQ_MATH|FLOAT_MATH] [--build DIR]
 #
@@ -27,7 +34,7 @@ while [ $# -gt 0 ]; do
     --runs) runs="${2:?--runs needs a value}"; shift 2 ;;
     --math) math="${2:?--math needs a value}"; shift 2 ;;
     --build) build="${2:?--build needs a value}"; shift 2 ;;
-    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,23p' "$0"; exit 0 ;;
     *) echo "fuzz.sh: unknown option '$1'" >&2; exit 2 ;;
   esac
 done

@@ -7,10 +7,21 @@
 #include <math.h>
 #include <string.h>
 
-/* index of the last edge at or below theta */
-static int64_t enc_edge(const encoder_t *e, double theta_m_rad)
+/* Edge indices are kept within +-2^62 (4e18 edges, some 1e14 turns of a
+ * 8192-line disc: beyond any run), so that a difference of two never
+ * overflows int64_t and the conversion from double is defined. */
+#define ENC_EDGE_MAX 4611686018427387904.0   /* 2^62 */
+
+/* Index of the last edge at or below theta into @p k; -1 (k untouched) if
+ * theta is not finite or the index is beyond +-2^62 (a diverged plant). */
+static int enc_edge(const encoder_t *e, double theta_m_rad, int64_t *k)
 {
-    return (int64_t)floor(theta_m_rad * e->edges_per_rad - e->p.theta_offset);
+    const double x = floor(theta_m_rad * e->edges_per_rad - e->p.theta_offset);
+    if (!(fabs(x) < ENC_EDGE_MAX)) {   /* (NaN fails too) */
+        return -1;
+    }
+    *k = (int64_t)x;
+    return 0;
 }
 
 /* Add a signed count to the 16-bit counter: modulo-2^16 arithmetic on
@@ -50,13 +61,13 @@ encoder_status_t encoder_init(encoder_t *e, const encoder_params_t *p,
     if (!isfinite(p->loss_prob) || (p->loss_prob < 0.0) || (p->loss_prob > 1.0)) {
         return ENC_ERR_LOSS;
     }
-    if (!isfinite(theta_m0_rad)) {
-        return ENC_ERR_ANGLE;
-    }
     e->p = *p;
     e->edges_per_rad = 4.0 * (double)p->lines / 6.283185307179586476925;
+    if (enc_edge(e, theta_m0_rad, &e->edge) != 0) {
+        memset(e, 0, sizeof(*e));
+        return ENC_ERR_ANGLE;
+    }
     e->count = p->count0;
-    e->edge = enc_edge(e, theta_m0_rad);
     model_rng_seed(&e->rng, p->seed);
     return ENC_OK;
 }
@@ -65,14 +76,15 @@ uint16_t encoder_sample(encoder_t *e, double theta_m_rad)
 {
     int64_t k, delta, counted;
 
-    if (!isfinite(theta_m_rad)) {
-        return e->count; /* no new information */
+    if (enc_edge(e, theta_m_rad, &k) != 0) {
+        return e->count; /* not finite, or beyond any run: no new information */
     }
-    k = enc_edge(e, theta_m_rad);
-    delta = k - e->edge;
+    delta = k - e->edge;   /* both within +-2^62: no overflow */
     e->edge = k;
     counted = delta;
-    if ((e->p.loss_prob > 0.0) && (delta != 0)) {
+    /* (a step of more than 2^16 edges is a wrapped count whatever was lost:
+     * the loss is drawn per edge only below that, which bounds the loop) */
+    if ((e->p.loss_prob > 0.0) && (delta != 0) && (delta <= 65536) && (delta >= -65536)) {
         /* each crossed edge is missed independently; |delta| is a few edges
          * per 66.7 us period at any realistic speed */
         const int64_t n = (delta > 0) ? delta : -delta;

@@ -39,7 +39,7 @@ typedef enum {
     ENC_ERR_DIRECTION,     /* not +1 / -1 */
     ENC_ERR_OFFSET,        /* theta_offset not in [0, 1) */
     ENC_ERR_LOSS,          /* loss_prob not in [0, 1] */
-    ENC_ERR_ANGLE          /* initial angle not finite */
+    ENC_ERR_ANGLE          /* initial angle not finite, or beyond 2^62 edges */
 } encoder_status_t;
 
 typedef struct {

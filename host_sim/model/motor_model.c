@@ -265,3 +265,20 @@ void motor_rotor_flux_dq(const motor_t *m, double theta_rad, double *psi_d_Wb,
     *psi_d_Wb = c * m->x[X_PRA] + s * m->x[X_PRB];
     *psi_q_Wb = -s * m->x[X_PRA] + c * m->x[X_PRB];
 }
+
+void motor_time_constants(const motor_params_t *p, double psi_r_Wb, double dTL_dw_Nm_s,
+                          double *tau_e_s, double *tau_m_s)
+{
+    const double Ls = p->Lm_H + p->Lls_H, Lr = p->Lm_H + p->Llr_H;
+    /* D = Ls Lr - Lm^2 without the cancellation (as motor_init) */
+    const double D = p->Lm_H * (p->Lls_H + p->Llr_H) + p->Lls_H * p->Llr_H;
+    const double b = p->Rs_ohm * Lr + p->Rr_ohm * Ls;
+    /* b^2 - 4 D Rs Rr = (Rs Lr - Rr Ls)^2 + 4 Lm^2 Rs Rr >= 0: two real roots */
+    const double d = p->Rs_ohm * Lr - p->Rr_ohm * Ls;
+    const double disc = d * d + 4.0 * p->Lm_H * p->Lm_H * p->Rs_ohm * p->Rr_ohm;
+    const double pp = (double)p->pole_pairs;
+    const double slope = 1.5 * pp * pp * psi_r_Wb * psi_r_Wb / p->Rr_ohm + p->B_Nm_s +
+                         dTL_dw_Nm_s;
+    *tau_e_s = 2.0 * D / (b + sqrt(disc));
+    *tau_m_s = (slope > 0.0) ? p->J_kgm2 / slope : HUGE_VAL;
+}

@@ -142,6 +142,20 @@ void motor_step_abc(motor_t *m, double ua_V, double ub_V, double uc_V,
  *  comment.  Entering this mode sets psi_s = (Lm/Lr) psi_r (i_s = 0). */
 void motor_step_open(motor_t *m, double dt_s, uint16_t n_sub);
 
+/**
+ * The fastest time constants of the model, which the integration step must
+ * resolve (RK4 diverges on a mode with step/tau above 2.785):
+ *   electrical: the fast root of the stator-rotor RL network at standstill,
+ *     det(R + s L) = 0: D s^2 + (Rs Lr + Rr Ls) s + Rs Rr = 0, D = Ls Lr - Lm^2;
+ *   mechanical: J over the slope of the net torque against the rotor speed:
+ *     a rotor flux psi_r makes 1.5 p^2 psi_r^2 / Rr N m per mechanical rad/s
+ *     of slip near synchronism (the induction motor is a damper of that
+ *     strength), plus B, plus the load's own slope @p dTL_dw_Nm_s.
+ * @p psi_r_Wb: the largest rotor flux the run sets up.
+ */
+void motor_time_constants(const motor_params_t *p, double psi_r_Wb, double dTL_dw_Nm_s,
+                          double *tau_e_s, double *tau_m_s);
+
 /** Rotor flux (d, q) in a frame at electrical angle @p theta_rad: d along
  *  the frame axis, q 90 deg ahead.  For a controller frame on the rotor
  *  flux, q/d is the orientation error (tan of the angle error). */

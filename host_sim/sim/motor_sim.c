@@ -4,6 +4,7 @@
  * and reports what it found.  See `motor_sim --help`.
  */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,10 +15,74 @@
 #include "sim_run.h"
 #include "sim_serial.h"
 
+/* The faults --fault injects: name, plant fault, the value's meaning, its
+ * default and the range in which it does something (a value outside, or one
+ * that changes nothing, such as a gain error of 0, is an error). */
+#define V_NONE 0u    /* takes no value */
+#define V_RANGE 1u   /* a number in [lo, hi] (lo_open: (lo, hi]), not 0 */
+#define V_WHOLE 2u   /* a whole number in [lo, hi], not 0 */
+typedef struct {
+    const char *name;
+    plant_fault_t kind;
+    const char *what;    /* --help */
+    const char *value;   /* the value's meaning (V_NONE: NULL) */
+    unsigned rule;
+    double def, lo, hi;
+    int lo_open;
+} fault_spec_t;
+
+static const fault_spec_t k_faults[] = {
+    {"hall_gain", PLANT_FAULT_HALL_GAIN, "phase-a sensor gain error", "relative error", V_RANGE,
+     0.2, -0.99, 100.0, 0},
+    {"hall_lost", PLANT_FAULT_HALL_LOST, "phase b reads 0 A", NULL, V_NONE, 0, 0, 0, 0},
+    {"bus_sag", PLANT_FAULT_BUS_SAG, "the source voltage drops", "relative drop", V_RANGE, 0.5,
+     0.0, 1.0, 1},
+    {"overvoltage", PLANT_FAULT_OVERVOLTAGE, "the source voltage rises", "relative rise", V_RANGE,
+     0.5, 0.0, 100.0, 1},
+    {"encoder_lost", PLANT_FAULT_ENCODER_LOST, "T2 frozen", NULL, V_NONE, 0, 0, 0, 0},
+    {"encoder_jump", PLANT_FAULT_ENCODER_JUMP, "T2 jumps once", "counts", V_WHOLE, 100.0,
+     -32768.0, 32767.0, 0},
+    {"short", PLANT_FAULT_SHORT, "a-b short at the bridge", "loop inductance, uH", V_RANGE, 20.0,
+     0.0, 100.0, 1},
+    {"adc_rail", PLANT_FAULT_ADC_RAIL, "bus feedback at the top rail (divider open)", NULL,
+     V_NONE, 0, 0, 0, 0},
+    {"offset", PLANT_FAULT_CURRENT_OFFSET, "phase-a sensor offset", "fraction of full scale",
+     V_RANGE, 0.1, -1.0, 1.0, 0},
+    {"hw_trip", PLANT_FAULT_HW_TRIP, "PDPINTA low", "seconds", V_RANGE, 100.0, 0.0, 3600.0, 1},
+    {"clear", PLANT_FAULT_CLEAR, "every injected fault removed (after one)", NULL, V_NONE, 0, 0,
+     0, 0},
+};
+#define N_FAULTS (sizeof k_faults / sizeof k_faults[0])
+
+/* "a, b, c" of every fault's or scenario's name, from its table */
+static const char *fault_names(void)
+{
+    static char buf[256];
+    size_t i, o = 0;
+    for (i = 0; i < N_FAULTS && o < sizeof buf; i++) {
+        o += (size_t)snprintf(buf + o, sizeof buf - o, "%s%s", i ? ", " : "", k_faults[i].name);
+    }
+    return buf;
+}
+
+static const char *scenario_names(void)
+{
+    static char buf[128];
+    unsigned i;
+    size_t o = 0;
+    for (i = 0; i < sim_scenario_count() && o < sizeof buf; i++) {
+        o += (size_t)snprintf(buf + o, sizeof buf - o, "%s%s", i ? ", " : "",
+                              sim_scenario_name((sim_scenario_t)i));
+    }
+    return buf;
+}
+
 static void usage(FILE *f)
 {
+    size_t i;
     fprintf(f,
             "usage: motor_sim [--config FILE] [--scenario NAME] [--duration S] [--out DIR]\n"
+            "                 [--trace-every N] [--trace-max-mb M]\n"
             "                 [--fault NAME@TIME[=VALUE]]... [--cmd NAME@TIME]... [--quiet]\n"
             "                 [--serial PATH [--realtime-factor X] [--serial-keep-open]]\n"
             "                 [--keys] [--help]\n"
@@ -27,24 +92,41 @@ static void usage(FILE *f)
             "identification, steady state, parameter extraction.\n"
             "\n"
             "  --config FILE      INI file (default host_sim/config/paper_motor.ini)\n"
-            "  --scenario NAME    start (default: standstill to rated speed under load),\n"
+            "  --scenario NAME    one of %s:\n"
+            "                     start (default: standstill to rated speed under load),\n"
             "                     reversal (then to -rated speed), load_steps (then a load step),\n"
             "                     soak (then reversals every 4 s, a load step 2 s after each),\n"
             "                     drift (then the rotor resistance rises while the load\n"
             "                     changes: [drift] keys; for [ident] track_rr = 1)\n"
-            "  --duration S       simulated seconds (default: long enough for the scenario)\n"
+            "  --duration S       simulated seconds, at least one PWM period and at most 3600\n"
+            "                     (default: long enough for the scenario)\n"
             "  --out DIR          write DIR/trace.csv and DIR/report.json (DIR and its parents\n"
             "                     are created if missing)\n"
-            "  --fault NAME@T     inject at T seconds: hall_gain (=rel. error, default 0.2),\n"
-            "                     hall_lost (phase b reads 0 A), bus_sag (=rel. drop, default\n"
-            "                     0.5), overvoltage (=rel. rise, default 0.5), encoder_lost\n"
-            "                     (T2 frozen), encoder_jump (=counts, default 100), short\n"
-            "                     (a-b short, =loop inductance uH, default 20), adc_rail (bus\n"
-            "                     feedback at the top rail), offset (phase-a sensor offset, =fraction\n"
-            "                     of full scale, default 0.1), hw_trip (PDPINTA low, =seconds,\n"
-            "                     default 100), clear (every injected fault removed)\n"
-            "  --cmd NAME@T       give the drive a command at T seconds: start, stop, reset\n"
-            "                     (a run begins with start at 0)\n"
+            "  --trace-every N    one trace row every N PWM periods (default: 1 ms, 15 at\n"
+            "                     15 kHz); a whole number in [1, 1e9]\n"
+            "  --trace-max-mb M   largest trace.csv, MB (default %g, at most %g): the 1 ms\n"
+            "                     default is thinned to fit (a note says so); with\n"
+            "                     --trace-every given, a run whose trace would be larger is\n"
+            "                     refused, saying the --trace-every that fits; a --serial\n"
+            "                     session without --duration stops tracing at the limit\n"
+            "  --fault NAME@T[=V] inject at T seconds (before the run's last PWM period); V\n"
+            "                     must change something (not 0; in its range):\n",
+            scenario_names(), SIM_TRACE_MAX_MB_DEFAULT, SIM_TRACE_MAX_MB_LIMIT);
+    for (i = 0; i < N_FAULTS; i++) {
+        const fault_spec_t *k = &k_faults[i];
+        if (k->rule == V_NONE) {
+            fprintf(f, "                       %-13s %s (no value)\n", k->name, k->what);
+        } else {
+            fprintf(f, "                       %-13s %s; =%s in %c%g, %g], default %g\n",
+                    k->name, k->what, k->value, k->lo_open ? '(' : '[', k->lo, k->hi, k->def);
+        }
+    }
+    fprintf(f,
+            "  --cmd NAME@T       give the drive a command at T seconds (before the run's last\n"
+            "                     PWM period): start, stop, reset (a run begins with start at\n"
+            "                     0).  Commands at the same instant are all kept and taken\n"
+            "                     reset first, then stop, then start (dropped if a stop came\n"
+            "                     with it: stop wins)\n"
             "  --serial PATH      the board's serial link: create a pseudo-terminal, make PATH a\n"
             "                     symlink to its slave (/dev/pts/N, also printed) and run the\n"
             "                     firmware's telemetry and commands over it ($T/$A 20 times a\n"
@@ -61,6 +143,8 @@ static void usage(FILE *f)
             "                     range, and the side that reads it (drive / sim); then the\n"
             "                     derived limits drive_init enforces\n"
             "\n"
+            "report.json is always valid JSON: a figure that is not a finite number is null\n"
+            "and named in its \"non_finite\" member.\n"
             "Exit status: 0 ok, 1 usage or configuration error, 2 run failed.\n");
 }
 
@@ -68,9 +152,10 @@ static void usage(FILE *f)
  * that such an option as the last argument is an error, never a NULL value. */
 static int takes_value(const char *a)
 {
-    static const char *const k[] = {"--config", "--out",   "--scenario",
-                                     "--duration", "--fault", "--cmd",
-                                     "--serial", "--realtime-factor"};
+    static const char *const k[] = {"--config",      "--out",          "--scenario",
+                                     "--duration",    "--fault",        "--cmd",
+                                     "--serial",      "--realtime-factor", "--trace-every",
+                                     "--trace-max-mb"};
     unsigned i;
     for (i = 0; i < sizeof k / sizeof k[0]; i++) {
         if (strcmp(a, k[i]) == 0) {
@@ -80,12 +165,18 @@ static int takes_value(const char *a)
     return 0;
 }
 
+/* A whole string that is a number.  strtod's ERANGE is an error for an
+ * overflow (+-HUGE_VAL: 1e999) but not for an underflow: 1e-320 is a finite
+ * (subnormal) number, which the option's range check then judges. */
 static int parse_double(const char *s, double *out)
 {
     char *end = NULL;
     errno = 0;
     *out = strtod(s, &end);
-    return (s[0] != '\0' && end != NULL && *end == '\0' && errno == 0) ? 0 : -1;
+    if (s[0] == '\0' || end == NULL || *end != '\0') {
+        return -1;
+    }
+    return (errno == 0 || (errno == ERANGE && fabs(*out) < 1.0)) ? 0 : -1;
 }
 
 static int parse_cmd(const char *arg, sim_cmd_t *c)
@@ -109,20 +200,15 @@ static int parse_cmd(const char *arg, sim_cmd_t *c)
     return -1;
 }
 
-static int parse_fault(const char *arg, sim_fault_t *f)
+/* One --fault: 0, or -1 with the reason in @p why ("" for a malformed
+ * argument: the usage line says it). */
+static int parse_fault(const char *arg, sim_fault_t *f, char *why, size_t why_len)
 {
-    static const struct { const char *name; plant_fault_t kind; double def; } k[] = {
-        {"hall_gain", PLANT_FAULT_HALL_GAIN, 0.2},   {"hall_lost", PLANT_FAULT_HALL_LOST, 0},
-        {"bus_sag", PLANT_FAULT_BUS_SAG, 0.5},       {"overvoltage", PLANT_FAULT_OVERVOLTAGE, 0.5},
-        {"encoder_lost", PLANT_FAULT_ENCODER_LOST, 0}, {"short", PLANT_FAULT_SHORT, 20.0},
-        {"adc_rail", PLANT_FAULT_ADC_RAIL, 0},       {"offset", PLANT_FAULT_CURRENT_OFFSET, 0.1},
-        {"encoder_jump", PLANT_FAULT_ENCODER_JUMP, 100}, {"hw_trip", PLANT_FAULT_HW_TRIP, 100},
-        {"clear", PLANT_FAULT_CLEAR, 0},
-    };
     char buf[128];
     char *at, *eq;
     size_t len = strlen(arg);
     unsigned i;
+    why[0] = '\0';
     if (len >= sizeof buf) {
         return -1;
     }
@@ -136,22 +222,81 @@ static int parse_fault(const char *arg, sim_fault_t *f)
     if (eq != NULL) {
         *eq = '\0';
     }
-    for (i = 0; i < sizeof k / sizeof k[0]; i++) {
-        if (strcmp(buf, k[i].name) == 0) {
-            f->kind = k[i].kind;
-            f->value = k[i].def;
-            if (parse_double(at + 1, &f->t_s) != 0 || !(f->t_s >= 0.0) || f->t_s > 1e6) {
-                return -1;
-            }
-            /* written so that a NaN fails too */
-            if (eq != NULL && (parse_double(eq + 1, &f->value) != 0 ||
-                               !(f->value >= -0.99 && f->value <= 100.0))) {
-                return -1;
-            }
+    for (i = 0; i < N_FAULTS; i++) {
+        const fault_spec_t *k = &k_faults[i];
+        if (strcmp(buf, k->name) != 0) {
+            continue;
+        }
+        f->kind = k->kind;
+        f->value = k->def;
+        if (parse_double(at + 1, &f->t_s) != 0 || !(f->t_s >= 0.0) || f->t_s > 1e6) {
+            return -1;
+        }
+        if (eq == NULL) {
             return 0;
         }
+        if (k->rule == V_NONE) {
+            snprintf(why, why_len, "%s takes no value", k->name);
+            return -1;
+        }
+        /* written so that a NaN fails too */
+        if (parse_double(eq + 1, &f->value) != 0 ||
+            !(k->lo_open ? (f->value > k->lo) : (f->value >= k->lo)) || !(f->value <= k->hi) ||
+            f->value == 0.0 || (k->rule == V_WHOLE && f->value != floor(f->value))) {
+            if (parse_double(eq + 1, &f->value) == 0 && isfinite(f->value)) {
+                snprintf(why, why_len, "%s's value (%s) must be %sin %c%g, %g]%s", k->name,
+                         k->value, (k->rule == V_WHOLE) ? "a whole number " : "",
+                         k->lo_open ? '(' : '[', k->lo, k->hi,
+                         (k->lo_open && k->lo == 0.0) ? "" : " and not 0: 0 changes nothing");
+            }
+            return -1;
+        }
+        return 0;
     }
+    snprintf(why, why_len, "no fault '%s': one of %s", buf, fault_names());
     return -1;
+}
+
+/* The faults and commands against the run: each must act before the run's
+ * last PWM period starts (a later one would silently do nothing), a clear
+ * needs a fault before it.  Returns 0, or 1 with the message printed. */
+static int check_timeline(const sim_config_t *cfg, const sim_options_t *opt,
+                          const char *const *fault_arg, const char *const *cmd_arg)
+{
+    double dur = sim_run_duration_s(cfg, opt);
+    uint64_t n = sim_run_periods(cfg, dur);
+    double last = (n > 0u) ? (double)(n - 1u) / cfg->board.pwm_freq_Hz : -1.0;
+    unsigned i, j;
+    for (i = 0; i < opt->n_faults; i++) {
+        const sim_fault_t *f = &opt->faults[i];
+        int before = 0;
+        if (f->t_s > last) {
+            fprintf(stderr, "motor_sim: bad --fault '%s' (NAME@SECONDS[=VALUE], at most %d): at "
+                    "%g s it comes after the run's last PWM period (%g s simulated%s)\n",
+                    fault_arg[i], SIM_MAX_FAULTS, f->t_s, dur,
+                    (opt->duration_s > 0.0) ? ": --duration" : ", the scenario's default");
+            return 1;
+        }
+        for (j = 0; j < opt->n_faults; j++) {
+            before |= (opt->faults[j].kind != PLANT_FAULT_CLEAR && opt->faults[j].t_s <= f->t_s);
+        }
+        if (f->kind == PLANT_FAULT_CLEAR && !before) {
+            fprintf(stderr, "motor_sim: bad --fault '%s' (NAME@SECONDS[=VALUE], at most %d): no "
+                    "fault is injected at or before %g s, so clear would remove nothing\n",
+                    fault_arg[i], SIM_MAX_FAULTS, f->t_s);
+            return 1;
+        }
+    }
+    for (i = 0; i < opt->n_cmds; i++) {
+        if (opt->cmds[i].t_s > last) {
+            fprintf(stderr, "motor_sim: bad --cmd '%s' (start|stop|reset@SECONDS, at most %d): at "
+                    "%g s it comes after the run's last PWM period (%g s simulated%s)\n",
+                    cmd_arg[i], SIM_MAX_CMDS, opt->cmds[i].t_s, dur,
+                    (opt->duration_s > 0.0) ? ": --duration" : ", the scenario's default");
+            return 1;
+        }
+    }
+    return 0;
 }
 
 /* mkdir -p: every missing folder of @p path, parents first.  Returns 0, or
@@ -183,6 +328,47 @@ static int make_dirs(const char *path, char *failed, size_t len)
     return 0;
 }
 
+/* The trace's size against its limit (MB): with --trace-every given, a
+ * trace above the limit is an error that says which --trace-every fits;
+ * without it the 1 kHz default is thinned to fit, with a note.  Returns 0 or
+ * 1 (message printed).  The run itself stops at the limit (a backstop). */
+static int size_trace(const sim_config_t *cfg, sim_options_t *opt, double max_mb)
+{
+    double dur = sim_run_duration_s(cfg, opt), limit = max_mb * 1e6;
+    uint64_t every = sim_trace_every(cfg, opt), periods = sim_run_periods(cfg, dur);
+    double bytes = sim_trace_bytes(cfg, dur, every);
+    uint64_t fit;
+    opt->trace_max_bytes = limit;
+    if (bytes <= limit) {
+        return 0;
+    }
+    if (limit < SIM_TRACE_HEADER_BYTES + SIM_TRACE_ROW_BYTES) {
+        fprintf(stderr, "motor_sim: --trace-max-mb %g is less than the trace's header and one "
+                "row (%g MB)\n", max_mb, (SIM_TRACE_HEADER_BYTES + SIM_TRACE_ROW_BYTES) / 1e6);
+        return 1;
+    }
+    /* the fewest periods a row such that the rows fit */
+    fit = (limit > SIM_TRACE_HEADER_BYTES + SIM_TRACE_ROW_BYTES)
+              ? (uint64_t)ceil((double)periods * SIM_TRACE_ROW_BYTES /
+                               (limit - SIM_TRACE_HEADER_BYTES - SIM_TRACE_ROW_BYTES))
+              : periods;
+    if (fit < 1u) {
+        fit = 1u;
+    }
+    if (opt->trace_every > 0u || fit > 1000000000u) {
+        fprintf(stderr, "motor_sim: the trace of this run (%g s, one row every %llu PWM periods) "
+                "would take up to %.4g MB, above --trace-max-mb %g: --trace-every %llu or more "
+                "fits, or raise --trace-max-mb\n", dur, (unsigned long long)every, bytes / 1e6,
+                max_mb, (unsigned long long)fit);
+        return 1;
+    }
+    opt->trace_every = (uint32_t)fit;
+    fprintf(stderr, "motor_sim: note: a 1 ms trace of this run (%g s) would take up to %.4g MB, "
+            "above --trace-max-mb %g: one row every %llu PWM periods instead (--trace-every "
+            "sets it)\n", dur, bytes / 1e6, max_mb, (unsigned long long)fit);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     const char *config = "host_sim/config/paper_motor.ini";
@@ -194,6 +380,10 @@ int main(int argc, char **argv)
     char trace_path[1024], report_path[1024];
     sim_serial_options_t ser;
     sim_serial_t *serial = NULL;
+    const char *fault_arg[SIM_MAX_FAULTS] = {NULL}, *cmd_arg[SIM_MAX_CMDS] = {NULL};
+    const char *duration_arg = NULL;
+    double trace_max_mb = SIM_TRACE_MAX_MB_DEFAULT;
+    char why[512];
     int i, rc;
 
     memset(&opt, 0, sizeof opt);
@@ -227,8 +417,7 @@ int main(int argc, char **argv)
             i++;
         } else if (strcmp(a, "--scenario") == 0) {
             if (sim_scenario_parse(v, &opt.scenario) != 0) {
-                fprintf(stderr, "motor_sim: unknown scenario '%s' (start, reversal, load_steps)\n",
-                        v);
+                fprintf(stderr, "motor_sim: unknown scenario '%s' (%s)\n", v, scenario_names());
                 return 1;
             }
             i++;
@@ -238,13 +427,34 @@ int main(int argc, char **argv)
                 fprintf(stderr, "motor_sim: --duration '%s' must be a number in (0, 3600]\n", v);
                 return 1;
             }
+            duration_arg = v;
             i++;
-        } else if (strcmp(a, "--fault") == 0) {
-            if (opt.n_faults >= SIM_MAX_FAULTS || parse_fault(v, &opt.faults[opt.n_faults]) != 0) {
-                fprintf(stderr, "motor_sim: bad --fault '%s' (NAME@SECONDS[=VALUE], at most %d)\n",
-                        v, SIM_MAX_FAULTS);
+        } else if (strcmp(a, "--trace-every") == 0) {
+            double n;
+            if (parse_double(v, &n) != 0 || !(n >= 1.0 && n <= 1e9) || n != floor(n)) {
+                fprintf(stderr, "motor_sim: --trace-every '%s' must be a whole number of PWM "
+                        "periods in [1, 1e9]\n", v);
                 return 1;
             }
+            opt.trace_every = (uint32_t)n;
+            i++;
+        } else if (strcmp(a, "--trace-max-mb") == 0) {
+            if (parse_double(v, &trace_max_mb) != 0 || !(trace_max_mb > 0.0) ||
+                trace_max_mb > SIM_TRACE_MAX_MB_LIMIT) {
+                fprintf(stderr, "motor_sim: --trace-max-mb '%s' must be a number in (0, %g]\n", v,
+                        SIM_TRACE_MAX_MB_LIMIT);
+                return 1;
+            }
+            i++;
+        } else if (strcmp(a, "--fault") == 0) {
+            why[0] = '\0';
+            if (opt.n_faults >= SIM_MAX_FAULTS ||
+                parse_fault(v, &opt.faults[opt.n_faults], why, sizeof why) != 0) {
+                fprintf(stderr, "motor_sim: bad --fault '%s' (NAME@SECONDS[=VALUE], at most %d)%s%s\n",
+                        v, SIM_MAX_FAULTS, why[0] ? ": " : "", why);
+                return 1;
+            }
+            fault_arg[opt.n_faults] = v;
             opt.n_faults++;
             i++;
         } else if (strcmp(a, "--cmd") == 0) {
@@ -253,6 +463,7 @@ int main(int argc, char **argv)
                         v, SIM_MAX_CMDS);
                 return 1;
             }
+            cmd_arg[opt.n_cmds] = v;
             opt.n_cmds++;
             i++;
         } else if (strcmp(a, "--serial") == 0) {
@@ -280,6 +491,17 @@ int main(int argc, char **argv)
         fprintf(stderr, "motor_sim: %s\n", err);
         return 1;
     }
+    if (ser.link_path != NULL && opt.duration_s <= 0.0) {
+        opt.duration_s = 3600.0;   /* the board runs until stopped */
+    }
+    if (sim_run_periods(&cfg, sim_run_duration_s(&cfg, &opt)) == 0u) {
+        fprintf(stderr, "motor_sim: --duration '%s' is shorter than one PWM period (%g s): "
+                "nothing would be simulated\n", (duration_arg != NULL) ? duration_arg : "(default)", 1.0 / cfg.board.pwm_freq_Hz);
+        return 1;
+    }
+    if (check_timeline(&cfg, &opt, fault_arg, cmd_arg) != 0) {
+        return 1;
+    }
     if (out_dir != NULL) {
         struct stat st;
         int n_trace, n_report;
@@ -302,6 +524,13 @@ int main(int argc, char **argv)
             return 1;
         }
         opt.trace_path = trace_path;
+        if (ser.link_path != NULL && duration_arg == NULL) {
+            /* a session the client ends: no length to size the trace by; it
+             * stops at the limit (the run goes on), saying so */
+            opt.trace_max_bytes = trace_max_mb * 1e6;
+        } else if (size_trace(&cfg, &opt, trace_max_mb) != 0) {
+            return 1;
+        }
     }
     if (ser.link_path != NULL) {
         serial = sim_serial_open(&ser, err, sizeof err);
@@ -312,9 +541,6 @@ int main(int argc, char **argv)
         opt.no_autostart = 1u;   /* the board waits for $C,S or its button */
         opt.background_hook = sim_serial_hook;
         opt.hook_ctx = serial;
-        if (opt.duration_s <= 0.0) {
-            opt.duration_s = 3600.0;
-        }
         printf("motor_sim: serial link %s -> %s (raw, 115200 8N1 nominal), real-time factor "
                "%g; waiting for $C,S\n",
                ser.link_path, sim_serial_slave_name(serial), ser.realtime_factor);
@@ -339,6 +565,18 @@ int main(int argc, char **argv)
     }
     if (out_dir != NULL && report_write_json(report_path, &cfg, config, &opt, &res) != 0) {
         fprintf(stderr, "motor_sim: cannot write %s\n", report_path);
+        return 2;
+    }
+    if (res.trace_truncated_at_s >= 0.0) {
+        fprintf(stderr, "motor_sim: %s reached --trace-max-mb %g at %.3f s: the rest of the run "
+                "is not traced (--trace-every thins it)\n", trace_path, trace_max_mb,
+                res.trace_truncated_at_s);
+    }
+    if (res.plant_diverged_at_s >= 0.0) {
+        fprintf(stderr, "motor_sim: the simulated motor's state stopped being finite at %.6f s "
+                "(its integration diverged): the run ended there%s\n", res.plant_diverged_at_s,
+                (out_dir != NULL) ? "; report.json has null for each figure that was not a "
+                                    "number (\"non_finite\")" : "");
         return 2;
     }
     if (!opt.quiet) {

@@ -117,7 +117,11 @@ void plant_inject(plant_t *p, plant_fault_t kind, double value)
     case PLANT_FAULT_SHORT: p->short_L_H = value * 1e-6; break;
     case PLANT_FAULT_ADC_RAIL: p->vdc_rail = 1u; break;
     case PLANT_FAULT_CURRENT_OFFSET: p->offset_a_A = value * p->i_fs_A; break;
-    case PLANT_FAULT_ENCODER_JUMP: p->qep_jump = (uint16_t)(p->qep_jump + (uint16_t)value); break;
+    case PLANT_FAULT_ENCODER_JUMP:
+        /* a whole number of counts, either way (motor_sim: [-32768, 32767]):
+         * through int32_t, as a negative double has no uint16_t value */
+        p->qep_jump = (uint16_t)(p->qep_jump + (uint16_t)(int32_t)value);
+        break;
     case PLANT_FAULT_HW_TRIP: p->hw_trip_until_s = p->t_s + value; break;
     case PLANT_FAULT_CLEAR:
         p->hall_a_gain_fault = 1.0;
@@ -133,6 +137,14 @@ void plant_inject(plant_t *p, plant_fault_t kind, double value)
     case PLANT_FAULT_NONE:
     default: break;
     }
+}
+
+int plant_finite(const plant_t *p)
+{
+    const motor_t *m = &p->motor;
+    return isfinite(m->w_m_rad_s) && isfinite(m->theta_m_rad) && isfinite(m->i_alpha_A) &&
+           isfinite(m->i_beta_A) && isfinite(m->psi_r_alpha_Wb) && isfinite(m->psi_r_beta_Wb) &&
+           isfinite(p->i_short_A);
 }
 
 uint16_t plant_trip_line(const plant_t *p) { return (uint16_t)(p->t_s < p->hw_trip_until_s); }

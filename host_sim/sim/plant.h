@@ -82,6 +82,9 @@ void plant_sample(plant_t *p, hal_host_port_t *port);
 void plant_inject(plant_t *p, plant_fault_t kind, double value);
 /** 1 while the power stage holds PDPINTA low (the simulator copies it to the port). */
 uint16_t plant_trip_line(const plant_t *p);
+/** 1 while the motor's state (speed, angle, currents, rotor flux) and the
+ *  short's current are finite numbers; 0 once the integration diverged. */
+int plant_finite(const plant_t *p);
 /** Advance one PWM period. */
 void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_enabled);
 /** The load torque (N m) at the present state: const + prop w + fan (w/w_rated)^2 + steps. */

@@ -4,13 +4,61 @@
 #include "IQmathLib.h"
 
 #include <math.h>
+#include <string.h>
 
-static void json_params(FILE *f, const char *name, const sim_params_t *p, int last)
+/* The writer: the file, and the figures that were not finite numbers.  JSON
+ * (RFC 8259) has no NaN or infinity: such a figure is written as null and
+ * named, with its value, in "non_finite" at the end, so that the report
+ * stays valid JSON whatever the run produced. */
+#define REPORT_MAX_NON_FINITE 24
+
+typedef struct {
+    FILE *f;
+    unsigned n_bad;          /* non-finite figures seen (all counted) */
+    char bad[REPORT_MAX_NON_FINITE][48];
+    double bad_v[REPORT_MAX_NON_FINITE];
+} jw_t;
+
+static void jw_note(jw_t *w, const char *name, const char *member, double v)
 {
-    fprintf(f,
-            "  \"%s\": {\"Rs_ohm\": %.8g, \"Rr_ohm\": %.8g, \"Lm_H\": %.8g, \"Lr_H\": %.8g, "
-            "\"psi_r_Wb\": %.8g, \"Tr_s\": %.8g}%s\n",
-            name, p->Rs_ohm, p->Rr_ohm, p->Lm_H, p->Lr_H, p->psi_r_Wb, p->Tr_s, last ? "" : ",");
+    if (w->n_bad < REPORT_MAX_NON_FINITE) {
+        snprintf(w->bad[w->n_bad], sizeof w->bad[0], "%s%s%s", name, member[0] ? "." : "",
+                 member);
+        w->bad_v[w->n_bad] = v;
+    }
+    w->n_bad++;
+}
+
+/* One number with format @p fmt, or null (noted) if it is not finite. */
+static void jw_num(jw_t *w, const char *fmt, const char *name, const char *member, double v)
+{
+    if (isfinite(v)) {
+        fprintf(w->f, fmt, v);
+    } else {
+        fputs("null", w->f);
+        jw_note(w, name, member, v);
+    }
+}
+
+/* "  \"name\": <number>,\n" */
+static void jw_field(jw_t *w, const char *name, double v)
+{
+    fprintf(w->f, "  \"%s\": ", name);
+    jw_num(w, "%.6g", name, "", v);
+    fputs(",\n", w->f);
+}
+
+static void json_params(jw_t *w, const char *name, const sim_params_t *p, int last)
+{
+    static const char *const k[6] = {"Rs_ohm", "Rr_ohm", "Lm_H", "Lr_H", "psi_r_Wb", "Tr_s"};
+    const double v[6] = {p->Rs_ohm, p->Rr_ohm, p->Lm_H, p->Lr_H, p->psi_r_Wb, p->Tr_s};
+    unsigned i;
+    fprintf(w->f, "  \"%s\": {", name);
+    for (i = 0; i < 6u; i++) {
+        fprintf(w->f, "%s\"%s\": ", i ? ", " : "", k[i]);
+        jw_num(w, "%.8g", name, k[i], v[i]);
+    }
+    fprintf(w->f, "}%s\n", last ? "" : ",");
 }
 
 /* A JSON string: the path comes from the command line and may hold quotes,
@@ -33,33 +81,36 @@ static void json_string(FILE *f, const char *s)
 
 /* A number, or null where the run has none to give (a negative figure or
  * a zero Rs_dc mean "none": see sim_result_t). */
-static void json_num_or_null(FILE *f, const char *name, double v, int present)
+static void json_num_or_null(jw_t *w, const char *name, double v, int present)
 {
     if (present) {
-        fprintf(f, "  \"%s\": %.6g,\n", name, v);
+        jw_field(w, name, v);
     } else {
-        fprintf(f, "  \"%s\": null,\n", name);
+        fprintf(w->f, "  \"%s\": null,\n", name);
     }
 }
 
-/* The adaptation telemetry and the drift scenario's figures (issue 8). */
-static void json_adaptation(FILE *f, const sim_result_t *r)
+/* The adaptation telemetry and the drift scenario's figures. */
+static void json_adaptation(jw_t *w, const sim_result_t *r)
 {
-    fprintf(f, "  \"pass\": %u,\n", r->final_pass);
-    json_num_or_null(f, "Rs_dc_ohm", r->Rs_dc_ohm, r->Rs_dc_ohm != 0.0);
-    json_num_or_null(f, "drift_t_start_s", r->drift_t_start_s, r->drift_t_start_s >= 0.0);
-    fprintf(f, "  \"track_samples\": %u,\n", (unsigned)r->track_samples);
-    json_num_or_null(f, "track_err_lag0_pct", r->track_err_lag0_pct, r->track_err_lag0_pct >= 0.0);
-    json_num_or_null(f, "track_best_lag_s", r->track_best_lag_s, r->track_best_lag_s >= 0.0);
-    json_num_or_null(f, "track_err_best_lag_pct", r->track_err_best_lag_pct,
-                     r->track_err_best_lag_pct >= 0.0);
-    json_num_or_null(f, "drift_max_q_over_d", r->drift_max_q_over_d, r->drift_max_q_over_d >= 0.0);
-    json_num_or_null(f, "drift_max_q_over_d_20ms", r->drift_max_q_over_d_20ms,
-                     r->drift_max_q_over_d_20ms >= 0.0);
-    json_num_or_null(f, "drift_speed_ripple_rpm", r->drift_speed_ripple_rpm,
-                     r->drift_speed_ripple_rpm >= 0.0);
-    json_num_or_null(f, "drift_rr_true_end_ohm", r->drift_rr_true_end_ohm,
-                     r->drift_rr_true_end_ohm >= 0.0);
+    fprintf(w->f, "  \"pass\": %u,\n", r->final_pass);
+    json_num_or_null(w, "Rs_dc_ohm", r->Rs_dc_ohm, r->Rs_dc_ohm != 0.0);
+    json_num_or_null(w, "drift_t_start_s", r->drift_t_start_s, r->drift_t_start_s >= 0.0);
+    fprintf(w->f, "  \"track_samples\": %u,\n", (unsigned)r->track_samples);
+    /* (written so that a NaN figure is present, then written as null and named) */
+    json_num_or_null(w, "track_err_lag0_pct", r->track_err_lag0_pct,
+                     !(r->track_err_lag0_pct < 0.0));
+    json_num_or_null(w, "track_best_lag_s", r->track_best_lag_s, !(r->track_best_lag_s < 0.0));
+    json_num_or_null(w, "track_err_best_lag_pct", r->track_err_best_lag_pct,
+                     !(r->track_err_best_lag_pct < 0.0));
+    json_num_or_null(w, "drift_max_q_over_d", r->drift_max_q_over_d,
+                     !(r->drift_max_q_over_d < 0.0));
+    json_num_or_null(w, "drift_max_q_over_d_20ms", r->drift_max_q_over_d_20ms,
+                     !(r->drift_max_q_over_d_20ms < 0.0));
+    json_num_or_null(w, "drift_speed_ripple_rpm", r->drift_speed_ripple_rpm,
+                     !(r->drift_speed_ripple_rpm < 0.0));
+    json_num_or_null(w, "drift_rr_true_end_ohm", r->drift_rr_true_end_ohm,
+                     !(r->drift_rr_true_end_ohm < 0.0));
 }
 
 static const char *fault_name(uint16_t code)
@@ -67,20 +118,40 @@ static const char *fault_name(uint16_t code)
     static const char *const names[] = {"none", "overcurrent", "bus_overvoltage",
                                         "bus_undervoltage", "encoder", "current_offset",
                                         "adc_rail", "hw_trip", "config",
-                                        "current_sensor"};
+                                        "current_sensor", "isr_overrun"};
     return (code < sizeof names / sizeof names[0]) ? names[code] : "unknown";
+}
+
+/* "non_finite": each figure written as null because it was not a finite
+ * number, with what it was; and where the plant diverged. */
+static void json_non_finite(jw_t *w, const sim_result_t *r)
+{
+    unsigned i;
+    fprintf(w->f, "  \"non_finite\": {");
+    for (i = 0; i < w->n_bad && i < REPORT_MAX_NON_FINITE; i++) {
+        fprintf(w->f, "%s\"%s\": \"%s: not a finite number, written as null\"", i ? ", " : "",
+                w->bad[i], isnan(w->bad_v[i]) ? "nan" : (w->bad_v[i] > 0.0 ? "+inf" : "-inf"));
+    }
+    if (w->n_bad > REPORT_MAX_NON_FINITE) {
+        fprintf(w->f, ", \"more\": \"%u more\"", w->n_bad - REPORT_MAX_NON_FINITE);
+    }
+    fprintf(w->f, "},\n");
+    json_num_or_null(w, "plant_diverged_at_s", r->plant_diverged_at_s,
+                     r->plant_diverged_at_s >= 0.0);
 }
 
 int report_write_json(const char *path, const sim_config_t *cfg, const char *config_path,
                       const sim_options_t *opt, const sim_result_t *r)
 {
+    jw_t w;
     FILE *f = fopen(path, "w");
     unsigned i;
     int write_failed;
-    (void)cfg;
     if (f == NULL) {
         return -1;
     }
+    memset(&w, 0, sizeof w);
+    w.f = f;
     fprintf(f, "{\n  \"config\": ");
     json_string(f, config_path);
     fprintf(f, ",\n  \"scenario\": \"%s\",\n  \"math_type\": \"%s\",\n",
@@ -91,24 +162,34 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
             "FLOAT_MATH"
 #endif
     );
-    fprintf(f, "  \"duration_s\": %.6g,\n  \"wall_s\": %.6g,\n  \"published\": %s,\n",
-            r->duration_s, r->wall_s, r->identified ? "true" : "false");
+    jw_field(&w, "duration_s", r->duration_s);
+    if (opt->trace_path != NULL) {
+        /* the trace's row spacing (motor_sim may thin the 1 ms default to fit its limit),
+         * and where it stopped at its size limit (a serial session: no length known) */
+        fprintf(f, "  \"trace_every_periods\": %llu,\n",
+                (unsigned long long)sim_trace_every(cfg, opt));
+        json_num_or_null(&w, "trace_truncated_at_s", r->trace_truncated_at_s,
+                         r->trace_truncated_at_s >= 0.0);
+    }
+    jw_field(&w, "wall_s", r->wall_s);
+    fprintf(f, "  \"published\": %s,\n", r->identified ? "true" : "false");
     fprintf(f, "  \"settle_timeout\": %s,\n", r->settle_timeout ? "true" : "false");
-    fprintf(f, "  \"t_accel_start_s\": %.6g,\n  \"t_published_s\": %.6g,\n  \"converge_s\": %.6g,\n",
-            r->t_accel_start_s, r->t_published_s, r->converge_s);
-    json_params(f, "true", &r->truth, 0);
+    jw_field(&w, "t_accel_start_s", r->t_accel_start_s);
+    jw_field(&w, "t_published_s", r->t_published_s);
+    jw_field(&w, "converge_s", r->converge_s);
+    json_params(&w, "true", &r->truth, 0);
     if (r->identified) {
         /* identified: what the drive publishes at the end (the telemetry's set, as the
          * PC tool reads it): the RLS's extraction or, with tracking, the standstill Rs
-         * and the tracked Rr, Tr (issue 8); published_end is the same set */
-        json_params(f, "identified", &r->published_end, 0);
-        json_params(f, "error_pct", &r->published_end_error_pct, 0);
-        json_params(f, "published_end", &r->published_end, 0);
-        json_params(f, "published_end_error_pct", &r->published_end_error_pct, 0);
+         * and the tracked Rr, Tr; published_end is the same set */
+        json_params(&w, "identified", &r->published_end, 0);
+        json_params(&w, "error_pct", &r->published_end_error_pct, 0);
+        json_params(&w, "published_end", &r->published_end, 0);
+        json_params(&w, "published_end_error_pct", &r->published_end_error_pct, 0);
         fprintf(f, "  \"params_tracked\": %s,\n", r->params_tracked ? "true" : "false");
         /* the RLS's last extraction as extracted (not published if implausible) */
-        json_params(f, "last_extraction", &r->ident, 0);
-        json_params(f, "last_extraction_error_pct", &r->error_pct, 0);
+        json_params(&w, "last_extraction", &r->ident, 0);
+        json_params(&w, "last_extraction_error_pct", &r->error_pct, 0);
         fprintf(f, "  \"last_extraction_valid\": %s,\n", r->ident_valid ? "true" : "false");
     } else {
         /* nothing was published: no numbers that could be mistaken for a result */
@@ -117,19 +198,26 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
                    "  \"params_tracked\": false,\n  \"last_extraction\": null,\n"
                    "  \"last_extraction_error_pct\": null,\n  \"last_extraction_valid\": false,\n");
     }
-    fprintf(f, "  \"max_abs_i_A\": %.6g,\n  \"max_speed_err_rpm_ramp\": %.6g,\n"
-               "  \"max_flux_q_over_d\": %.6g,\n  \"final_speed_rpm\": %.6g,\n",
-            r->max_abs_i_A, r->max_speed_err_rpm_ramp, r->max_flux_q_over_d, r->final_speed_rpm);
-    fprintf(f, "  \"v_err_along_i_V\": %.6g,\n  \"v_err_across_i_V\": %.6g,\n"
-               "  \"i_mag_steady_A\": %.6g,\n",
-            r->v_err_along_i_V, r->v_err_across_i_V, r->i_mag_steady_A);
-    json_adaptation(f, r);
+    jw_field(&w, "max_abs_i_A", r->max_abs_i_A);
+    jw_field(&w, "max_speed_err_rpm_ramp", r->max_speed_err_rpm_ramp);
+    jw_field(&w, "max_flux_q_over_d", r->max_flux_q_over_d);
+    jw_field(&w, "final_speed_rpm", r->final_speed_rpm);
+    jw_field(&w, "v_err_along_i_V", r->v_err_along_i_V);
+    jw_field(&w, "v_err_across_i_V", r->v_err_across_i_V);
+    jw_field(&w, "i_mag_steady_A", r->i_mag_steady_A);
+    json_adaptation(&w, r);
     fprintf(f, "  \"faults\": [");
     for (i = 0; i < r->n_faults_seen; i++) {
-        fprintf(f, "%s{\"code\": %u, \"name\": \"%s\", \"time_s\": %.7g}", i ? ", " : "",
-                r->fault_code[i], fault_name(r->fault_code[i]), r->fault_time_s[i]);
+        char which[24];
+        snprintf(which, sizeof which, "faults[%u]", i);
+        fprintf(f, "%s{\"code\": %u, \"name\": \"%s\", \"time_s\": ", i ? ", " : "",
+                r->fault_code[i], fault_name(r->fault_code[i]));
+        jw_num(&w, "%.7g", which, "time_s", r->fault_time_s[i]);
+        fputc('}', f);
     }
-    fprintf(f, "],\n  \"pwm_enabled_at_end\": %s\n}\n", r->final_pwm_on ? "true" : "false");
+    fprintf(f, "],\n");
+    json_non_finite(&w, r);
+    fprintf(f, "  \"pwm_enabled_at_end\": %s\n}\n", r->final_pwm_on ? "true" : "false");
     write_failed = ferror(f);
     return (fclose(f) == 0 && write_failed == 0) ? 0 : -1;
 }

@@ -18,6 +18,8 @@
 #include "sim_config_check.h"
 #include "sim_limits.h"
 
+#define TARGET_RATED (-1.0)  /* ident.target_speed_rpm: the nameplate's rated speed */
+
 #define REQ 1  /* the key must be present */
 #define OPT 0  /* the key may be omitted: its default applies */
 
@@ -97,9 +99,11 @@ static const key_spec_t k_keys[] = {
     D(ident, forgetting, OPT, 1, DRIVE, "RLS forgetting factor (1: none)"),
     D(ident, magnetize_s, OPT, 0.3, DRIVE, "pre-magnetisation"),
     D(ident, rls_tail_s, OPT, 0.3, DRIVE, "the RLS runs this long after the ramp"),
-    /* -1: the nameplate's rated speed (resolved before the drive's check) */
-    K(ident, target_speed_rpm, OPT, -1, NULL, -1, 1e5, 0, "r/min (-1: rated)", DRIVE,
-      "speed the sequence accelerates to"),
+    /* -1: the nameplate's rated speed (resolved before the drive's check);
+     * any other value must be a speed (> 0), then the drive's limits (the
+     * identification's floor and 1.2 rated: DRIVE_LD_TARGET) */
+    K(ident, target_speed_rpm, OPT, TARGET_RATED, NULL, TARGET_RATED, 1e5, 0,
+      "r/min (-1: rated)", DRIVE, "speed the sequence accelerates to"),
     D(ident, passes, OPT, 1, DRIVE, "identification passes (> 1: orientation 1)"),
     D(ident, standstill, OPT, 0, DRIVE, "1: Rs and sigma Ls at standstill (orientation 1)"),
     D(ident, track_rr, OPT, 0, DRIVE, "1: Rr/Tr tracked in RUN (orientation 1)"),
@@ -205,6 +209,14 @@ static int known_section(const char *section)
 static int check_value(const key_spec_t *k, double v, char *err, size_t len)
 {
     const drive_limit_t *l = drive_limit_of(k);
+    if (strcmp(k->section, "ident") == 0 && strcmp(k->key, "target_speed_rpm") == 0 &&
+        v != TARGET_RATED && !(v > 0.0)) {
+        /* 0 and negative speeds once meant "rated" without a word */
+        sim_config_set_err(err, len, "key 'ident.target_speed_rpm' = %g r/min is not a speed "
+                           "the identification can run at: give the target (r/min, > 0) or "
+                           "-1 for the nameplate's rated speed", v);
+        return 1;
+    }
     if (l != NULL) {
         drive_limit_fail_t f;
         float fv = (fabs(v) <= FLT_MAX) ? (float)v : (float)copysign(FLT_MAX, v);
@@ -221,7 +233,7 @@ static int check_value(const key_spec_t *k, double v, char *err, size_t len)
             f.lo = l->lo;
             f.hi = l->hi;
             f.open = l->open;
-            sim_limit_message(err, len, &f);
+            sim_limit_message_value(err, len, &f, v);
             return 1;
         }
         if (whole && v != floor(v)) {
@@ -276,7 +288,11 @@ static int on_key(void *user, const char *section, const char *name, const char 
     while (end != NULL && (*end == ' ' || *end == '\t')) {
         end++;
     }
-    if (value[0] == '\0' || end == NULL || *end != '\0' || errno != 0 || !isfinite(v)) {
+    /* strtod's ERANGE: an overflow (1e999, +-HUGE_VAL) is no finite number;
+     * an underflow (1e-320) is a finite, subnormal one, and the range check
+     * below judges it with the key's range */
+    if (value[0] == '\0' || end == NULL || *end != '\0' || !isfinite(v) ||
+        (errno != 0 && !(errno == ERANGE && fabs(v) < 1.0))) {
         sim_config_set_err(ctx->err, sizeof ctx->err, "key '%s.%s': '%s' is not a finite number",
                            section, name, value);
         return 0;
@@ -341,7 +357,7 @@ static int apply_defaults(parse_ctx_t *ctx, char *err, size_t len)
             *field(ctx->cfg, k) = k->def;
         }
     }
-    if (ctx->cfg->ident.target_speed_rpm < 0.0) {
+    if (ctx->cfg->ident.target_speed_rpm == TARGET_RATED) {
         ctx->cfg->ident.target_speed_rpm = ctx->cfg->nameplate.rated_speed_rpm;
     }
     return 0;

@@ -3,9 +3,11 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "drive_limits.h"
 #include "drive_types.h"
+#include "motor_model.h"
 #include "sim_limits.h"
 
 /* rated_voltage_V and rated_power_W are informative (the drive reads
@@ -71,6 +73,79 @@ static double rated_voltage_need_V(const sim_config_t *c)
     return sqrt(ud * ud + uq * uq);
 }
 
+/* The speed the drive lets the motor reach: its encoder check trips above
+ * 4 pu of electrical speed (DRIVE_ENC_SPEED_MAX_PU, src/app/drive_design.h). */
+#define SIM_SPEED_BOUND_PU 4.0
+
+/* What the plant can integrate.
+ *  - RK4 substep h = 1 / (board.pwm_freq_Hz simulation.substeps): every
+ *    time constant the motor model integrates at least h.  RK4 is stable on
+ *    a decaying mode while h/tau < 2.785 and accurate to about 2 % a step at
+ *    h/tau = 1; beyond, the state grows without bound and becomes NaN.  The
+ *    electrical one is the fast root of the stator-rotor network; the
+ *    mechanical one J over the torque's slope against speed, the rotor flux's
+ *    1.5 p^2 psi_r^2 / Rr (psi_r: plant.Lm_H controller.magnetizing_current_A,
+ *    the largest the drive sets up) plus plant.B_Nm_s.
+ *  - The load torque is held over each PWM period (plant_period), an
+ *    explicit step of Ts: stable while Ts times its slope over J stays below
+ *    2; asked to be at most 1, with the slope at the largest speed the drive
+ *    allows (4 pu: the fan load's slope grows with speed).
+ * A paper motor of 1e-7 kg m^2: tau_m = 3.2 us against h = 16.7 us. */
+static int check_integration(const sim_config_t *c, char *err, size_t len)
+{
+    const sim_plant_t *p = &c->plant;
+    motor_params_t mp;
+    double Ts = 1.0 / c->board.pwm_freq_Hz;
+    double h = Ts / c->simulation.substeps;
+    double w_rated = c->nameplate.rated_speed_rpm * 2.0 * M_PI / 60.0;
+    double w_max = SIM_SPEED_BOUND_PU * 2.0 * M_PI * c->nameplate.rated_freq_Hz /
+                   c->nameplate.pole_pairs;
+    double psi = p->Lm_H * c->controller.magnetizing_current_A;
+    double load_slope = c->load.prop_Nm_s + 2.0 * c->load.fan_Nm * w_max / (w_rated * w_rated);
+    double tau_e, tau_m, tau_load;
+
+    memset(&mp, 0, sizeof mp);
+    mp.Rs_ohm = p->Rs_ohm;
+    mp.Rr_ohm = p->Rr_ohm;
+    mp.Lm_H = p->Lm_H;
+    mp.Lls_H = p->Lls_H;
+    mp.Llr_H = p->Llr_H;
+    mp.pole_pairs = (uint16_t)c->nameplate.pole_pairs;
+    mp.J_kgm2 = p->J_kgm2;
+    mp.B_Nm_s = p->B_Nm_s;
+    motor_time_constants(&mp, psi, 0.0, &tau_e, &tau_m);
+    tau_load = (load_slope > 0.0) ? p->J_kgm2 / load_slope : HUGE_VAL;
+    if (!(tau_m >= h)) {
+        sim_config_set_err(err, len, "key 'plant.J_kgm2' = %g kg m^2 is too small to integrate: "
+                           "the simulated motor's mechanical time constant J / (1.5 p^2 psi_r^2 "
+                           "/ plant.Rr_ohm + plant.B_Nm_s) = %.3g s is shorter than the "
+                           "integration substep 1 / (board.pwm_freq_Hz simulation.substeps) = "
+                           "%.3g s (RK4 diverges beyond 2.8 substeps a time constant); at least "
+                           "%.3g kg m^2 with %g substeps", p->J_kgm2, tau_m, h,
+                           p->J_kgm2 * h / tau_m, c->simulation.substeps);
+        return 1;
+    }
+    if (!(tau_load >= Ts)) {
+        sim_config_set_err(err, len, "key 'plant.J_kgm2' = %g kg m^2 is too small to integrate: "
+                           "J over the load's slope at 4 pu of speed (load.prop_Nm_s, "
+                           "load.fan_Nm) = %.3g s is shorter than the PWM period %.3g s over "
+                           "which the plant holds the load torque (that explicit step diverges "
+                           "beyond 2 periods a time constant); at least %.3g kg m^2",
+                           p->J_kgm2, tau_load, Ts, load_slope * Ts);
+        return 1;
+    }
+    if (!(tau_e >= h)) {
+        sim_config_set_err(err, len, "the simulated motor's electrical time constant (the fast "
+                           "root of its stator-rotor network: plant.Rs_ohm, plant.Rr_ohm, "
+                           "plant.Lm_H, plant.Lls_H, plant.Llr_H) = %.3g s is shorter than the "
+                           "integration substep 1 / (board.pwm_freq_Hz simulation.substeps) = "
+                           "%.3g s (RK4 diverges beyond 2.8 substeps a time constant): raise the "
+                           "leakage inductances or simulation.substeps", tau_e, h);
+        return 1;
+    }
+    return 0;
+}
+
 /* The simulated world against the drive: the bus the bridge runs on and the
  * motor the drive magnetises.  (A believed Lm above the true Ls is a wrong
  * nameplate, not an unphysical model, and accepted: the believed Ls keeps
@@ -95,6 +170,27 @@ static int check_world(const sim_config_t *c, char *err, size_t len)
                            "is too low for rated speed: the simulated motor needs %.1f V peak "
                            "per phase, the bus gives %.1f V (with 5 %% margin)", inv->vdc_V, need,
                            0.95 * vmax_phase);
+        return 1;
+    }
+    /* the bridge's own losses on top (the drive's table asks the same of
+     * the programmed dead time, DRIVE_LD_HEADROOM): two device drops and the
+     * dead time's vdc td f_pwm within the same 95 % */
+    if (need + 2.0 * inv->device_drop_V + inv->vdc_V * inv->dead_time_s * c->board.pwm_freq_Hz >
+        0.95 * vmax_phase) {
+        double td_max = (0.95 * vmax_phase - need - 2.0 * inv->device_drop_V) /
+                        (inv->vdc_V * c->board.pwm_freq_Hz);
+        sim_config_set_err(err, len, "key 'inverter.dead_time_s' = %g s (default "
+                           "board.dead_time_s) eats the modulation range: the simulated motor "
+                           "needs %.1f V peak per phase at rated speed, the bridge loses %.1f V "
+                           "(2 inverter.device_drop_V + inverter.vdc_V inverter.dead_time_s "
+                           "board.pwm_freq_Hz), the bus gives %.1f V (with 5 %% margin): at most "
+                           "%.3g s", inv->dead_time_s, need,
+                           2.0 * inv->device_drop_V +
+                               inv->vdc_V * inv->dead_time_s * c->board.pwm_freq_Hz,
+                           0.95 * vmax_phase, (td_max > 0.0) ? td_max : 0.0);
+        return 1;
+    }
+    if (check_integration(c, err, len) != 0) {
         return 1;
     }
     if (c->ident.magnetize_s < 5.0 * tr) {

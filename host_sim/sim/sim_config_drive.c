@@ -23,7 +23,10 @@ static uint16_t u16(double v)
     if (!(v >= 0.0)) {
         return 0u;   /* also NaN */
     }
-    return (v > 65535.0) ? 65535u : (uint16_t)v;
+    if (v > 65535.0) {
+        return 65535u;
+    }
+    return (uint16_t)v;
 }
 
 void sim_config_to_drive(const sim_config_t *c, drive_config_t *d)

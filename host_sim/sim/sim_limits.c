@@ -79,9 +79,21 @@ static const char *const k_why[DRIVE_LD_COUNT] = {
                             "the test with its pause in the second half of ident.magnetize_s",
     [DRIVE_LD_TRACKER] = "the Rr/Tr tracker (ident.track_rr = 1): its range Tr/4 .. 4 Tr within "
                          "30 pu of 1/Tr, and its guard",
-    [DRIVE_LD_TARGET] = "at most 1.2 nameplate.rated_speed_rpm",
+    [DRIVE_LD_TARGET] = "what the identification can use: at least the largest of 20 % of "
+                        "nameplate.rated_speed_rpm (the RLS's back-EMF excitation), 10 encoder "
+                        "counts a time constant of the regression's filter (150 (2 pi "
+                        "ident.filter_cutoff_Hz) / board.encoder_lines r/min) and, with "
+                        "controller.orientation = 1, the RLS's 30 Hz stator-frequency gate "
+                        "(1800 / nameplate.pole_pairs r/min); at most 1.2 "
+                        "nameplate.rated_speed_rpm (-1 in the INI: the rated speed)",
     [DRIVE_LD_TARGET_PU] = "within the speed reference's 2 pu "
                            "(60 nameplate.rated_freq_Hz / nameplate.pole_pairs r/min a pu)",
+    [DRIVE_LD_HEADROOM] = "the dead time against the voltage at the target speed: what the "
+                          "bridge loses per leg, board.vdc_nominal_V board.dead_time_s "
+                          "board.pwm_freq_Hz + board.device_drop_V, at most 30 % of the "
+                          "believed motor's no-load phase voltage there, "
+                          "|Rs + j w Ls| controller.magnetizing_current_A (beyond, the "
+                          "compensated reference clips once the motor is loaded)",
     [DRIVE_LD_DIDT] = "the steady-state di/dt threshold (5 % of the rated peak a second) in Q24",
     [DRIVE_LD_OC_FS] = "below the current sensors' full scale board.current_full_scale_A",
     [DRIVE_LD_TORQUE_OC] = "at most the trip level controller.overcurrent_A",
@@ -115,13 +127,18 @@ static int is_ini_key(const char *key)
 
 void sim_limit_message(char *buf, size_t len, const drive_limit_fail_t *f)
 {
+    sim_limit_message_value(buf, len, f, (double)f->value);
+}
+
+void sim_limit_message_value(char *buf, size_t len, const drive_limit_fail_t *f, double value)
+{
     char range[80];
     const char *unit = (strcmp(f->unit, "-") == 0) ? "" : f->unit;
     const char *why = (f->limit != NULL && f->limit->kind == DRIVE_LIMIT_DERIVED)
                           ? sim_limit_why(f->limit->where) : "";
     sim_limit_range(range, sizeof range, f->lo, f->hi, f->open);
     snprintf(buf, len, "%s%s%s = %g%s%s is outside %s%s%s%s%s", is_ini_key(f->key) ? "key '" : "",
-             f->key, is_ini_key(f->key) ? "'" : "", (double)f->value, unit[0] ? " " : "", unit,
+             f->key, is_ini_key(f->key) ? "'" : "", value, unit[0] ? " " : "", unit,
              range, unit[0] ? " " : "", unit, why[0] ? ": " : "", why);
 }
 

@@ -16,6 +16,9 @@
 /** "key 'K' = V unit is outside [lo, hi] unit: why" for @p f (a failed
  *  limit of drive_config_check). */
 void sim_limit_message(char *buf, size_t len, const drive_limit_fail_t *f);
+/** The same with the value as the file gave it (a double the float of the
+ *  failure may not hold, e.g. 1e-320). */
+void sim_limit_message_value(char *buf, size_t len, const drive_limit_fail_t *f, double value);
 
 /** What derived limit @p which (drive_derived_limit_t) is; "" if none. */
 const char *sim_limit_why(unsigned which);

@@ -29,7 +29,12 @@ int sim_scenario_parse(const char *name, sim_scenario_t *out)
     return -1;
 }
 
-const char *sim_scenario_name(sim_scenario_t s) { return k_scen[s]; }
+const char *sim_scenario_name(sim_scenario_t s)
+{
+    return ((unsigned)s < sizeof k_scen / sizeof k_scen[0]) ? k_scen[s] : "unknown";
+}
+
+unsigned sim_scenario_count(void) { return (unsigned)(sizeof k_scen / sizeof k_scen[0]); }
 
 static void to_si(const base_values_t *b, const param_extract_t *p, sim_params_t *o)
 {
@@ -164,9 +169,9 @@ static void observe_voltage(const drive_t *d, const plant_t *p, double V_base_V,
     r->n_v_err++;
 }
 
-static void trace_header(FILE *f)
+static int trace_header(FILE *f)
 {
-    fprintf(f, "t_s,state,fault,pwm_on,speed_ref_rpm,speed_rpm,speed_meas_rpm,i_m_A,i_t_A,"
+    return fprintf(f, "t_s,state,fault,pwm_on,speed_ref_rpm,speed_rpm,speed_meas_rpm,i_m_A,i_t_A,"
                "ia_A,ib_A,u_m_V,u_t_V,vdc_V,Te_Nm,TL_Nm,psi_r_true_Wb,psi_rq_over_d,"
                "Rs_ohm,Rr_ohm,Lm_H,Lr_H,psi_r_Wb,Tr_s,est_valid,"
                "K1,K2,K3,K4,"
@@ -178,11 +183,11 @@ static void trace_header(FILE *f)
 }
 
 /* The appended columns of a trace row, and its end. */
-static void trace_row_adaptation(FILE *f, const drive_t *d, const plant_t *p)
+static int trace_row_adaptation(FILE *f, const drive_t *d, const plant_t *p)
 {
     const drive_telemetry_t *t = &d->telemetry;
     double z = d->base.Z_base_ohm;
-    fprintf(f, ",%.6g,%.6g,%u,%u,%.6g,%.6g\n", p->motor.p.Rr_ohm, (double)_IQtoF(t->Rr_track) * z,
+    return fprintf(f, ",%.6g,%.6g,%u,%u,%.6g,%.6g\n", p->motor.p.Rr_ohm, (double)_IQtoF(t->Rr_track) * z,
             t->track_valid, t->pass, (double)_IQtoF(t->Rs_dc) * z,
             (double)_IQtoF(t->Tr_track) * d->base.t_base_s);
 }
@@ -200,6 +205,33 @@ static double default_duration_s(const sim_config_t *c, sim_scenario_t s)
         return d + c->drift.start_s + c->drift.ramp_s + DRIFT_TAIL_S;
     }
     return (s != SCEN_START) ? d + 2.5 : d;
+}
+
+uint64_t sim_trace_every(const sim_config_t *c, const sim_options_t *opt)
+{
+    uint64_t n;
+    if (opt->trace_every > 0u) {
+        return opt->trace_every;
+    }
+    n = (uint64_t)(c->board.pwm_freq_Hz /
+                   ((opt->trace_rate_Hz > 0.0) ? opt->trace_rate_Hz : 1000.0));
+    return (n == 0u) ? 1u : n;
+}
+
+double sim_trace_bytes(const sim_config_t *c, double duration_s, uint64_t every)
+{
+    uint64_t rows = (sim_run_periods(c, duration_s) + every - 1u) / every;
+    return SIM_TRACE_HEADER_BYTES + SIM_TRACE_ROW_BYTES * (double)rows;
+}
+
+double sim_run_duration_s(const sim_config_t *c, const sim_options_t *opt)
+{
+    return (opt->duration_s > 0.0) ? opt->duration_s : default_duration_s(c, opt->scenario);
+}
+
+uint64_t sim_run_periods(const sim_config_t *c, double duration_s)
+{
+    return (uint64_t)(duration_s * c->board.pwm_freq_Hz + 0.5);
 }
 
 /* The identification is complete: RUN after the last pass (a sequence of
@@ -250,6 +282,8 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     size_t n_rows = 0, cap_rows;
     int16_t st;
     uint64_t k, n_steps, trace_div;
+    double trace_bytes = 0.0;   /* written so far (the size guard) */
+    int trace_full = 0;
     double Ts, duration, t_run = -1.0, rpm_per_pu;
     uint16_t fault_applied[SIM_MAX_FAULTS] = {0};
     uint16_t cmd_given[SIM_MAX_CMDS] = {0};
@@ -267,6 +301,8 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     res->t_first_overmod_s = -1.0;
     res->t_last_overmod_s = -1.0;
     res->t_accel_start_s = -1.0;
+    res->plant_diverged_at_s = -1.0;
+    res->trace_truncated_at_s = -1.0;
     sim_config_to_drive(cfg, &dc);
     st = drive_init(&drive, &dc);
     if (st != DRIVE_CFG_OK) {
@@ -290,15 +326,10 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     active = port.cmp;
 
     Ts = 1.0 / cfg->board.pwm_freq_Hz;
-    duration = (opt->duration_s > 0.0) ? opt->duration_s
-                                       : default_duration_s(cfg, opt->scenario);
+    duration = sim_run_duration_s(cfg, opt);
     res->duration_s = duration;
-    n_steps = (uint64_t)(duration / Ts + 0.5);
-    trace_div = (uint64_t)(cfg->board.pwm_freq_Hz /
-                           ((opt->trace_rate_Hz > 0.0) ? opt->trace_rate_Hz : 1000.0));
-    if (trace_div == 0) {
-        trace_div = 1;
-    }
+    n_steps = (uint64_t)(duration / Ts + 0.5);   /* = sim_run_periods() */
+    trace_div = sim_trace_every(cfg, opt);
     cap_rows = (size_t)(duration * 100.0) + 16;
     rows = (live_row_t *)calloc(cap_rows, sizeof *rows);
     if (rows == NULL) {
@@ -318,7 +349,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
             drift_free(&drift);
             return 4;
         }
-        trace_header(trace);
+        trace_bytes += (double)trace_header(trace);
     }
     rpm_per_pu = b->n_base_rpm;
     res->truth.Rs_ohm = cfg->plant.Rs_ohm;
@@ -438,7 +469,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
             if (trace != NULL && (k % trace_div) == 0u) {
                 sim_params_t lp;
                 to_si(b, &drive.live, &lp);
-                fprintf(trace,
+                trace_bytes += (double)fprintf(trace,
                         "%.5f,%u,%u,%u,%.3f,%.3f,%.3f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.5f,"
                         "%.5f,%.6f,%.6f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%u,%.6g,%.6g,%.6g,%.6g,"
                         "%u,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g",
@@ -458,7 +489,18 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                         (double)_IQtoF(drive.reg.y2), (double)_IQtoF(drive.reg.i_mf),
                         (double)_IQtoF(drive.reg.u_mf), (double)_IQtoF(drive.reg.i_tf),
                         (double)_IQtoF(drive.reg.u_tf), (double)_IQtoF(drive.reg.wr_f));
-                trace_row_adaptation(trace, &drive, &plant);
+                trace_bytes += (double)trace_row_adaptation(trace, &drive, &plant);
+                if (opt->trace_max_bytes > 0.0 && trace_bytes > opt->trace_max_bytes) {
+                    /* the trace ends here, the run goes on (motor_sim sizes the trace
+                     * before a run of known length so that this is not reached; a
+                     * serial-link session has none) */
+                    trace_full = 1;
+                    res->trace_truncated_at_s = t;
+                    if (fclose(trace) != 0) {
+                        trace_full = 2;
+                    }
+                    trace = NULL;
+                }
             }
         }
 
@@ -514,6 +556,11 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
          * loaded at this underflow; the output enable acts at once */
         plant_period(&plant, &active, port.outputs_enabled);
         active = port.cmp;
+        if (!plant_finite(&plant)) {
+            /* nothing after this is a result: end the run here */
+            res->plant_diverged_at_s = t + Ts;
+            break;
+        }
     }
     if (!opt->quiet && duration > 5.0) {
         fprintf(stderr, "\n");
@@ -568,6 +615,10 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
             snprintf(err, err_len, "error writing %s", opt->trace_path);
             return 4;
         }
+    }
+    if (trace_full == 2) {
+        snprintf(err, err_len, "error writing %s", opt->trace_path);
+        return 4;
     }
     return 0;
 }

@@ -17,6 +17,15 @@
 
 #define SIM_MAX_CMDS 8
 
+/* The trace's size: a row is at most about SIM_TRACE_ROW_BYTES characters
+ * (measured: 327 on average, 352 at most over the identification and the
+ * adaptive runs; 400 leaves room for signs and exponents), the header
+ * SIM_TRACE_HEADER_BYTES.  motor_sim's default limit and its ceiling, MB. */
+#define SIM_TRACE_ROW_BYTES 400.0
+#define SIM_TRACE_HEADER_BYTES 512.0
+#define SIM_TRACE_MAX_MB_DEFAULT 256.0
+#define SIM_TRACE_MAX_MB_LIMIT 1e6
+
 /* SCEN_SOAK: after the identification, repeated speed reversals
  * (+-target every 4 s) and load steps (+50 % of the rated load for 1 s,
  * 2 s after each reversal): the long-run test of issue 6.
@@ -44,6 +53,11 @@ typedef struct {
     double duration_s;           /* <= 0: the scenario's default */
     const char *trace_path;      /* CSV, or NULL */
     double trace_rate_Hz;        /* rows per simulated second (default 1000) */
+    uint32_t trace_every;        /* one row every this many PWM periods (0: trace_rate_Hz) */
+    double trace_max_bytes;      /* the trace stops (the run goes on) beyond this size
+                                    (0: no limit): trace_truncated_at_s; motor_sim sizes the
+                                    trace before a run of known length (sim_trace_bytes) so
+                                    that this is not reached */
     uint16_t quiet;              /* no progress on stderr */
     uint16_t n_faults;
     sim_fault_t faults[SIM_MAX_FAULTS];
@@ -129,6 +143,11 @@ typedef struct {
     double drift_max_q_over_d_20ms; /* max |20 ms mean of psi_rq/psi_rd| */
     double drift_speed_ripple_rpm;  /* max |speed ref - speed| */
     double drift_rr_true_end_ohm;   /* the plant's Rr at the end */
+    /* the plant's state stopped being finite numbers (the integration
+     * diverged; sim_config_check refuses the time constants that make it):
+     * the time, and the run ended there; -1: never */
+    double plant_diverged_at_s;
+    double trace_truncated_at_s;    /* the trace reached trace_max_bytes and stopped; -1: no */
 } sim_result_t;
 
 /** Run; returns 0, or non-zero with a message in err (drive_init or a model
@@ -136,8 +155,26 @@ typedef struct {
 int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res, char *err,
             unsigned err_len);
 
+/** PWM periods between two trace rows of a run with @p opt (trace_every, or
+ *  the period count of trace_rate_Hz, default 1 kHz; at least 1). */
+uint64_t sim_trace_every(const sim_config_t *c, const sim_options_t *opt);
+/** A trace's size at most (header and rows of SIM_TRACE_ROW_BYTES), bytes. */
+double sim_trace_bytes(const sim_config_t *c, double duration_s, uint64_t every);
+
+/** The simulated time of a run with @p opt: --duration, or the scenario's
+ *  default (long enough for the identification and what the scenario does
+ *  after it; the drift scenario's default run may end earlier, with its
+ *  window). */
+double sim_run_duration_s(const sim_config_t *c, const sim_options_t *opt);
+/** PWM periods a run of @p duration_s simulates; period k starts at
+ *  k / board.pwm_freq_Hz, so a fault or command at t acts in the run only
+ *  if t is at most the last one's start, (periods - 1) / f. */
+uint64_t sim_run_periods(const sim_config_t *c, double duration_s);
+
 /** Parse "start" | "reversal" | "load_steps" | "soak" | "drift". Returns 0 or -1. */
 int sim_scenario_parse(const char *name, sim_scenario_t *out);
 const char *sim_scenario_name(sim_scenario_t s);
+/** Number of scenarios: sim_scenario_name(0 .. count - 1) lists them all. */
+unsigned sim_scenario_count(void);
 
 #endif /* SIM_RUN_H */

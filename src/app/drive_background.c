@@ -143,11 +143,27 @@ static void handle_command(drive_t *d, drive_cmd_t cmd)
     }
 }
 
+/* The requests of one background period in their defined order (drive.h):
+ * reset, then stop, then start unless a stop came too. */
+static void handle_requests(drive_t *d, uint16_t req)
+{
+    if ((req & DRIVE_CMD_BIT(DRIVE_CMD_RESET_FAULT)) != 0u) {
+        handle_command(d, DRIVE_CMD_RESET_FAULT);
+    }
+    if ((req & DRIVE_CMD_BIT(DRIVE_CMD_STOP)) != 0u) {
+        handle_command(d, DRIVE_CMD_STOP);
+    } else if ((req & DRIVE_CMD_BIT(DRIVE_CMD_START_IDENT)) != 0u) {
+        handle_command(d, DRIVE_CMD_START_IDENT);
+    } else {
+        /* neither */
+    }
+}
+
 void drive_background(drive_t *d)
 {
-    drive_cmd_t cmd = d->pending_cmd;
-    d->pending_cmd = DRIVE_CMD_NONE;
-    handle_command(d, cmd);
+    uint16_t req = d->cmd_requests;
+    d->cmd_requests = 0u;
+    handle_requests(d, req);
 
     drive_rls_drain(d);   /* the RLS on the ISR's queued samples, and their snapshots */
 
@@ -166,7 +182,12 @@ void drive_background(drive_t *d)
     publish_tracked(d);
 }
 
-void drive_command(drive_t *d, drive_cmd_t cmd) { d->pending_cmd = cmd; }
+void drive_command(drive_t *d, drive_cmd_t cmd)
+{
+    if (cmd == DRIVE_CMD_START_IDENT || cmd == DRIVE_CMD_STOP || cmd == DRIVE_CMD_RESET_FAULT) {
+        d->cmd_requests = (uint16_t)(d->cmd_requests | DRIVE_CMD_BIT(cmd));
+    }   /* DRIVE_CMD_NONE, or a value no command has: nothing to request */
+}
 
 /* One aligned 32-bit store: atomic on the C28x (MOVL), so the ISR never sees
  * half a value. */

@@ -27,6 +27,44 @@
 #define Q24_HEADROOM 127.0f        /* a pu value converted to Q24 (< 128) */
 #define NO_UPPER FLT_MAX           /* a limit with a lower bound only */
 
+/* The identification's target speed (drive_limits.h, DRIVE_LD_TARGET), at
+ * least the largest of:
+ *  - TARGET_MIN_OF_RATED of the rated speed: the RLS separates the back-EMF
+ *    term K4 w_r from the resistive and dead-time voltages only with enough
+ *    speed; measured (motor_sim, IQ_MATH) the worst published error rises
+ *    below it: paper 50 r/min 2.3 %, 1.1 kW 100 r/min 3.8 %, 15 kW 100 r/min
+ *    3.2 %; from 20 % (280-290 r/min) all three stay within 1.3 %;
+ *  - TARGET_COUNTS_PER_TAU encoder counts a time constant 1/w_c of the
+ *    regression's Butterworth filter: the rotor speed w_r it filters comes
+ *    from the count, whose quantisation the filter averages only over that
+ *    many counts (n >= 10 x 60 w_c / (4 lines) r/min: 9.4 r/min for the
+ *    paper's 1000 lines at 10 Hz, 590 r/min for 16 lines);
+ *  - with orientation 1, the RLS's gate: it learns only while the stator
+ *    frequency is above FOBS_RLS_WS_OVER_WC FOBS_WC_HZ = 30 Hz
+ *    (drive_slow.c), i.e. 60 x 30 / p r/min (900 r/min at p = 2: at
+ *    700 r/min the paper motor's adaptive sequence published 14.8 % off).
+ * and at most TARGET_MAX_OF_RATED of the rated speed. */
+#define TARGET_MIN_OF_RATED 0.2f
+#define TARGET_MAX_OF_RATED 1.2f
+#define TARGET_COUNTS_PER_TAU 10.0f
+
+/* The dead time against the voltage the identification runs on
+ * (DRIVE_LD_HEADROOM): what the bridge loses per leg, vdc td f_pwm + the
+ * device drop, at most HEADROOM_LOSS_OF_VOLTAGE of the believed motor's
+ * no-load phase voltage at the target speed, |Rs i_M + j w Ls i_M| (w: the
+ * target's electrical speed; no load current: a nameplate 30 % off moves it
+ * by at most 30 %, and the adaptive sequence starts from such nameplates).
+ * The drive compensates the loss in its duties and reconstructs it in the
+ * regression's voltage: beyond the limit the compensated reference leaves
+ * the modulator's linear range once the motor is loaded, and what is left of
+ * the compensation's error reaches the regression.  Measured on the paper
+ * motor (60 V, 15 kHz, rated-speed target, no-load voltage 18.9 V): the
+ * published set stays within 1.5 % up to 30 % (6 us: 5.7 V; 2 us at 50 kHz,
+ * 33 %: 1.3 %), and leaves it beyond: 8 us (40 %) Tr -5.1 %, 10 us (49 %)
+ * Rr +21 %, 5 us at 50 kHz (81 %) Rr +121 %, the modulator clipping from
+ * the middle of the acceleration on. */
+#define HEADROOM_LOSS_OF_VOLTAGE 0.3f
+
 #define ST(s) ((int16_t)(s))
 #define FIELD_F(key, member, unit, st, lo, hi)                                                   \
     { key, unit, ST(st), DRIVE_LIMIT_F32, (uint16_t)offsetof(drive_config_t, member), 0u,   \
@@ -157,6 +195,7 @@ static const drive_limit_t k_limits[] = {
     DERIVED("ident.track_rr", "-", DRIVE_CFG_IDENT, DRIVE_LD_TRACKER),
     DERIVED("ident.target_speed_rpm", "r/min", DRIVE_CFG_SEQUENCE, DRIVE_LD_TARGET),
     DERIVED("ident.target_speed_rpm", "r/min", DRIVE_CFG_SEQUENCE, DRIVE_LD_TARGET_PU),
+    DERIVED("board.dead_time_s", "s", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_HEADROOM),
     DERIVED("nameplate.rated_current_A", "A rms", DRIVE_CFG_SEQUENCE, DRIVE_LD_DIDT),
     DERIVED("controller.overcurrent_A", "A", DRIVE_CFG_PROTECTION, DRIVE_LD_OC_FS),
     DERIVED("controller.max_torque_current_A", "A", DRIVE_CFG_PROTECTION, DRIVE_LD_TORQUE_OC),
@@ -612,12 +651,40 @@ static int16_t check_sequence_and_protection(const drive_limit_t *l, const limit
     int16_t ok;
 
     switch (which) {
-    case DRIVE_LD_TARGET:
-        v = 1.2f * c->motor.rated_speed_rpm;
-        return verdict((int16_t)(target <= v), f, target, 0.0f, v, LO_OPEN);
+    case DRIVE_LD_TARGET: {
+        float floor_obs = (c->control.orientation == DRIVE_ORIENT_FLUX_OBS)
+                              ? 60.0f * FOBS_RLS_WS_OVER_WC * FOBS_WC_HZ / (float)c->motor.pole_pairs
+                              : 0.0f;
+        float floor_enc = TARGET_COUNTS_PER_TAU * 60.0f * c->ident.filter_wc_rad_s /
+                          (4.0f * (float)bd->encoder_lines);
+        float lo = fmaxf(fmaxf(TARGET_MIN_OF_RATED * c->motor.rated_speed_rpm, floor_enc),
+                         floor_obs);
+        v = TARGET_MAX_OF_RATED * c->motor.rated_speed_rpm;
+        if (lo > v && floor_obs >= lo) {
+            /* no target can reach the observer's gate: the motor's rated
+             * frequency is below it */
+            return report_as(f, "controller.orientation", "-", 1.0f, 0.0f, 0.0f, 0u);
+        }
+        return verdict((int16_t)(target >= lo && target <= v), f, target, lo, v, 0u);
+    }
     case DRIVE_LD_TARGET_PU:
         return verdict((int16_t)(g->target_pu <= DRIVE_SPEED_REF_MAX_PU), f, target, 0.0f,
                        DRIVE_SPEED_REF_MAX_PU * b->n_base_rpm, LO_OPEN);
+    case DRIVE_LD_HEADROOM: {
+        const drive_motor_t *m = &c->motor;
+        float w = DRIVE_TWO_PI_F * target / 60.0f * (float)m->pole_pairs;
+        float ur = m->Rs_ohm * m->magnetizing_current_A;
+        float ux = w * m->Ls_H * m->magnetizing_current_A;
+        float allowed = HEADROOM_LOSS_OF_VOLTAGE * sqrtf(ur * ur + ux * ux);   /* V */
+        float per_s = bd->vdc_nominal_V * bd->pwm_freq_Hz;   /* V per second of dead time */
+        if (!(allowed > bd->device_drop_V)) {
+            /* the drop alone takes it: no dead time fits */
+            return report_as(f, "board.device_drop_V", "V", bd->device_drop_V, 0.0f, allowed,
+                             HI_OPEN);
+        }
+        return verdict((int16_t)(bd->dead_time_s * per_s + bd->device_drop_V <= allowed), f,
+                       bd->dead_time_s, 0.0f, (allowed - bd->device_drop_V) / per_s, 0u);
+    }
     case DRIVE_LD_DIDT:
         return verdict((int16_t)(g->didt_pu < Q24_HEADROOM), f, c->motor.rated_current_A_rms, 0.0f,
                        c->motor.rated_current_A_rms * Q24_HEADROOM / g->didt_pu, BOTH_OPEN);

@@ -109,6 +109,37 @@ static void base_with_after(const char *section, const char *name, const char *t
     finish(f, name);
 }
 
+/* The base configuration with its line that starts with @p key replaced by
+ * @p line (a valid file with one value changed). */
+static void base_with_line(const char *key, const char *name, const char *line)
+{
+    const char *m = strstr(g_base, key);
+    const char *eol;
+    FILE *f;
+    if (m == NULL || (eol = strchr(m, '\n')) == NULL) {
+        fprintf(stderr, "cli_fixtures: no %s line in the base configuration\n", key);
+        exit(1);
+    }
+    f = create(name);
+    fwrite(g_base, 1, (size_t)(m - g_base), f);
+    fputs(line, f);
+    fputs(eol, f);
+    finish(f, name);
+}
+
+/* Values inside their keys' own ranges that the plant or the identification
+ * cannot use: refused at load, naming the key and the limit. */
+static void write_unusable_values(void)
+{
+    base_with_line("J_kgm2", "tiny_inertia.ini", "J_kgm2 = 1e-7");
+    base_with_line("dead_time_s", "dead_time_10us.ini", "dead_time_s = 1e-5");
+    base_with_line("dead_time_s", "dead_time_5us_50khz.ini",
+                   "dead_time_s = 5e-6\npwm_freq_Hz = 50000");
+    base_with_line("magnetize_s", "target_1rpm.ini", "magnetize_s = 0.3\ntarget_speed_rpm = 1");
+    base_with_line("magnetize_s", "target_0rpm.ini", "magnetize_s = 0.3\ntarget_speed_rpm = 0");
+    base_with_line("Rs_ohm", "subnormal_rs.ini", "Rs_ohm = 1e-320");
+}
+
 static void write_garbage(void)
 {
     FILE *f = create("garbage_binary.ini");
@@ -274,5 +305,6 @@ int main(int argc, char **argv)
     write_nul_in_value();
     write_many_keys();
     write_outputs();
+    write_unusable_values();
     return 0;
 }

@@ -7,7 +7,12 @@
 #   - stdout matches OUT when given, and is empty for an error (RC != 0),
 #   - no sanitizer report and no crash (ASan/UBSan exit with 1 too, so the
 #     status alone would not tell them from a clean error),
-#   - JSON, when given, is valid JSON whose "config" equals JSON_CONFIG.
+#   - JSON, when given, is valid JSON whose "config" equals JSON_CONFIG, and
+#     each "path=value" of JSON_EXPECT ("|" between them; a path's members
+#     and array indices joined by ".", e.g. faults.0.name=bus_overvoltage)
+#     holds (booleans read ON / OFF).
+#   - TRACE_ROWS_MAX, when given: the trace.csv next to JSON has at most
+#     that many lines.
 cmake_minimum_required(VERSION 3.25)
 
 string(REPLACE "|" ";" args "${ARGS}")
@@ -45,6 +50,28 @@ if(DEFINED JSON)
       string(APPEND problems "${JSON} is not valid JSON: ${json_err}\n")
     elseif(NOT cfg STREQUAL "${JSON_CONFIG}")
       string(APPEND problems "${JSON}: config is '${cfg}', expected '${JSON_CONFIG}'\n")
+    endif()
+    if(DEFINED JSON_EXPECT)
+      string(REPLACE "|" ";" expects "${JSON_EXPECT}")
+      foreach(e ${expects})
+        string(REGEX REPLACE "=.*" "" path "${e}")
+        string(REGEX REPLACE "^[^=]*=" "" want "${e}")
+        string(REPLACE "." ";" members "${path}")
+        string(JSON got ERROR_VARIABLE get_err GET "${json}" ${members})
+        if(get_err)
+          string(APPEND problems "${JSON}: no ${path}: ${get_err}\n")
+        elseif(NOT got STREQUAL "${want}")
+          string(APPEND problems "${JSON}: ${path} is '${got}', expected '${want}'\n")
+        endif()
+      endforeach()
+    endif()
+    if(DEFINED TRACE_ROWS_MAX)
+      get_filename_component(dir "${JSON}" DIRECTORY)
+      file(STRINGS "${dir}/trace.csv" rows)
+      list(LENGTH rows n)
+      if(n GREATER TRACE_ROWS_MAX)
+        string(APPEND problems "${dir}/trace.csv has ${n} lines, more than ${TRACE_ROWS_MAX}\n")
+      endif()
     endif()
   endif()
 endif()

@@ -309,16 +309,23 @@ static void test_protect_priority_and_clear(void **state)
     (void)state;
     assert_int_equal(protect_init(&p, _IQ(0.9), _IQ(1.3), _IQ(0.7)), 0);
     p.vdc = _IQ(1.0);
-    /* rail and overvoltage at once: the rail wins (a railed reading is no voltage) */
+    /* a rail with the bus inside its limits: ADC_RAIL */
+    p.adc_rail = 1u;
+    protect_step(&p);
+    assert_int_equal(p.fault, FAULT_ADC_RAIL);
+    p.adc_rail = 0u;
+    assert_int_equal(protect_clear(&p), 1u);
+    /* rail and overvoltage at once (the bus reading at its top rail is at
+     * least the full scale): an overvoltage, what the drive must assume */
     p.adc_rail = 1u;
     p.vdc = _IQ(2.0);
     protect_step(&p);
-    assert_int_equal(p.fault, FAULT_ADC_RAIL);
+    assert_int_equal(p.fault, FAULT_BUS_OVERVOLTAGE);
     /* first fault stays latched */
     p.adc_rail = 0u;
     p.ia = _IQ(1.0);
     protect_step(&p);
-    assert_int_equal(p.fault, FAULT_ADC_RAIL);
+    assert_int_equal(p.fault, FAULT_BUS_OVERVOLTAGE);
     /* not cleared while a cause is present: overcurrent, or a low bus even
      * with the bridge off */
     assert_int_equal(protect_clear(&p), 0u);
@@ -371,6 +378,46 @@ static void test_protect_over_range(void **state)
  * below two thirds of its trip level.  Measured: the worst is the
  * magnetising step of the paper motor (0.33 pu of i_M at the voltage limit),
  * 0.073 pu at 0.071 s; the 1.1 kW motor 0.035 pu. */
+/* Overcurrent in each phase alone, either sign, one LSB beyond the trip
+ * level (and not at it): phase c, computed from a and b, is the only one that
+ * sees a fault current between a and b returning through c (ia = ib = 0.5,
+ * ic = -1.0 with a 0.9 pu trip). */
+static void test_protect_overcurrent_each_phase(void **state)
+{
+    protect_t p;
+    _iq *phase[3];
+    unsigned k;
+    int sgn;
+    (void)state;
+    for (k = 0; k < 3u; k++) {
+        for (sgn = -1; sgn <= 1; sgn += 2) {
+            assert_int_equal(protect_init(&p, _IQ(0.9), _IQ(1.3), _IQ(0.7)), 0);
+            phase[0] = &p.ia;
+            phase[1] = &p.ib;
+            phase[2] = &p.ic;
+            p.vdc = _IQ(1.0);
+            p.pwm_on = 1u;
+            *phase[k] = sgn * _IQ(0.9);   /* at the level: no trip */
+            protect_step(&p);
+            assert_int_equal(p.fault, FAULT_NONE);
+            *phase[k] = sgn * (_IQ(0.9) + 1);
+            protect_step(&p);
+            if (p.fault != FAULT_OVERCURRENT) {
+                fail_msg("phase %c at %+d (trip + 1 LSB): fault %d, not OVERCURRENT", 'a' + (int)k,
+                         sgn, (int)p.fault);
+            }
+        }
+    }
+    /* a-b short returning through c: a and b inside, c beyond */
+    assert_int_equal(protect_init(&p, _IQ(0.9), _IQ(1.3), _IQ(0.7)), 0);
+    p.vdc = _IQ(1.0);
+    p.ia = _IQ(0.5);
+    p.ib = _IQ(0.5);
+    p.ic = _IQ(-1.0);
+    protect_step(&p);
+    assert_int_equal(p.fault, FAULT_OVERCURRENT);
+}
+
 static void test_healthy_runs_margin(void **state)
 {
     static const struct { const char *ini; sim_scenario_t scen; } runs[] = {
@@ -410,6 +457,7 @@ int main(void)
         cmocka_unit_test(test_theta_guard_required),
         cmocka_unit_test(test_protect_priority_and_clear),
         cmocka_unit_test(test_protect_over_range),
+        cmocka_unit_test(test_protect_overcurrent_each_phase),
         cmocka_unit_test(test_healthy_runs_margin),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -42,7 +42,12 @@ static const fault_case_t k_cases[] = {
     {"encoder frozen", PLANT_FAULT_ENCODER_LOST, 0.0, FAULT_ENCODER,
      0.05 + (double)(DRIVE_SLOTS - 1u) / 15000.0},
     {"encoder jump 100 counts", PLANT_FAULT_ENCODER_JUMP, 100.0, FAULT_ENCODER, 0.0},
-    {"bus feedback at the ADC rail", PLANT_FAULT_ADC_RAIL, 0.0, FAULT_ADC_RAIL, 0.0},
+    /* beyond the bus sensor's range (60 V x 1.7 = 102 V, full scale 100 V): the
+     * reading at its rail is an overvoltage */
+    {"bus overvoltage +70 % (ADC rail)", PLANT_FAULT_OVERVOLTAGE, 0.7, FAULT_BUS_OVERVOLTAGE, 0.0},
+    /* the bus divider's low side open, the pin at the clamp: the drive reads a
+     * bus at its top rail and cannot tell it from a real one */
+    {"bus feedback at the ADC rail", PLANT_FAULT_ADC_RAIL, 0.0, FAULT_BUS_OVERVOLTAGE, 0.0},
     {"PDPINTA (power stage trip)", PLANT_FAULT_HW_TRIP, 100.0, FAULT_HW_TRIP, 0.0},
     {"phase-b sensor lost (reads 0 A)", PLANT_FAULT_HALL_LOST, 0.0, FAULT_CURRENT_SENSOR, 0.002},
 };
@@ -158,9 +163,34 @@ static void test_gain_error_after_publication(void **state)
     assert_int_equal(r.published_changed, 0);
 }
 
+/* A phase-a sensor reading twice the current (gain error +100 %) from the
+ * start: the run's extraction is implausible, and nothing may be published
+ * (the published-set gate: publishing an implausible extraction gave a set
+ * of zeros); the drive keeps running.  Paper motor and the 1.1 kW motor. */
+static void test_gross_gain_error_publishes_nothing(void **state)
+{
+    static const char *const inis[2] = {PAPER, MC_CONFIG_DIR "/motor_1kw.ini"};
+    const sim_fault_t f = {PLANT_FAULT_HALL_GAIN, 0.0, 1.0};
+    sim_config_t cfg;
+    sim_result_t r;
+    unsigned k;
+    (void)state;
+    for (k = 0; k < 2u; k++) {
+        assert_int_equal(fault_run(inis[k], &f, 1u, NULL, 0u, 5.0, &cfg, &r), 0);
+        print_message("%s, hall gain +100 %%: published %u (first at %.3f s), extractions refused "
+                      "%u, faults %u, final state %u\n", inis[k], r.identified,
+                      r.t_first_published_s, r.publish_rejects, r.n_faults_seen, r.final_state);
+        assert_int_equal(r.identified, 0);
+        assert_true(r.t_first_published_s < 0.0);
+        /* the sequence reached its extraction, and refused it */
+        assert_true(r.publish_rejects >= 1u);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_gross_gain_error_publishes_nothing),
         cmocka_unit_test(test_faults_after_publication),
         cmocka_unit_test(test_faults_during_identification),
         cmocka_unit_test(test_offset_at_calibration),

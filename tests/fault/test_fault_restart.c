@@ -90,12 +90,92 @@ static void test_no_restart_without_reset(void **state)
     assert_int_equal(r.final_pwm_on, 0);
 }
 
+/* Commands given in the same background period are all kept (latched
+ * request bits, drive.h) and taken in a defined order whatever order they
+ * came in.  PDPINTA low from 1.0 to 1.5 s latches HW_TRIP; a reset and a
+ * start at the same instant, 2.0 s, must clear the fault and then start: at
+ * 3.0 s the drive runs the sequence (past calibration and magnetisation,
+ * 0.07 + 0.3 s), PWM on, no fault.  Both orders of the two commands: with one
+ * command slot the later one replaced the earlier, so one order lost the
+ * reset (the fault stayed latched) and the other lost the start. */
+static void test_reset_and_start_at_the_same_instant(void **state)
+{
+    sim_config_t cfg;
+    sim_result_t r;
+    const sim_fault_t f = {PLANT_FAULT_HW_TRIP, 1.0, 0.5};
+    const sim_cmd_t orders[2][2] = {
+        {{2.0, DRIVE_CMD_RESET_FAULT}, {2.0, DRIVE_CMD_START_IDENT}},
+        {{2.0, DRIVE_CMD_START_IDENT}, {2.0, DRIVE_CMD_RESET_FAULT}},
+    };
+    unsigned k;
+    (void)state;
+    for (k = 0; k < 2u; k++) {
+        assert_int_equal(fault_run(PAPER, &f, 1u, orders[k], 2u, 3.0, &cfg, &r), 0);
+        print_message("reset + start at 2.0 s (order %u): faults %u, final state %u fault %u "
+                      "PWM %u\n", k, r.n_faults_seen, r.final_state, r.final_fault,
+                      r.final_pwm_on);
+        assert_int_equal(r.n_faults_seen, 1);
+        assert_int_equal(r.fault_code[0], FAULT_HW_TRIP);
+        assert_int_equal(r.final_fault, FAULT_NONE);
+        assert_int_equal(r.final_pwm_on, 1);
+        /* 1.0 s after the start: beyond CALIBRATE and MAGNETIZE (0.37 s) */
+        assert_true(r.final_state == ID_ACCELERATE || r.final_state == ID_SETTLE ||
+                    r.final_state == ID_RUN);
+        assert_int_equal(r.pwm_periods_with_fault, 0);
+    }
+}
+
+/* A stop and a start in the same period: the stop wins, in either order
+ * (a stop must never be overridden).  The drive runs (published at 1.6 s);
+ * stop and start at 2.0 s; at 3.5 s it is IDLE with the bridge off (the
+ * ramp to zero from 1400 r/min at 2000 r/min/s takes 0.7 s).  With one
+ * command slot, stop-then-start kept the start, which a running sequence
+ * ignores: the drive ran on. */
+static void test_stop_wins_over_start_in_the_same_period(void **state)
+{
+    sim_config_t cfg;
+    sim_result_t r;
+    const sim_cmd_t orders[2][2] = {
+        {{2.0, DRIVE_CMD_STOP}, {2.0, DRIVE_CMD_START_IDENT}},
+        {{2.0, DRIVE_CMD_START_IDENT}, {2.0, DRIVE_CMD_STOP}},
+    };
+    unsigned k;
+    (void)state;
+    for (k = 0; k < 2u; k++) {
+        assert_int_equal(fault_run(PAPER, NULL, 0u, orders[k], 2u, 3.5, &cfg, &r), 0);
+        print_message("stop + start at 2.0 s (order %u): final state %u PWM %u, speed %.1f "
+                      "r/min\n", k, r.final_state, r.final_pwm_on, r.final_speed_rpm);
+        assert_true(r.t_first_published_s > 0.0 && r.t_first_published_s < 2.0);
+        assert_int_equal(r.final_state, ID_IDLE);
+        assert_int_equal(r.final_pwm_on, 0);
+        assert_int_equal(r.n_faults_seen, 0);
+    }
+    /* the same from IDLE (stopped in the calibration at 0.01 s, at rest): a
+     * start that came with a stop must not start the drive */
+    for (k = 0; k < 2u; k++) {
+        sim_cmd_t c[3];
+        c[0].t_s = 0.01;
+        c[0].cmd = DRIVE_CMD_STOP;
+        c[1] = orders[k][0];
+        c[2] = orders[k][1];
+        c[1].t_s = c[2].t_s = 0.5;
+        assert_int_equal(fault_run(PAPER, NULL, 0u, c, 3u, 1.0, &cfg, &r), 0);
+        print_message("from IDLE, stop + start at 0.5 s (order %u): final state %u PWM %u\n", k,
+                      r.final_state, r.final_pwm_on);
+        assert_int_equal(r.final_state, ID_IDLE);
+        assert_int_equal(r.final_pwm_on, 0);
+        assert_true(r.t_accel_start_s < 0.0);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_restart_only_after_cause_cleared),
         cmocka_unit_test(test_hw_trip_reset_needs_line_high),
         cmocka_unit_test(test_no_restart_without_reset),
+        cmocka_unit_test(test_reset_and_start_at_the_same_instant),
+        cmocka_unit_test(test_stop_wins_over_start_in_the_same_period),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -5,7 +5,9 @@
  * one of three variants of it that reach the identification states sooner.
  *
  * Properties checked at every ISR (beyond "no undefined behaviour", which
- * ASan/UBSan check):
+ * ASan/UBSan check), and at each background call:
+ *   - a STOP requested in a background period leaves an idle drive idle,
+ *     whatever else came with it (stop wins over start, drive.h);
  *   - every compare value lies in [0, T1PR] (hal_pwm.h);
  *   - with the bridge off (telemetry pwm_on = 0) all three compares equal
  *     T1PR: upper switches off, the safe state;
@@ -17,7 +19,12 @@
  * Input format (little-endian), chosen so that short inputs reach deep
  * states: a run of samples is one 8-byte record with a repeat count.
  *   byte 0       configuration variant (bits 0-1, see make_config; bit 2: the
- *                adaptive sequence of issue 8 on top)
+ *                adaptive sequence on top); bit 3: commands are only
+ *                requested (drive_command) and wait for the background
+ *                loop's 1 kHz tick, as on the board, so that the commands of
+ *                consecutive short records meet in one background period
+ *                (several sources at once: reset, stop and start in any
+ *                order); without it each command is handled at once
  *   records      [op][ia:2][ib:2][vdc:2][dq:1]
  *     op bits 0-1  command before the run: none, start, stop, reset fault
  *     op bit  2    PDPINTA (hardware trip) level during the run
@@ -55,6 +62,9 @@ static uint16_t g_states_seen;  /* bit n: id_state_t n was reached (corpus check
 static int g_trace = -1;        /* FUZZ_TRACE set: print state and fault changes */
 static int g_selftest;          /* FUZZ_SELFTEST set: corrupt one compare value (CTest
                                    fuzz_drive_step_check_can_fail) */
+static int g_latched;           /* byte 0 bit 3: commands wait for the 1 kHz background */
+static uint16_t g_multi_seen;   /* a background period handled two or more commands
+                                   (corpus check) */
 
 void fuzz_fail(const char *what, unsigned long step, long value, long limit)
 {
@@ -101,6 +111,22 @@ static void make_config(uint8_t variant, drive_config_t *c)
     }
 }
 
+/* The background loop, with the stop-wins property: an idle drive that
+ * was asked to stop in this period (whatever came with it) stays idle. */
+static void background(unsigned long step)
+{
+    const uint16_t stop = (uint16_t)(g_drive.cmd_requests & DRIVE_CMD_BIT(DRIVE_CMD_STOP));
+    const id_state_t before = g_drive.seq.state;
+    const uint16_t req = g_drive.cmd_requests;
+    if ((req & (uint16_t)(req - 1u)) != 0u) {
+        g_multi_seen = 1u;   /* more than one bit */
+    }
+    drive_background(&g_drive);
+    if (stop != 0u && before == ID_IDLE && g_drive.seq.state != ID_IDLE) {
+        fuzz_fail("a stop request let an idle drive start", step, (long)g_drive.seq.state, 0L);
+    }
+}
+
 static uint16_t get16(const uint8_t *p) { return (uint16_t)(p[0] | (p[1] << 8)); }
 
 /* Raw ADC word of a phase current in pu (inverse of phase_current_step with
@@ -121,7 +147,11 @@ static uint16_t raw_of_current(double i_pu, _iq gain, uint16_t offset, int16_t p
 
 /* The phase currents an ideal current loop would give at the next sample:
  * the drive's M/T references rotated by its frame angle, advanced by the
- * rotor angle the encoder moves in one period (dq counts). */
+ * rotor angle the encoder moves in one period (dq counts).  (With the
+ * observer, orientation 1, this is no plant its voltage model can follow:
+ * its frame leaves the encoder's at the first acceleration and the current
+ * check trips; the adaptive seeds reach the standstill test, the frame
+ * change, the fault and the restart, not the passes.) */
 static void echo_currents(const drive_t *d, const drive_config_t *c, int16_t dq,
                           hal_adc_sample_t *adc, int16_t pa, int16_t pb)
 {
@@ -177,6 +207,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         g_selftest = (getenv("FUZZ_SELFTEST") != NULL) ? 1 : 0;
     }
     make_config((uint8_t)(data[0] & 7u), &cfg);
+    g_latched = (data[0] & 8u) != 0u;
     /* garbage first, as in the F2812's .ebss (not zeroed by _c_int00):
      * nothing may depend on memory drive_init did not set */
     memset(&g_drive, 0xA5, sizeof g_drive);
@@ -202,7 +233,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             static const drive_cmd_t cmds[4] = {DRIVE_CMD_NONE, DRIVE_CMD_START_IDENT,
                                                 DRIVE_CMD_STOP, DRIVE_CMD_RESET_FAULT};
             drive_command(&g_drive, cmds[op & 3u]);
-            drive_background(&g_drive);
+            if (!g_latched) {
+                background(step);
+            }
         }
         for (k = 0; k < n && step < MAX_STEPS; k++, step++) {
             adc.vdc_raw = get16(r + 5);
@@ -232,7 +265,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                        (double)_IQtoF(g_drive.cur.ib), (double)_IQtoF(g_drive.bus.vdc));
             }
             if ((step % BACKGROUND_DIV) == 0u) {
-                drive_background(&g_drive);
+                background(step);
             }
         }
     }
@@ -256,6 +289,13 @@ int fuzz_corpus_check(void)
     printf("\n");
     if (missing != 0) {
         fprintf(stderr, "fuzz_drive_step: the corpus must reach every state of the sequence\n");
+    }
+    printf("fuzz_drive_step: commands meeting in one background period: %s\n",
+           g_multi_seen ? "yes" : "no");
+    if (g_multi_seen == 0u) {
+        fprintf(stderr, "fuzz_drive_step: the corpus must give several commands in one "
+                        "background period\n");
+        missing = 1;
     }
     return missing;
 }

@@ -62,6 +62,31 @@ def identification_adaptive(variant):
     return s
 
 
+LATCHED = 8           # byte 0 bit 3: commands wait for the 1 kHz background tick
+
+
+def adaptive_stop_restart():
+    """The adaptive sequence stopped in its first acceleration, restarted from
+    IDLE (a new calibration, the standstill test again), then a phase-a
+    overcurrent in the second run, a reset and a start."""
+    flags = ECHO
+    s = bytes([5]) + CAL
+    s += rec(log2n=12, flags=flags) + rec(log2n=9, flags=flags)        # magnetise, standstill
+    for dq in range(1, 4):
+        s += rec(log2n=8, dq=dq, flags=flags)                          # half the ramp
+    s += rec(CMD_STOP, 11, dq=2, flags=flags)                          # ramp down, IDLE
+    s += rec(log2n=9)                                                  # bridge off, at rest
+    s += CAL + rec(log2n=12, flags=flags) + rec(log2n=9, flags=flags)  # again
+    s += rec(log2n=4, ia=0x7000, flags=flags)                          # overcurrent
+    s += rec(CMD_RESET, 2) + rec(CMD_START, 10)
+    return s
+
+
+def latched(variant, body):
+    """A seed whose commands wait for the background tick (byte 0 bit 3)."""
+    return bytes([variant | LATCHED]) + body
+
+
 def main(out):
     os.makedirs(out, exist_ok=True)
     seeds = {
@@ -82,6 +107,22 @@ def main(out):
         "rails_and_reversal": bytes([3]) + CAL + rec(log2n=11, flags=ECHO)
         + rec(log2n=9, dq=-6, flags=ECHO) + rec(log2n=3, ia=0, ib=0xFFFF, vdc=0xFFFF, dq=127),
     }
+    # several commands in one background period (latched): single-period
+    # records, so that consecutive commands meet before the next 1 kHz tick
+    seeds["latched_trip_reset_start"] = latched(1, CAL + rec(log2n=6, flags=TRIP | ECHO)
+                                                + rec(log2n=2) + rec(CMD_RESET, 0)
+                                                + rec(CMD_START, 0) + rec(log2n=11, flags=ECHO))
+    # (4 periods first: the background ran at period 0, the next tick is at 15,
+    # so that the stop and the start of periods 4 and 5 meet there)
+    seeds["latched_stop_start_idle"] = latched(1, rec(log2n=2) + rec(CMD_STOP, 0) + rec(CMD_START, 0)
+                                               + rec(log2n=6) + rec(CMD_START, 0)
+                                               + rec(log2n=10) + rec(log2n=11, flags=ECHO))
+    seeds["latched_three_at_once"] = latched(5, CAL + rec(log2n=12, flags=ECHO)
+                                             + rec(CMD_START, 0, flags=ECHO)
+                                             + rec(CMD_RESET, 0, flags=ECHO)
+                                             + rec(CMD_STOP, 0, flags=ECHO)
+                                             + rec(log2n=10, flags=ECHO))
+    seeds["adaptive_stop_restart"] = adaptive_stop_restart()
     rnd = random.Random(1)
     seeds["random"] = bytes(rnd.randrange(256) for _ in range(257))
     for name, data in seeds.items():

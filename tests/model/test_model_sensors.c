@@ -276,6 +276,33 @@ static void test_encoder_run(void **state)
     assert_true(ok);
 }
 
+/* A diverged plant (the shaft angle at 1e30 rad, +-inf, NaN) gives the QEP
+ * no new information: the count stays, and the next finite angle counts
+ * from the last finite one (an edge index beyond 2^62 once overflowed the
+ * edge difference: undefined behaviour, then a garbage count).  With edge
+ * loss on, a step beyond 2^16 edges is not drawn edge by edge (it would
+ * have looped 1e33 times). */
+static void test_encoder_diverged_angle(void **state)
+{
+    encoder_t e;
+    encoder_params_t p;
+    const double bad[5] = {1e30, -1e30, INFINITY, -INFINITY, NAN};
+    unsigned i;
+    (void)state;
+    encoder_params_default(&p);
+    assert_int_equal(encoder_init(&e, &p, 0.0), ENC_OK);
+    assert_int_equal(encoder_sample(&e, 100.0 * PITCH), 100u);
+    for (i = 0; i < 5u; i++) {
+        assert_int_equal(encoder_sample(&e, bad[i]), 100u);
+    }
+    assert_int_equal(encoder_sample(&e, 150.0 * PITCH), 150u);
+    assert_int_equal(encoder_init(&e, &p, 1e30), ENC_ERR_ANGLE);
+    p.loss_prob = 0.5;
+    assert_int_equal(encoder_init(&e, &p, 0.0), ENC_OK);
+    assert_int_equal(encoder_sample(&e, 1e6 * PITCH), (uint16_t)(1000000u & 0xFFFFu));
+    assert_int_equal(encoder_sample(&e, 1e30), (uint16_t)(1000000u & 0xFFFFu));
+}
+
 static void test_encoder_loss(void **state)
 {
     encoder_t e;
@@ -318,6 +345,7 @@ int main(void)
         cmocka_unit_test(test_encoder_count_and_wrap),
         cmocka_unit_test(test_encoder_run),
         cmocka_unit_test(test_encoder_loss),
+        cmocka_unit_test(test_encoder_diverged_angle),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -151,6 +151,54 @@ static void test_slip(void **state)
                      5.0 / (0.01978 * 6.5625)) <= 1e-4 * 38.5);
 }
 
+/* The multi-rate path the drive runs (ifo_update_slip_gain in the slow task,
+ * ifo_step_slip_fast every sample): the same imr step response as
+ * test_imr_step_response (bound 310 LSB, same budget: the fast step's
+ * rounded product is ifo_step's), and at steady flux the same slip as
+ * test_slip's formula w_slip = i_t / (Tr imr) (bound 30 LSB) with
+ * ws = wr + wslip exactly. */
+static void test_multirate_path(void **state)
+{
+    static const double it_list[] = {0.5, -0.5, 0.01};
+    ifo_t f;
+    uint32_t k, i;
+    const double im = 0.33;
+    double tr = tr_pu_ref();
+    (void)state;
+
+    assert_int_equal(ifo_init(&f, TR_S, &g_b, 0.05f), IFO_OK);
+    f.i_m = _IQ(im);
+    f.i_t = _IQ(0.0);
+    f.wr = _IQ(0.0);
+    for (k = 1u; k <= 2400u; k++) {
+        double want;
+        if ((k & 3u) == 0u) {
+            ifo_update_slip_gain(&f);   /* the slow task, every 4th sample */
+        }
+        ifo_step_slip_fast(&f);
+        want = to_d(f.i_m) * (1.0 - exp(-(double)k * (double)g_b.Ts_pu / tr));
+        if (!(fabs(to_d(f.imr) - want) <= 310.0 * LSB)) {
+            print_error("k=%u imr %.10f want %.10f err %.1f LSB\n", (unsigned)k, to_d(f.imr),
+                        want, (to_d(f.imr) - want) / LSB);
+            fail();
+        }
+    }
+    for (i = 0u; i < sizeof it_list / sizeof it_list[0]; i++) {
+        double want;
+        f.imr = f.i_m;                  /* steady flux */
+        f.i_t = _IQ(it_list[i]);
+        f.wr = _IQ(0.8);
+        ifo_update_slip_gain(&f);
+        ifo_step_slip_fast(&f);
+        want = to_d(f.i_t) / (tr * to_d(f.imr));
+        if (!(fabs(to_d(f.wslip) - want) <= 30.0 * LSB)) {
+            print_error("i_t=%.3f wslip %.10f want %.10f\n", it_list[i], to_d(f.wslip), want);
+            fail();
+        }
+        assert_true(f.ws == f.wr + f.wslip);
+    }
+}
+
 /* Angle integration at constant ws: theta(N) = frac(theta0 + N ws f_base
  * Ts).  Per sample: the increment is truncated (IQ: in (-1, 0] LSB) and
  * the constant f_base Ts carries its float product (< 6e-8 relative) and
@@ -470,6 +518,7 @@ int main(void)
         cmocka_unit_test(test_kf_series),
         cmocka_unit_test(test_imr_step_response),
         cmocka_unit_test(test_slip),
+        cmocka_unit_test(test_multirate_path),
         cmocka_unit_test(test_angle_integration),
         cmocka_unit_test(test_small_imr_guard),
         cmocka_unit_test(test_theta_mid),

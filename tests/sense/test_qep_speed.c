@@ -281,6 +281,16 @@ static void test_saturation(void **state)
     qep_speed_step(&q);
     assert_true(to_d(q.speed_raw) >= -63.0 && to_d(q.speed_raw) < -62.9);
     assert_int_equal(q.dir, -1);
+    /* just beyond d_max (1.5 d_max, each sign): the same saturation, not a
+     * speed above 63 pu */
+    qep_speed_reset(&q, 100u);
+    q.count = (uint16_t)(100 + q.d_max + q.d_max / 2);
+    qep_speed_step(&q);
+    assert_true(q.speed_raw == _IQmpyI32(q.k_speed, q.d_max));
+    qep_speed_reset(&q, 100u);
+    q.count = (uint16_t)(100 - q.d_max - q.d_max / 2);
+    qep_speed_step(&q);
+    assert_true(q.speed_raw == _IQmpyI32(q.k_speed, -q.d_max));
 }
 
 static void test_init_errors(void **state)

@@ -234,6 +234,92 @@ static void test_magnetisation_true_tr(void **state)
                  "5 Tr of the simulated motor");
 }
 
+/* What the plant cannot integrate is refused at load, naming the key and
+ * the least value (sim_config_check.c: every time constant at least one RK4
+ * substep; J over the load's slope at 4 pu at least one PWM period, over
+ * which the plant holds the load torque).  1e-7 kg m^2 is inside the key's
+ * range and drove the paper motor's plant to NaN.  Paper motor: the load
+ * slope 2 x 0.30 N m x (4 x 2 pi 50 / 2) / (2 pi 1400 / 60)^2 = 0.01754 N m s
+ * gives J >= 0.01754 / 15000 = 1.169e-6 kg m^2. */
+static void test_plant_integration_limits(void **state)
+{
+    char path[] = "/tmp/mc_cfg_test_XXXXXX";
+    int fd;
+    sim_config_t cfg;
+    char err[SIM_CONFIG_ERR_LEN];
+    (void)state;
+    expect_error("J_kgm2", "J_kgm2 = 1e-7", "key 'plant.J_kgm2' = 1e-07 kg m^2 is too small to "
+                 "integrate: the simulated motor's mechanical time constant");
+    expect_error("J_kgm2", "J_kgm2 = 1.16e-6", "key 'plant.J_kgm2' = 1.16e-06 kg m^2 is too "
+                 "small to integrate: J over the load's slope at 4 pu of speed (load.prop_Nm_s, "
+                 "load.fan_Nm) = 6.61e-05 s is shorter than the PWM period 6.67e-05 s");
+    expect_error("J_kgm2", "J_kgm2 = 1.16e-6", "at least 1.17e-06 kg m^2");
+    /* more substeps resolve the mechanical mode, not the held load */
+    expect_error("J_kgm2", "J_kgm2 = 1e-7\n[simulation]\nsubsteps = 64\n[plant]", "J over the load's slope at 4 pu of speed");
+    /* just above: loads */
+    fd = mkstemp(path);
+    assert_true(fd >= 0);
+    write_variant(path, "J_kgm2", "J_kgm2 = 1.18e-6");
+    if (sim_config_load(path, &cfg, err, sizeof err) != 0) {
+        fail_msg("J = 1.18e-6 refused: %s", err);
+    }
+    remove(path);
+    /* almost no leakage: the electrical mode (1.3 us) below the 16.7 us substep */
+    expect_error(NULL, "[plant]\nLls_H = 1e-6\nLlr_H = 1e-6",
+                 "the simulated motor's electrical time constant");
+}
+
+/* ident.target_speed_rpm: -1 is the rated speed (the documented sentinel);
+ * 0 and other negative values are errors (they silently meant rated); a
+ * speed below what the identification can use is refused with the floor
+ * (1 r/min never published and said nothing) */
+static void test_target_speed(void **state)
+{
+    char path[] = "/tmp/mc_cfg_test_XXXXXX";
+    int fd;
+    sim_config_t cfg;
+    char err[SIM_CONFIG_ERR_LEN];
+    (void)state;
+    expect_error("magnetize_s", "magnetize_s = 0.3\ntarget_speed_rpm = 0",
+                 "key 'ident.target_speed_rpm' = 0 r/min is not a speed the identification can "
+                 "run at: give the target (r/min, > 0) or -1 for the nameplate's rated speed");
+    expect_error("magnetize_s", "magnetize_s = 0.3\ntarget_speed_rpm = -0.5",
+                 "key 'ident.target_speed_rpm' = -0.5 r/min is not a speed");
+    expect_error("magnetize_s", "magnetize_s = 0.3\ntarget_speed_rpm = -2",
+                 "key 'ident.target_speed_rpm' = -2 r/min is not a speed");
+    expect_error("magnetize_s", "magnetize_s = 0.3\ntarget_speed_rpm = 1",
+                 "key 'ident.target_speed_rpm' = 1 r/min is outside [280, 1680] r/min: what the "
+                 "identification can use");
+    fd = mkstemp(path);
+    assert_true(fd >= 0);
+    write_variant(path, "magnetize_s", "magnetize_s = 0.3\ntarget_speed_rpm = -1");
+    if (sim_config_load(path, &cfg, err, sizeof err) != 0) {
+        fail_msg("target -1 refused: %s", err);
+    }
+    assert_true(cfg.ident.target_speed_rpm == 1400.0);
+    remove(path);
+}
+
+/* A dead time that eats the modulation range is refused by the drive's
+ * table (board.dead_time_s, DRIVE_LD_HEADROOM: the loss against the
+ * motor's voltage at the target speed) and, for the bridge's own, by the
+ * simulated world's check (inverter.dead_time_s: the true motor's need at
+ * rated current plus the loss within 95 % of the range): 10 us at 15 kHz
+ * published Rr +21 %, 5 us at 50 kHz +121 % */
+static void test_dead_time_headroom(void **state)
+{
+    (void)state;
+    expect_error("dead_time_s", "dead_time_s = 1e-5", "key 'board.dead_time_s' = 1e-05 s is "
+                 "outside [0, 5.98392e-06] s: the dead time against the voltage at the target "
+                 "speed");
+    expect_error("dead_time_s", "dead_time_s = 5e-6\npwm_freq_Hz = 50000",
+                 "key 'board.dead_time_s' = 5e-06 s is outside [0, 1.79518e-06] s: the dead "
+                 "time against the voltage");
+    expect_error(NULL, "[inverter]\ndead_time_s = 1e-5", "key 'inverter.dead_time_s' = 1e-05 s "
+                 "(default board.dead_time_s) eats the modulation range: the simulated motor "
+                 "needs 30.1 V peak per phase at rated speed, the bridge loses 9.6 V");
+}
+
 static void test_not_a_number(void **state)
 {
     (void)state;
@@ -314,6 +400,9 @@ int main(void)
         cmocka_unit_test(test_orientation_out_of_range), cmocka_unit_test(test_ratings),
         cmocka_unit_test(test_bus_too_low),         cmocka_unit_test(test_adaptation_keys),
         cmocka_unit_test(test_magnetisation_true_tr),
+        cmocka_unit_test(test_plant_integration_limits),
+        cmocka_unit_test(test_target_speed),
+        cmocka_unit_test(test_dead_time_headroom),
         cmocka_unit_test(test_not_a_number),        cmocka_unit_test(test_duplicate_key),
         cmocka_unit_test(test_malformed_line),      cmocka_unit_test(test_missing_file),
     };

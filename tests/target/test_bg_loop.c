@@ -65,17 +65,21 @@ static void test_commands_reach_the_drive_and_the_log(void **state)
     memset(&s_d, 0, sizeof s_d);
     assert_int_equal(datalog_init(&s_log, 2u, _IQ(0.1)), 0u);
     bg_loop_apply(&s_d, &s_log, TLM_CMD_START);
-    assert_int_equal(s_d.pending_cmd, DRIVE_CMD_START_IDENT);
+    assert_int_equal(s_d.cmd_requests, DRIVE_CMD_BIT(DRIVE_CMD_START_IDENT));
+    /* a second source in the same period (the button, then an SCI frame):
+     * both requests are kept, none replaces the other */
     bg_loop_apply(&s_d, &s_log, TLM_CMD_STOP);
-    assert_int_equal(s_d.pending_cmd, DRIVE_CMD_STOP);
     bg_loop_apply(&s_d, &s_log, TLM_CMD_RESET_FAULT);
-    assert_int_equal(s_d.pending_cmd, DRIVE_CMD_RESET_FAULT);
+    bg_loop_apply(&s_d, &s_log, TLM_CMD_START);                 /* repeated: once */
+    assert_int_equal(s_d.cmd_requests, DRIVE_CMD_BIT(DRIVE_CMD_START_IDENT) |
+                                           DRIVE_CMD_BIT(DRIVE_CMD_STOP) |
+                                           DRIVE_CMD_BIT(DRIVE_CMD_RESET_FAULT));
     bg_loop_apply(&s_d, &s_log, TLM_CMD_NONE);                  /* nothing changes */
-    assert_int_equal(s_d.pending_cmd, DRIVE_CMD_RESET_FAULT);
+    assert_int_equal(s_d.cmd_requests, 0xEu);
     assert_int_equal(s_log.state, DLOG_FREE);
     bg_loop_apply(&s_d, &s_log, TLM_CMD_DLOG_ARM);
     assert_int_equal(s_log.state, DLOG_ARMED);
-    assert_int_equal(s_d.pending_cmd, DRIVE_CMD_RESET_FAULT);   /* the log's, not the drive's */
+    assert_int_equal(s_d.cmd_requests, 0xEu);   /* the log's, not the drive's */
     bg_loop_apply(&s_d, NULL, TLM_CMD_DLOG_ARM);                /* no log (the host): ignored */
 }
 

@@ -9,6 +9,7 @@ same sequence of states (both publish, neither faults).  Measured: at most
 """
 import json
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -19,8 +20,12 @@ KEYS = ["Rs_ohm", "Rr_ohm", "Lm_H", "Lr_H", "psi_r_Wb", "Tr_s"]
 
 def run(build, out):
     exe = ROOT / "build" / build / "host_sim" / "sim" / "motor_sim"
+    # a missing build is a failure, not a skip: a skipped comparison passes
+    # for an agreement nobody checked
     if not exe.exists():
-        pytest.skip(f"{exe} not built (tools/run_tests.sh builds both presets)")
+        pytest.fail(f"the {build} build is missing: {exe} does not exist (cmake --preset {build} "
+                    f"&& cmake --build --preset {build}; tools/run_tests.sh builds both)",
+                    pytrace=False)
     subprocess.run([str(exe), "--quiet", "--config",
                     str(ROOT / "host_sim" / "config" / "paper_motor.ini"), "--out", str(out)],
                    check=True)
@@ -37,3 +42,18 @@ def test_iq_and_float_builds_agree(tmp_path):
         a, b = iq["identified"][k], fl["identified"][k]
         assert abs(a - b) <= 0.005 * abs(b), f"{k}: IQ {a} vs FLOAT {b}"
     assert abs(iq["final_speed_rpm"] - fl["final_speed_rpm"]) <= 0.001 * 1400.0
+
+
+def test_a_missing_build_fails_naming_it(tmp_path, monkeypatch):
+    """Without the float build the comparison must fail, naming that build
+    (it once skipped silently, and the suite passed without comparing)."""
+    monkeypatch.setattr(sys.modules[__name__], "ROOT", tmp_path)   # no build/ there
+    try:
+        run("host-float", tmp_path / "out")
+    except pytest.fail.Exception as e:
+        assert "the host-float build is missing" in str(e)
+        assert str(tmp_path / "build" / "host-float") in str(e)
+        return
+    except BaseException as e:   # a skip is an outcome too: it must not be one
+        pytest.fail(f"a missing build gave {type(e).__name__}: {e}, not a failure")
+    pytest.fail("a missing build ran on")
