@@ -269,6 +269,7 @@ static void standstill_result(drive_t *d)
     }
     a->from[P_RS] = rs;
     d->telemetry.Rs_dc = rs;
+    standstill_z_finish(&d->ssz);
     if (d->ssz.valid != 0u) {
         /* keep the believed Lm, Lr: Ls = sigma Ls + Lm^2/Lr (< 8 + 16) */
         _iq ls = d->ssz.sigma_ls + _IQmpy(d->fobs.lm, d->fobs.lm_lr);

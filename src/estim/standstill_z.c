@@ -93,7 +93,7 @@ void standstill_z_start(standstill_z_t *z)
 }
 
 /* The impedance from the four sums (see the header). */
-static void finish(standstill_z_t *z)
+void standstill_z_finish(standstill_z_t *z)
 {
     _iq den;
     _iq num_x;
@@ -103,9 +103,10 @@ static void finish(standstill_z_t *z)
      * |I|^2 >= (SUM_GAIN ampl / 8)^2 = 4 ampl^2 */
     _iq den_min = _IQmpy(_IQ(4.0), _IQmpy(z->ampl, z->ampl));
 
-    z->running = 0u;
-    z->done = 1u;
-    z->i_add = _IQ(0.0);
+    z->valid = 0u;
+    if (z->done == 0u) {
+        return;
+    }
     if (_IQabs(z->us) > _IQ(SUM_MAX) || _IQabs(z->uc) > _IQ(SUM_MAX) ||
         _IQabs(z->is) > _IQ(SUM_MAX) || _IQabs(z->ic) > _IQ(SUM_MAX)) {
         return;   /* invalid: an AC amplitude beyond any plausible response */
@@ -163,6 +164,9 @@ void standstill_z_step(standstill_z_t *z)
         z->ph = 0u;
     }
     if (++z->k >= (uint16_t)(z->lead + z->window)) {
-        finish(z);
+        /* the window is complete: the sums hold for standstill_z_finish */
+        z->running = 0u;
+        z->done = 1u;
+        z->i_add = _IQ(0.0);
     }
 }
