@@ -42,11 +42,12 @@ static void json_num_or_null(FILE *f, const char *name, double v, int present)
     }
 }
 
-/* The adaptation telemetry and the drift scenario's figures (issue 8). */
+/* The adaptation telemetry and the drift scenario's figures. */
 static void json_adaptation(FILE *f, const sim_result_t *r)
 {
     fprintf(f, "  \"pass\": %u,\n", r->final_pass);
     json_num_or_null(f, "Rs_dc_ohm", r->Rs_dc_ohm, r->Rs_dc_ohm != 0.0);
+    fprintf(f, "  \"adapt_timeouts\": %u,\n", r->adapt_timeouts);
     json_num_or_null(f, "drift_t_start_s", r->drift_t_start_s, r->drift_t_start_s >= 0.0);
     fprintf(f, "  \"track_samples\": %u,\n", (unsigned)r->track_samples);
     json_num_or_null(f, "track_err_lag0_pct", r->track_err_lag0_pct, r->track_err_lag0_pct >= 0.0);
@@ -189,6 +190,10 @@ void report_print_adaptation(FILE *f, const sim_result_t *r)
     if (r->Rs_dc_ohm != 0.0) {
         fprintf(f, "standstill Rs %.4f ohm (%+.2f %%)\n", r->Rs_dc_ohm,
                 100.0 * (r->Rs_dc_ohm - r->truth.Rs_ohm) / r->truth.Rs_ohm);
+    }
+    if (r->adapt_timeouts != 0u) {
+        fprintf(f, "the background's model came too late %u time(s): the sequence went on with "
+                   "the model in use\n", r->adapt_timeouts);
     }
     if (r->drift_t_start_s < 0.0) {
         return;
