@@ -111,12 +111,13 @@ void standstill_z_finish(standstill_z_t *z)
         _IQabs(z->is) > _IQ(SUM_MAX) || _IQabs(z->ic) > _IQ(SUM_MAX)) {
         return;   /* invalid: an AC amplitude beyond any plausible response */
     }
-    /* each product < 62.5, each sum < 125 */
+    /* each product < 62.5, each sum < 125; |num| / 100 < den rather than
+     * |num| < 100 den, which leaves Q24 for den > 1.28 */
     den = _IQmpy(z->is, z->is) + _IQmpy(z->ic, z->ic);
     num_x = _IQmpy(z->uc, z->is) - _IQmpy(z->us, z->ic);
     num_r = _IQmpy(z->us, z->is) + _IQmpy(z->uc, z->ic);
-    if (!(den > den_min) || !(_IQabs(num_x) < _IQmpy(den, _IQ(100.0))) ||
-        !(_IQabs(num_r) < _IQmpy(den, _IQ(100.0)))) {
+    if (!(den > den_min) || !(_IQmpy(_IQabs(num_x), _IQ(0.01)) < den) ||
+        !(_IQmpy(_IQabs(num_r), _IQ(0.01)) < den)) {
         return;   /* invalid: no current, or an impedance beyond 100 pu */
     }
     z->x = _IQdiv(num_x, den);

@@ -378,6 +378,27 @@ static void test_init_errors(void **state)
     assert_int_equal(standstill_z_init(&z, TS_S, FB_HZ, F_INJ, 200u, 0.05f, 0.0f), STANDSTILL_Z_OK);
 }
 
+/* standstill_z_finish on sums far larger than the drive's (a current
+ * phasor of 2, |I|^2 = 4): the plausibility bound |num| < 100 |I|^2 is
+ * evaluated as |num| / 100 < |I|^2, inside Q24 (100 |I|^2 = 400 is not).
+ * U = (R + jX) I with R 0.6, X 3: x and r exact to 1 LSB (the products of
+ * the exact Q24 sums are exact, one truncating _IQdiv). */
+static void test_finish_large_sums(void **state)
+{
+    standstill_z_t z;
+    (void)state;
+    init_ok(&z, 0.0f);
+    z.done = 1u;
+    z.is = _IQ(2.0);
+    z.ic = _IQ(0.0);
+    z.us = _IQ(1.2);
+    z.uc = _IQ(6.0);
+    standstill_z_finish(&z);
+    assert_int_equal(z.valid, 1);
+    assert_true(fabs(iq_to_d(z.x) - 3.0) <= LSB24);
+    assert_true(fabs(iq_to_d(z.r) - 0.6) <= 2.0 * LSB24);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -385,6 +406,7 @@ int main(void)
         cmocka_unit_test(test_corr_shift),
         cmocka_unit_test(test_injection),
         cmocka_unit_test(test_invalid),
+        cmocka_unit_test(test_finish_large_sums),
         cmocka_unit_test(test_freq_rounding),
         cmocka_unit_test(test_init_errors),
     };
