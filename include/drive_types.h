@@ -49,7 +49,7 @@ typedef enum {
     DRIVE_SLOT_RLS_ROW1,    /* RLS: forgetting + row 1 */
     DRIVE_SLOT_SEQUENCE,    /* identification sequence, adaptation, telemetry, snapshots */
     DRIVE_SLOT_RLS_ROW2,    /* RLS: row 2, then the estimator guard */
-    DRIVE_SLOT_OBSERVER,    /* the rotor-flux observer (orientation 1) */
+    DRIVE_SLOT_OBSERVER,    /* the Rr/Tr tracker (orientation 1, RUN with tracking) */
     DRIVE_SLOT_LOG          /* no drive work: the firmware's data log runs in this ISR */
 } drive_slot_t;
 

@@ -49,7 +49,9 @@
  *     made for the sequence's present state and pass, and does what its
  *     flags say (adapt_ready, the tracker's start, the hand-over of the
  *     control frame to ifo);
- *   - feeds the tracker (tr_track_step: its scalar RLS stays here).
+ *   - feeds the tracker (tr_track_step: its scalar RLS stays in the ISR,
+ *     in a slot of its own, drive_adapt_track; its 1/Tr goes to the
+ *     background).
  * The sequence waits for the background: at the end of MAGNETIZE for the
  * standstill set (id_sequence_set_wait), in REFINE for the blend's last
  * set; each wait ends after DRIVE_ADAPT_WAIT_S with the model in use,
@@ -219,23 +221,25 @@ static void capture(drive_t *d)
     c->ready = 1u;
 }
 
-/* The injection over the end of the magnetisation: started by the slow
- * task (the sequence counts slow samples) so that the test and the gap
- * after it (in fast samples: ssz_gap) end before the magnetisation does. */
-static void standstill_test_start(drive_t *d)
+/* MAGNETIZE: the injection over the end of the magnetisation, started by
+ * the slow task (the sequence counts slow samples) so that the test and the
+ * gap after it (in fast samples: ssz_gap) end before the magnetisation time
+ * does; at its end the capture for the standstill result. */
+static void standstill(drive_t *d)
 {
     standstill_z_t *z = &d->ssz;
     const id_sequence_t *s = &d->seq;
     uint32_t left;
 
-    if (s->state != ID_MAGNETIZE || z->running != 0u || s->t_state == 0u ||
-        s->t_state >= s->magnetize_samples) {
+    if (s->magnetize_end != 0u) {
+        capture(d);
+    }
+    if (d->adapt.ssz_started != 0u || s->t_state == 0u || s->t_state >= s->magnetize_samples) {
         return;
     }
     /* fast samples left in the magnetisation; t_state < magnetize_samples */
     left = (s->magnetize_samples - s->t_state) * DRIVE_SLOTS;
-    if (left <= (uint32_t)standstill_z_samples(z) + d->adapt.ssz_gap &&
-        d->adapt.ssz_started == 0u) {
+    if (left <= (uint32_t)standstill_z_samples(z) + d->adapt.ssz_gap) {
         standstill_z_start(z);
         d->adapt.ssz_started = 1u;
     }
@@ -303,12 +307,13 @@ static void take_set(drive_t *d)
     box->ready = 0u;
 }
 
-/* The tracker's inputs and its step (the scalar RLS every
- * DRIVE_ADAPT_TRACK_DECIM slow ticks); its 1/Tr goes to the background. */
-static void track(drive_t *d)
+void drive_adapt_track(drive_t *d)
 {
     tr_track_t *t = &d->track;
 
+    if (d->adapt.track_armed == 0u) {
+        return;
+    }
     t->w_sl = d->fobs.ws_f - d->qep.speed_raw;
     t->psi_alpha = d->fobs.psi_alpha;
     t->psi_beta = d->fobs.psi_beta;
@@ -318,38 +323,45 @@ static void track(drive_t *d)
     tr_track_step(t);
 }
 
+/* A state change: what each state starts from. */
+static void state_change(drive_t *d, uint16_t st)
+{
+    drive_adapt_t *a = &d->adapt;
+
+    a->blending = 0u;   /* a blend the state change cut short: no more of it */
+    if (st == (uint16_t)ID_MAGNETIZE) {
+        a->ssz_started = 0u;
+        d->seq.adapt_ready = 0u;
+    }
+    if (st == (uint16_t)ID_REFINE) {
+        d->seq.adapt_ready = 0u;
+    }
+    if (st != (uint16_t)ID_RUN) {
+        a->track_armed = 0u;
+        drive_set_run_ifo(d, 0u);
+    }
+    a->prev_state = st;
+}
+
 void drive_adapt_slow(drive_t *d)
 {
     drive_adapt_t *a = &d->adapt;
-    uint16_t st = (uint16_t)d->seq.state;
+    const uint16_t st = (uint16_t)d->seq.state;
 
     d->telemetry.pass = d->seq.pass;
     if (d->k.orientation != DRIVE_ORIENT_FLUX_OBS) {
         return;
     }
-    /* every test below is cheap while nothing happens (ACCELERATE, where the
-     * RLS makes the ISR's worst case, runs only the compares) */
+    /* a few compares while nothing happens (ACCELERATE, where the RLS makes
+     * the ISR's worst case, runs only these) */
     a->ticks++;
-    if (a->standstill != 0u) {
-        standstill_test_start(d);
-        if (d->seq.magnetize_end != 0u) {
-            capture(d);
-        }
+    /* (with the standstill test the sequence waits in MAGNETIZE: its
+     * magnetize_end pulse comes in MAGNETIZE, id_sequence_set_wait) */
+    if (st == (uint16_t)ID_MAGNETIZE && a->standstill != 0u) {
+        standstill(d);
     }
     if (st != a->prev_state) {
-        a->blending = 0u;   /* a blend the state change cut short: no more of it */
-        if (st == (uint16_t)ID_MAGNETIZE) {
-            a->ssz_started = 0u;
-            d->seq.adapt_ready = 0u;
-        }
-        if (st == (uint16_t)ID_REFINE) {
-            d->seq.adapt_ready = 0u;
-        }
-        if (st != (uint16_t)ID_RUN) {
-            a->track_armed = 0u;
-            drive_set_run_ifo(d, 0u);
-        }
-        a->prev_state = st;
+        state_change(d, st);
     }
     if (d->seq.rls_restart != 0u) {
         d->rls = d->rls_start;
@@ -357,8 +369,5 @@ void drive_adapt_slow(drive_t *d)
     }
     if (d->adapt_box.ready != 0u) {
         take_set(d);
-    }
-    if (a->track_armed != 0u) {
-        track(d);
     }
 }

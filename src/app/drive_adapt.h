@@ -52,8 +52,13 @@ void drive_adapt_fast(drive_t *d);
 /** ISR, slot SEQUENCE after the sequence step: the standstill test's start
  *  and, at the end of the magnetisation, the capture of what its result
  *  needs; the RLS restart per pass; a posted model set copied in (one
- *  bounded step); the tracker fed. */
+ *  bounded step). */
 void drive_adapt_slow(drive_t *d);
+
+/** ISR, slot OBSERVER (a slot of its own: its scalar RLS divides twice):
+ *  the Rr/Tr tracker's inputs and step while it is armed (RUN with
+ *  tracking); learning only when no blend is under way. */
+void drive_adapt_track(drive_t *d);
 
 /** Background, after an extraction at the end of a pass: the model the next
  *  pass (or the tracker) starts from.  @p full: 1 for param_extract_step's

@@ -19,7 +19,7 @@
  *                 (drive_adapt.c), telemetry and the snapshots for the
  *                 background
  *   5 RLS_ROW2    row 2, then the estimator guard on the completed sample
- *   6 OBSERVER    the rotor-flux observer on the window's means (mode 1)
+ *   6 OBSERVER    the Rr/Tr tracker (mode 1, RUN with tracking: drive_adapt.c)
  *   7 LOG         nothing of the drive's: the firmware's data log
  *
  * The rows use the regressors slots 1-2 formed in the same slow period; the
@@ -230,6 +230,8 @@ void drive_slow_task(drive_t *d, uint16_t slot)
         task_row2(d);
         break;
     case DRIVE_SLOT_OBSERVER:
+        drive_adapt_track(d);
+        break;
     case DRIVE_SLOT_LOG:
     default:
         break;
