@@ -115,13 +115,15 @@ typedef struct {
 
 /** The one-slot mailbox of model sets.  The background writes the set only
  *  while ready = 0 and sets ready last; the ISR reads only while ready = 1,
- *  says what it did in taken and clears ready last.  volatile: every store
- *  and load happens, in program order, so ready is never seen set before
- *  the set is written. */
+ *  says what it did in taken and clears ready last.  The background writes
+ *  the set through a volatile lvalue (drive_adapt_bg.c): its stores are
+ *  done, in program order, before the one of ready, so the ISR never sees
+ *  ready set before the whole set is written.  The ISR reads the set plainly:
+ *  the background cannot run while it does. */
 #define DRIVE_BOX_APPLIED 1u
 #define DRIVE_BOX_DROPPED 2u        /* made for a state (or pass) the sequence has left */
 typedef struct {
-    volatile drive_model_set_t set;
+    drive_model_set_t set;
     volatile uint16_t taken;    /* DRIVE_BOX_APPLIED or _DROPPED (ISR, before clearing ready) */
     volatile uint16_t ready;
 } drive_adapt_box_t;

@@ -224,9 +224,8 @@ flux_obs_status_t flux_obs_design_tr(flux_obs_model_t *m, float ts_pu, float tr_
 flux_obs_status_t flux_obs_design(flux_obs_model_t *m, float ts_pu, float rs_pu, float lm_pu,
                                   float lr_pu, float ls_pu, float tr_pu);
 
-/** Copy a model set in (ISR: seven word copies, no arithmetic).  @p m may be
- *  a mailbox the background fills (volatile: each word read once, here). */
-static inline void flux_obs_apply_model(flux_obs_t *o, const volatile flux_obs_model_t *m)
+/** Copy a model set in (ISR: seven word copies, no arithmetic). */
+static inline void flux_obs_apply_model(flux_obs_t *o, const flux_obs_model_t *m)
 {
     o->rs = m->rs;
     o->lm = m->lm;
@@ -253,7 +252,7 @@ flux_obs_status_t flux_obs_seat_dc(const flux_obs_t *o, const flux_obs_model_t *
 
 /** Copy a re-seat in (ISR: fourteen word copies): the next flux_obs_step
  *  continues from it without a transient; ws, ws_f = 0 (standstill). */
-static inline void flux_obs_apply_seat(flux_obs_t *o, const volatile flux_obs_seat_t *s)
+static inline void flux_obs_apply_seat(flux_obs_t *o, const flux_obs_seat_t *s)
 {
     o->psis_alpha = s->psis_alpha;
     o->psis_beta = s->psis_beta;

@@ -125,9 +125,8 @@ ifo_status_t ifo_set_tr(ifo_t *f, _iq tr_pu);
  */
 ifo_status_t ifo_design_tr(ifo_tr_t *t, float ts_pu, float tr_pu, float imr_min_pu);
 
-/** Copy a Tr set in (ISR: three word copies).  @p t may be a mailbox the
- *  background fills (volatile: each word read once, here). */
-static inline void ifo_apply_tr(ifo_t *f, const volatile ifo_tr_t *t)
+/** Copy a Tr set in (ISR: three word copies). */
+static inline void ifo_apply_tr(ifo_t *f, const ifo_tr_t *t)
 {
     f->tr = t->tr;
     f->inv_tr = t->inv_tr;

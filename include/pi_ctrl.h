@@ -90,9 +90,8 @@ typedef struct {
 pi_status_t pi_design_gains(pi_gains_t *g, float kp, float ki);
 
 /** Copy a gain set in (ISR: three word copies; the integrator is kept, as
- *  pi_set_gains).  @p g may be a mailbox the background fills (volatile:
- *  each word read once, here). */
-static inline void pi_apply_gains(pi_ctrl_t *p, const volatile pi_gains_t *g)
+ *  pi_set_gains). */
+static inline void pi_apply_gains(pi_ctrl_t *p, const pi_gains_t *g)
 {
     p->kp = g->kp;
     p->ki = g->ki;

@@ -268,7 +268,7 @@ void drive_adapt_fast(drive_t *d)
 static void take_set(drive_t *d)
 {
     drive_adapt_box_t *box = &d->adapt_box;
-    const volatile drive_model_set_t *s = &box->set;
+    const drive_model_set_t *s = &box->set;
     drive_adapt_t *a = &d->adapt;
     const uint16_t f = s->flags;
 

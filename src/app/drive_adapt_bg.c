@@ -30,10 +30,11 @@
  * while ready = 0 (it posts nothing new until it has read the answer to
  * the last post), then ready = 1; the ISR copies it only while ready = 1,
  * in one ISR, writes taken (applied, or dropped when the sequence has left
- * the state and pass the set was made for) and clears ready last.  The
- * mailbox is volatile, so the compiler keeps every store before the one of
- * ready.  So the ISR never sees half a set, and the background always knows
- * which model the ISR runs (cur, cur_set).
+ * the state and pass the set was made for) and clears ready last.  The set
+ * is written through a volatile lvalue and ready is volatile, so the
+ * compiler keeps every store of the set before the one of ready.  So the
+ * ISR never sees half a set, and the background always knows which model
+ * the ISR runs (cur, cur_set).
  */
 #include "drive_adapt.h"
 #include "drive_internal.h"
@@ -83,7 +84,7 @@ static void post(drive_t *d, const drive_model_set_t *s, const _iq v[DRIVE_ADAPT
     drive_adapt_box_t *box = &d->adapt_box;
     uint16_t i;
 
-    box->set = *s;
+    *(volatile drive_model_set_t *)&box->set = *s;   /* every store before ready's */
     box->taken = 0u;
     box->ready = 1u;
     for (i = 0u; i < DRIVE_ADAPT_NP; i++) {
