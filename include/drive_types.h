@@ -107,39 +107,105 @@ typedef struct {
     uint16_t max_fill;              /* ISR: the most entries waiting at a push */
 } drive_rls_queue_t;
 
-/** Background -> ISR: a pass's extracted parameters (pu), one-slot mailbox
- *  as drive_snapshot_t (the background writes while ready = 0, sets ready
- *  last; the ISR reads while ready = 1 and clears it last). */
-typedef struct {
-    _iq rs, lm, lr, ls, tr;   /* Q24 pu (tr: pu time) */
-    uint16_t valid;           /* 0: the extraction was implausible (keep the old model) */
-    uint16_t full;            /* 1: all six parameters; 0: the magnetic part only (lm, lr, ls) */
-    uint16_t ready;
-} drive_adapt_mail_t;
-
-/** Parameter adaptation (issue 8): standstill Rs, the model handed from
- *  pass to pass, the Rr/Tr tracker's feed.  All pu, Q24. */
-#define DRIVE_ADAPT_NP 5u   /* rs, lm, lr, ls, tr */
+/** Parameter adaptation (drive_adapt.c in the ISR, drive_adapt_bg.c in the
+ *  background): the ISR's part.  All pu, Q24. */
 typedef struct {
     /* configuration (drive_adapt_init) */
     uint16_t passes, standstill, track_rr;
     uint16_t fused;           /* standstill and track_rr: Rs from standstill, Rr and Tr from
                                  the tracker, only Lm, Lr, psi_r from the RLS */
-    _iq rs_lo, rs_hi;         /* plausible standstill Rs (a factor 4 of the believed) */
-    _iq blend_step;           /* Q24 fraction per sample: the blend lasts DRIVE_ADAPT_BLEND_S */
-    _iq kp_per_sls;           /* current-loop kp per pu of sigma Ls (kp = w_c sigma Ls) */
-    _iq ki_per_rs;            /* current-loop ki per pu of Rs (ki = w_c Ts Rs) */
-    _iq tr_rate;              /* largest relative change of the applied Tr per tracker tick */
     uint16_t ssz_gap;         /* samples of DC between the sigma Ls test and the Rs reading */
+    /* state */
     uint16_t ssz_started;     /* the sigma Ls test of this magnetisation has been started */
-    /* the model in use (the observer's values) and the blend towards a new one */
-    _iq from[DRIVE_ADAPT_NP], to[DRIVE_ADAPT_NP];
-    _iq frac;                 /* Q24 blend position 0..1 */
-    uint16_t blending;
-    _iq lr;                   /* Lr of the last identification (Rr_track = Lr / Tr) */
+    uint16_t blending;        /* the last set applied is a blend step: the tracker does not learn */
     uint16_t track_armed;     /* the tracker has its start value (final pass in) */
     uint16_t prev_state;      /* id_state_t of the last sample */
+    uint16_t ticks;           /* SEQUENCE-slot ticks (wraps): the background's clock for the blend */
 } drive_adapt_t;
+
+/** Background -> ISR: one complete model set, computed by the background
+ *  (drive_adapt_bg.c) and copied in by the ISR in its SEQUENCE slot
+ *  (drive_adapt.c), all at once or not at all.  Each value one aligned
+ *  32-bit word (Q24 pu). */
+#define DRIVE_SET_SEAT 0x1u         /* re-seat the observer on the DC solution (standstill) */
+#define DRIVE_SET_READY 0x2u        /* the sequence waits for this set: adapt_ready once applied */
+#define DRIVE_SET_BLENDING 0x4u     /* a blend step, more follow: the tracker does not learn */
+#define DRIVE_SET_TRACK_START 0x8u  /* restart the tracker from theta0 and arm it */
+#define DRIVE_SET_ALIGN 0x10u       /* hand the control frame to ifo (the first tracked set) */
+typedef struct {
+    flux_obs_model_t fobs;    /* the observer's model (7 words); sigma Ls also decouples */
+    ifo_tr_t ifo;             /* ifo's Tr constants (3) */
+    pi_gains_t cur;           /* the current PIs' gains, both axes (3) */
+    _iq lm2_lr;               /* Lm^2 / Lr, pu of L_base: the back-EMF feed-forward */
+    _iq inv_lm;               /* 1 / Lm (<= 16): ifo_align's flux -> i_mr */
+    _iq theta0;               /* the tracker's start 1/Tr (DRIVE_SET_TRACK_START) */
+    flux_obs_seat_t seat;     /* the DC re-seat (DRIVE_SET_SEAT) */
+    uint16_t flags;           /* DRIVE_SET_* */
+    uint16_t state, pass;     /* the id_state_t and pass it was made for: applied only then */
+} drive_model_set_t;
+
+/** The one-slot mailbox of model sets.  The background writes the set only
+ *  while ready = 0 and sets ready last; the ISR reads only while ready = 1,
+ *  says what it did in taken and clears ready last.  The background writes
+ *  the set through a volatile lvalue (drive_adapt_bg.c): its stores are
+ *  done, in program order, before the one of ready, so the ISR never sees
+ *  ready set before the whole set is written.  The ISR reads the set plainly:
+ *  the background cannot run while it does. */
+#define DRIVE_BOX_APPLIED 1u
+#define DRIVE_BOX_DROPPED 2u        /* made for a state (or pass) the sequence has left */
+typedef struct {
+    drive_model_set_t set;
+    volatile uint16_t taken;    /* DRIVE_BOX_APPLIED or _DROPPED (ISR, before clearing ready) */
+    volatile uint16_t ready;
+} drive_adapt_box_t;
+
+/** ISR -> background: what the standstill result needs, captured at the end
+ *  of the magnetisation (data first, ready last; the background copies it
+ *  and clears ready). */
+typedef struct {
+    _iq u_mf, u_tf, i_mf, i_tf;     /* the regression's filtered M-T voltage, current (DC) */
+    _iq theta_r;                    /* the encoder angle: the frame they are in */
+    _iq psi_cm_alpha, psi_cm_beta;  /* the observer's current-model rotor flux */
+    _iq us, uc, is, ic;             /* the sigma Ls lock-in's sums (standstill_z) */
+    uint16_t ssz_done;              /* its window completed */
+    uint16_t ready;
+} drive_adapt_capture_t;
+
+/** Parameter adaptation: the background's part (drive_adapt_bg.c; float
+ *  allowed).  The model as (Rs, Lm, Lr, Ls, Tr), pu Q24. */
+#define DRIVE_ADAPT_NP 5u   /* rs, lm, lr, ls, tr */
+typedef struct {
+    /* configuration (drive_adapt_init) */
+    float ts_pu;              /* Ts, pu time (the design functions) */
+    float obs_ts_pu;          /* the observer's step n Ts, pu time (its Tr constants) */
+    float imr_min_pu;         /* ifo's guard (its Tr bound) */
+    float kp_per_sls;         /* current-loop kp per pu of sigma Ls (kp = w_c sigma Ls) */
+    float ki_per_rs;          /* current-loop ki per pu of Rs (ki = w_c Ts Rs) */
+    _iq rs_lo, rs_hi;         /* plausible standstill Rs (a factor 4 of the believed) */
+    _iq blend_step;           /* Q24 fraction per SEQUENCE tick: the blend lasts DRIVE_ADAPT_BLEND_S */
+    uint16_t blend_ticks;     /* ticks of a whole blend */
+    _iq tr_rate;              /* largest relative change of the applied Tr per tracker update */
+    /* the model the ISR runs (the last set it applied) and its constants */
+    _iq cur[DRIVE_ADAPT_NP];
+    drive_model_set_t cur_set;
+    _iq posted[DRIVE_ADAPT_NP];   /* the model of the set in the mailbox */
+    uint16_t pending;         /* a set was posted and its answer (taken) not yet read */
+    /* the blend towards a pass's model */
+    _iq from[DRIVE_ADAPT_NP], to[DRIVE_ADAPT_NP];
+    uint16_t blending;
+    uint16_t blend_t0;        /* drive_adapt_t.ticks at its start */
+    uint16_t blend_state, blend_pass;   /* the sequence's state and pass it is for */
+    uint16_t blend_track;     /* the first set starts the tracker (RUN) */
+    _iq theta0;               /* ... from this 1/Tr */
+    _iq lr;                   /* Lr of the last identification (Rr_track = Lr / Tr) */
+    /* a pass's extraction (drive_adapt_post) */
+    _iq m_rs, m_lm, m_lr, m_ls, m_tr;
+    uint16_t m_valid;         /* 0: the extraction was implausible (keep the old model) */
+    uint16_t m_full;          /* 1: all parameters; 0: the magnetic part only (lm, lr, ls) */
+    uint16_t m_ready;
+    /* tracking */
+    uint32_t n_seen;          /* the tracker's n_updates the last Tr was made from */
+} drive_adapt_bg_t;
 
 struct drive {
     base_values_t base;
@@ -197,8 +263,10 @@ struct drive {
     uint16_t on_next, on_last;  /* bridge switching in those periods */
     _iq ia_prev, ib_prev;       /* phase currents of the previous sample, pu */
 
-    drive_adapt_t adapt;        /* issue 8: model adaptation between passes, tracking */
-    drive_adapt_mail_t adapt_mail;  /* background -> ISR: each pass's parameters */
+    drive_adapt_t adapt;        /* model adaptation (ISR part): standstill, passes, tracking */
+    drive_adapt_bg_t adapt_bg;  /* ... its background part: the models and their constants */
+    drive_adapt_box_t adapt_box;    /* background -> ISR: model sets */
+    volatile drive_adapt_capture_t adapt_cap;   /* ISR -> background: the standstill values */
     _iq fused_lm, fused_lr, fused_psi;   /* background, fused mode: the last good magnetic set */
     uint16_t fused_ready;
     tr_track_t track;           /* Rr/Tr tracker in RUN (track_rr) */

@@ -70,9 +70,17 @@
  * modulation angle, and the caller's angle between steps: ws carries the
  * current noise through sigma Ls i).
  *
- * Parameters are changed at run time in pu without float (flux_obs_set_rs,
- * flux_obs_set_tr, flux_obs_set_inductances); rate limiting and blending of
- * identified values is the caller's choice.
+ * Parameters.  The model's constants (Rs, Lm, sigma Ls, Lr/Lm, Lm/Lr, Tr,
+ * kf: flux_obs_model_t) are computed in float by flux_obs_design (pu in;
+ * flux_obs_init converts its SI arguments and calls it), outside the ISR:
+ * the drive's background computes a whole set there and the ISR copies it
+ * in (flux_obs_apply_model, a few word copies, no division).  Likewise the
+ * DC re-seat at standstill: flux_obs_seat_dc computes the states (fixed
+ * point, outside the ISR), flux_obs_apply_seat copies them in.  The fixed-
+ * point setters (flux_obs_set_rs, flux_obs_set_tr, flux_obs_set_inductances,
+ * flux_obs_set_rs_dc) remain for callers without float; the drive's ISR
+ * does not use them.  Rate limiting and blending of identified values is
+ * the caller's choice.
  */
 #ifndef FLUX_OBS_H
 #define FLUX_OBS_H
@@ -169,6 +177,31 @@ typedef struct {
     _iq i_alpha_prev, i_beta_prev;  /* Q24, i(k-1), pu */
 } flux_obs_t;
 
+/** The model's constants: what depends on (Rs, Lm, Lr, Ls, Tr).  All Q24,
+ *  each one aligned 32-bit word (a set can be posted word by word). */
+typedef struct {
+    _iq rs;                 /* Rs, pu of Z_base, [0, 4] */
+    _iq lm;                 /* Lm, pu of L_base, (0, 16] */
+    _iq sigma_ls;           /* sigma Ls = Ls - Lm^2/Lr, pu of L_base, (0, 4] */
+    _iq lr_lm;              /* Lr / Lm, (1, 4] */
+    _iq lm_lr;              /* Lm / Lr, [0.25, 1) */
+    _iq tr;                 /* Tr, pu time, [10 Ts, 120] */
+    _iq kf;                 /* 1 - exp(-Ts/Tr), (0, 0.1] */
+} flux_obs_model_t;
+
+/** The observer's states re-seated on the DC solution at standstill
+ *  (flux_obs_seat_dc), Q24 pu, and the outputs that continue from them. */
+typedef struct {
+    _iq psis_alpha, psis_beta;   /* stator flux on the current model's */
+    _iq z_alpha, z_beta;         /* correction states holding u_c = Rs i - u */
+    _iq y_alpha, y_beta;
+    _iq uc_alpha, uc_beta;       /* u_c = w_c y */
+    _iq psi_alpha, psi_beta;     /* output rotor flux: the current model's */
+    _iq psi_mag;                 /* its magnitude */
+    _iq theta;                   /* its angle, pu [0, 1) (theta_prev too) */
+    uint16_t sat;                /* 1 if an input or a state was saturated */
+} flux_obs_seat_t;
+
 /**
  * Compute every constant once (float, not in the ISR) and reset the state.
  * @p Rs_ohm, @p Ls_H, @p Lr_H, @p Lm_H, @p Tr_s: the controller's motor
@@ -193,6 +226,73 @@ flux_obs_status_t flux_obs_set_step(flux_obs_t *o, const base_values_t *b, uint1
 
 /** Zero the state and outputs (demagnetised machine: all fluxes 0). */
 void flux_obs_reset(flux_obs_t *o);
+
+/**
+ * The model's constants from pu floats (float: not in the ISR), as
+ * flux_obs_init computes them: Rs, Lm, Tr as given, Lr/Lm, Lm/Lr,
+ * sigma Ls = Ls - Lm^2/Lr and kf = 1 - exp(-x), x = Ts/Tr, by its series to
+ * x^5/120 (x <= 0.1: error < x^6/720 = 1.4e-9, below the float rounding),
+ * each converted to Q24 by _IQ (truncation, < 1 LSB, plus the float's
+ * rounding: relative 6e-8 of the value).  Ranges as the setters': Rs in
+ * [0, 4]; 0 < Lm <= 16, Lm < Lr <= 4 Lm, Lm < Ls <= 32, sigma Ls in
+ * (0, 4]; Tr in [10 Ts, 120] (NaN fails every check).  Each group (Rs; the
+ * inductances; Tr) is written only when its own check passes, so a refused
+ * group keeps what @p m held (as a refusing setter keeps its old value).
+ * flux_obs_design: all three, in that order; returns the first refusal.
+ */
+flux_obs_status_t flux_obs_design_rs(flux_obs_model_t *m, float rs_pu);
+flux_obs_status_t flux_obs_design_l(flux_obs_model_t *m, float lm_pu, float lr_pu, float ls_pu);
+flux_obs_status_t flux_obs_design_tr(flux_obs_model_t *m, float ts_pu, float tr_pu);
+flux_obs_status_t flux_obs_design(flux_obs_model_t *m, float ts_pu, float rs_pu, float lm_pu,
+                                  float lr_pu, float ls_pu, float tr_pu);
+
+/** Copy a model set in (ISR: seven word copies, no arithmetic). */
+static inline void flux_obs_apply_model(flux_obs_t *o, const flux_obs_model_t *m)
+{
+    o->rs = m->rs;
+    o->lm = m->lm;
+    o->sigma_ls = m->sigma_ls;
+    o->lr_lm = m->lr_lm;
+    o->lm_lr = m->lm_lr;
+    o->tr = m->tr;
+    o->kf = m->kf;
+}
+
+/**
+ * The DC re-seat (see flux_obs_set_rs_dc) computed without touching the
+ * observer: @p m the model it is to run with (Rs, Lm/Lr, sigma Ls), @p o
+ * only for its fixed constants w_c and 1/w_c (flux_obs_init's), the current
+ * model's stator-frame rotor flux @p psi_cm_alpha, @p psi_cm_beta and the DC
+ * voltage and current (pu, low-pass filtered) at the same instant.  Fixed
+ * point, no division (the angle by _IQatan2PU, the magnitude by _IQmag);
+ * scaling as flux_obs_set_rs_dc.  Rejects (nothing written) Rs outside
+ * [0, 4].
+ */
+flux_obs_status_t flux_obs_seat_dc(const flux_obs_t *o, const flux_obs_model_t *m,
+                                   _iq psi_cm_alpha, _iq psi_cm_beta, _iq u_alpha, _iq u_beta,
+                                   _iq i_alpha, _iq i_beta, flux_obs_seat_t *s);
+
+/** Copy a re-seat in (ISR: fourteen word copies): the next flux_obs_step
+ *  continues from it without a transient; ws, ws_f = 0 (standstill). */
+static inline void flux_obs_apply_seat(flux_obs_t *o, const flux_obs_seat_t *s)
+{
+    o->psis_alpha = s->psis_alpha;
+    o->psis_beta = s->psis_beta;
+    o->z_alpha = s->z_alpha;
+    o->z_beta = s->z_beta;
+    o->y_alpha = s->y_alpha;
+    o->y_beta = s->y_beta;
+    o->uc_alpha = s->uc_alpha;
+    o->uc_beta = s->uc_beta;
+    o->psi_alpha = s->psi_alpha;
+    o->psi_beta = s->psi_beta;
+    o->psi_mag = s->psi_mag;
+    o->theta = s->theta;
+    o->theta_prev = s->theta;
+    o->ws = _IQ(0.0);
+    o->ws_f = _IQ(0.0);
+    o->sat = s->sat;
+}
 
 /** Rs in pu (e.g. identified).  Rejects (old value kept) outside [0, 4]. */
 flux_obs_status_t flux_obs_set_rs(flux_obs_t *o, _iq rs_pu);

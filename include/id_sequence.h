@@ -13,7 +13,7 @@
  *        -> RUN (parameters extracted and published; RLS off)
  *   any  -> FAULT (from the protections; PWM off) ; STOP -> IDLE
  *
- * Several passes (issue 8, beyond the paper; passes > 1): the extraction at
+ * Several passes (beyond the paper; passes > 1): the extraction at
  * the end of SETTLE then leads, while pass < passes, to
  *        -> REFINE (speed ramps down to refine_speed; the drive blends the
  *                   pass's parameters into its observer and controller and
@@ -24,6 +24,15 @@
  * believed model 30 % off, the first pass is a few % off, the next within
  * the accuracy of a controller that knows the motor.  passes = 1 is the
  * paper's sequence, unchanged.
+ *
+ * Waiting for the drive's model (id_sequence_set_wait): the drive computes a
+ * new model outside the ISR and says with adapt_ready that it is applied.
+ * REFINE always waits for it; with wait_magnetize the end of MAGNETIZE does
+ * too (the standstill Rs and sigma Ls: magnetize_end pulses once at
+ * magnetize_samples, and MAGNETIZE holds, at DC, until adapt_ready), so that
+ * ACCELERATE never starts on a model about to change.  Each wait ends after
+ * wait_max_samples without it (0: no limit): the sequence goes on with the
+ * model in use and counts it in adapt_timeouts.
  *
  * It decides only; the drive applies its outputs.  Times are counted in ISR
  * samples (uint32_t, so > 3 days at 15 kHz before a wrap).
@@ -55,7 +64,8 @@ typedef struct {
     _iq speed_err;            /* |speed ref - speed|, pu, Q24 */
     _iq dim;                  /* |d i_M/dt| filtered, pu/pu-time, Q24 */
     _iq dit;                  /* |d i_T/dt| filtered, pu/pu-time, Q24 */
-    uint16_t adapt_ready;     /* REFINE: the drive has applied the last pass's parameters */
+    uint16_t adapt_ready;     /* REFINE (and the end of MAGNETIZE with wait_magnetize): the drive
+                                 has applied the model the state waits for */
     /* parameters (id_sequence_init) */
     uint32_t magnetize_samples;
     uint32_t settle_min_samples;   /* least time in SETTLE */
@@ -68,6 +78,8 @@ typedef struct {
     _iq speed_target;         /* pu */
     uint16_t passes;          /* 1 .. ID_PASSES_MAX (id_sequence_set_passes) */
     _iq refine_speed;         /* REFINE speed, pu, as a fraction of speed_target (Q24) */
+    uint16_t wait_magnetize;  /* 1: MAGNETIZE ends only with adapt_ready (id_sequence_set_wait) */
+    uint32_t wait_max_samples;/* longest wait for adapt_ready (0: no limit) */
     /* outputs */
     id_state_t state;
     uint16_t pwm_on;          /* the bridge should switch */
@@ -80,10 +92,13 @@ typedef struct {
     _iq speed_cmd;            /* speed target for the ramp, pu */
     uint16_t pass;            /* 1 .. passes: the pass under way (or last done) */
     uint16_t rls_restart;     /* one-sample pulse: ACCELERATE of pass >= 2 entered */
-    uint16_t magnetize_end;   /* one-sample pulse: the last sample of MAGNETIZE (flux settled) */
+    uint16_t magnetize_end;   /* one-sample pulse: the magnetisation time is over (flux settled;
+                                 the last sample of MAGNETIZE unless it waits for adapt_ready) */
+    uint16_t adapt_timeouts;  /* waits for adapt_ready that ran out (saturating; 0 at start) */
     /* state */
     uint32_t t_state;         /* samples in the current state */
-    uint32_t t_steady;        /* consecutive steady samples */
+    uint32_t t_steady;        /* consecutive steady samples (SETTLE); samples waited for
+                                 adapt_ready (MAGNETIZE, REFINE) */
     uint16_t start_req;
     uint16_t stop_req;
 } id_sequence_t;
@@ -101,6 +116,10 @@ int16_t id_sequence_init(id_sequence_t *s, float Ts_s, float magnetize_s,
  *  target speed (0 .. 1).  Returns 0, or 1 (nothing changed) if out of range.
  *  id_sequence_init sets 1 pass. */
 int16_t id_sequence_set_passes(id_sequence_t *s, uint16_t passes, _iq refine_fraction);
+/** Wait for adapt_ready at the end of MAGNETIZE (@p at_magnetize 1) and at
+ *  most @p max_samples for any wait (0: no limit).  Returns 0, or 1
+ *  (nothing changed) if @p at_magnetize > 1.  id_sequence_init sets 0, 0. */
+int16_t id_sequence_set_wait(id_sequence_t *s, uint16_t at_magnetize, uint32_t max_samples);
 void id_sequence_start(id_sequence_t *s);   /* background context */
 void id_sequence_stop(id_sequence_t *s);    /* background context */
 /** Leave FAULT for IDLE (the caller has checked the cause is gone). */

@@ -33,8 +33,11 @@
  * Integrating after the Park transform (not before) keeps the current
  * transform on the angle of the instant the currents were sampled.
  *
- * Tr may be changed online (ifo_set_tr) by the identification: the
- * divisions 1/Tr and Ts/Tr are done there, never per sample.
+ * Tr may be changed online by the identification: ifo_design_tr computes
+ * the Tr constants (Tr, 1/Tr, kf: ifo_tr_t) in float outside the ISR and
+ * ifo_apply_tr copies them in (three words); ifo_set_tr does the same in
+ * fixed point (two _IQdiv) for callers without float.  The divisions are
+ * never per sample.
  */
 #ifndef IFO_H
 #define IFO_H
@@ -89,6 +92,13 @@ typedef struct {
     _iq k_slip;         /* Q24: 1 / (Tr imr), 0 while imr < imr_min; |.| <= 32 */
 } ifo_t;
 
+/** The constants that depend on Tr (Q24, each one aligned 32-bit word). */
+typedef struct {
+    _iq tr;             /* Tr, pu time, [10 Ts, 120] */
+    _iq inv_tr;         /* 1 / Tr, [1/120, 1/(10 Ts)] */
+    _iq kf;             /* 1 - exp(-Ts/Tr), (0, 0.1] */
+} ifo_tr_t;
+
 /**
  * @p Tr_s: rotor time constant, s; @p imr_min_pu: the guard (e.g. 5 % of the
  * rated magnetising current).  Starts demagnetised: imr = 0, theta = 0.
@@ -103,6 +113,25 @@ ifo_status_t ifo_init(ifo_t *f, float Tr_s, const base_values_t *b, float imr_mi
  * bound 2 / (Tr imr_min) would exceed 64 pu.
  */
 ifo_status_t ifo_set_tr(ifo_t *f, _iq tr_pu);
+
+/**
+ * The Tr constants from pu floats (float: not in the ISR), as ifo_init
+ * computes them: Tr, 1/Tr, kf = 1 - exp(-x), x = Ts/Tr, by its series to
+ * x^5/120 (error < 1.4e-9 at x <= 0.1), each to Q24 by _IQ (truncation,
+ * < 1 LSB, plus the float's relative 6e-8).  The bounds of ifo_set_tr:
+ * Tr in [10 Ts, 120] (IFO_ERR_TR) and 2 / (Tr imr_min) <= 64 with
+ * @p imr_min_pu the guard ifo_init was given (IFO_ERR_IMR_MIN); a refused
+ * Tr leaves @p t as it was.
+ */
+ifo_status_t ifo_design_tr(ifo_tr_t *t, float ts_pu, float tr_pu, float imr_min_pu);
+
+/** Copy a Tr set in (ISR: three word copies). */
+static inline void ifo_apply_tr(ifo_t *f, const ifo_tr_t *t)
+{
+    f->tr = t->tr;
+    f->inv_tr = t->inv_tr;
+    f->kf = t->kf;
+}
 
 /** Restart demagnetised at angle @p theta0 (pu, [0, 1)). */
 void ifo_reset(ifo_t *f, _iq theta0);

@@ -74,6 +74,30 @@ typedef struct {
     _iq ui;        /* integrator, pu, Q24, in [out_min, out_max] */
 } pi_ctrl_t;
 
+/** The gains and what follows from them (Q24, each one aligned 32-bit word). */
+typedef struct {
+    _iq kp;        /* [0, 100] */
+    _iq ki;        /* [0, 1] */
+    _iq e_max;     /* min(64, 64 / kp) */
+} pi_gains_t;
+
+/**
+ * The gains from floats (float: not in the ISR), as pi_init sets them:
+ * kp, ki to Q24 by _IQ, e_max = min(64, 64/kp) in float.  Rejects (and
+ * leaves @p g as it was) kp outside [0, 100] or ki outside [0, 1] (NaN
+ * too), kp first.
+ */
+pi_status_t pi_design_gains(pi_gains_t *g, float kp, float ki);
+
+/** Copy a gain set in (ISR: three word copies; the integrator is kept, as
+ *  pi_set_gains). */
+static inline void pi_apply_gains(pi_ctrl_t *p, const pi_gains_t *g)
+{
+    p->kp = g->kp;
+    p->ki = g->ki;
+    p->e_max = g->e_max;
+}
+
 /**
  * Set gains and limits (pu) and reset the state.  On an error the struct is
  * left zeroed (gains 0, limits 0: output 0) and the first offending argument

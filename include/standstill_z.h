@@ -76,7 +76,7 @@ typedef struct {
     _iq r;                  /* Q24 pu: Re Z (diagnostic: Rs + Rr (Lm/Lr)^2 (wTr)^2/(1+(wTr)^2)) */
     _iq sigma_ls;           /* Q24 pu of L_base: the result */
     uint16_t done;          /* 1 once the window is complete */
-    uint16_t valid;         /* 1 if done and the result is plausible */
+    uint16_t valid;         /* 1 if done and standstill_z_finish found the result plausible */
     /* state */
     _iq us, uc, is, ic;     /* Q24 phasor sums */
     _iq i_prev;
@@ -107,7 +107,14 @@ uint16_t standstill_z_samples(const standstill_z_t *z);
 void standstill_z_start(standstill_z_t *z);
 
 /** One sample while running: i_add for this sample; at the end of the
- *  window the result (done = 1, then i_add = 0 and nothing more). */
+ *  window done = 1 (then i_add = 0 and nothing more; the sums hold).  The
+ *  result is standstill_z_finish's: no division here (ISR). */
 void standstill_z_step(standstill_z_t *z);
+
+/** The result from the four sums once done (fixed point, one _IQdiv each
+ *  for x and r; not in the ISR: the drive's background calls it on a copy
+ *  of the sums, drive_adapt_bg.c): x, r, sigma_ls and valid (header
+ *  comment).  Before done it sets nothing (valid stays 0). */
+void standstill_z_finish(standstill_z_t *z);
 
 #endif /* STANDSTILL_Z_H */

@@ -95,6 +95,7 @@ static void json_adaptation(jw_t *w, const sim_result_t *r)
 {
     fprintf(w->f, "  \"pass\": %u,\n", r->final_pass);
     json_num_or_null(w, "Rs_dc_ohm", r->Rs_dc_ohm, r->Rs_dc_ohm != 0.0);
+    fprintf(w->f, "  \"adapt_timeouts\": %u,\n", r->adapt_timeouts);
     json_num_or_null(w, "drift_t_start_s", r->drift_t_start_s, r->drift_t_start_s >= 0.0);
     fprintf(w->f, "  \"track_samples\": %u,\n", (unsigned)r->track_samples);
     /* (written so that a NaN figure is present, then written as null and named) */
@@ -277,6 +278,10 @@ void report_print_adaptation(FILE *f, const sim_result_t *r)
     if (r->Rs_dc_ohm != 0.0) {
         fprintf(f, "standstill Rs %.4f ohm (%+.2f %%)\n", r->Rs_dc_ohm,
                 100.0 * (r->Rs_dc_ohm - r->truth.Rs_ohm) / r->truth.Rs_ohm);
+    }
+    if (r->adapt_timeouts != 0u) {
+        fprintf(f, "the background's model came too late %u time(s): the sequence went on with "
+                   "the model in use\n", r->adapt_timeouts);
     }
     if (r->drift_t_start_s < 0.0) {
         return;

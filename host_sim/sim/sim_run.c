@@ -583,6 +583,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     res->identified = drive.telemetry.params_valid;
     res->final_pass = drive.telemetry.pass;
     res->Rs_dc_ohm = (double)_IQtoF(drive.telemetry.Rs_dc) * b->Z_base_ohm;
+    res->adapt_timeouts = drive.seq.adapt_timeouts;
     drift_figures(&drift, res);
     if (res->identified) {
         sim_params_t *e = &res->published_end_error_pct;

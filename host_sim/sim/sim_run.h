@@ -132,6 +132,8 @@ typedef struct {
     /* adaptation (issue 8), telemetry at the end */
     uint16_t final_pass;            /* identification pass under way or last done */
     double Rs_dc_ohm;               /* standstill Rs; 0: none measured */
+    uint16_t adapt_timeouts;        /* waits for the background's model that ran out (the
+                                       sequence went on with the model in use) */
     /* drift scenario (SCEN_DRIFT), over the window from the drift start to the
      * end of the run; -1: none (no window, no valid tracked sample) */
     double drift_t_start_s;         /* -1: the drift never started */

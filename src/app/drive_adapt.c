@@ -1,5 +1,6 @@
 /**
- * Parameter adaptation (issue 8, beyond the paper; orientation 1 only):
+ * Parameter adaptation (beyond the paper; orientation 1 only), the ISR's
+ * part and the set-up.  What is adapted, and why:
  *
  *  1. standstill Rs and sigma Ls: at the end of the magnetisation the
  *     machine is at DC steady state (i_M constant, flux settled, w = 0), so
@@ -9,21 +10,22 @@
  *     of the magnetisation a small sinusoid on i_M gives sigma Ls
  *     (standstill_z.h).  The observer and the current loops take both
  *     before the first acceleration; the observer is re-seated on the DC
- *     solution (flux_obs_set_rs_dc).  This is what lets the observer start
+ *     solution (flux_obs_seat_dc).  This is what lets the observer start
  *     from a nameplate 30 % off: above its crossover its angle depends on
  *     Rs and sigma Ls only (flux_obs.h).
  *  2. passes: each pass's extraction (background, drive_background.c)
- *     comes back through a mailbox; in REFINE (or RUN after the last pass)
- *     the observer's Rs, Lm, Lr, Ls, Tr, the d-axis decoupling sigma Ls and
- *     the current-loop gains (kp = w_c sigma Ls, ki = w_c Ts Rs) move to it
- *     linearly over DRIVE_ADAPT_BLEND_S (the safe blend), each target first
- *     limited to a factor 2 of the value in use (the rate limit per pass);
- *     an implausible extraction leaves the model as it is.  Held: Rs and
- *     sigma Ls when measured at standstill (the RLS's own come through the
- *     frame computed with them: a loop), Tr when the tracker is on.
- *  3. tracking (track_rr): in RUN the tracker (tr_track.h) follows 1/Tr
- *     from the observer's slip; the observer's current model and ifo take
- *     the tracked Tr, its change limited to DRIVE_ADAPT_TR_RATE per second,
+ *     becomes the model of the next pass: in REFINE (or RUN after the last
+ *     pass) the observer's Rs, Lm, Lr, Ls, Tr, the d-axis decoupling
+ *     sigma Ls and the current-loop gains (kp = w_c sigma Ls, ki = w_c Ts
+ *     Rs) move to it linearly over DRIVE_ADAPT_BLEND_S (the safe blend),
+ *     each target first limited to a factor 2 of the value in use (the rate
+ *     limit per pass); an implausible extraction leaves the model as it
+ *     is.  Held: Rs and sigma Ls when measured at standstill (the RLS's own
+ *     come through the frame computed with them: a loop), Tr when the
+ *     tracker is on.
+ *  3. tracking: in RUN the tracker (tr_track.h) follows 1/Tr from the
+ *     observer's slip; the observer's current model and ifo take the
+ *     tracked Tr, its change limited to DRIVE_ADAPT_TR_RATE per second,
  *     and ifo (encoder angle + slip on that Tr) becomes the control frame
  *     (quieter than the observer's angle, which carries the current noise
  *     through sigma Ls i); the observer runs on as the tracker's reference.
@@ -33,22 +35,36 @@
  *     and K4 alone (theta_guard_set_required): on a motor with a large
  *     w_r Tr its K1, K3 are ill-conditioned (15 kW: K3 came out negative
  *     with the believed Lm 30 % low) while K2, K4 stay within 0.3 %.
- * Float only in drive_adapt_init.
+ *
+ * Who does what.  Every model and its constants (the divisions, the
+ * exponential, the re-seat, the blend, the rate limit) are the background's
+ * (drive_adapt_bg.c, float allowed there); the ISR here, in its SEQUENCE
+ * slot, only:
+ *   - runs the sigma Ls lock-in's injection (every period, drive_adapt_fast)
+ *     and, at the end of the magnetisation, captures what the standstill
+ *     result needs (drive_adapt_capture_t: a dozen word copies);
+ *   - copies a posted model set in (drive_model_set_t: the observer's seven
+ *     constants, ifo's three, both PIs' three, the decoupling; with the
+ *     re-seat twelve more words; all in one ISR, never half), if it was
+ *     made for the sequence's present state and pass, and does what its
+ *     flags say (adapt_ready, the tracker's start, the hand-over of the
+ *     control frame to ifo);
+ *   - feeds the tracker (tr_track_step: its scalar RLS stays in the ISR,
+ *     in a slot of its own, drive_adapt_track; its 1/Tr goes to the
+ *     background).
+ * The sequence waits for the background: at the end of MAGNETIZE for the
+ * standstill set (id_sequence_set_wait), in REFINE for the blend's last
+ * set; each wait ends after DRIVE_ADAPT_WAIT_S with the model in use,
+ * counted in seq.adapt_timeouts.
+ * No float, no division in the ISR's functions; float only in the inits.
  */
 #include "drive_adapt.h"
+#include "drive_design.h"
 #include "drive_internal.h"
-
-#include "angle.h"
 
 #include <math.h>
 
-#define DRIVE_ADAPT_BLEND_S 0.1f
-#define DRIVE_ADAPT_TR_RATE 0.2f       /* relative per second */
-#define TRACK_DECIM (16u / DRIVE_SLOTS)   /* tracker RLS at f_pwm / 16: 938 Hz at 15 kHz */
 #define TRACK_LPF_HZ 10.0f             /* as the regression's Butterworth corner */
-#define TRACK_VALID_UPDATES 1000u      /* 1 s of tracker updates before Rr_track is valid */
-
-enum { P_RS = 0, P_LM, P_LR, P_LS, P_TR };
 
 float drive_adapt_ssz_freq_Hz(const drive_config_t *c)
 {
@@ -78,23 +94,64 @@ tr_track_status_t drive_adapt_track_init(tr_track_t *t, const drive_config_t *c,
     float psi_pu = m->Lm_H * m->magnetizing_current_A / b->psi_base_Wb;
     float it_pu = c->control.max_torque_current_A / b->I_base_A;
     /* the tracker runs in the slow task (drive_slow.c): its period is Ts_slow */
-    return tr_track_init(t, Ts * (float)DRIVE_SLOTS, TRACK_DECIM, TRACK_LPF_HZ, c->ident.track_memory_s,
-                         TRACK_PHI_MIN_OF_RATED * psi_pu * it_pu, 0.25f / tr_pu, 4.0f / tr_pu,
-                         1.0f / tr_pu);
+    return tr_track_init(t, Ts * (float)DRIVE_SLOTS, DRIVE_ADAPT_TRACK_DECIM, TRACK_LPF_HZ,
+                         c->ident.track_memory_s, TRACK_PHI_MIN_OF_RATED * psi_pu * it_pu,
+                         0.25f / tr_pu, 4.0f / tr_pu, 1.0f / tr_pu);
+}
+
+/* The background's starting point: the believed model as drive_init gave
+ * it to the observer, ifo, the current PIs and the decoupling. */
+static void init_background(drive_t *d, const drive_config_t *c, float Ts)
+{
+    const float Ts_slow = Ts * (float)DRIVE_SLOTS;
+    const drive_motor_t *m = &c->motor;
+    const base_values_t *b = &d->base;
+    drive_adapt_bg_t *g = &d->adapt_bg;
+    drive_model_set_t *s = &g->cur_set;
+    float wc = DRIVE_TWO_PI_F * c->control.current_bw_Hz;
+    float rs_pu = m->Rs_ohm / b->Z_base_ohm;
+    float lm_pu = m->Lm_H / b->L_base_H;
+
+    g->ts_pu = b->Ts_pu;
+    g->obs_ts_pu = b->Ts_pu * (float)d->fobs.n;   /* the observer's step (flux_obs_set_step) */
+    g->imr_min_pu = DRIVE_IMR_MIN_OF_IM * m->magnetizing_current_A / b->I_base_A;   /* as ifo_init */
+    g->kp_per_sls = wc / b->w_base_rad_s;
+    g->ki_per_rs = wc * Ts;
+    g->rs_lo = _IQ(0.25f * rs_pu);
+    g->rs_hi = _IQ(fminf(4.0f * rs_pu, FLUX_OBS_RS_MAX));
+    g->blend_step = _IQ(Ts_slow / DRIVE_ADAPT_BLEND_S);
+    g->blend_ticks = (uint16_t)ceilf(DRIVE_ADAPT_BLEND_S / Ts_slow);
+    g->tr_rate = _IQ(DRIVE_ADAPT_TR_RATE * (float)DRIVE_ADAPT_TRACK_DECIM * Ts_slow);
+    g->cur[DRIVE_P_RS] = d->fobs.rs;
+    g->cur[DRIVE_P_LM] = d->fobs.lm;
+    g->cur[DRIVE_P_LR] = _IQ(m->Lr_H / b->L_base_H);
+    g->cur[DRIVE_P_LS] = _IQ(m->Ls_H / b->L_base_H);
+    g->cur[DRIVE_P_TR] = d->fobs.tr;
+    g->lr = g->cur[DRIVE_P_LR];
+    s->fobs.rs = d->fobs.rs;
+    s->fobs.lm = d->fobs.lm;
+    s->fobs.sigma_ls = d->fobs.sigma_ls;
+    s->fobs.lr_lm = d->fobs.lr_lm;
+    s->fobs.lm_lr = d->fobs.lm_lr;
+    s->fobs.tr = d->fobs.tr;
+    s->fobs.kf = d->fobs.kf;
+    s->ifo.tr = d->ifo.tr;
+    s->ifo.inv_tr = d->ifo.inv_tr;
+    s->ifo.kf = d->ifo.kf;
+    s->cur.kp = d->pi_id.kp;
+    s->cur.ki = d->pi_id.ki;
+    s->cur.e_max = d->pi_id.e_max;
+    s->lm2_lr = d->k.lm2_lr;
+    s->inv_lm = _IQ(fminf(1.0f / lm_pu, 16.0f));
 }
 
 int16_t drive_adapt_init(drive_t *d, const drive_config_t *c, float Ts)
 {
-    /* the slow task's period: the blend, the tracker and the Tr rate limit
-     * run there (drive_slow.c); the standstill lock-in runs every period */
     const float Ts_slow = Ts * (float)DRIVE_SLOTS;
     const drive_ident_t *id = &c->ident;
-    const drive_motor_t *m = &c->motor;
     const base_values_t *b = &d->base;
     drive_adapt_t *a = &d->adapt;
     uint16_t passes = (id->passes == 0u) ? 1u : id->passes;
-    float wc = 6.2831853f * c->control.current_bw_Hz;
-    float rs_pu = m->Rs_ohm / b->Z_base_ohm;
 
     a->passes = passes;
     a->standstill = id->standstill;
@@ -115,6 +172,13 @@ int16_t drive_adapt_init(drive_t *d, const drive_config_t *c, float Ts)
     if (id_sequence_set_passes(&d->seq, passes, _IQ(0.4)) != 0) {
         return 1;
     }
+    /* the end of the magnetisation waits for the standstill set; every wait
+     * for the background at most DRIVE_ADAPT_WAIT_S (the sequence counts
+     * slow samples) */
+    if (id_sequence_set_wait(&d->seq, id->standstill,
+                             (uint32_t)(DRIVE_ADAPT_WAIT_S / Ts_slow + 0.5f)) != 0) {
+        return 1;
+    }
     a->ssz_gap = drive_adapt_ssz_gap(Ts);
     if (id->standstill != 0u &&
         (drive_adapt_ssz_init(&d->ssz, c, b, Ts) != STANDSTILL_Z_OK ||
@@ -123,188 +187,60 @@ int16_t drive_adapt_init(drive_t *d, const drive_config_t *c, float Ts)
              d->seq.magnetize_samples * DRIVE_SLOTS)) {
         return 1;
     }
-    a->rs_lo = _IQ(0.25f * rs_pu);
-    a->rs_hi = _IQ(fminf(4.0f * rs_pu, FLUX_OBS_RS_MAX));
-    a->blend_step = _IQ(Ts_slow / DRIVE_ADAPT_BLEND_S);
-    a->kp_per_sls = _IQ(wc / b->w_base_rad_s);
-    a->ki_per_rs = _IQ(wc * Ts);
-    a->tr_rate = _IQ(DRIVE_ADAPT_TR_RATE * (float)TRACK_DECIM * Ts_slow);
-    a->from[P_RS] = d->fobs.rs;
-    a->from[P_LM] = d->fobs.lm;
-    a->from[P_LR] = _IQ(m->Lr_H / b->L_base_H);
-    a->from[P_LS] = _IQ(m->Ls_H / b->L_base_H);
-    a->from[P_TR] = d->fobs.tr;
-    a->lr = a->from[P_LR];
     if (id->track_rr != 0u && drive_adapt_track_init(&d->track, c, b, Ts) != TR_TRACK_OK) {
         return 1;
     }
+    init_background(d, c, Ts);
     return 0;
 }
 
-/* The model v (rs, lm, lr, ls, tr) into the observer, decoupling and current
- * loops.  A setter that refuses keeps its old value (flux_obs.h), so an
- * inconsistent set cannot reach the observer half-applied. */
-static void apply_model(drive_t *d, const _iq v[DRIVE_ADAPT_NP])
+/* At the end of the magnetisation: what the background needs for Rs,
+ * sigma Ls and the observer's DC re-seat (drive_adapt_bg.c), data first,
+ * ready last.  A capture the background has not taken yet stays (the
+ * sequence's wait then runs out). */
+static void capture(drive_t *d)
 {
-    const drive_adapt_t *a = &d->adapt;
-    (void)flux_obs_set_rs(&d->fobs, v[P_RS]);
-    (void)flux_obs_set_inductances(&d->fobs, v[P_LM], v[P_LR], v[P_LS]);
-    (void)flux_obs_set_tr(&d->fobs, v[P_TR]);
-    d->k.sigma_ls = d->fobs.sigma_ls;
-    d->k.lm2_lr = _IQmpy(d->fobs.lm, d->fobs.lm_lr);   /* < 16 */
-    (void)ifo_set_tr(&d->ifo, d->fobs.tr);
-    /* kp = (w_c / w_base) sigma Ls <= 100, ki = w_c Ts Rs <= 1: else refused */
-    (void)pi_set_gains(&d->pi_id, _IQmpy(a->kp_per_sls, d->fobs.sigma_ls),
-                       _IQmpy(a->ki_per_rs, d->fobs.rs));
-    (void)pi_set_gains(&d->pi_iq, _IQmpy(a->kp_per_sls, d->fobs.sigma_ls),
-                       _IQmpy(a->ki_per_rs, d->fobs.rs));
-}
+    volatile drive_adapt_capture_t *c = &d->adapt_cap;
+    const ident_regressor_t *r = &d->reg;
+    const standstill_z_t *z = &d->ssz;
 
-/* Limit x to [ref / 2, 2 ref] (ref > 0): the rate limit per pass. */
-static _iq within_factor_2(_iq x, _iq ref)
-{
-    _iq lo = _IQmpy(ref, _IQ(0.5));
-    _iq hi = (ref < _IQ(60.0)) ? ref + ref : _IQ(120.0);
-    if (x < lo) {
-        return lo;
-    }
-    return (x > hi) ? hi : x;
-}
-
-static void take_mail(drive_t *d)
-{
-    drive_adapt_t *a = &d->adapt;
-    drive_adapt_mail_t *m = &d->adapt_mail;
-    uint16_t i;
-    uint16_t st = (uint16_t)d->seq.state;
-
-    if (m->valid != 0u && (st == (uint16_t)ID_REFINE || st == (uint16_t)ID_RUN)) {
-        a->to[P_RS] = m->rs;
-        a->to[P_LM] = m->lm;
-        a->to[P_LR] = m->lr;
-        a->to[P_LS] = m->ls;
-        a->to[P_TR] = m->tr;
-        /* Measured standstill values stay: the RLS's Rs and sigma Ls come
-         * through the frame the observer computes with them, so feeding
-         * them back closes a loop (measured, believed Rs +30 %: the RLS's
-         * Rs rose +3.7, +5.1, +5.9 % pass after pass; sigma Ls crept
-         * +0.13 % a pass).  With both held, the passes refine only Lm, Lr
-         * and Tr, which reach the angle only below the crossover. */
-        if (d->telemetry.Rs_dc != _IQ(0.0) || m->full == 0u) {
-            a->to[P_RS] = a->from[P_RS];
-        }
-        /* with tracking the tracker is the authority on Tr (the RLS's Tr
-         * comes from K3, ill-conditioned when w_r Tr is large: 15 kW motor,
-         * Tr +10 %); it starts from the RLS's value when there is one */
-        if (a->track_rr != 0u || m->full == 0u) {
-            a->to[P_TR] = a->from[P_TR];
-        }
-        if (d->telemetry.sigma_ls_dc != _IQ(0.0)) {
-            /* Ls = sigma Ls + Lm^2/Lr of the new Lm, Lr (Lr > Lm > 0: the
-             * quotient < 1 by _IQdiv; < 8 + 16) */
-            a->to[P_LS] = d->telemetry.sigma_ls_dc +
-                          _IQmpy(a->to[P_LM], _IQdiv(a->to[P_LM], a->to[P_LR]));
-        }
-        for (i = 0u; i < DRIVE_ADAPT_NP; i++) {
-            a->to[i] = within_factor_2(a->to[i], a->from[i]);
-        }
-        a->frac = _IQ(0.0);
-        a->blending = 1u;
-        a->lr = a->to[P_LR];
-        if (st == (uint16_t)ID_RUN && a->track_rr != 0u) {
-            /* 1/Tr of the last pass: 1 / Tr_pu with Tr_pu >= 10 Ts (set_tr's bound) */
-            tr_track_restart(&d->track,
-                             _IQdiv(_IQ(1.0), (m->full != 0u) ? m->tr : a->to[P_TR]));
-            a->track_armed = 1u;
-        }
-    } else if (st == (uint16_t)ID_REFINE) {
-        d->seq.adapt_ready = 1u;   /* nothing usable: the next pass runs on the old model */
-    } else {
-        /* a stale mail (the sequence moved on): dropped */
-    }
-    m->ready = 0u;
-}
-
-static void blend(drive_t *d)
-{
-    drive_adapt_t *a = &d->adapt;
-    _iq v[DRIVE_ADAPT_NP];
-    uint16_t i;
-
-    a->frac += a->blend_step;
-    if (a->frac >= _IQ(1.0)) {
-        for (i = 0u; i < DRIVE_ADAPT_NP; i++) {
-            a->from[i] = a->to[i];
-        }
-        apply_model(d, a->from);
-        a->blending = 0u;
-        d->seq.adapt_ready = 1u;
+    if (c->ready != 0u) {
         return;
     }
-    /* |to - from| <= 2 from < 128 (factor-2 limit, values < 60) */
-    for (i = 0u; i < DRIVE_ADAPT_NP; i++) {
-        v[i] = a->from[i] + _IQmpy(a->to[i] - a->from[i], a->frac);
-    }
-    apply_model(d, v);
+    c->u_mf = r->u_mf;
+    c->u_tf = r->u_tf;
+    c->i_mf = r->i_mf;
+    c->i_tf = r->i_tf;
+    c->theta_r = d->qep.theta_elec;   /* the held frame's angle (drive_step.c) */
+    c->psi_cm_alpha = d->fobs.psi_cm_alpha;
+    c->psi_cm_beta = d->fobs.psi_cm_beta;
+    c->us = z->us;
+    c->uc = z->uc;
+    c->is = z->is;
+    c->ic = z->ic;
+    c->ssz_done = z->done;
+    c->ready = 1u;
 }
 
-/* Rs from the DC part, sigma Ls from the injection (if valid), at the last
- * sample of the magnetisation; the model then goes to the observer and the
- * current loops, and the observer is re-seated at DC. */
-static void standstill_result(drive_t *d)
-{
-    drive_adapt_t *a = &d->adapt;
-    _iq im = d->reg.i_mf;
-    _iq um = d->reg.u_mf;
-    _iq rs;
-
-    /* a usable i_M (a quarter of the reference) and a quotient inside Q24:
-     * |u_M| < 4 |i_M| bounds Rs_pu below 4 (flux_obs's range) */
-    if (!(im > _IQmpy(d->seq.im_ref, _IQ(0.25))) || !(_IQabs(um) < _IQmpy(im, _IQ(4.0)))) {
-        return;
-    }
-    rs = _IQdiv(um, im);
-    if (rs < a->rs_lo || rs > a->rs_hi) {
-        return;   /* implausible: the believed model stays, Rs_dc reads 0 */
-    }
-    a->from[P_RS] = rs;
-    d->telemetry.Rs_dc = rs;
-    if (d->ssz.valid != 0u) {
-        /* keep the believed Lm, Lr: Ls = sigma Ls + Lm^2/Lr (< 8 + 16) */
-        _iq ls = d->ssz.sigma_ls + _IQmpy(d->fobs.lm, d->fobs.lm_lr);
-        a->from[P_LS] = within_factor_2(ls, a->from[P_LS]);
-        d->telemetry.sigma_ls_dc = d->ssz.sigma_ls;
-    }
-    apply_model(d, a->from);
-    {
-        /* the filtered (DC) M-T voltage and current back to alpha-beta at
-         * the held frame angle (the encoder's: drive_step.c) */
-        _iq sn, cs;
-        const ident_regressor_t *r = &d->reg;
-        angle_sincos(d->qep.theta_elec, &sn, &cs);
-        (void)flux_obs_set_rs_dc(&d->fobs, rs, _IQmpy(cs, r->u_mf) - _IQmpy(sn, r->u_tf),
-                                 _IQmpy(sn, r->u_mf) + _IQmpy(cs, r->u_tf),
-                                 _IQmpy(cs, r->i_mf) - _IQmpy(sn, r->i_tf),
-                                 _IQmpy(sn, r->i_mf) + _IQmpy(cs, r->i_tf));
-    }
-}
-
-/* The injection over the end of the magnetisation: started by the slow
- * task (the sequence counts slow samples) so that the test and the gap
- * after it (in fast samples: ssz_gap) end before the magnetisation does. */
-static void standstill_test_start(drive_t *d)
+/* MAGNETIZE: the injection over the end of the magnetisation, started by
+ * the slow task (the sequence counts slow samples) so that the test and the
+ * gap after it (in fast samples: ssz_gap) end before the magnetisation time
+ * does; at its end the capture for the standstill result. */
+static void standstill(drive_t *d)
 {
     standstill_z_t *z = &d->ssz;
     const id_sequence_t *s = &d->seq;
     uint32_t left;
 
-    if (s->state != ID_MAGNETIZE || z->running != 0u || s->t_state == 0u) {
+    if (s->magnetize_end != 0u) {
+        capture(d);
+    }
+    if (d->adapt.ssz_started != 0u || s->t_state == 0u || s->t_state >= s->magnetize_samples) {
         return;
     }
-    /* fast samples left in the magnetisation; t_state <= magnetize_samples */
+    /* fast samples left in the magnetisation; t_state < magnetize_samples */
     left = (s->magnetize_samples - s->t_state) * DRIVE_SLOTS;
-    if (left <= (uint32_t)standstill_z_samples(z) + d->adapt.ssz_gap &&
-        d->adapt.ssz_started == 0u) {
+    if (left <= (uint32_t)standstill_z_samples(z) + d->adapt.ssz_gap) {
         standstill_z_start(z);
         d->adapt.ssz_started = 1u;
     }
@@ -325,14 +261,60 @@ void drive_adapt_fast(drive_t *d)
     d->im_inject = z->i_add;
 }
 
-/* The tracker's tick: its 1/Tr into telemetry and, rate limited, into the
- * observer's current model. */
-static void track(drive_t *d)
+/* A posted model set, made for this state and pass, copied in at once:
+ * the observer's model, ifo's Tr, both current PIs' gains, the decoupling
+ * (14 words), the re-seat when flagged (14 more); then what the flags ask.
+ * A set made for a state the sequence has left is dropped (the background
+ * reads which in taken). */
+static void take_set(drive_t *d)
 {
+    drive_adapt_box_t *box = &d->adapt_box;
+    const drive_model_set_t *s = &box->set;
     drive_adapt_t *a = &d->adapt;
-    tr_track_t *t = &d->track;
-    uint32_t n0 = t->n_updates;
+    const uint16_t f = s->flags;
 
+    if (s->state != (uint16_t)d->seq.state || s->pass != d->seq.pass) {
+        box->taken = DRIVE_BOX_DROPPED;
+        box->ready = 0u;
+        return;
+    }
+    flux_obs_apply_model(&d->fobs, &s->fobs);
+    ifo_apply_tr(&d->ifo, &s->ifo);
+    pi_apply_gains(&d->pi_id, &s->cur);
+    pi_apply_gains(&d->pi_iq, &s->cur);
+    d->k.sigma_ls = s->fobs.sigma_ls;
+    d->k.lm2_lr = s->lm2_lr;
+    a->blending = (uint16_t)((f & DRIVE_SET_BLENDING) != 0u);
+    if ((f & DRIVE_SET_SEAT) != 0u) {
+        flux_obs_apply_seat(&d->fobs, &s->seat);
+    }
+    if ((f & DRIVE_SET_TRACK_START) != 0u) {
+        tr_track_restart(&d->track, s->theta0);
+        a->track_armed = 1u;
+    }
+    if ((f & DRIVE_SET_ALIGN) != 0u && a->track_armed != 0u && d->run_ifo == 0u) {
+        /* hand the control frame to ifo, now on the tracked Tr: the
+         * observer's flux angle and magnitude in magnetising-current pu,
+         * psi / Lm (|psi| limited to 7.9, 1/Lm <= 16: the product < 128;
+         * ifo_align clamps i_mr to [0, 4]) */
+        ifo_align(&d->ifo, d->fobs.theta,
+                  _IQmpy(_IQsat(d->fobs.psi_mag, _IQ(7.9), _IQ(0.0)), s->inv_lm));
+        drive_set_run_ifo(d, 1u);
+    }
+    if ((f & DRIVE_SET_READY) != 0u) {
+        d->seq.adapt_ready = 1u;
+    }
+    box->taken = DRIVE_BOX_APPLIED;
+    box->ready = 0u;
+}
+
+void drive_adapt_track(drive_t *d)
+{
+    tr_track_t *t = &d->track;
+
+    if (d->adapt.track_armed == 0u) {
+        return;
+    }
     t->w_sl = d->fobs.ws_f - d->qep.speed_raw;
     t->psi_alpha = d->fobs.psi_alpha;
     t->psi_beta = d->fobs.psi_beta;
@@ -340,99 +322,55 @@ static void track(drive_t *d)
      * belong to the same sample */
     t->i_alpha = d->fobs.i_alpha;
     t->i_beta = d->fobs.i_beta;
-    t->enable = (uint16_t)(d->seq.state == ID_RUN && a->blending == 0u);
+    t->enable = (uint16_t)(d->seq.state == ID_RUN && d->adapt.blending == 0u);
     tr_track_step(t);
-    if (t->n_updates != n0) {
-        /* theta in [theta_min, theta_max] > 0: 1/theta < 128 */
-        _iq tr = _IQdiv(_IQ(1.0), t->theta);
-        _iq step = _IQmpy(a->from[P_TR], a->tr_rate);
-        _iq next = a->from[P_TR];
-        if (tr > next + step) {
-            next += step;
-        } else if (tr < next - step) {
-            next -= step;
-        } else {
-            next = tr;
-        }
-        if (flux_obs_set_tr(&d->fobs, next) == FLUX_OBS_OK &&
-            ifo_set_tr(&d->ifo, next) == IFO_OK) {
-            a->from[P_TR] = next;
-        }
-        if (d->run_ifo == 0u) {
-            /* hand the control frame to ifo, now on the tracked Tr: the
-             * observer's flux angle and magnitude (in magnetising-current
-             * pu, psi / Lm; Lm >= 1/16 pu, |psi| < 8: the quotient < 128) */
-            ifo_align(&d->ifo, d->fobs.theta, _IQdiv(d->fobs.psi_mag, d->fobs.lm));
-            drive_set_run_ifo(d, 1u);
-        }
-        d->telemetry.Tr_track = tr;
-        d->telemetry.Rr_track = _IQmpy(a->lr, t->theta);   /* Rr = Lr / Tr; < 128 */
-        /* valid once the estimate has had 1 s of updates */
-        d->telemetry.track_valid = (uint16_t)(t->n_updates >= TRACK_VALID_UPDATES);
+}
+
+/* A state change: what each state starts from. */
+static void state_change(drive_t *d, uint16_t st)
+{
+    drive_adapt_t *a = &d->adapt;
+
+    a->blending = 0u;   /* a blend the state change cut short: no more of it */
+    if (st == (uint16_t)ID_MAGNETIZE) {
+        a->ssz_started = 0u;
+        d->seq.adapt_ready = 0u;
     }
+    if (st == (uint16_t)ID_REFINE) {
+        d->seq.adapt_ready = 0u;
+    }
+    if (st != (uint16_t)ID_RUN) {
+        a->track_armed = 0u;
+        drive_set_run_ifo(d, 0u);
+    }
+    a->prev_state = st;
 }
 
 void drive_adapt_slow(drive_t *d)
 {
     drive_adapt_t *a = &d->adapt;
-    uint16_t st = (uint16_t)d->seq.state;
+    const uint16_t st = (uint16_t)d->seq.state;
 
     d->telemetry.pass = d->seq.pass;
     if (d->k.orientation != DRIVE_ORIENT_FLUX_OBS) {
         return;
     }
-    /* every test below is cheap while nothing happens (ACCELERATE, where the
-     * RLS makes the ISR's worst case, runs only the compares) */
-    if (a->standstill != 0u) {
-        standstill_test_start(d);
-        if (d->seq.magnetize_end != 0u) {
-            standstill_result(d);
-        }
+    /* a few compares while nothing happens (ACCELERATE, where the RLS makes
+     * the ISR's worst case, runs only these) */
+    a->ticks++;
+    /* (with the standstill test the sequence waits in MAGNETIZE: its
+     * magnetize_end pulse comes in MAGNETIZE, id_sequence_set_wait) */
+    if (st == (uint16_t)ID_MAGNETIZE && a->standstill != 0u) {
+        standstill(d);
     }
     if (st != a->prev_state) {
-        if (st == (uint16_t)ID_MAGNETIZE) {
-            a->ssz_started = 0u;
-        }
-        if (st == (uint16_t)ID_REFINE) {
-            d->seq.adapt_ready = 0u;
-        }
-        if (st != (uint16_t)ID_RUN) {
-            a->track_armed = 0u;
-            d->telemetry.track_valid = 0u;
-            drive_set_run_ifo(d, 0u);
-        }
-        a->prev_state = st;
+        state_change(d, st);
     }
     if (d->seq.rls_restart != 0u) {
         /* the background's RLS restarts before the next queued sample */
         d->rlsq.pending |= DRIVE_RLSQ_RESTART;
     }
-    if (d->adapt_mail.ready != 0u) {
-        take_mail(d);
+    if (d->adapt_box.ready != 0u) {
+        take_set(d);
     }
-    if (a->blending != 0u) {
-        blend(d);
-    }
-    if (a->track_armed != 0u) {
-        track(d);
-    }
-}
-
-void drive_adapt_post(drive_t *d, const param_extract_t *p, uint16_t full)
-{
-    drive_adapt_mail_t *m = &d->adapt_mail;
-    const drive_adapt_t *a = &d->adapt;
-
-    if (d->k.orientation != DRIVE_ORIENT_FLUX_OBS ||
-        (a->passes <= 1u && a->track_rr == 0u) || m->ready != 0u) {
-        return;
-    }
-    m->valid = p->valid;
-    m->full = full;
-    m->rs = p->Rs;
-    m->lm = p->Lm;
-    m->lr = p->Lr;
-    m->ls = p->Lr;   /* the extraction's Ls = Lr (method §4) */
-    m->tr = p->Tr;
-    m->ready = 1u;
 }

@@ -1,5 +1,7 @@
-/* Private to src/app: parameter adaptation between passes, standstill Rs,
- * Rr/Tr tracking (issue 8).  See drive_adapt.c. */
+/* Private to src/app: parameter adaptation between passes, standstill Rs
+ * and sigma Ls, Rr/Tr tracking.  The ISR's part is drive_adapt.c (captures,
+ * copies a posted model set in, feeds the tracker), the background's
+ * drive_adapt_bg.c (computes every model and its constants, posts them). */
 #ifndef DRIVE_ADAPT_H
 #define DRIVE_ADAPT_H
 
@@ -15,9 +17,20 @@
 #define SSZ_GAP_S 0.02f                /* DC only after the injection: the current loop and the
                                           filtered u_M, i_M settle before Rs is taken */
 
-/** Once, after the observer and the sequence are initialised (float).
- *  Returns 0, or 1 for a bad option (passes > 4, a flag > 1, a feature
- *  without orientation 1, tracker constants out of range). */
+/* The blend, the tracker's rate limit and the waits (drive_adapt.c says why). */
+#define DRIVE_ADAPT_BLEND_S 0.1f
+#define DRIVE_ADAPT_TR_RATE 0.2f       /* relative per second */
+#define DRIVE_ADAPT_TRACK_DECIM (16u / DRIVE_SLOTS)   /* tracker RLS at f_pwm / 16: 938 Hz */
+#define DRIVE_ADAPT_TRACK_VALID 1000u  /* 1 s of tracker updates before Rr_track is valid */
+#define DRIVE_ADAPT_WAIT_S 0.5f        /* longest wait of the sequence for the background's set */
+
+/* The model's members in drive_adapt_bg_t's arrays. */
+enum { DRIVE_P_RS = 0, DRIVE_P_LM, DRIVE_P_LR, DRIVE_P_LS, DRIVE_P_TR };
+
+/** Once, after the observer, the current loops and the sequence are
+ *  initialised (float).  Returns 0, or 1 for a bad option (passes > 4, a
+ *  flag > 1, a feature without orientation 1, tracker constants out of
+ *  range). */
 int16_t drive_adapt_init(drive_t *d, const drive_config_t *c, float Ts);
 
 /** The standstill test as drive_adapt_init sets it up (also for the table of
@@ -36,14 +49,27 @@ tr_track_status_t drive_adapt_track_init(tr_track_t *t, const drive_config_t *c,
  *  d->im_inject) during the magnetisation. */
 void drive_adapt_fast(drive_t *d);
 
-/** ISR, slot SPEED after the sequence step: standstill Rs at the end of the
- *  magnetisation, RLS restart per pass, the blend of a pass's model, the
- *  tracker. */
+/** ISR, slot SEQUENCE after the sequence step: the standstill test's start
+ *  and, at the end of the magnetisation, the capture of what its result
+ *  needs; the RLS restart per pass; a posted model set copied in (one
+ *  bounded step). */
 void drive_adapt_slow(drive_t *d);
 
-/** Background, after an extraction at the end of a pass: post the result
- *  to the ISR (dropped if the mailbox is still full).  @p full: 1 for
- *  param_extract_step's set, 0 for param_extract_magnetic's (Lm, Lr only). */
+/** ISR, slot OBSERVER (a slot of its own: its scalar RLS divides twice):
+ *  the Rr/Tr tracker's inputs and step while it is armed (RUN with
+ *  tracking); learning only when no blend is under way. */
+void drive_adapt_track(drive_t *d);
+
+/** Background, after an extraction at the end of a pass: the model the next
+ *  pass (or the tracker) starts from.  @p full: 1 for param_extract_step's
+ *  set, 0 for param_extract_magnetic's (Lm, Lr only).  Taken up by the next
+ *  drive_adapt_background. */
 void drive_adapt_post(drive_t *d, const param_extract_t *p, uint16_t full);
+
+/** Background, every pass of the loop (float allowed): the standstill
+ *  result from the ISR's capture, a pass's blend step by step, the tracked
+ *  Tr rate limited; each as a complete model set posted to the ISR; the
+ *  tracker's telemetry (Tr_track, Rr_track, track_valid). */
+void drive_adapt_background(drive_t *d);
 
 #endif /* DRIVE_ADAPT_H */

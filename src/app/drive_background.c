@@ -179,6 +179,7 @@ void drive_background(drive_t *d)
         extract(&d->live, &d->live_snap, d->rls.form);
         d->live_snap.ready = 0u;
     }
+    drive_adapt_background(d);   /* the adaptation's models and constants (drive_adapt_bg.c) */
     publish_tracked(d);
 }
 

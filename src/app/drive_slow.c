@@ -23,7 +23,8 @@
  *   5 OBSERVER_A  the rotor-flux observer on the window's means (mode 1):
  *                 its voltage and current models and their correction
  *   6 OBSERVER_B  its rotor flux, magnitude, angle and speed; the frame's
- *                 angle from here on
+ *                 angle from here on; then the Rr/Tr tracker (mode 1, RUN
+ *                 with tracking: drive_adapt_track)
  *   7 LOG         nothing of the drive's: the firmware's data log
  *
  * The sequence sees the filtered di/dt of this period and judges the RLS's
@@ -306,6 +307,7 @@ void drive_slow_task(drive_t *d, uint16_t slot)
     case DRIVE_SLOT_OBSERVER_B:
         if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
             task_observer_b(d);
+            drive_adapt_track(d);
         }
         break;
     case DRIVE_SLOT_LOG:

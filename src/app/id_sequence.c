@@ -46,6 +46,16 @@ int16_t id_sequence_set_passes(id_sequence_t *s, uint16_t passes, _iq refine_fra
     return 0;
 }
 
+int16_t id_sequence_set_wait(id_sequence_t *s, uint16_t at_magnetize, uint32_t max_samples)
+{
+    if (at_magnetize > 1u) {
+        return 1;
+    }
+    s->wait_magnetize = at_magnetize;
+    s->wait_max_samples = max_samples;
+    return 0;
+}
+
 void id_sequence_start(id_sequence_t *s) { s->start_req = 1u; }
 void id_sequence_stop(id_sequence_t *s) { s->stop_req = 1u; }
 
@@ -62,6 +72,24 @@ static void enter(id_sequence_t *s, id_state_t next)
     s->state = next;
     s->t_state = 0u;
     s->t_steady = 0u;
+}
+
+/* Has the drive's model arrived?  Else one more sample of waiting; 1 also
+ * when the wait has run out (counted: the sequence goes on with the model
+ * in use). */
+static uint16_t model_ready(id_sequence_t *s)
+{
+    if (s->adapt_ready != 0u) {
+        return 1u;
+    }
+    s->t_steady++;
+    if (s->wait_max_samples != 0u && s->t_steady >= s->wait_max_samples) {
+        if (s->adapt_timeouts < 0xFFFFu) {
+            s->adapt_timeouts++;
+        }
+        return 1u;
+    }
+    return 0u;
 }
 
 void id_sequence_step(id_sequence_t *s)
@@ -85,6 +113,7 @@ void id_sequence_step(id_sequence_t *s)
     case ID_IDLE:
         if (s->start_req != 0u) {
             s->pass = 1u;
+            s->adapt_timeouts = 0u;
             enter(s, ID_CALIBRATE);
         }
         break;
@@ -95,8 +124,11 @@ void id_sequence_step(id_sequence_t *s)
         break;
     case ID_MAGNETIZE:
         if (s->t_state >= s->magnetize_samples) {
-            s->magnetize_end = 1u;
-            enter(s, ID_ACCELERATE);
+            /* once: t_state counts up by one per step */
+            s->magnetize_end = (uint16_t)(s->t_state == s->magnetize_samples);
+            if (s->wait_magnetize == 0u || model_ready(s) != 0u) {
+                enter(s, ID_ACCELERATE);
+            }
         }
         break;
     case ID_ACCELERATE:
@@ -126,7 +158,7 @@ void id_sequence_step(id_sequence_t *s)
         /* ramp_done refers to refine_speed here: control ran with it since
          * the entry; settle_min_samples lets the parameters blend in */
         if (s->t_state >= s->settle_min_samples && s->ramp_done != 0u &&
-            s->adapt_ready != 0u) {
+            model_ready(s) != 0u) {
             s->pass++;
             s->rls_restart = 1u;
             enter(s, ID_ACCELERATE);

@@ -93,7 +93,7 @@ void standstill_z_start(standstill_z_t *z)
 }
 
 /* The impedance from the four sums (see the header). */
-static void finish(standstill_z_t *z)
+void standstill_z_finish(standstill_z_t *z)
 {
     _iq den;
     _iq num_x;
@@ -103,19 +103,21 @@ static void finish(standstill_z_t *z)
      * |I|^2 >= (SUM_GAIN ampl / 8)^2 = 4 ampl^2 */
     _iq den_min = _IQmpy(_IQ(4.0), _IQmpy(z->ampl, z->ampl));
 
-    z->running = 0u;
-    z->done = 1u;
-    z->i_add = _IQ(0.0);
+    z->valid = 0u;
+    if (z->done == 0u) {
+        return;
+    }
     if (_IQabs(z->us) > _IQ(SUM_MAX) || _IQabs(z->uc) > _IQ(SUM_MAX) ||
         _IQabs(z->is) > _IQ(SUM_MAX) || _IQabs(z->ic) > _IQ(SUM_MAX)) {
         return;   /* invalid: an AC amplitude beyond any plausible response */
     }
-    /* each product < 62.5, each sum < 125 */
+    /* each product < 62.5, each sum < 125; |num| / 100 < den rather than
+     * |num| < 100 den, which leaves Q24 for den > 1.28 */
     den = _IQmpy(z->is, z->is) + _IQmpy(z->ic, z->ic);
     num_x = _IQmpy(z->uc, z->is) - _IQmpy(z->us, z->ic);
     num_r = _IQmpy(z->us, z->is) + _IQmpy(z->uc, z->ic);
-    if (!(den > den_min) || !(_IQabs(num_x) < _IQmpy(den, _IQ(100.0))) ||
-        !(_IQabs(num_r) < _IQmpy(den, _IQ(100.0)))) {
+    if (!(den > den_min) || !(_IQmpy(_IQabs(num_x), _IQ(0.01)) < den) ||
+        !(_IQmpy(_IQabs(num_r), _IQ(0.01)) < den)) {
         return;   /* invalid: no current, or an impedance beyond 100 pu */
     }
     z->x = _IQdiv(num_x, den);
@@ -163,6 +165,9 @@ void standstill_z_step(standstill_z_t *z)
         z->ph = 0u;
     }
     if (++z->k >= (uint16_t)(z->lead + z->window)) {
-        finish(z);
+        /* the window is complete: the sums hold for standstill_z_finish */
+        z->running = 0u;
+        z->done = 1u;
+        z->i_add = _IQ(0.0);
     }
 }

@@ -7,7 +7,8 @@
 
 #define P_MIN _IQ(1.0e-6)   /* P never reaches 0 (it would freeze theta); 16 LSB in Q24 */
 
-static _iq clamp(_iq x, _iq lo, _iq hi, uint32_t *count)
+/* inline: nine calls per tracker update in the ISR */
+static inline _iq clamp(_iq x, _iq lo, _iq hi, uint32_t *count)
 {
     if (x > hi) {
         estim_count(count);

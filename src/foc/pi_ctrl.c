@@ -30,19 +30,30 @@ pi_status_t pi_set_gains(pi_ctrl_t *p, _iq kp, _iq ki)
     return PI_OK;
 }
 
-pi_status_t pi_init(pi_ctrl_t *p, float kp, float ki, float out_min, float out_max)
+pi_status_t pi_design_gains(pi_gains_t *g, float kp, float ki)
 {
-    memset(p, 0, sizeof *p);
     if (!(kp >= 0.0f && kp <= PI_KP_MAX)) { return PI_ERR_KP; }
     if (!(ki >= 0.0f && ki <= PI_KI_MAX)) { return PI_ERR_KI; }
+    g->kp = _IQ(kp);
+    g->ki = _IQ(ki);
+    /* e_max = min(64, 64/kp): the error range (|e| <= 64) when kp <= 1. */
+    g->e_max = (kp <= 1.0f) ? _IQ(PI_UP_MAX_PU) : _IQ(PI_UP_MAX_PU / kp);
+    return PI_OK;
+}
+
+pi_status_t pi_init(pi_ctrl_t *p, float kp, float ki, float out_min, float out_max)
+{
+    pi_gains_t g;
+    pi_status_t st;
+
+    memset(p, 0, sizeof *p);
+    st = pi_design_gains(&g, kp, ki);
+    if (st != PI_OK) { return st; }
     if (!pi_limits_ok(out_min, out_max)) { return PI_ERR_LIMITS; }
 
-    p->kp = _IQ(kp);
-    p->ki = _IQ(ki);
+    pi_apply_gains(p, &g);
     p->out_min = _IQ(out_min);
     p->out_max = _IQ(out_max);
-    /* e_max = min(64, 64/kp): the error range (|e| <= 64) when kp <= 1. */
-    p->e_max = (kp <= 1.0f) ? _IQ(PI_UP_MAX_PU) : _IQ(PI_UP_MAX_PU / kp);
     return PI_OK;
 }
 

@@ -59,11 +59,77 @@ static void zero_params(flux_obs_t *o)
     o->dth_max = _IQ(0.0);
 }
 
+/* 1 - exp(-x) by its series to x^5/120, Horner (float; x <= 0.1) */
+static float one_minus_exp_neg(float x)
+{
+    float t = 1.0f - x * 0.2f;
+    t = 1.0f - x * 0.25f * t;
+    t = 1.0f - x * (1.0f / 3.0f) * t;
+    t = 1.0f - x * 0.5f * t;
+    return x * t;
+}
+
+flux_obs_status_t flux_obs_design_rs(flux_obs_model_t *m, float rs_pu)
+{
+    if (!(rs_pu >= 0.0f && rs_pu <= FLUX_OBS_RS_MAX)) {
+        return FLUX_OBS_ERR_RS;
+    }
+    m->rs = _IQ(rs_pu);
+    return FLUX_OBS_OK;
+}
+
+flux_obs_status_t flux_obs_design_l(flux_obs_model_t *m, float lm_pu, float lr_pu, float ls_pu)
+{
+    float sls;
+
+    /* checked before any division or conversion: every quotient and every
+     * Q24 value below is then in range (NaN fails) */
+    if (!(lm_pu > 0.0f && lm_pu <= FLUX_OBS_LM_MAX && lr_pu > lm_pu && ls_pu > lm_pu &&
+          lr_pu <= FLUX_OBS_LR_LM_MAX * lm_pu && ls_pu <= 2.0f * FLUX_OBS_LM_MAX)) {
+        return FLUX_OBS_ERR_L;
+    }
+    sls = ls_pu - lm_pu * lm_pu / lr_pu;
+    if (!(sls > 0.0f && sls <= FLUX_OBS_SIGMA_LS_MAX) || !(_IQ(sls) > _IQ(0.0))) {
+        return FLUX_OBS_ERR_L;
+    }
+    m->lm = _IQ(lm_pu);
+    m->lr_lm = _IQ(lr_pu / lm_pu);   /* (1, 4] */
+    m->lm_lr = _IQ(lm_pu / lr_pu);   /* [0.25, 1) */
+    m->sigma_ls = _IQ(sls);
+    return FLUX_OBS_OK;
+}
+
+flux_obs_status_t flux_obs_design_tr(flux_obs_model_t *m, float ts_pu, float tr_pu)
+{
+    /* Tr >= 10 Ts, i.e. x = Ts/Tr <= 0.1; Tr <= 120 (Q24 holds < 128) */
+    if (!(ts_pu > 0.0f) || !(tr_pu >= FLUX_OBS_TR_MIN_SAMPLES * ts_pu) ||
+        !(tr_pu <= FLUX_OBS_TR_MAX_PU)) {
+        return FLUX_OBS_ERR_TR;
+    }
+    m->tr = _IQ(tr_pu);
+    m->kf = _IQ(one_minus_exp_neg(ts_pu / tr_pu));
+    return FLUX_OBS_OK;
+}
+
+flux_obs_status_t flux_obs_design(flux_obs_model_t *m, float ts_pu, float rs_pu, float lm_pu,
+                                  float lr_pu, float ls_pu, float tr_pu)
+{
+    flux_obs_status_t st = flux_obs_design_rs(m, rs_pu);
+    if (st == FLUX_OBS_OK) {
+        st = flux_obs_design_l(m, lm_pu, lr_pu, ls_pu);
+    }
+    if (st == FLUX_OBS_OK) {
+        st = flux_obs_design_tr(m, ts_pu, tr_pu);
+    }
+    return st;
+}
+
 flux_obs_status_t flux_obs_init(flux_obs_t *o, const base_values_t *b, float Rs_ohm,
                                 float Ls_H, float Lr_H, float Lm_H, float Tr_s, float wc_Hz,
                                 float ws_lpf_Hz)
 {
     flux_obs_status_t st;
+    flux_obs_model_t m;
     float fts;
     float wc_pu;
     float x_ws;
@@ -90,41 +156,20 @@ flux_obs_status_t flux_obs_init(flux_obs_t *o, const base_values_t *b, float Rs_
         return FLUX_OBS_ERR_WS_LPF;
     }
 
+    /* the model's constants in pu, as the background computes them for a
+     * new set (flux_obs_design: range checks first, then the conversions) */
+    st = flux_obs_design(&m, b->Ts_pu, Rs_ohm / b->Z_base_ohm, Lm_H / b->L_base_H,
+                         Lr_H / b->L_base_H, Ls_H / b->L_base_H, Tr_s / b->t_base_s);
+    if (st != FLUX_OBS_OK) {
+        return st;   /* the observer stays inert (zero_params above) */
+    }
+    flux_obs_apply_model(o, &m);
     o->n = 1u;
     o->ts = _IQ(b->Ts_pu);
     o->ts30 = _IQ30(b->Ts_pu);
     o->inv_k_theta = _IQ20(1.0f / fts);
     /* |d| <= 50 f_base Ts < 0.4 rev: |ws| <= FLUX_OBS_WS_MAX */
     o->dth_max = _IQ(FLUX_OBS_WS_MAX * fts);
-
-    /* ranges checked in float first (also NaN), so that no conversion to
-     * Q24 can overflow; the setters then check them again in pu */
-    st = FLUX_OBS_OK;
-    if (!(Rs_ohm >= 0.0f && Rs_ohm / b->Z_base_ohm <= FLUX_OBS_RS_MAX)) {
-        st = FLUX_OBS_ERR_RS;
-    }
-    if (!(Lm_H > 0.0f && Lm_H / b->L_base_H <= FLUX_OBS_LM_MAX && Lr_H > Lm_H &&
-          Lr_H <= FLUX_OBS_LR_LM_MAX * Lm_H && Ls_H > Lm_H &&
-          Ls_H / b->L_base_H <= 2.0f * FLUX_OBS_LM_MAX) && st == FLUX_OBS_OK) {
-        st = FLUX_OBS_ERR_L;
-    }
-    if (!(Tr_s / b->t_base_s <= FLUX_OBS_TR_MAX_PU) && st == FLUX_OBS_OK) {
-        st = FLUX_OBS_ERR_TR;   /* also NaN; the lower bound is set_tr's */
-    }
-    if (st == FLUX_OBS_OK) {
-        st = flux_obs_set_rs(o, _IQ(Rs_ohm / b->Z_base_ohm));
-    }
-    if (st == FLUX_OBS_OK) {
-        st = flux_obs_set_inductances(o, _IQ(Lm_H / b->L_base_H), _IQ(Lr_H / b->L_base_H),
-                                      _IQ(Ls_H / b->L_base_H));
-    }
-    if (st == FLUX_OBS_OK) {
-        st = flux_obs_set_tr(o, _IQ(Tr_s / b->t_base_s));
-    }
-    if (st != FLUX_OBS_OK) {
-        zero_params(o);   /* no half-configured observer left behind */
-        return st;
-    }
     o->wc = _IQ(wc_pu);
     o->g = _IQ(wc_pu * b->Ts_pu);
     o->inv_wc = _IQ(fminf(1.0f / wc_pu, 100.0f));
@@ -157,7 +202,16 @@ flux_obs_status_t flux_obs_set_step(flux_obs_t *o, const base_values_t *b, uint1
     o->dth_max = _IQ(x_dth);
     o->g = _IQ(wc_pu * T_pu);
     o->kf_ws = _IQ(1.0f - expf(-x_ws));
-    return flux_obs_set_tr(o, o->tr);   /* kf for the new step */
+    /* kf for the new step, as the background designs it (flux_obs_design_tr
+     * on the Q24 Tr: a set made for this Tr carries the same kf) */
+    {
+        flux_obs_model_t m;
+        const flux_obs_status_t st = flux_obs_design_tr(&m, T_pu, _IQtoF(o->tr));
+        if (st == FLUX_OBS_OK) {
+            o->kf = m.kf;
+        }
+        return st;
+    }
 }
 
 flux_obs_status_t flux_obs_set_rs(flux_obs_t *o, _iq rs_pu)
@@ -170,46 +224,69 @@ flux_obs_status_t flux_obs_set_rs(flux_obs_t *o, _iq rs_pu)
 }
 
 /* One axis of the DC re-seat: psi_s on the current model, the correction
- * holding u_c = Rs i - u (flux_obs_set_rs_dc). */
-static void reseat_axis(const flux_obs_t *o, _iq psi_cm, _iq i, _iq u, _iq *psis, _iq *z,
-                        _iq *y, uint16_t *sat)
+ * holding u_c = Rs i - u (flux_obs_seat_dc), with the model @p m and 1/w_c. */
+static void reseat_axis(const flux_obs_model_t *m, _iq inv_wc, _iq psi_cm, _iq i, _iq u,
+                        _iq *psis, _iq *z, _iq *y, uint16_t *sat)
 {
     /* |lm_lr psi_cm| <= 64, |sigma Ls i| <= 16: < 128, then bounded */
-    *psis = sat_sym(_IQmpy(o->lm_lr, psi_cm) + _IQmpy(o->sigma_ls, i), PSI_MAX, sat);
+    *psis = sat_sym(_IQmpy(m->lm_lr, psi_cm) + _IQmpy(m->sigma_ls, i), PSI_MAX, sat);
     /* |Rs i| <= 16, |u| <= 4; saturated at 1 pu before the 1/w_c (<= 100)
      * product: a real DC voltage error is a few % */
-    *y = sat_sym(_IQmpy(sat_sym(_IQmpy(o->rs, i) - u, _IQ(1.0), sat), o->inv_wc), Y_MAX, sat);
+    *y = sat_sym(_IQmpy(sat_sym(_IQmpy(m->rs, i) - u, _IQ(1.0), sat), inv_wc), Y_MAX, sat);
     *z = sat_sym(_IQmpy(_IQ(3.0), *y), Z_MAX, sat);
+}
+
+flux_obs_status_t flux_obs_seat_dc(const flux_obs_t *o, const flux_obs_model_t *m,
+                                   _iq psi_cm_alpha, _iq psi_cm_beta, _iq u_alpha, _iq u_beta,
+                                   _iq i_alpha, _iq i_beta, flux_obs_seat_t *s)
+{
+    uint16_t sat = 0u;
+
+    if (!(m->rs >= _IQ(0.0) && m->rs <= _IQ(FLUX_OBS_RS_MAX))) {
+        return FLUX_OBS_ERR_RS;
+    }
+    u_alpha = sat_sym(u_alpha, IN_MAX, &sat);
+    u_beta = sat_sym(u_beta, IN_MAX, &sat);
+    i_alpha = sat_sym(i_alpha, IN_MAX, &sat);
+    i_beta = sat_sym(i_beta, IN_MAX, &sat);
+    reseat_axis(m, o->inv_wc, psi_cm_alpha, i_alpha, u_alpha, &s->psis_alpha, &s->z_alpha,
+                &s->y_alpha, &sat);
+    reseat_axis(m, o->inv_wc, psi_cm_beta, i_beta, u_beta, &s->psis_beta, &s->z_beta,
+                &s->y_beta, &sat);
+    s->uc_alpha = _IQmpy(o->wc, s->y_alpha);
+    s->uc_beta = _IQmpy(o->wc, s->y_beta);
+    /* the output continues from the re-seated flux (= the current model's
+     * rotor flux), at standstill: no angle step enters ws or ws_f */
+    s->psi_alpha = psi_cm_alpha;
+    s->psi_beta = psi_cm_beta;
+    s->psi_mag = _IQmag(psi_cm_alpha, psi_cm_beta);
+    s->theta = _IQatan2PU(psi_cm_beta, psi_cm_alpha);
+    s->sat = sat;
+    return FLUX_OBS_OK;
 }
 
 flux_obs_status_t flux_obs_set_rs_dc(flux_obs_t *o, _iq rs_pu, _iq u_alpha, _iq u_beta,
                                      _iq i_alpha, _iq i_beta)
 {
-    uint16_t sat = 0u;
+    flux_obs_model_t m;
+    flux_obs_seat_t s;
+    flux_obs_status_t st;
 
-    if (!(rs_pu >= _IQ(0.0) && rs_pu <= _IQ(FLUX_OBS_RS_MAX))) {
-        return FLUX_OBS_ERR_RS;
+    /* the model in use with the new Rs */
+    m.rs = rs_pu;
+    m.lm = o->lm;
+    m.sigma_ls = o->sigma_ls;
+    m.lr_lm = o->lr_lm;
+    m.lm_lr = o->lm_lr;
+    m.tr = o->tr;
+    m.kf = o->kf;
+    st = flux_obs_seat_dc(o, &m, o->psi_cm_alpha, o->psi_cm_beta, u_alpha, u_beta, i_alpha,
+                          i_beta, &s);
+    if (st == FLUX_OBS_OK) {
+        o->rs = rs_pu;
+        flux_obs_apply_seat(o, &s);
     }
-    o->rs = rs_pu;
-    u_alpha = sat_sym(u_alpha, IN_MAX, &sat);
-    u_beta = sat_sym(u_beta, IN_MAX, &sat);
-    i_alpha = sat_sym(i_alpha, IN_MAX, &sat);
-    i_beta = sat_sym(i_beta, IN_MAX, &sat);
-    reseat_axis(o, o->psi_cm_alpha, i_alpha, u_alpha, &o->psis_alpha, &o->z_alpha, &o->y_alpha,
-                &sat);
-    reseat_axis(o, o->psi_cm_beta, i_beta, u_beta, &o->psis_beta, &o->z_beta, &o->y_beta, &sat);
-    o->uc_alpha = _IQmpy(o->wc, o->y_alpha);
-    o->uc_beta = _IQmpy(o->wc, o->y_beta);
-    /* the output continues from the re-seated flux (= the current model's
-     * rotor flux), at standstill: no angle step enters ws or ws_f */
-    o->psi_alpha = o->psi_cm_alpha;
-    o->psi_beta = o->psi_cm_beta;
-    o->psi_mag = _IQmag(o->psi_alpha, o->psi_beta);
-    o->theta = _IQatan2PU(o->psi_beta, o->psi_alpha);
-    o->theta_prev = o->theta;
-    o->ws = o->ws_f = _IQ(0.0);
-    o->sat = sat;
-    return FLUX_OBS_OK;
+    return st;
 }
 
 flux_obs_status_t flux_obs_set_tr(flux_obs_t *o, _iq tr_pu)

@@ -44,7 +44,40 @@ ifo_status_t ifo_init(ifo_t *f, float Tr_s, const base_values_t *b, float imr_mi
     f->k_theta = _IQ30(b->f_base_Hz * b->Ts_s);
     f->inv_k_theta = _IQ20(1.0f / (b->f_base_Hz * b->Ts_s));
     f->imr_min = _IQ(imr_min_pu);
-    return ifo_set_tr(f, _IQ(tr_pu));
+    {
+        ifo_tr_t t;
+        ifo_status_t st = ifo_design_tr(&t, b->Ts_pu, tr_pu, imr_min_pu);
+        if (st == IFO_OK) {
+            ifo_apply_tr(f, &t);
+        }
+        return st;
+    }
+}
+
+/* 1 - exp(-x) by its series to x^5/120, Horner (float; x <= 0.1) */
+static float one_minus_exp_neg(float x)
+{
+    float t = 1.0f - x * 0.2f;
+    t = 1.0f - x * 0.25f * t;
+    t = 1.0f - x * (1.0f / 3.0f) * t;
+    t = 1.0f - x * 0.5f * t;
+    return x * t;
+}
+
+ifo_status_t ifo_design_tr(ifo_tr_t *t, float ts_pu, float tr_pu, float imr_min_pu)
+{
+    /* Tr >= 10 Ts (x = Ts/Tr <= 0.1), Tr <= 120 (Q24 headroom); NaN fails */
+    if (!(ts_pu > 0.0f) || !(tr_pu >= IFO_TR_MIN_SAMPLES * ts_pu) || !(tr_pu <= IFO_TR_MAX_PU)) {
+        return IFO_ERR_TR;
+    }
+    /* slip bound: I_T_MAX / (Tr imr_min) <= SLIP_MAX */
+    if (!(tr_pu * imr_min_pu >= IFO_I_T_MAX / IFO_SLIP_MAX)) {
+        return IFO_ERR_IMR_MIN;
+    }
+    t->tr = _IQ(tr_pu);
+    t->inv_tr = _IQ(1.0f / tr_pu);   /* <= 1/(10 Ts) < 128 */
+    t->kf = _IQ(one_minus_exp_neg(ts_pu / tr_pu));
+    return IFO_OK;
 }
 
 ifo_status_t ifo_set_tr(ifo_t *f, _iq tr_pu)

@@ -395,6 +395,109 @@ static void test_fault_in_refine(void **state)
     assert_int_equal(p.extract_now, 2u);
 }
 
+/* With wait_magnetize: magnetize_end pulses once at N_MAG (the flux has
+ * settled), then MAGNETIZE holds (PWM on, i_M ref, no speed loop, at DC)
+ * until adapt_ready, and leaves on the sample that sees it; a second start
+ * waits again.  adapt_timeouts stays 0. */
+static void test_magnetize_wait(void **state)
+{
+    id_sequence_t s;
+    pulses_t p = {0u, 0u, 0u};
+    uint32_t k;
+    (void)state;
+
+    seq_init(&s);
+    assert_int_equal(id_sequence_set_wait(&s, 1u, 1000u), 0);
+    id_sequence_start(&s);
+    step(&s, &p);
+    s.cal_done = 1u;
+    step(&s, &p);
+    assert_int_equal(s.state, ID_MAGNETIZE);
+    for (k = 1u; k < N_MAG; k++) {
+        step(&s, &p);
+    }
+    assert_int_equal(p.magnetize_end, 0u);
+    /* the magnetisation time is over: the pulse, and the hold */
+    step(&s, &p);
+    assert_int_equal(s.state, ID_MAGNETIZE);
+    assert_int_equal(s.magnetize_end, 1u);
+    for (k = 0u; k < 500u; k++) {
+        step(&s, &p);
+        assert_int_equal(s.state, ID_MAGNETIZE);
+        assert_int_equal(s.magnetize_end, 0u);
+        check_outputs(&s);
+    }
+    assert_int_equal(p.magnetize_end, 1u);
+    s.adapt_ready = 1u;
+    step(&s, &p);
+    assert_int_equal(s.state, ID_ACCELERATE);
+    assert_int_equal(s.magnetize_end, 0u);
+    assert_int_equal(s.adapt_timeouts, 0u);
+    assert_int_equal(p.magnetize_end, 1u);
+    check_outputs(&s);
+}
+
+/* The waits run out after wait_max samples: MAGNETIZE (the sample at N_MAG
+ * is the first of the wait) and REFINE (from the sample on which settle_min
+ * and ramp_done hold), each counted in adapt_timeouts; a new start clears
+ * the count.  wait_max 0: no limit (the three-pass test waits 2 N_SMIN). */
+static void test_wait_timeouts(void **state)
+{
+    const uint32_t n_wait = 40u;
+    id_sequence_t s;
+    pulses_t p = {0u, 0u, 0u};
+    uint32_t k;
+    (void)state;
+
+    seq_init(&s);
+    assert_int_equal(id_sequence_set_passes(&s, 2u, _IQ(0.4)), 0);
+    assert_int_equal(id_sequence_set_wait(&s, 1u, n_wait), 0);
+    id_sequence_start(&s);
+    step(&s, &p);
+    s.cal_done = 1u;
+    step(&s, &p);
+    for (k = 1u; k < N_MAG; k++) {
+        step(&s, &p);
+    }
+    for (k = 1u; k < n_wait; k++) {
+        step(&s, &p);
+        assert_int_equal(s.state, ID_MAGNETIZE);
+    }
+    step(&s, &p);
+    assert_int_equal(s.state, ID_ACCELERATE);
+    assert_int_equal(s.adapt_timeouts, 1u);
+    assert_int_equal(p.magnetize_end, 1u);
+
+    run_pass(&s, &p, 100u, 0u);
+    assert_int_equal(s.state, ID_REFINE);
+    s.ramp_done = 1u;
+    /* settle_min first (t_state N_SMIN is the first sample of the wait) */
+    for (k = 1u; k < N_SMIN + n_wait - 1u; k++) {
+        step(&s, &p);
+        assert_int_equal(s.state, ID_REFINE);
+    }
+    step(&s, &p);
+    assert_int_equal(s.state, ID_ACCELERATE);
+    assert_int_equal(s.pass, 2u);
+    assert_int_equal(s.rls_restart, 1u);
+    assert_int_equal(s.adapt_timeouts, 2u);
+
+    /* stop, start: the count starts afresh */
+    id_sequence_stop(&s);
+    step(&s, &p);
+    id_sequence_start(&s);
+    step(&s, &p);
+    assert_int_equal(s.state, ID_CALIBRATE);
+    assert_int_equal(s.adapt_timeouts, 0u);
+
+    /* set_wait: at_magnetize 0 or 1 only */
+    {
+        id_sequence_t before = s;
+        assert_int_equal(id_sequence_set_wait(&s, 2u, 5u), 1);
+        assert_memory_equal(&s, &before, sizeof s);
+    }
+}
+
 /* id_sequence_set_passes: 1 .. 4 passes and a fraction in [0, 1];
  * otherwise 1 and nothing changed. */
 static void test_set_passes(void **state)
@@ -430,6 +533,8 @@ int main(void)
         cmocka_unit_test(test_settle_timeout),
         cmocka_unit_test(test_fault_in_refine),
         cmocka_unit_test(test_set_passes),
+        cmocka_unit_test(test_magnetize_wait),
+        cmocka_unit_test(test_wait_timeouts),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

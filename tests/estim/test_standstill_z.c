@@ -96,6 +96,11 @@ static run_t run_branch(standstill_z_t *z, double phi, double a_scale)
             r.i_add_after++;
         }
     }
+    /* the window ends without a result (the step divides nothing: it runs
+     * in the ISR); standstill_z_finish computes it from the sums */
+    assert_int_equal(z->valid, 0);
+    assert_true(z->x == _IQ(0.0) && z->r == _IQ(0.0) && z->sigma_ls == _IQ(0.0));
+    standstill_z_finish(z);
     r.sigma_ls = iq_to_d(z->sigma_ls);
     r.r = iq_to_d(z->r);
     r.x = iq_to_d(z->x);
@@ -223,10 +228,13 @@ static void test_injection(void **state)
     (void)state;
 
     init_ok(&z, 0.0f);
-    /* before start: not running, no injection, nothing done */
+    /* before start: not running, no injection, nothing done, no result */
     standstill_z_step(&z);
     assert_true(z.i_add == _IQ(0.0));
     assert_int_equal(z.done, 0);
+    standstill_z_finish(&z);
+    assert_int_equal(z.valid, 0);
+    assert_true(z.x == _IQ(0.0) && z.sigma_ls == _IQ(0.0));
     r = run_branch(&z, -0.7, 1.0);
     print_message("i_add max err %.2f LSB\n", r.i_add_err / LSB24);
     assert_true(r.i_add_err <= (A_PU * (2.0 * PI_D * 50.0 + 1.0) + 1.0) * LSB24);
@@ -370,6 +378,27 @@ static void test_init_errors(void **state)
     assert_int_equal(standstill_z_init(&z, TS_S, FB_HZ, F_INJ, 200u, 0.05f, 0.0f), STANDSTILL_Z_OK);
 }
 
+/* standstill_z_finish on sums far larger than the drive's (a current
+ * phasor of 2, |I|^2 = 4): the plausibility bound |num| < 100 |I|^2 is
+ * evaluated as |num| / 100 < |I|^2, inside Q24 (100 |I|^2 = 400 is not).
+ * U = (R + jX) I with R 0.6, X 3: x and r exact to 1 LSB (the products of
+ * the exact Q24 sums are exact, one truncating _IQdiv). */
+static void test_finish_large_sums(void **state)
+{
+    standstill_z_t z;
+    (void)state;
+    init_ok(&z, 0.0f);
+    z.done = 1u;
+    z.is = _IQ(2.0);
+    z.ic = _IQ(0.0);
+    z.us = _IQ(1.2);
+    z.uc = _IQ(6.0);
+    standstill_z_finish(&z);
+    assert_int_equal(z.valid, 1);
+    assert_true(fabs(iq_to_d(z.x) - 3.0) <= LSB24);
+    assert_true(fabs(iq_to_d(z.r) - 0.6) <= 2.0 * LSB24);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -377,6 +406,7 @@ int main(void)
         cmocka_unit_test(test_corr_shift),
         cmocka_unit_test(test_injection),
         cmocka_unit_test(test_invalid),
+        cmocka_unit_test(test_finish_large_sums),
         cmocka_unit_test(test_freq_rounding),
         cmocka_unit_test(test_init_errors),
     };

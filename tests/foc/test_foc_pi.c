@@ -446,6 +446,50 @@ static void test_set_gains(void **state)
     assert_true(iq2d(p.e_max) == 64.0);
 }
 
+/* pi_design_gains: the gains as pi_init sets them (the drive's background
+ * posts a set, the ISR copies it with pi_apply_gains): equal to pi_init's
+ * for the same floats; e_max against the exact 64/kp of the float kp:
+ * one float division (half an ulp: 64/kp x 2^-24 pu, i.e. 64/kp LSB) and
+ * the Q24 truncation (1 LSB); refusals (kp first) leave the set as it was; apply copies the three
+ * words and keeps the integrator. */
+static void test_design_gains(void **state)
+{
+    static const double kps[] = { 0.0, 0.5, 1.0, 1.0001, 2.0, 3.3, 17.7, 99.9, 100.0 };
+    pi_ctrl_t p, q;
+    pi_gains_t g, keep;
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof kps / sizeof kps[0]; i++) {
+        const float kp = (float)kps[i];
+        double want;
+        assert_int_equal(pi_init(&p, kp, 0.01f, -1.0f, 1.0f), PI_OK);
+        assert_int_equal(pi_design_gains(&g, kp, 0.01f), PI_OK);
+        assert_true(g.kp == p.kp && g.ki == p.ki && g.e_max == p.e_max);
+        want = ((double)kp <= 1.0) ? 64.0 : 64.0 / (double)kp;
+        assert_true(fabs(iq2d(g.e_max) - want) <= foc_tol(1.0 + want, 4.0, want));
+    }
+    assert_int_equal(pi_init(&q, 2.0f, 0.01f, -2.0f, 2.0f), PI_OK);
+    q.ref = d2iq(0.3);
+    q.fbk = d2iq(0.1);
+    for (i = 0; i < 20; i++) {
+        pi_step(&q);
+    }
+    p = q;
+    assert_int_equal(pi_design_gains(&g, 1.5f, 0.02f), PI_OK);
+    pi_apply_gains(&q, &g);
+    assert_true(q.kp == g.kp && q.ki == g.ki && q.e_max == g.e_max);
+    assert_true(q.ui == p.ui && q.out == p.out && q.out_min == p.out_min);
+
+    keep = g;
+    assert_int_equal(pi_design_gains(&g, -1e-6f, 0.01f), PI_ERR_KP);
+    assert_int_equal(pi_design_gains(&g, 100.001f, 0.01f), PI_ERR_KP);
+    assert_int_equal(pi_design_gains(&g, NAN, 0.01f), PI_ERR_KP);
+    assert_int_equal(pi_design_gains(&g, 1.0f, -1e-6f), PI_ERR_KI);
+    assert_int_equal(pi_design_gains(&g, 1.0f, 1.0001f), PI_ERR_KI);
+    assert_int_equal(pi_design_gains(&g, 101.0f, 2.0f), PI_ERR_KP);
+    assert_memory_equal(&g, &keep, sizeof g);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -457,6 +501,7 @@ int main(void)
         cmocka_unit_test(test_set_limits),
         cmocka_unit_test(test_random_steps),
         cmocka_unit_test(test_set_gains),
+        cmocka_unit_test(test_design_gains),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -846,6 +846,153 @@ static void test_set_rs_dc(void **state)
     assert_true(o.y_alpha == _IQ(FLUX_OBS_Y_MAX) && o.z_alpha == _IQ(FLUX_OBS_Z_MAX));
 }
 
+/* flux_obs_design: the model's constants in float, what the drive's
+ * background computes for a new set (drive_adapt_bg.c) and what
+ * flux_obs_init computes from SI.
+ *  - from the pu floats flux_obs_init derives from the same SI values:
+ *    every constant equal to the initialised observer's (one code path);
+ *  - against double references: Rs, Lm, Tr within 1 LSB (the _IQ
+ *    truncation) + 1e-7 relative (float rounding of the pu value);
+ *    Lr/Lm, Lm/Lr: 1 LSB + 2e-7 relative (a float quotient of two rounded
+ *    floats); sigma Ls = Ls - Lm^2/Lr: 1 LSB + 4 float ulps of Ls (the
+ *    difference of two rounded terms of size Ls), 4e-7 x 1.37 pu = 9 LSB;
+ *    kf = 1 - exp(-Ts/Tr): 1 LSB + 3e-7 relative (series 1.4e-9 and a few
+ *    float roundings of x ~ 3.4e-3);
+ *  - against the fixed-point setters the ISR used: the sum of the two
+ *    budgets (setters: Lr/Lm 4 LSB, sigma Ls 8 LSB, kf (1/Tr + 4) LSB);
+ *  - a refused group leaves its members as they were (NaN too). */
+static void test_design(void **state)
+{
+    const double lsb = ldexp(1.0, -24);
+    flux_obs_t o, fx;
+    flux_obs_model_t m, keep;
+    const float rs = RS_OHM / g_b.Z_base_ohm, lm = LM_H / g_b.L_base_H;
+    const float lr = LR_H / g_b.L_base_H, ls = LS_H / g_b.L_base_H;
+    const float tr = TR_S / g_b.t_base_s;
+    (void)state;
+
+    obs_init(&o, 1.0, 1.0);
+    assert_int_equal(flux_obs_design(&m, g_b.Ts_pu, rs, lm, lr, ls, tr), FLUX_OBS_OK);
+    assert_true(m.rs == o.rs && m.lm == o.lm && m.sigma_ls == o.sigma_ls &&
+                m.lr_lm == o.lr_lm && m.lm_lr == o.lm_lr && m.tr == o.tr && m.kf == o.kf);
+
+    assert_true(fabs(to_d(m.rs) - g_m.rs) <= lsb + 1e-7 * g_m.rs);
+    assert_true(fabs(to_d(m.lm) - g_m.lm) <= lsb + 1e-7 * g_m.lm);
+    assert_true(fabs(to_d(m.tr) - g_m.tr) <= lsb + 1e-7 * g_m.tr);
+    assert_true(fabs(to_d(m.lr_lm) - g_m.lr / g_m.lm) <= lsb + 2e-7 * g_m.lr / g_m.lm);
+    assert_true(fabs(to_d(m.lm_lr) - g_m.lm / g_m.lr) <= lsb + 2e-7);
+    print_message("design: sigma Ls %.2f LSB, kf %.2f LSB from double\n",
+                  (to_d(m.sigma_ls) - g_m.sls) / lsb,
+                  (to_d(m.kf) - (1.0 - exp(-g_m.ts / g_m.tr))) / lsb);
+    assert_true(fabs(to_d(m.sigma_ls) - g_m.sls) <= lsb + 4.0 * 1.2e-7 * g_m.ls);
+    assert_true(fabs(to_d(m.kf) - (1.0 - exp(-g_m.ts / g_m.tr))) <= lsb + 3e-7 * to_d(m.kf));
+
+    /* the fixed-point setters from the same Q24 values */
+    fx = o;
+    assert_int_equal(flux_obs_set_inductances(&fx, m.lm, _IQ(lr), _IQ(ls)), FLUX_OBS_OK);
+    assert_int_equal(flux_obs_set_tr(&fx, m.tr), FLUX_OBS_OK);
+    assert_true(fabs(to_d(fx.lr_lm) - to_d(m.lr_lm)) <= 6.0 * lsb);
+    assert_true(fabs(to_d(fx.lm_lr) - to_d(m.lm_lr)) <= 6.0 * lsb);
+    assert_true(fabs(to_d(fx.sigma_ls) - to_d(m.sigma_ls)) <= 18.0 * lsb);
+    assert_true(fabs(to_d(fx.kf) - to_d(m.kf)) <= (1.0 / g_m.tr + 6.0) * lsb);
+
+    /* refusals: each group keeps its members */
+    keep = m;
+    assert_int_equal(flux_obs_design_rs(&m, -0.01f), FLUX_OBS_ERR_RS);
+    assert_int_equal(flux_obs_design_rs(&m, 4.01f), FLUX_OBS_ERR_RS);
+    assert_int_equal(flux_obs_design_rs(&m, NAN), FLUX_OBS_ERR_RS);
+    assert_int_equal(flux_obs_design_l(&m, 1.0f, 0.9f, 1.1f), FLUX_OBS_ERR_L);    /* Lr < Lm */
+    assert_int_equal(flux_obs_design_l(&m, 1.0f, 1.1f, 1.0f), FLUX_OBS_ERR_L);    /* Ls = Lm */
+    assert_int_equal(flux_obs_design_l(&m, 1.0f, 4.5f, 4.5f), FLUX_OBS_ERR_L);    /* Lr > 4 Lm */
+    assert_int_equal(flux_obs_design_l(&m, 1.0f, 1.1f, 6.0f), FLUX_OBS_ERR_L);    /* sigma Ls > 4 */
+    assert_int_equal(flux_obs_design_l(&m, NAN, 1.1f, 1.2f), FLUX_OBS_ERR_L);
+    assert_int_equal(flux_obs_design_tr(&m, g_b.Ts_pu, 5.0f * g_b.Ts_pu), FLUX_OBS_ERR_TR);
+    assert_int_equal(flux_obs_design_tr(&m, g_b.Ts_pu, 121.0f), FLUX_OBS_ERR_TR);
+    assert_int_equal(flux_obs_design_tr(&m, g_b.Ts_pu, NAN), FLUX_OBS_ERR_TR);
+    assert_memory_equal(&m, &keep, sizeof m);
+    /* a refused group does not stop the others being written alone */
+    assert_int_equal(flux_obs_design_tr(&m, g_b.Ts_pu, 2.0f * tr), FLUX_OBS_OK);
+    assert_true(m.tr != keep.tr && m.kf < keep.kf && m.rs == keep.rs && m.lm == keep.lm);
+    /* the edges are accepted: Tr = 10 Ts, Rs = 0 and 4 */
+    assert_int_equal(flux_obs_design_tr(&m, g_b.Ts_pu, 10.0f * g_b.Ts_pu), FLUX_OBS_OK);
+    assert_true(fabs(to_d(m.kf) - (1.0 - exp(-0.1))) <= lsb + 3e-7 * 0.1);
+    assert_int_equal(flux_obs_design_rs(&m, 0.0f), FLUX_OBS_OK);
+    assert_int_equal(flux_obs_design_rs(&m, 4.0f), FLUX_OBS_OK);
+
+    /* apply_model copies the seven constants and nothing else */
+    fx = o;
+    flux_obs_apply_model(&fx, &keep);
+    assert_memory_equal(&fx, &o, sizeof o);
+    flux_obs_apply_model(&fx, &m);
+    assert_true(fx.tr == m.tr && fx.kf == m.kf && fx.rs == m.rs);
+    assert_true(fx.ts == o.ts && fx.wc == o.wc && fx.psis_alpha == o.psis_alpha);
+}
+
+/* flux_obs_seat_dc + flux_obs_apply_seat (the background computes, the ISR
+ * copies) is flux_obs_set_rs_dc bit for bit; the re-seat follows the model
+ * it is given (not the one in the observer): psi_s = (Lm/Lr) psi_cm +
+ * sigma Ls i of that model (bound as test_set_rs_dc: 4 LSB + 1e-6 |psi|);
+ * the observer itself is not touched; a refused Rs writes nothing. */
+static void test_seat_dc(void **state)
+{
+    const double lsb = ldexp(1.0, -24);
+    const double complex i = ID_PU * cexp(J * PI / 6.0);
+    const double complex u = g_m.rs * i;
+    flux_obs_t o, ref, before;
+    flux_obs_model_t m;
+    flux_obs_seat_t s, s0;
+    double complex psi_cm;
+    uint32_t k;
+    (void)state;
+
+    obs_init(&o, 1.3, 1.0);
+    for (k = 1u; k <= 4500u; k++) {
+        obs_feed(&o, i, u, 0.3 * 2.0 * PI);
+    }
+    ref = o;
+    assert_int_equal(flux_obs_set_rs_dc(&ref, _IQ(g_m.rs), o.u_alpha, o.u_beta, o.i_alpha,
+                                        o.i_beta),
+                     FLUX_OBS_OK);
+    before = o;
+    m.rs = _IQ(g_m.rs);
+    m.lm = o.lm;
+    m.sigma_ls = o.sigma_ls;
+    m.lr_lm = o.lr_lm;
+    m.lm_lr = o.lm_lr;
+    m.tr = o.tr;
+    m.kf = o.kf;
+    assert_int_equal(flux_obs_seat_dc(&o, &m, o.psi_cm_alpha, o.psi_cm_beta, o.u_alpha,
+                                      o.u_beta, o.i_alpha, o.i_beta, &s),
+                     FLUX_OBS_OK);
+    assert_memory_equal(&o, &before, sizeof o);
+    o.rs = m.rs;
+    flux_obs_apply_seat(&o, &s);
+    assert_memory_equal(&o, &ref, sizeof o);
+
+    /* another model: sigma Ls 10 % lower, Lm/Lr 5 % higher */
+    m.sigma_ls = _IQmpy(o.sigma_ls, _IQ(0.9));
+    m.lm_lr = _IQmpy(o.lm_lr, _IQ(1.05));
+    assert_int_equal(flux_obs_seat_dc(&o, &m, o.psi_cm_alpha, o.psi_cm_beta, o.u_alpha,
+                                      o.u_beta, o.i_alpha, o.i_beta, &s),
+                     FLUX_OBS_OK);
+    psi_cm = to_d(o.psi_cm_alpha) + J * to_d(o.psi_cm_beta);
+    assert_true(cabs(to_d(s.psis_alpha) + J * to_d(s.psis_beta) -
+                     (to_d(m.lm_lr) * psi_cm + to_d(m.sigma_ls) * i)) <=
+                4.0 * lsb + 1e-6 * cabs(psi_cm));
+
+    /* refused: nothing written */
+    s0 = s;
+    m.rs = _IQ(-0.01);
+    assert_int_equal(flux_obs_seat_dc(&o, &m, o.psi_cm_alpha, o.psi_cm_beta, o.u_alpha,
+                                      o.u_beta, o.i_alpha, o.i_beta, &s),
+                     FLUX_OBS_ERR_RS);
+    m.rs = _IQ(4.01);
+    assert_int_equal(flux_obs_seat_dc(&o, &m, o.psi_cm_alpha, o.psi_cm_beta, o.u_alpha,
+                                      o.u_beta, o.i_alpha, o.i_beta, &s),
+                     FLUX_OBS_ERR_RS);
+    assert_memory_equal(&s, &s0, sizeof s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -860,6 +1007,8 @@ int main(void)
         cmocka_unit_test(test_extreme_inputs),
         cmocka_unit_test(test_angle_jumps_bounded),
         cmocka_unit_test(test_set_rs_dc),
+        cmocka_unit_test(test_design),
+        cmocka_unit_test(test_seat_dc),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

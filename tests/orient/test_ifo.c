@@ -366,6 +366,56 @@ static void test_init_errors(void **state)
     }
 }
 
+/* ifo_design_tr: the Tr constants in float, what ifo_init computes and the
+ * drive's background posts to the ISR.  From the pu floats ifo_init
+ * derives: equal to the initialised module's.  Against double: Tr within
+ * 1 LSB + 1e-7 relative (_IQ truncation, float rounding of the pu value),
+ * 1/Tr within 1 LSB + 1.2e-7 relative (one more float rounding), kf =
+ * 1 - exp(-Ts/Tr) within 1 LSB + 3e-7 relative (series 1.4e-9, a few
+ * float roundings), over Tr from 10 Ts to 100 pu; against ifo_set_tr (the
+ * fixed-point path) the sum of both budgets.  Refusals (Tr < 10 Ts,
+ * > 120, NaN; the slip bound) leave the set as it was. */
+static void test_design_tr(void **state)
+{
+    static const double tr_list[] = {0.2094395102 * 1.0001, 0.5, 1.0, 6.2141, 20.0, 99.0};
+    ifo_t f, g;
+    ifo_tr_t t, keep;
+    uint32_t i;
+    (void)state;
+
+    assert_int_equal(ifo_init(&f, TR_S, &g_b, 0.2f), IFO_OK);
+    assert_int_equal(ifo_design_tr(&t, g_b.Ts_pu, TR_S / g_b.t_base_s, 0.2f), IFO_OK);
+    assert_true(t.tr == f.tr && t.inv_tr == f.inv_tr && t.kf == f.kf);
+    g = f;
+    for (i = 0u; i < sizeof tr_list / sizeof tr_list[0]; i++) {
+        const double trd = tr_list[i];
+        const double want = 1.0 - exp(-(double)g_b.Ts_pu / trd);
+        assert_int_equal(ifo_design_tr(&t, g_b.Ts_pu, (float)trd, 0.2f), IFO_OK);
+        assert_true(fabs(to_d(t.tr) - trd) <= LSB + 1e-7 * trd);
+        assert_true(fabs(to_d(t.inv_tr) - 1.0 / trd) <= LSB + 1.2e-7 / trd);
+        if (!(fabs(to_d(t.kf) - want) <= LSB + 3e-7 * want)) {
+            print_error("Tr=%.4f kf %.10f want %.10f err %.2f LSB\n", trd, to_d(t.kf), want,
+                        (to_d(t.kf) - want) / LSB);
+            fail();
+        }
+        assert_int_equal(ifo_set_tr(&g, t.tr), IFO_OK);
+        assert_true(fabs(to_d(g.kf) - to_d(t.kf)) <= (1.0 / trd + 6.0) * LSB);
+        assert_true(fabs(to_d(g.inv_tr) - to_d(t.inv_tr)) <= 3.0 * LSB + 1.2e-7 / trd);
+    }
+    /* apply copies the three words */
+    ifo_apply_tr(&f, &t);
+    assert_true(f.tr == t.tr && f.inv_tr == t.inv_tr && f.kf == t.kf);
+
+    keep = t;
+    assert_int_equal(ifo_design_tr(&t, g_b.Ts_pu, 5.0f * g_b.Ts_pu, 0.2f), IFO_ERR_TR);
+    assert_int_equal(ifo_design_tr(&t, g_b.Ts_pu, 121.0f, 0.2f), IFO_ERR_TR);
+    assert_int_equal(ifo_design_tr(&t, g_b.Ts_pu, NAN, 0.2f), IFO_ERR_TR);
+    assert_int_equal(ifo_design_tr(&t, g_b.Ts_pu, -6.0f, 0.2f), IFO_ERR_TR);
+    /* slip bound 2 / (Tr imr_min) <= 64: 6.21 x 0.004 = 0.025 < 1/32 */
+    assert_int_equal(ifo_design_tr(&t, g_b.Ts_pu, 6.2141f, 0.004f), IFO_ERR_IMR_MIN);
+    assert_memory_equal(&t, &keep, sizeof t);
+}
+
 /* Encoder-angle mode: theta(k) = theta_r(k) + sum of w_slip f_base Ts, and
  * ws_frame = the frame's angle step / (f_base Ts).  A rotor turning at a
  * constant 0.9 pu with a constant slip command: after n samples the angle is
@@ -516,6 +566,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_kf_series),
+        cmocka_unit_test(test_design_tr),
         cmocka_unit_test(test_imr_step_response),
         cmocka_unit_test(test_slip),
         cmocka_unit_test(test_multirate_path),

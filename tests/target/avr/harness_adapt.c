@@ -1,4 +1,4 @@
-/* Co-simulation harness of the issue-8 modules on a 16-bit-int CPU: the
+/* Co-simulation harness of the adaptation's modules on a 16-bit-int CPU: the
  * standstill lock-in (standstill_z), the Tr tracker (tr_track), the small-
  * angle sin/cos step (angle_sincos_step) and the observer's DC re-seat
  * (flux_obs_set_rs_dc), each driven by integer-generated inputs, built for
@@ -52,6 +52,7 @@ static void run_standstill_z(void)
         i_prev = i;
         standstill_z_step(&z);
     }
+    standstill_z_finish(&z);   /* the result from the sums (the drive's background) */
     v[0] = (int32_t)z.done | ((int32_t)z.valid << 16);
     v[1] = (int32_t)z.x;
     v[2] = (int32_t)z.r;

@@ -1,0 +1,671 @@
+/* app_drive_adapt: the parameter adaptation split between the background
+ * (drive_adapt_bg.c: every model and its constants, posted as one set) and
+ * the ISR (drive_adapt.c: copies a set in its SEQUENCE slot), on a drive
+ * initialised from host_sim/config/paper_motor_wrong_nameplate.ini (the
+ * adaptive sequence: orientation 1, standstill, 2 passes, tracking).
+ *
+ * The sequence's state is set by hand (the state machine itself is
+ * app_id_sequence's); "the ISR" is drive_adapt_slow, "the background"
+ * drive_adapt_background, called in turn as the two contexts would.
+ *
+ *  - the constants of a posted set equal what the inits compute from the
+ *    same SI values (flux_obs_init, ifo_init exactly; the PI gains and the
+ *    decoupling against double formulas);
+ *  - the mailbox: a set the background is still writing (ready 0) is never
+ *    read, a posted set is never rewritten before the ISR has taken it, the
+ *    ISR applies all of it in one call; and under real preemption (a POSIX
+ *    timer whose handler runs the ISR part while the background posts
+ *    blend steps) every model the ISR runs is one whole set;
+ *  - the standstill result (Rs, sigma Ls, the observer's DC re-seat) against
+ *    double references and flux_obs_set_rs_dc;
+ *  - sets for a state the sequence has left are dropped;
+ *  - tracking: the rate limit per tracker update against its closed form,
+ *    the hand-over to ifo with the first tracked set, the telemetry. */
+#define _XOPEN_SOURCE 700   /* sigaction, setitimer, clock_gettime */
+#include <math.h>
+#include <setjmp.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/time.h>
+#include <time.h>
+
+#include <cmocka.h>
+
+#include "angle.h"
+#include "drive_adapt.h"
+#include "drive_types.h"
+#include "sim_config.h"
+
+#if MATH_TYPE == IQ_MATH
+static double to_d(_iq x) { return ldexp((double)x, -GLOBAL_Q); }
+#define LSB (1.0 / 16777216.0)
+#else
+static double to_d(_iq x) { return (double)x; }
+#define LSB 0.0
+#endif
+
+static sim_config_t g_cfg;
+static drive_config_t g_dc;
+static drive_t g_d;
+
+static int load(void **state)
+{
+    char err[256];
+    (void)state;
+    if (sim_config_load(MC_CONFIG_DIR "/paper_motor_wrong_nameplate.ini", &g_cfg, err,
+                        sizeof err) != 0) {
+        fprintf(stderr, "%s\n", err);
+        return -1;
+    }
+    sim_config_to_drive(&g_cfg, &g_dc);
+    return 0;
+}
+
+/* A fresh drive, the sequence put in @p st, @p pass (and the adaptation's
+ * record of the state, so that the ISR part sees no state change). */
+static void fresh(drive_t *d, id_state_t st, uint16_t pass)
+{
+    assert_int_equal(drive_init(d, &g_dc), DRIVE_CFG_OK);
+    d->seq.state = st;
+    d->seq.pass = pass;
+    d->adapt.prev_state = (uint16_t)st;
+}
+
+static void isr(drive_t *d) { drive_adapt_slow(d); }
+static void background(drive_t *d) { drive_adapt_background(d); }
+
+/* A pass's extraction (all six parameters) in pu. */
+static void mail(drive_t *d, _iq rs, _iq lm, _iq lr, _iq tr)
+{
+    param_extract_t p;
+    memset(&p, 0, sizeof p);
+    p.valid = 1u;
+    p.Rs = rs;
+    p.Lm = lm;
+    p.Lr = lr;
+    p.Tr = tr;
+    drive_adapt_post(d, &p, 1u);
+}
+
+/* ISR and background in turn until the sequence's wait is answered (at
+ * most @p max rounds); returns the ISR ticks it took. */
+static uint32_t run_until_ready(drive_t *d, uint32_t max)
+{
+    uint32_t k;
+    for (k = 0u; k < max && d->seq.adapt_ready == 0u; k++) {
+        background(d);
+        isr(d);
+    }
+    assert_int_equal(d->seq.adapt_ready, 1u);
+    return k;
+}
+
+/* A float SI value whose quotient by @p base is exactly @p pu (so that an
+ * init from SI sees the very pu float the background designs from): the
+ * nearest of the floats around pu x base that has it; 0 if none does. */
+static float si_for(float pu, float base)
+{
+    const float si0 = pu * base;
+    float up = si0, down = si0;
+    int i;
+    for (i = 0; i < 32; i++) {
+        if (up / base == pu) {
+            return up;
+        }
+        if (down / base == pu) {
+            return down;
+        }
+        up = nextafterf(up, 2.0f * si0);
+        down = nextafterf(down, 0.0f);
+    }
+    return 0.0f;
+}
+
+/* The model the ISR runs, as a set's words (to compare with a posted set). */
+static void applied_words(const drive_t *d, _iq w[16])
+{
+    w[0] = d->fobs.rs;   w[1] = d->fobs.lm;     w[2] = d->fobs.sigma_ls;
+    w[3] = d->fobs.lr_lm; w[4] = d->fobs.lm_lr; w[5] = d->fobs.tr;
+    w[6] = d->fobs.kf;   w[7] = d->ifo.tr;      w[8] = d->ifo.inv_tr;
+    w[9] = d->ifo.kf;    w[10] = d->pi_id.kp;   w[11] = d->pi_id.ki;
+    w[12] = d->pi_id.e_max; w[13] = d->k.sigma_ls; w[14] = d->k.lm2_lr;
+    w[15] = d->pi_iq.kp;
+}
+
+static void set_words(const drive_model_set_t *s, _iq w[16])
+{
+    w[0] = s->fobs.rs;   w[1] = s->fobs.lm;     w[2] = s->fobs.sigma_ls;
+    w[3] = s->fobs.lr_lm; w[4] = s->fobs.lm_lr; w[5] = s->fobs.tr;
+    w[6] = s->fobs.kf;   w[7] = s->ifo.tr;      w[8] = s->ifo.inv_tr;
+    w[9] = s->ifo.kf;    w[10] = s->cur.kp;     w[11] = s->cur.ki;
+    w[12] = s->cur.e_max; w[13] = s->fobs.sigma_ls; w[14] = s->lm2_lr;
+    w[15] = s->cur.kp;
+}
+
+/* The set's constants are those the inits compute from the same SI model.
+ * The model: pu values exact in float and in Q24 (dyadic; near the true
+ * motor's, within the factor 2 of the believed one), SI values whose
+ * quotient by the base is exactly that float (si_for).  Then flux_obs_init
+ * and ifo_init see the very floats the background designs from: every
+ * constant equal.  The PI gains against double, kp = (w_c / w_base)
+ * sigma Ls, ki = w_c Ts Rs (pu): sigma Ls = Ls - Lm^2/Lr in float carries
+ * 3 roundings of terms up to Ls (1.67 pu against sigma Ls 0.87: 7e-7
+ * relative), the products 2 more: 1 LSB + 1.5e-6 relative for kp (and
+ * 2e-6 for e_max = 64/kp, one more division), 1 LSB + 3e-7 for ki;
+ * Lm^2/Lr (two roundings): 1 LSB + 2e-7 relative.  The blend reaches it
+ * in blend_ticks ISR ticks (one background pass per tick here: the last
+ * set is posted on the tick the time is up, applied on the next) and says
+ * so (adapt_ready) with its last set. */
+static void test_set_equals_init(void **state)
+{
+    drive_t *d = &g_d;
+    const base_values_t *b = &d->base;
+    /* Lr: the first of these with an exact SI value on this base */
+    static const float lr_try[] = {1.671875f, 1.6875f, 1.65625f, 1.703125f, 1.640625f};
+    const float rs = 0.59375f, lm = 1.15625f, tr = 6.1875f;
+    float lr = 0.0f;
+    unsigned i;
+    flux_obs_t o;
+    ifo_t f;
+    double wc, sls, kp, ki;
+    uint32_t ticks;
+    (void)state;
+
+    fresh(d, ID_REFINE, 1u);
+    for (i = 0u; i < sizeof lr_try / sizeof lr_try[0] && lr == 0.0f; i++) {
+        if (si_for(lr_try[i], b->L_base_H) != 0.0f) {
+            lr = lr_try[i];
+        }
+    }
+    assert_true(lr != 0.0f && si_for(rs, b->Z_base_ohm) != 0.0f &&
+                si_for(lm, b->L_base_H) != 0.0f && si_for(tr, b->t_base_s) != 0.0f);
+    d->adapt.track_rr = 0u;   /* the pass's Tr is taken (not the tracker's) */
+    mail(d, _IQ(rs), _IQ(lm), _IQ(lr), _IQ(tr));
+    ticks = run_until_ready(d, 1000u);
+    background(d);   /* reads the answer to the last set */
+    print_message("blend: %u ISR ticks (blend_ticks %u)\n", (unsigned)ticks,
+                  (unsigned)d->adapt_bg.blend_ticks);
+    assert_true(ticks >= d->adapt_bg.blend_ticks && ticks <= d->adapt_bg.blend_ticks + 2u);
+
+    assert_int_equal(flux_obs_init(&o, b, si_for(rs, b->Z_base_ohm), si_for(lr, b->L_base_H),
+                                   si_for(lr, b->L_base_H), si_for(lm, b->L_base_H),
+                                   si_for(tr, b->t_base_s), 3.0f, 200.0f),
+                     FLUX_OBS_OK);
+    /* as drive_init: one observer step a slow period */
+    assert_int_equal(flux_obs_set_step(&o, b, DRIVE_SLOTS, 3.0f, 200.0f), FLUX_OBS_OK);
+    assert_true(d->fobs.rs == o.rs && d->fobs.lm == o.lm && d->fobs.sigma_ls == o.sigma_ls);
+    assert_true(d->fobs.lr_lm == o.lr_lm && d->fobs.lm_lr == o.lm_lr);
+    assert_true(d->fobs.tr == o.tr && d->fobs.kf == o.kf);
+    assert_int_equal(ifo_init(&f, si_for(tr, b->t_base_s), b, d->adapt_bg.imr_min_pu), IFO_OK);
+    assert_true(d->ifo.tr == f.tr && d->ifo.inv_tr == f.inv_tr && d->ifo.kf == f.kf);
+
+    wc = 2.0 * 3.14159265358979 * (double)g_dc.control.current_bw_Hz;
+    sls = (double)lr - (double)lm * (double)lm / (double)lr;
+    kp = wc / (double)b->w_base_rad_s * sls;
+    ki = wc * (double)b->Ts_s * (double)rs;
+    print_message("gains: kp %.7f (double %.7f), ki %.9f (double %.9f)\n", to_d(d->pi_id.kp), kp,
+                  to_d(d->pi_id.ki), ki);
+    assert_true(fabs(to_d(d->pi_id.kp) - kp) <= LSB + 1.5e-6 * kp);
+    assert_true(fabs(to_d(d->pi_id.ki) - ki) <= LSB + 3e-7 * ki);
+    assert_true(fabs(to_d(d->pi_id.e_max) - ((kp <= 1.0) ? 64.0 : 64.0 / kp)) <=
+                LSB + 2e-6 * 64.0 / kp);
+    assert_true(d->pi_iq.kp == d->pi_id.kp && d->pi_iq.ki == d->pi_id.ki &&
+                d->pi_iq.e_max == d->pi_id.e_max);
+    assert_true(d->k.sigma_ls == d->fobs.sigma_ls);
+    assert_true(fabs(to_d(d->k.lm2_lr) - (double)lm * (double)lm / (double)lr) <=
+                LSB + 2e-7 * (double)lm);
+    /* the background's record of the model in use */
+    assert_true(d->adapt_bg.cur[DRIVE_P_RS] == _IQ(rs) && d->adapt_bg.cur[DRIVE_P_TR] == _IQ(tr));
+    assert_int_equal(d->adapt_bg.blending, 0u);
+    assert_int_equal(d->adapt.blending, 0u);
+}
+
+/* The mailbox protocol, deterministically:
+ *  (a) ready 0 and the set half written (any bytes): the ISR reads nothing
+ *      and changes nothing;
+ *  (b) a posted set is not rewritten while ready is 1, whatever the
+ *      background is asked meanwhile (blend steps due, a new extraction,
+ *      tracker updates);
+ *  (c) one ISR call applies every word of it. */
+static void test_mailbox_whole_sets(void **state)
+{
+    drive_t *d = &g_d;
+    drive_t before;
+    drive_model_set_t posted;
+    _iq w[16], want[16];
+    uint16_t k, i;
+    (void)state;
+
+    fresh(d, ID_REFINE, 1u);
+    d->adapt.track_rr = 0u;
+    /* (a) */
+    memset((void *)&d->adapt_box.set, 0x5A, sizeof d->adapt_box.set);
+    d->adapt_box.ready = 0u;
+    before = *d;
+    isr(d);
+    assert_memory_equal(&d->fobs, &before.fobs, sizeof d->fobs);
+    assert_memory_equal(&d->ifo, &before.ifo, sizeof d->ifo);
+    assert_memory_equal(&d->pi_id, &before.pi_id, sizeof d->pi_id);
+    assert_memory_equal(&d->pi_iq, &before.pi_iq, sizeof d->pi_iq);
+    assert_memory_equal(&d->k, &before.k, sizeof d->k);
+    assert_int_equal(d->seq.adapt_ready, 0u);
+
+    /* (b) */
+    mail(d, _IQmpy(d->fobs.rs, _IQ(0.8)), _IQmpy(d->fobs.lm, _IQ(1.3)),
+         _IQmpy(d->adapt_bg.cur[DRIVE_P_LR], _IQ(1.2)), _IQmpy(d->fobs.tr, _IQ(0.8)));
+    background(d);
+    assert_int_equal(d->adapt_box.ready, 1u);
+    posted = d->adapt_box.set;
+    for (k = 0u; k < 50u; k++) {
+        d->adapt.ticks = (uint16_t)(d->adapt.ticks + 7u);   /* the blend runs on */
+        if (k == 10u) {
+            mail(d, d->fobs.rs, d->fobs.lm, d->adapt_bg.cur[DRIVE_P_LR], d->fobs.tr);
+        }
+        d->track.n_updates += 3u;
+        background(d);
+        assert_int_equal(d->adapt_box.ready, 1u);
+        assert_memory_equal((const void *)&d->adapt_box.set, &posted, sizeof posted);
+    }
+    /* (c) */
+    isr(d);
+    assert_int_equal(d->adapt_box.ready, 0u);
+    assert_int_equal(d->adapt_box.taken, DRIVE_BOX_APPLIED);
+    applied_words(d, w);
+    set_words(&posted, want);
+    for (i = 0u; i < 16u; i++) {
+        assert_true(w[i] == want[i]);
+    }
+    assert_true(d->pi_iq.ki == posted.cur.ki && d->pi_iq.e_max == posted.cur.e_max);
+    assert_int_equal(d->adapt.blending, 1u);   /* a blend step: more follow */
+}
+
+/* ---- preemption: the ISR part in a timer signal ------------------------- */
+
+static volatile sig_atomic_t g_applied, g_bad;
+static _iq g_bad_w[16];
+
+/* The words of one set hang together: ifo's Tr constants are the
+ * observer's Tr's (the same float design), both PIs have the gains of the
+ * observer's Rs and sigma Ls, the decoupling's sigma Ls is the observer's.
+ * A copy torn between two sets of a blend (every parameter moving) breaks
+ * one of them. */
+static int consistent(const drive_t *d)
+{
+    const drive_adapt_bg_t *g = &d->adapt_bg;
+    pi_gains_t pg;
+    ifo_tr_t it;
+    flux_obs_model_t om;   /* the observer's kf is for its own step, n Ts */
+    (void)ifo_design_tr(&it, g->ts_pu, _IQtoF(d->fobs.tr), g->imr_min_pu);
+    (void)flux_obs_design_tr(&om, g->obs_ts_pu, _IQtoF(d->fobs.tr));
+    (void)pi_design_gains(&pg, g->kp_per_sls * _IQtoF(d->fobs.sigma_ls),
+                          g->ki_per_rs * _IQtoF(d->fobs.rs));
+    return d->ifo.tr == it.tr && d->ifo.inv_tr == it.inv_tr && d->ifo.kf == it.kf &&
+           d->fobs.kf == om.kf && d->pi_id.kp == pg.kp && d->pi_id.ki == pg.ki &&
+           d->pi_id.e_max == pg.e_max && d->pi_iq.kp == pg.kp && d->pi_iq.ki == pg.ki &&
+           d->pi_iq.e_max == pg.e_max && d->k.sigma_ls == d->fobs.sigma_ls;
+}
+
+static void on_timer(int sig)
+{
+    drive_t *d = &g_d;
+    const uint16_t had = d->adapt_box.ready;
+    (void)sig;
+    isr(d);
+    if (had != 0u && d->adapt_box.taken == DRIVE_BOX_APPLIED) {
+        g_applied++;
+    }
+    /* (drive_init's PI gains come from its own SI formula: the relation
+     * holds from the first set on) */
+    if (g_applied > 0 && !consistent(d) && g_bad == 0) {
+        applied_words(d, g_bad_w);
+        g_bad = 1;
+    }
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* The background posts blend steps without pause (two models 25 % apart,
+ * Rs, Lm, Lr, Ls and Tr all moving, a new blend whenever one ends) while a
+ * 20 us interval timer runs the ISR part in its signal handler, wherever
+ * the background is.  After every ISR the model it runs must be one whole
+ * set (consistent()).  Until 3000 sets are applied (measured: ~2500 a
+ * second on a loaded host: the kernel's timer slack), at most 10 s; at
+ * least 1000. */
+static void test_preemption(void **state)
+{
+    drive_t *d = &g_d;
+    struct sigaction sa;
+    struct itimerval it;
+    _iq a[4], bm[4];
+    uint32_t blends = 0u;
+    double t_end;
+    (void)state;
+
+    fresh(d, ID_REFINE, 1u);
+    d->adapt.track_rr = 0u;
+    a[0] = d->fobs.rs;
+    a[1] = d->fobs.lm;
+    a[2] = d->adapt_bg.cur[DRIVE_P_LR];
+    a[3] = d->fobs.tr;
+    bm[0] = _IQmpy(a[0], _IQ(1.25));
+    bm[1] = _IQmpy(a[1], _IQ(1.25));
+    bm[2] = _IQmpy(a[2], _IQ(1.25));
+    bm[3] = _IQmpy(a[3], _IQ(1.25));
+    g_applied = 0;
+    g_bad = 0;
+
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_timer;
+    sigemptyset(&sa.sa_mask);
+    assert_int_equal(sigaction(SIGALRM, &sa, NULL), 0);
+    it.it_interval.tv_sec = 0;
+    it.it_interval.tv_usec = 20;
+    it.it_value = it.it_interval;
+    assert_int_equal(setitimer(ITIMER_REAL, &it, NULL), 0);
+    t_end = now_s() + 10.0;
+    while (g_applied < 3000 && now_s() < t_end) {
+        const drive_adapt_bg_t *g = &d->adapt_bg;
+        background(d);
+        if (g->blending == 0u && g->pending == 0u && g->m_ready == 0u) {
+            const _iq *m = ((blends & 1u) == 0u) ? bm : a;
+            mail(d, m[0], m[1], m[2], m[3]);
+            blends++;
+        }
+    }
+    memset(&it, 0, sizeof it);
+    assert_int_equal(setitimer(ITIMER_REAL, &it, NULL), 0);
+    sa.sa_handler = SIG_DFL;
+    assert_int_equal(sigaction(SIGALRM, &sa, NULL), 0);
+
+    print_message("preemption: %ld sets applied over %u blends, %s\n", (long)g_applied,
+                  (unsigned)blends, g_bad ? "TORN" : "every one whole");
+    if (g_bad != 0) {
+        print_error("torn: rs %.7f sls %.7f tr %.7f kf %.9f | ifo tr %.7f kf %.9f | kp %.7f\n",
+                    to_d(g_bad_w[0]), to_d(g_bad_w[2]), to_d(g_bad_w[5]), to_d(g_bad_w[6]),
+                    to_d(g_bad_w[7]), to_d(g_bad_w[9]), to_d(g_bad_w[10]));
+    }
+    assert_int_equal(g_bad, 0);
+    assert_true(g_applied >= 1000);
+    assert_true(blends >= 4u);
+}
+
+/* ---- the standstill result ---------------------------------------------- */
+
+/* The capture at the end of the magnetisation, as the ISR takes it, of a
+ * DC state: i = (i_M, i_T) at the frame angle th, u = R i. */
+static void capture_dc(drive_t *d, double im, double it, double r_pu, double th)
+{
+    volatile drive_adapt_capture_t *c = &d->adapt_cap;
+    c->i_mf = _IQ(im);
+    c->i_tf = _IQ(it);
+    c->u_mf = _IQ(r_pu * im);
+    c->u_tf = _IQ(r_pu * it);
+    c->theta_r = _IQ(th);
+    c->psi_cm_alpha = _IQ(0.55 * cos(2.0 * 3.14159265358979 * th));
+    c->psi_cm_beta = _IQ(0.55 * sin(2.0 * 3.14159265358979 * th));
+    c->us = c->uc = c->is = c->ic = _IQ(0.0);
+    c->ssz_done = 0u;
+    c->ready = 1u;
+}
+
+/* Rs = u_M / i_M (method §1 at DC): against the double quotient of the
+ * captured Q24 values, 1 LSB (_IQdiv truncates) + 1e-6 relative in float;
+ * sigma Ls from lock-in sums built for a known reactance X (I = 0.4
+ * along sin, the size of the drive's, U = (R + jX) I): X / w - corr
+ * against double, 4 LSB (two
+ * truncated products, one _IQdiv); the model, applied with the re-seat:
+ * the observer equals flux_obs_set_rs_dc of the same model on a copy of
+ * it, bit for bit (the seat's own accuracy is orient_flux_obs's); the
+ * sequence's wait answered.  An implausible Rs: READY alone, the model
+ * and the observer unchanged, Rs_dc 0. */
+static void test_standstill(void **state)
+{
+    drive_t *d = &g_d;
+    const double r_pu = 0.6, x_pu = 3.0, im = 0.33;
+    flux_obs_t ref;
+    drive_model_set_t s;
+    double want_sls;
+    (void)state;
+
+    fresh(d, ID_MAGNETIZE, 1u);
+    capture_dc(d, im, 0.01, r_pu, 0.3);
+    d->adapt_cap.is = _IQ(0.4);
+    d->adapt_cap.ic = _IQ(0.0);
+    d->adapt_cap.us = _IQ(0.4 * r_pu);
+    d->adapt_cap.uc = _IQ(0.4 * x_pu);
+    d->adapt_cap.ssz_done = 1u;
+    background(d);
+    assert_int_equal(d->adapt_cap.ready, 0u);
+    assert_int_equal(d->adapt_box.ready, 1u);
+    s = d->adapt_box.set;
+    assert_int_equal(s.flags, DRIVE_SET_SEAT | DRIVE_SET_READY);
+    assert_int_equal(s.state, ID_MAGNETIZE);
+    assert_true(fabs(to_d(d->telemetry.Rs_dc) -
+                     to_d(d->adapt_cap.u_mf) / to_d(d->adapt_cap.i_mf)) <= LSB + 1e-6 * r_pu);
+    want_sls = x_pu / to_d(d->ssz.w) - to_d(d->ssz.corr);
+    print_message("standstill: Rs %.7f (u/i %.7f), sigma Ls %.7f (want %.7f)\n",
+                  to_d(d->telemetry.Rs_dc), to_d(d->adapt_cap.u_mf) / to_d(d->adapt_cap.i_mf),
+                  to_d(d->telemetry.sigma_ls_dc), want_sls);
+    assert_true(fabs(to_d(d->telemetry.sigma_ls_dc) - want_sls) <= 4.0 * LSB + 1e-6 * want_sls);
+    assert_true(s.fobs.rs == _IQ(_IQtoF(d->telemetry.Rs_dc)));
+
+    /* the ISR applies it; the reference: the same model and the old
+     * fixed-point re-seat on a copy of the observer */
+    ref = d->fobs;
+    flux_obs_apply_model(&ref, &s.fobs);
+    ref.psi_cm_alpha = d->adapt_cap.psi_cm_alpha;
+    ref.psi_cm_beta = d->adapt_cap.psi_cm_beta;
+    {
+        const _iq th = d->adapt_cap.theta_r;
+        _iq sn, cs;
+        angle_sincos(th, &sn, &cs);
+        assert_int_equal(
+            flux_obs_set_rs_dc(&ref, s.fobs.rs,
+                               _IQmpy(cs, d->adapt_cap.u_mf) - _IQmpy(sn, d->adapt_cap.u_tf),
+                               _IQmpy(sn, d->adapt_cap.u_mf) + _IQmpy(cs, d->adapt_cap.u_tf),
+                               _IQmpy(cs, d->adapt_cap.i_mf) - _IQmpy(sn, d->adapt_cap.i_tf),
+                               _IQmpy(sn, d->adapt_cap.i_mf) + _IQmpy(cs, d->adapt_cap.i_tf)),
+            FLUX_OBS_OK);
+    }
+    isr(d);
+    assert_int_equal(d->adapt_box.taken, DRIVE_BOX_APPLIED);
+    assert_int_equal(d->seq.adapt_ready, 1u);
+    ref.psi_cm_alpha = d->fobs.psi_cm_alpha;   /* the observer's own (not re-seated) */
+    ref.psi_cm_beta = d->fobs.psi_cm_beta;
+    assert_memory_equal(&d->fobs, &ref, sizeof ref);
+    assert_true(d->k.sigma_ls == s.fobs.sigma_ls && d->pi_id.kp == s.cur.kp);
+    background(d);   /* reads the answer */
+    assert_true(d->adapt_bg.cur[DRIVE_P_RS] == d->telemetry.Rs_dc);
+
+    /* implausible: |u| >= 4 |i| */
+    fresh(d, ID_MAGNETIZE, 1u);
+    capture_dc(d, im, 0.0, 4.5, 0.0);
+    {
+        flux_obs_t obs0 = d->fobs;
+        background(d);
+        assert_int_equal(d->adapt_box.set.flags, DRIVE_SET_READY);
+        isr(d);
+        assert_int_equal(d->seq.adapt_ready, 1u);
+        assert_memory_equal(&d->fobs, &obs0, sizeof obs0);
+        assert_true(d->telemetry.Rs_dc == _IQ(0.0));
+    }
+    /* too late: the sequence left MAGNETIZE (its wait ran out): nothing posted */
+    fresh(d, ID_ACCELERATE, 1u);
+    capture_dc(d, im, 0.0, r_pu, 0.0);
+    background(d);
+    assert_int_equal(d->adapt_cap.ready, 0u);
+    assert_int_equal(d->adapt_box.ready, 0u);
+}
+
+/* A set made for a state (or pass) the sequence has left is dropped: the
+ * model stays, the background reads "dropped", keeps its record of the
+ * model in use and ends the blend it belonged to. */
+static void test_stale_dropped(void **state)
+{
+    drive_t *d = &g_d;
+    drive_t before;
+    (void)state;
+
+    fresh(d, ID_REFINE, 1u);
+    d->adapt.track_rr = 0u;
+    mail(d, _IQmpy(d->fobs.rs, _IQ(0.8)), d->fobs.lm, d->adapt_bg.cur[DRIVE_P_LR],
+         _IQmpy(d->fobs.tr, _IQ(1.2)));
+    background(d);
+    assert_int_equal(d->adapt_box.ready, 1u);
+    assert_int_equal(d->adapt_bg.blending, 1u);
+    d->seq.state = ID_ACCELERATE;   /* the wait ran out: pass 2 */
+    d->seq.pass = 2u;
+    d->adapt.prev_state = ID_ACCELERATE;
+    before = *d;
+    isr(d);
+    assert_int_equal(d->adapt_box.ready, 0u);
+    assert_int_equal(d->adapt_box.taken, DRIVE_BOX_DROPPED);
+    assert_memory_equal(&d->fobs, &before.fobs, sizeof d->fobs);
+    assert_memory_equal(&d->ifo, &before.ifo, sizeof d->ifo);
+    assert_memory_equal(&d->pi_id, &before.pi_id, sizeof d->pi_id);
+    assert_int_equal(d->seq.adapt_ready, 0u);
+    background(d);
+    assert_int_equal(d->adapt_bg.blending, 0u);
+    assert_int_equal(d->adapt_bg.pending, 0u);
+    assert_int_equal(d->adapt_box.ready, 0u);
+    assert_memory_equal(d->adapt_bg.cur, before.adapt_bg.cur, sizeof d->adapt_bg.cur);
+}
+
+/* Tracking.  The last pass's extraction in RUN: a blend whose first set
+ * restarts the tracker from the pass's 1/Tr and arms it, the tracker
+ * learning only after the last.  Then tracker updates (written by hand:
+ * the tracker's own RLS is estim_tr_track's; with no flux it holds):
+ *  - one update towards a Tr 30 % higher: the applied Tr moves by exactly
+ *    one step, Tr + Tr tr_rate (Q24: the product truncated), and this
+ *    first tracked set hands the frame to ifo (run_ifo; ifo's angle the
+ *    observer's);
+ *  - 10 updates at once: 10 steps, against the closed form Tr (1 +
+ *    rate)^10 in double within 10 LSB (one truncation per step);
+ *  - a target within one step: reached exactly;
+ *  - telemetry: Tr_track = 1/theta within 1 LSB + 1e-7 relative, Rr_track
+ *    = Lr theta, track_valid from 1000 updates on. */
+static void test_tracking(void **state)
+{
+    drive_t *d = &g_d;
+    drive_adapt_bg_t *g = &d->adapt_bg;
+    _iq tr0, tr1, target, theta;
+    double rate, want;
+    uint32_t k;
+    (void)state;
+
+    fresh(d, ID_RUN, 2u);
+    assert_int_equal(d->adapt.track_rr, 1u);
+    mail(d, d->fobs.rs, d->fobs.lm, g->cur[DRIVE_P_LR], _IQmpy(d->fobs.tr, _IQ(0.9)));
+    background(d);
+    assert_int_equal(d->adapt_box.set.flags, DRIVE_SET_BLENDING | DRIVE_SET_TRACK_START);
+    isr(d);
+    assert_int_equal(d->adapt.track_armed, 1u);
+    assert_int_equal(d->adapt.blending, 1u);
+    assert_true(fabs(to_d(d->track.theta) - 1.0 / (0.9 * to_d(g->cur[DRIVE_P_TR]))) <=
+                1e-3 / to_d(g->cur[DRIVE_P_TR]));
+    for (k = 0u; k < 400u && g->blending != 0u; k++) {
+        background(d);
+        isr(d);
+    }
+    background(d);
+    assert_int_equal(g->blending, 0u);
+    assert_int_equal(d->adapt.blending, 0u);
+    assert_int_equal(d->run_ifo, 0u);
+    assert_int_equal(d->track.n_updates, 0u);
+
+    /* one update towards Tr x 1.3 */
+    tr0 = g->cur[DRIVE_P_TR];
+    target = _IQmpy(tr0, _IQ(1.3));
+    theta = _IQdiv(_IQ(1.0), target);
+    d->track.theta = theta;
+    d->track.n_updates = 1u;
+    background(d);
+    assert_int_equal(d->adapt_box.set.flags, DRIVE_SET_ALIGN);
+    d->fobs.theta = _IQ(0.37);
+    d->fobs.psi_mag = _IQmpy(d->fobs.lm, _IQ(0.33));
+    isr(d);
+    tr1 = tr0 + _IQmpy(tr0, g->tr_rate);
+    assert_true(d->fobs.tr == _IQ(_IQtoF(tr1)));
+    assert_true(d->ifo.tr == d->fobs.tr);
+    assert_int_equal(d->run_ifo, 1u);
+    assert_int_equal(d->frame_ifo, 1u);
+    assert_true(d->ifo.theta == _IQ(0.37));
+    assert_true(fabs(to_d(d->ifo.imr) - 0.33) <= 1e-4);
+    assert_true(fabs(to_d(d->telemetry.Tr_track) - 1.0 / to_d(theta)) <=
+                LSB + 1e-7 * to_d(d->telemetry.Tr_track));
+    assert_true(fabs(to_d(d->telemetry.Rr_track) - to_d(g->lr) * to_d(theta)) <= LSB + 1e-7);
+    assert_int_equal(d->telemetry.track_valid, 0u);
+
+    /* ten at once */
+    background(d);   /* the answer */
+    d->track.n_updates = 11u;
+    background(d);
+    assert_int_equal(d->adapt_box.set.flags, 0u);   /* ifo has the frame already */
+    isr(d);
+    rate = to_d(g->tr_rate);
+    want = to_d(tr1) * pow(1.0 + rate, 10.0);
+    print_message("tracking: 10 updates, Tr %.7f want %.7f (%.2f LSB)\n",
+                  to_d(g->posted[DRIVE_P_TR]), want,
+                  LSB > 0.0 ? (to_d(g->posted[DRIVE_P_TR]) - want) / LSB : 0.0);
+    assert_true(fabs(to_d(g->posted[DRIVE_P_TR]) - want) <= 10.0 * LSB + 1e-6 * want);
+
+    /* within one step: exactly the target */
+    background(d);
+    theta = _IQdiv(_IQ(1.0), g->cur[DRIVE_P_TR] + _IQmpy(g->cur[DRIVE_P_TR], _IQ(1e-5)));
+    d->track.theta = theta;
+    d->track.n_updates = 1000u;
+    background(d);
+    assert_true(g->posted[DRIVE_P_TR] == _IQdiv(_IQ(1.0), theta));
+    assert_int_equal(d->telemetry.track_valid, 1u);
+    isr(d);
+
+    /* out of RUN: the tracker disarmed, the telemetry invalid, ifo hands back */
+    d->seq.state = ID_IDLE;
+    isr(d);
+    assert_int_equal(d->adapt.track_armed, 0u);
+    assert_int_equal(d->run_ifo, 0u);
+    background(d);
+    assert_int_equal(d->telemetry.track_valid, 0u);
+}
+
+/* drive_init sets the sequence's waits: the adaptive configuration holds
+ * the end of MAGNETIZE for the standstill set, every wait at most
+ * DRIVE_ADAPT_WAIT_S in slow samples; without the standstill test only
+ * REFINE waits. */
+static void test_waits_configured(void **state)
+{
+    drive_t *d = &g_d;
+    drive_config_t dc = g_dc;
+    (void)state;
+    const double ts_slow = (double)DRIVE_SLOTS / (double)g_dc.board.pwm_freq_Hz;
+    fresh(d, ID_IDLE, 1u);
+    assert_int_equal(d->seq.wait_magnetize, 1u);
+    /* round(0.5 s / Ts_slow) = 937.5 at 15 kHz: either neighbour */
+    assert_true(fabs((double)d->seq.wait_max_samples * ts_slow - (double)DRIVE_ADAPT_WAIT_S) <=
+                ts_slow);
+    dc.ident.standstill = 0u;
+    assert_int_equal(drive_init(d, &dc), DRIVE_CFG_OK);
+    assert_int_equal(d->seq.wait_magnetize, 0u);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_set_equals_init),
+        cmocka_unit_test(test_mailbox_whole_sets),
+        cmocka_unit_test(test_preemption),
+        cmocka_unit_test(test_standstill),
+        cmocka_unit_test(test_stale_dropped),
+        cmocka_unit_test(test_tracking),
+        cmocka_unit_test(test_waits_configured),
+    };
+    return cmocka_run_group_tests(tests, load, NULL);
+}
