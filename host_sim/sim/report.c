@@ -120,6 +120,12 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
     fprintf(f, "  \"max_abs_i_A\": %.6g,\n  \"max_speed_err_rpm_ramp\": %.6g,\n"
                "  \"max_flux_q_over_d\": %.6g,\n  \"final_speed_rpm\": %.6g,\n",
             r->max_abs_i_A, r->max_speed_err_rpm_ramp, r->max_flux_q_over_d, r->final_speed_rpm);
+    fprintf(f, "  \"max_true_phase_A\": %.6g,\n  \"max_true_leg_A\": %.6g,\n"
+               "  \"over_trip_s\": %.6g,\n  \"t_over_trip_first_s\": %.6g,\n"
+               "  \"t_over_trip_last_s\": %.6g,\n  \"hw_comparator_trips\": %u,\n"
+               "  \"t_hw_comparator_s\": %.7g,\n",
+            r->max_true_phase_A, r->max_true_leg_A, r->over_trip_s, r->t_over_trip_first_s,
+            r->t_over_trip_last_s, (unsigned)r->hw_trips, r->t_hw_trip_s);
     fprintf(f, "  \"v_err_along_i_V\": %.6g,\n  \"v_err_across_i_V\": %.6g,\n"
                "  \"i_mag_steady_A\": %.6g,\n",
             r->v_err_along_i_V, r->v_err_across_i_V, r->i_mag_steady_A);

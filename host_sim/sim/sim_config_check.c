@@ -97,6 +97,13 @@ static int check_world(const sim_config_t *c, char *err, size_t len)
                            0.95 * vmax_phase);
         return 1;
     }
+    if (inv->overcurrent_hw_A > 0.0 && !(inv->overcurrent_hw_A > c->controller.overcurrent_A)) {
+        sim_config_set_err(err, len, "key 'inverter.overcurrent_hw_A' = %g A is not above the "
+                           "firmware's trip controller.overcurrent_A = %g A (the comparator "
+                           "backs the firmware's protection up; 0: no comparator)",
+                           inv->overcurrent_hw_A, c->controller.overcurrent_A);
+        return 1;
+    }
     if (c->ident.magnetize_s < 5.0 * tr) {
         sim_config_set_err(err, len, "key 'ident.magnetize_s' = %g s is shorter than 5 Tr of the "
                            "simulated motor (plant) = %g s", c->ident.magnetize_s, 5.0 * tr);

@@ -267,6 +267,8 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     res->t_first_overmod_s = -1.0;
     res->t_last_overmod_s = -1.0;
     res->t_accel_start_s = -1.0;
+    res->t_over_trip_first_s = -1.0;
+    res->t_over_trip_last_s = -1.0;
     sim_config_to_drive(cfg, &dc);
     st = drive_init(&drive, &dc);
     if (st != DRIVE_CFG_OK) {
@@ -346,6 +348,9 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
         }
         for (i = 0; i < opt->n_cmds; i++) {
             if (!cmd_given[i] && t >= opt->cmds[i].t_s) {
+                if (opt->cmds[i].cmd == DRIVE_CMD_RESET_FAULT) {
+                    (void)hal_host_clear_trip(&port);   /* the board's latch first (main.c) */
+                }
                 drive_command(&drive, (drive_cmd_t)opt->cmds[i].cmd);
                 cmd_given[i] = 1u;
             }
@@ -398,6 +403,13 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
             psi_q = pq;
             if (imax > res->max_abs_i_A) {
                 res->max_abs_i_A = imax;
+            }
+            if (imax > cfg->controller.overcurrent_A) {
+                if (res->t_over_trip_first_s < 0.0) {
+                    res->t_over_trip_first_s = t;
+                }
+                res->t_over_trip_last_s = t;
+                res->over_trip_s += Ts;
             }
             if (state == ID_ACCELERATE && prev_state != ID_ACCELERATE && res->t_accel_start_s < 0.0) {
                 res->t_accel_start_s = t;
@@ -513,6 +525,9 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
         /* one PWM period: the compare values written by the previous ISR are
          * loaded at this underflow; the output enable acts at once */
         plant_period(&plant, &active, port.outputs_enabled);
+        if (plant.hw_fired != 0u) {
+            hal_host_pdpinta_pulse(&port);   /* the bridge's comparator pulled PDPINTA */
+        }
         active = port.cmp;
     }
     if (!opt->quiet && duration > 5.0) {
@@ -525,6 +540,10 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
         res->i_mag_steady_A /= (double)res->n_v_err;
     }
     res->final_speed_rpm = plant.motor.n_rpm;
+    res->max_true_phase_A = plant.i_phase_peak_A;
+    res->max_true_leg_A = plant.i_leg_peak_A;
+    res->hw_trips = plant.hw_trips;
+    res->t_hw_trip_s = plant.t_hw_first_s;
     res->final_state = drive.telemetry.state;
     res->final_fault = drive.telemetry.fault;
     res->final_pwm_on = port.outputs_enabled;

@@ -96,6 +96,16 @@ typedef struct {
     sim_params_t published_end_error_pct;   /* against the truth at the start of RUN */
     uint16_t params_tracked;        /* the end set carries the tracked values */
     uint16_t published_changed;     /* a published value changed after that */
+    /* the TRUE currents (the motor's and the bridge legs', not the sensors'):
+     * what a protection must bound whatever the measurements say */
+    double max_true_phase_A;        /* largest |motor phase current| at any period end or
+                                       comparator trip instant */
+    double max_true_leg_A;          /* the same for the legs (with an a-b short's current) */
+    double over_trip_s;             /* time the true phase current spent above
+                                       controller.overcurrent_A (sample instants) */
+    double t_over_trip_first_s, t_over_trip_last_s;   /* -1: never above */
+    uint32_t hw_trips;              /* the bridge's comparator turned the outputs off */
+    double t_hw_trip_s;             /* its first trip (-1: never) */
     double max_cur_check_pu;        /* largest filtered current-tracking error */
     double t_max_cur_check_s;       /* when */
     /* soak figures: control-path flags, counted in samples after the
