@@ -67,7 +67,8 @@ static const char *fault_name(uint16_t code)
     static const char *const names[] = {"none", "overcurrent", "bus_overvoltage",
                                         "bus_undervoltage", "encoder", "current_offset",
                                         "adc_rail", "hw_trip", "config",
-                                        "current_sensor"};
+                                        "current_sensor", "isr_overrun", "sensor_test",
+                                        "stall"};
     return (code < sizeof names / sizeof names[0]) ? names[code] : "unknown";
 }
 
@@ -123,9 +124,14 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
     fprintf(f, "  \"max_true_phase_A\": %.6g,\n  \"max_true_leg_A\": %.6g,\n"
                "  \"over_trip_s\": %.6g,\n  \"t_over_trip_first_s\": %.6g,\n"
                "  \"t_over_trip_last_s\": %.6g,\n  \"hw_comparator_trips\": %u,\n"
-               "  \"t_hw_comparator_s\": %.7g,\n",
+               "  \"t_hw_comparator_s\": %.7g,\n"
+               "  \"max_cmc_r_A\": %.6g,\n  \"t_max_cmc_r_s\": %.6g,\n"
+               "  \"max_cmc_neg\": %.6g,\n  \"t_max_cmc_neg_s\": %.6g,\n"
+               "  \"max_cmc_dc_A\": %.6g,\n  \"t_max_cmc_dc_s\": %.6g,\n",
             r->max_true_phase_A, r->max_true_leg_A, r->over_trip_s, r->t_over_trip_first_s,
-            r->t_over_trip_last_s, (unsigned)r->hw_trips, r->t_hw_trip_s);
+            r->t_over_trip_last_s, (unsigned)r->hw_trips, r->t_hw_trip_s, r->max_cmc_r_A,
+            r->t_max_cmc_r_s, r->max_cmc_neg, r->t_max_cmc_neg_s, r->max_cmc_dc_A,
+            r->t_max_cmc_dc_s);
     fprintf(f, "  \"v_err_along_i_V\": %.6g,\n  \"v_err_across_i_V\": %.6g,\n"
                "  \"i_mag_steady_A\": %.6g,\n",
             r->v_err_along_i_V, r->v_err_across_i_V, r->i_mag_steady_A);

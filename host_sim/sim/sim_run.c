@@ -102,9 +102,36 @@ static void live_extremes(const base_values_t *b, const param_extract_t *p,
 static void observe_protection(const drive_t *d, sim_result_t *r, double t)
 {
     double e = (double)_IQtoF(d->cur_chk.e_f);
+    const current_model_check_t *m = &d->safety.cmc;
+    double sls = (double)_IQtoF(m->sigma_ls), rs = (double)_IQtoF(m->rs);
     if (e > r->max_cur_check_pu) {
         r->max_cur_check_pu = e;
         r->t_max_cur_check_s = t;
+    }
+    if (sls > 0.0 && d->slot == 1u) {   /* right after the SPEED slot's step */
+        double ib = d->base.I_base_A;
+        double rr = sqrt((double)_IQtoF(m->r2)) / sls * ib;
+        double ia = (double)_IQtoF(m->i_alpha), ibt = (double)_IQtoF(m->i_beta);
+        double imag = sqrt(ia * ia + ibt * ibt);
+        if (rr > r->max_cmc_r_A) {
+            r->max_cmc_r_A = rr;
+            r->t_max_cmc_r_s = t;
+        }
+        if (m->at_speed >= m->seq_settle && imag > 0.05) {
+            double neg = sqrt((double)_IQtoF(m->neg2)) / sls / imag;
+            if (neg > r->max_cmc_neg) {
+                r->max_cmc_neg = neg;
+                r->t_max_cmc_neg_s = t;
+            }
+            if (rs > 0.0) {
+                /* d_max_tau / d_max = tau_r (pu time) */
+                double dc = sqrt((double)_IQtoF(m->dc2)) / (rs * d->safety.tau_r_pu) * ib;
+                if (dc > r->max_cmc_dc_A) {
+                    r->max_cmc_dc_A = dc;
+                    r->t_max_cmc_dc_s = t;
+                }
+            }
+        }
     }
 }
 

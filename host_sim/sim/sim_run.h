@@ -107,6 +107,12 @@ typedef struct {
     uint32_t hw_trips;              /* the bridge's comparator turned the outputs off */
     double t_hw_trip_s;             /* its first trip (-1: never) */
     double max_cur_check_pu;        /* largest filtered current-tracking error */
+    /* the model check (current_model_check.h), in the units of its levels:
+     * |r| / sigma Ls (A), the negative sequence per unit of |i|, the DC part
+     * / (Rs tau_r) (A: the offset it stands for); largest values and when */
+    double max_cmc_r_A, t_max_cmc_r_s;
+    double max_cmc_neg, t_max_cmc_neg_s;
+    double max_cmc_dc_A, t_max_cmc_dc_s;
     double t_max_cur_check_s;       /* when */
     /* soak figures: control-path flags, counted in samples after the
      * magnetisation, and the estimator's counters at the end */

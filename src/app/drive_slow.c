@@ -21,6 +21,7 @@
 #include "drive_internal.h"
 
 #include "drive_adapt.h"
+#include "drive_safety.h"
 
 /* Hand the last good theta and the filtered i_M to the background
  * (drive_background.c): data first, the ready flag last. */
@@ -118,6 +119,7 @@ static void task_speed(drive_t *d)
     d->enc_chk.count = d->qep.count;
     d->enc_chk.i_t = d->park.qs;
     encoder_check_frozen(&d->enc_chk);
+    drive_safety_slow(d);   /* currents against the model, locked rotor (drive_safety.c) */
     /* the encoder's speeds right before the speed loop uses them (every
      * sample of delay in its feedback costs phase at a reversal) */
     qep_speed_update(&d->qep);
