@@ -55,6 +55,9 @@ typedef struct {
     uint16_t params_tracked; /* 1: the published Rs is the standstill one and Rr, Tr the tracked
                                 ones (each background pass while track_valid); Lm, Lr, psi_r
                                 stay the RLS's */
+    uint16_t params_withdrawn;   /* published sets withdrawn because a fault latched within
+                                    the guard's window after them (publish_guard.h) */
+    uint16_t withdraw_reason;    /* the fault code of the last withdrawal (0: none) */
 } drive_telemetry_t;
 
 /** drive_init results: 0 or the first configuration field found bad. */

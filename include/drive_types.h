@@ -14,6 +14,7 @@
 #include "clarke.h"
 #include "current_check.h"
 #include "current_model_check.h"
+#include "publish_guard.h"
 #include "sensor_test.h"
 #include "stall_check.h"
 #include "dc_bus.h"
@@ -116,6 +117,8 @@ typedef struct {
     current_model_check_t cmc;   /* measured currents against the model -> FAULT_CURRENT_SENSOR */
     sensor_test_t stest;         /* pulse test in CALIBRATE -> FAULT_SENSOR_TEST */
     stall_check_t stall;         /* count step -> FAULT_ENCODER; locked rotor -> FAULT_STALL */
+    publish_guard_t pguard;      /* background: a set published while a fault developed is
+                                    withdrawn */
     _iq rs;                      /* Q24 pu: the nameplate's Rs (the model in orientation 0) */
     float tau_r_pu;              /* the model check's memory, pu time (diagnostic, host) */
     _iq k_allow;                 /* Q24: tau_r alpha_max Ts_slow (pu), the back-EMF allowance

@@ -127,11 +127,17 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
                "  \"t_hw_comparator_s\": %.7g,\n"
                "  \"max_cmc_r_A\": %.6g,\n  \"t_max_cmc_r_s\": %.6g,\n"
                "  \"max_cmc_neg\": %.6g,\n  \"t_max_cmc_neg_s\": %.6g,\n"
-               "  \"max_cmc_dc_A\": %.6g,\n  \"t_max_cmc_dc_s\": %.6g,\n",
+               "  \"max_cmc_dc_A\": %.6g,\n  \"t_max_cmc_dc_s\": %.6g,\n"
+               "  \"max_cmc_util_r\": %.6g,\n  \"max_cmc_util_neg\": %.6g,\n"
+               "  \"max_cmc_util_dc\": %.6g,\n"
+               "  \"params_withdrawn\": %u,\n  \"withdraw_reason\": %u,\n"
+               "  \"max_pub_err_after_fault_pct\": %.6g,\n",
             r->max_true_phase_A, r->max_true_leg_A, r->over_trip_s, r->t_over_trip_first_s,
             r->t_over_trip_last_s, (unsigned)r->hw_trips, r->t_hw_trip_s, r->max_cmc_r_A,
             r->t_max_cmc_r_s, r->max_cmc_neg, r->t_max_cmc_neg_s, r->max_cmc_dc_A,
-            r->t_max_cmc_dc_s);
+            r->t_max_cmc_dc_s, r->max_cmc_util_r, r->max_cmc_util_neg, r->max_cmc_util_dc,
+            r->params_withdrawn, r->withdraw_reason,
+            r->max_pub_err_after_fault_pct);
     fprintf(f, "  \"v_err_along_i_V\": %.6g,\n  \"v_err_across_i_V\": %.6g,\n"
                "  \"i_mag_steady_A\": %.6g,\n",
             r->v_err_along_i_V, r->v_err_across_i_V, r->i_mag_steady_A);

@@ -117,6 +117,28 @@ static void observe_protection(const drive_t *d, sim_result_t *r, double t)
             r->max_cmc_r_A = rr;
             r->t_max_cmc_r_s = t;
         }
+        {
+            double thr = (double)_IQtoF(m->sigma_ls) * (double)_IQtoF(m->r_max) +
+                         (double)_IQtoF(m->r_allow);
+            double u = sqrt((double)_IQtoF(m->r2)) / thr;
+            if (m->active != 0u && u > r->max_cmc_util_r) {
+                r->max_cmc_util_r = u;
+            }
+        }
+        if (m->at_speed >= m->seq_settle) {
+            double leak = (double)CMC_LEAK * (fabs((double)_IQtoF(m->pos_d)) + fabs((double)_IQtoF(m->pos_q)));
+            double kn = fmin(sls * (double)_IQtoF(m->k_neg), 1.0);
+            double nthr = sqrt(kn * kn * imag * imag + leak * leak);
+            double dthr = rs * (double)_IQtoF(m->d_max_tau) + leak;
+            double un = sqrt((double)_IQtoF(m->neg2)) / nthr;
+            double ud = sqrt((double)_IQtoF(m->dc2)) / dthr;
+            if (un > r->max_cmc_util_neg) {
+                r->max_cmc_util_neg = un;
+            }
+            if (ud > r->max_cmc_util_dc) {
+                r->max_cmc_util_dc = ud;
+            }
+        }
         if (m->at_speed >= m->seq_settle && imag > 0.05) {
             double neg = sqrt((double)_IQtoF(m->neg2)) / sls / imag;
             if (neg > r->max_cmc_neg) {
@@ -296,6 +318,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     res->t_accel_start_s = -1.0;
     res->t_over_trip_first_s = -1.0;
     res->t_over_trip_last_s = -1.0;
+    res->max_pub_err_after_fault_pct = -1.0;
     sim_config_to_drive(cfg, &dc);
     st = drive_init(&drive, &dc);
     if (st != DRIVE_CFG_OK) {
@@ -414,6 +437,17 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
             }
             if (drive.live.valid != 0u) {
                 live_extremes(b, &drive.live, &res->truth, res);
+            }
+            if (res->n_faults_seen > 0u && t >= res->fault_time_s[0] + 0.002) {
+                double w = fabs(pct(pub.Rs_ohm, res->truth.Rs_ohm));
+                w = fmax(w, fabs(pct(pub.Rr_ohm, res->truth.Rr_ohm)));
+                w = fmax(w, fabs(pct(pub.Lm_H, res->truth.Lm_H)));
+                w = fmax(w, fabs(pct(pub.Lr_H, res->truth.Lr_H)));
+                w = fmax(w, fabs(pct(pub.Tr_s, res->truth.Tr_s)));
+                if (res->truth.psi_r_Wb > 0.0) {
+                    w = fmax(w, fabs(pct(pub.psi_r_Wb, res->truth.psi_r_Wb)));
+                }
+                res->max_pub_err_after_fault_pct = fmax(res->max_pub_err_after_fault_pct, w);
             }
         }
 
@@ -580,6 +614,8 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     res->theta_rejects = drive.guard.reject_count;
     res->publish_rejects = drive.telemetry.publish_rejects;
     res->identified = drive.telemetry.params_valid;
+    res->params_withdrawn = drive.telemetry.params_withdrawn;
+    res->withdraw_reason = drive.telemetry.withdraw_reason;
     res->final_pass = drive.telemetry.pass;
     res->Rs_dc_ohm = (double)_IQtoF(drive.telemetry.Rs_dc) * b->Z_base_ohm;
     drift_figures(&drift, res);

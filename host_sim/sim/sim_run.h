@@ -95,6 +95,11 @@ typedef struct {
                                        tracking, Rs standstill, Rr and Tr tracked) */
     sim_params_t published_end_error_pct;   /* against the truth at the start of RUN */
     uint16_t params_tracked;        /* the end set carries the tracked values */
+    uint16_t params_withdrawn;      /* sets the publish guard withdrew (publish_guard.h) */
+    uint16_t withdraw_reason;       /* the fault code of the last withdrawal */
+    double max_pub_err_after_fault_pct;  /* the worst |error| of any published parameter
+                                       (psi_r once its truth is known) from 2 ms after the
+                                       first fault on (-1: nothing published then) */
     uint16_t published_changed;     /* a published value changed after that */
     /* the TRUE currents (the motor's and the bridge legs', not the sensors'):
      * what a protection must bound whatever the measurements say */
@@ -113,6 +118,10 @@ typedef struct {
     double max_cmc_r_A, t_max_cmc_r_s;
     double max_cmc_neg, t_max_cmc_neg_s;
     double max_cmc_dc_A, t_max_cmc_dc_s;
+    /* each test's value over its level (the level with its allowances and
+     * leak terms, as the firmware forms it), largest while the test is armed:
+     * the healthy margin is 1 / this */
+    double max_cmc_util_r, max_cmc_util_neg, max_cmc_util_dc;
     double t_max_cur_check_s;       /* when */
     /* soak figures: control-path flags, counted in samples after the
      * magnetisation, and the estimator's counters at the end */

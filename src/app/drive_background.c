@@ -164,6 +164,7 @@ void drive_background(drive_t *d)
         d->live_snap.ready = 0u;
     }
     publish_tracked(d);
+    drive_safety_background(d);   /* nothing learned while a fault developed stays published */
 }
 
 void drive_command(drive_t *d, drive_cmd_t cmd) { d->pending_cmd = cmd; }

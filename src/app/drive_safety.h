@@ -49,4 +49,8 @@ void drive_safety_slow(drive_t *d);
  *  trips again once the drive runs). */
 void drive_safety_reset(drive_t *d);
 
+/** Background, last in each pass: the publish guard (publish_guard.h) on
+ *  the telemetry's published set. */
+void drive_safety_background(drive_t *d);
+
 #endif /* DRIVE_SAFETY_H */
