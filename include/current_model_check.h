@@ -34,7 +34,13 @@
  * each with its own cause bit, all reported as one fault (the current
  * measurement is not to be believed):
  *
- *   MISMATCH   |r| > sigma Ls r_max + r_allow          every slow step
+ *   MISMATCH   |r| > sigma Ls r_max + r_allow + r_allow_emf, every slow
+ *              step; and, at speed (the sequence tests armed), the part of
+ *              r the positive sequence's low-pass has not followed,
+ *              |r - pos| > sigma Ls r_max + r_allow: a sensor that fails is
+ *              a step, a model error of the back-EMF a slow fundamental,
+ *              so the allowance for the latter (the caller's r_allow_emf)
+ *              needs not blunt the test of the former
  *   (the sequence tests first take off the positive sequence, the
  *   fundamental, r e^{-j theta} low-passed and turned back: a model error
  *   is positive sequence, and what the low-passes let through of it is
@@ -124,9 +130,13 @@ typedef struct {
     _iq sin_t, cos_t;         /* Q24: the frame (fundamental) angle at this sample */
     _iq ws;                   /* Q24 pu of w_base: the frame's speed */
     uint16_t active;          /* 1: the check may trip (0: re-armed, state cleared) */
-    _iq r_allow;              /* Q24 pu flux: added to the MISMATCH level (>= 0, < 4): what
-                                 the caller cannot rule out (drive_safety.c: the back-EMF a
-                                 rotor may have gained while the encoder shows no motion) */
+    _iq r_allow;              /* Q24 pu flux: added to the MISMATCH level (>= 0, at most 2):
+                                 what the caller cannot rule out (drive_safety.c: the
+                                 back-EMF a rotor may have gained while the encoder shows no
+                                 motion) */
+    _iq r_allow_emf;          /* Q24 pu flux: added too (>= 0, at most 2), but only to the
+                                 test of |r|, not of the part the positive sequence has not
+                                 followed: the model's back-EMF error (slow, fundamental) */
     /* parameters (current_model_check_init) */
     _iq ts;                   /* Q24 pu time: one PWM period */
     _iq lambda;               /* Q24: exp(-Ts_slow / tau_r) */
@@ -143,6 +153,7 @@ typedef struct {
     _iq neg_alpha, neg_beta;  /* Q24 pu flux: negative-sequence part of r, low-passed */
     _iq dc_alpha, dc_beta;    /* Q24 pu flux: DC part of r, low-passed */
     _iq r2, neg2, dc2;        /* Q24 pu^2: |r|^2, |neg|^2, |dc|^2 (diagnostic) */
+    _iq q2;                   /* Q24 pu^2: |r - pos|^2, the fast MISMATCH's (at speed) */
     uint16_t fault;           /* 1 once tripped, until current_model_check_reset */
     uint16_t cause;           /* CMC_x bits */
     uint16_t sat;             /* r reached its bound (counts, saturating) */

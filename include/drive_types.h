@@ -126,6 +126,7 @@ typedef struct {
     uint16_t allow_n_max;        /* the frozen count is taken at most this (k_allow n <= 2) */
     _iq k_emf;                   /* Q24: k_emf tau_r (pu time): the allowance for the model's
                                     back-EMF error per pu of |w_s| |psi_e| */
+    _iq k_emf_ident;             /* Q24: the same once the model is identified (pass >= 2) */
 } drive_safety_t;
 
 struct drive {

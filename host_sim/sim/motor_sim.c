@@ -3,6 +3,7 @@
  * simulated induction motor, inverter and sensors; runs the identification
  * and reports what it found.  See `motor_sim --help`.
  */
+#include <ctype.h>
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -35,7 +36,9 @@ static void usage(FILE *f)
             "  --duration S       simulated seconds (default: long enough for the scenario)\n"
             "  --out DIR          write DIR/trace.csv and DIR/report.json (DIR and its parents\n"
             "                     are created if missing)\n"
-            "  --fault NAME@T     inject at T seconds: hall_gain (=rel. error, default 0.2),\n"
+            "  --fault NAME@T     inject at T seconds (or @STATE[+T]: T seconds after the\n"
+            "                     sequence enters calibrate, magnetize, accelerate, settle, run\n"
+            "                     or refine): hall_gain (=rel. error, default 0.2),\n"
             "                     hall_lost (phase b reads 0 A), bus_sag (=rel. drop, default\n"
             "                     0.5), overvoltage (=rel. rise, default 0.5), encoder_lost\n"
             "                     (T2 frozen), encoder_jump (=counts, default 100), short\n"
@@ -109,6 +112,40 @@ static int parse_cmd(const char *arg, sim_cmd_t *c)
     return -1;
 }
 
+/* The time of a --fault: SECONDS from the start, or STATE[+SECONDS] after
+ * the sequence first enters that state (calibrate, magnetize, accelerate,
+ * settle, run, refine; any case). */
+static int parse_when(const char *s, sim_fault_t *f)
+{
+    static const char *const states[] = {"calibrate", "magnetize", "accelerate", "settle",
+                                         "run", "fault", "refine"};
+    char name[16];
+    const char *plus = strchr(s, '+');
+    size_t n = (plus != NULL) ? (size_t)(plus - s) : strlen(s);
+    unsigned i;
+    if (n > 0u && isalpha((unsigned char)s[0])) {
+        if (n >= sizeof name) {
+            return -1;
+        }
+        for (i = 0; i < n; i++) {
+            name[i] = (char)tolower((unsigned char)s[i]);
+        }
+        name[n] = '\0';
+        f->t_s = 0.0;
+        for (i = 0; i < sizeof states / sizeof states[0]; i++) {
+            if (strcmp(name, states[i]) == 0 && strcmp(name, "fault") != 0) {
+                f->at_state = (uint16_t)(i + 1u);   /* id_state_t: CALIBRATE = 1 */
+                return (plus == NULL || (parse_double(plus + 1, &f->t_s) == 0 &&
+                                         f->t_s >= 0.0 && f->t_s <= 1e6))
+                           ? 0
+                           : -1;
+            }
+        }
+        return -1;
+    }
+    return (parse_double(s, &f->t_s) == 0 && f->t_s >= 0.0 && f->t_s <= 1e6) ? 0 : -1;
+}
+
 static int parse_fault(const char *arg, sim_fault_t *f)
 {
     static const struct { const char *name; plant_fault_t kind; double def; } k[] = {
@@ -140,7 +177,8 @@ static int parse_fault(const char *arg, sim_fault_t *f)
         if (strcmp(buf, k[i].name) == 0) {
             f->kind = k[i].kind;
             f->value = k[i].def;
-            if (parse_double(at + 1, &f->t_s) != 0 || !(f->t_s >= 0.0) || f->t_s > 1e6) {
+            f->at_state = 0u;
+            if (parse_when(at + 1, f) != 0) {
                 return -1;
             }
             /* written so that a NaN fails too */
@@ -241,7 +279,7 @@ int main(int argc, char **argv)
             i++;
         } else if (strcmp(a, "--fault") == 0) {
             if (opt.n_faults >= SIM_MAX_FAULTS || parse_fault(v, &opt.faults[opt.n_faults]) != 0) {
-                fprintf(stderr, "motor_sim: bad --fault '%s' (NAME@SECONDS[=VALUE], at most %d)\n",
+                fprintf(stderr, "motor_sim: bad --fault '%s' (NAME@SECONDS[=VALUE] or NAME@STATE[+SECONDS][=VALUE], at most %d)\n",
                         v, SIM_MAX_FAULTS);
                 return 1;
             }

@@ -319,6 +319,12 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     res->t_over_trip_first_s = -1.0;
     res->t_over_trip_last_s = -1.0;
     res->max_pub_err_after_fault_pct = -1.0;
+    for (k = 0; k < SIM_MAX_FAULTS; k++) {
+        res->t_injected_s[k] = -1.0;
+    }
+    for (k = 0; k < SIM_STATES; k++) {
+        res->t_state_s[k] = -1.0;
+    }
     sim_config_to_drive(cfg, &dc);
     st = drive_init(&drive, &dc);
     if (st != DRIVE_CFG_OK) {
@@ -391,9 +397,15 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
         unsigned i;
 
         for (i = 0; i < opt->n_faults; i++) {
-            if (!fault_applied[i] && t >= opt->faults[i].t_s) {
-                plant_inject(&plant, opt->faults[i].kind, opt->faults[i].value);
+            const sim_fault_t *f = &opt->faults[i];
+            const double t0 = (f->at_state == 0u)
+                                  ? 0.0
+                                  : ((f->at_state < SIM_STATES) ? res->t_state_s[f->at_state]
+                                                                : -1.0);
+            if (!fault_applied[i] && t0 >= 0.0 && t >= t0 + f->t_s) {
+                plant_inject(&plant, f->kind, f->value);
                 fault_applied[i] = 1u;
+                res->t_injected_s[i] = t;
             }
         }
         for (i = 0; i < opt->n_cmds; i++) {
@@ -471,6 +483,9 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                 }
                 res->t_over_trip_last_s = t;
                 res->over_trip_s += Ts;
+            }
+            if (state < SIM_STATES && res->t_state_s[state] < 0.0) {
+                res->t_state_s[state] = t;
             }
             if (state == ID_ACCELERATE && prev_state != ID_ACCELERATE && res->t_accel_start_s < 0.0) {
                 res->t_accel_start_s = t;
@@ -577,6 +592,11 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                                                         : 0.0;
                 scen_done = (t >= t_run + 1.5);
             }
+        }
+        if (opt->stop_after_fault_s > 0.0 && res->n_faults_seen > 0u &&
+            t >= res->fault_time_s[0] + opt->stop_after_fault_s) {
+            res->duration_s = t;   /* ended after the fault (sim_options_t.stop_after_fault_s) */
+            break;
         }
         if (!opt->quiet && duration > 5.0 && (k % (uint64_t)cfg->board.pwm_freq_Hz) == 0u &&
             k > 0) {

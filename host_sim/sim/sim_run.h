@@ -17,6 +17,8 @@
 
 #define SIM_MAX_CMDS 8
 
+#define SIM_STATES 8   /* id_state_t: IDLE .. REFINE */
+
 /* SCEN_SOAK: after the identification, repeated speed reversals
  * (+-target every 4 s) and load steps (+50 % of the rated load for 1 s,
  * 2 s after each reversal): the long-run test of issue 6.
@@ -35,8 +37,10 @@ typedef struct {
 
 typedef struct {
     plant_fault_t kind;
-    double t_s;
+    double t_s;        /* when: seconds from the start, or after the state's first entry */
     double value;
+    uint16_t at_state; /* 0 (ID_IDLE): t_s is absolute; another id_state_t: t_s after the
+                          sequence first enters that state (the drive's telemetry) */
 } sim_fault_t;
 
 typedef struct {
@@ -54,6 +58,7 @@ typedef struct {
      * button), and a hook run after each drive_background (1 kHz) with the
      * ISRs run so far and the time; a non-zero return ends the run there */
     uint16_t no_autostart;
+    double stop_after_fault_s;   /* > 0: the run ends this long after the first fault latched */
     int (*background_hook)(void *ctx, drive_t *d, uint64_t isr_count, double t_s);
     void *hook_ctx;
 } sim_options_t;
@@ -84,6 +89,8 @@ typedef struct {
     uint16_t n_faults_seen;
     uint16_t fault_code[SIM_MAX_FAULTS];
     double fault_time_s[SIM_MAX_FAULTS];
+    double t_injected_s[SIM_MAX_FAULTS];   /* when each --fault was applied (-1: never) */
+    double t_state_s[SIM_STATES];   /* the sequence's first entry into each id_state_t (-1) */
     /* protection figures (issue 6) */
     double t_fault_visible_s;       /* first sample an injected fault reached the ADC/QEP
                                        (-1: none) */

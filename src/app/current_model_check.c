@@ -40,7 +40,7 @@ static void clear_state(current_model_check_t *c)
     c->neg_alpha = c->neg_beta = _IQ(0.0);
     c->dc_alpha = c->dc_beta = _IQ(0.0);
     c->pos_d = c->pos_q = _IQ(0.0);
-    c->r2 = c->neg2 = c->dc2 = _IQ(0.0);
+    c->r2 = c->neg2 = c->dc2 = c->q2 = _IQ(0.0);
     c->primed = 0u;
     c->at_speed = 0u;
 }
@@ -109,11 +109,16 @@ void current_model_check_step(current_model_check_t *c)
         c->r_alpha = r_a;
         c->r_beta = r_b;
         c->r2 = _IQmpy(r_a, r_a) + _IQmpy(r_b, r_b);            /* < 32 */
-        /* thr^2 < 64 */
-        thr = _IQmpy(sls, c->r_max) + _IQsat(c->r_allow, _IQ(4.0), _IQ(0.0));   /* < 8 */
-        if (c->r2 > _IQmpy(thr, thr)) {
-            c->fault = 1u;
-            c->cause |= CMC_MISMATCH;
+        /* the level with what the caller cannot rule out: the fast test's
+         * (< 4 + 2) and, for |r| itself, the model's back-EMF error (< 2 more;
+         * the square < 64) */
+        thr = _IQmpy(sls, c->r_max) + _IQsat(c->r_allow, _IQ(2.0), _IQ(0.0));
+        {
+            const _iq thr_all = thr + _IQsat(c->r_allow_emf, _IQ(2.0), _IQ(0.0));
+            if (c->r2 > _IQmpy(thr_all, thr_all)) {
+                c->fault = 1u;
+                c->cause |= CMC_MISMATCH;
+            }
         }
         /* the sequence components, while the frame turns fast enough for
          * the low-passes to separate DC, w_e and 2 w_e */
@@ -131,6 +136,20 @@ void current_model_check_step(current_model_check_t *c)
             c->pos_q = low_pass(c->pos_q, y_b, c->k_seq);
             q_a = r_a - (_IQmpy(c->pos_d, cs) - _IQmpy(c->pos_q, sn));    /* |.| < 12 */
             q_b = r_b - (_IQmpy(c->pos_d, sn) + _IQmpy(c->pos_q, cs));
+            if (c->at_speed >= c->seq_settle) {
+                /* MISMATCH on what the positive sequence's phasor has not
+                 * followed (it lags by tau_seq): a model error of the
+                 * back-EMF is a slow positive sequence, a sensor that fails
+                 * is a step; so without r_allow_emf (|q| saturated to 4
+                 * first: the square < 32, the level's < 36) */
+                const _iq qa = _IQsat(q_a, _IQ(4.0), _IQ(-4.0));
+                const _iq qb = _IQsat(q_b, _IQ(4.0), _IQ(-4.0));
+                c->q2 = _IQmpy(qa, qa) + _IQmpy(qb, qb);
+                if (c->q2 > _IQmpy(thr, thr)) {
+                    c->fault = 1u;
+                    c->cause |= CMC_MISMATCH;
+                }
+            }
             /* (r - pos) e^{+j theta}: the negative sequence at DC */
             x_a = _IQmpy(q_a, cs) - _IQmpy(q_b, sn);
             x_b = _IQmpy(q_a, sn) + _IQmpy(q_b, cs);

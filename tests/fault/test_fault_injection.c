@@ -64,6 +64,7 @@ static void check_case(const fault_case_t *c, double t_fault)
     sim_fault_t f;
     double Ts, delay;
     f.kind = c->kind;
+    f.at_state = 0u;   /* t_s from the start */
     f.t_s = t_fault;
     f.value = c->value;
     assert_int_equal(fault_run(PAPER, &f, 1u, NULL, 0u, FAULT_RUN_S, &cfg, &r), 0);
@@ -128,7 +129,7 @@ static void test_offset_at_calibration(void **state)
 {
     sim_config_t cfg;
     sim_result_t r;
-    sim_fault_t f = {PLANT_FAULT_CURRENT_OFFSET, 0.0, 0.1};
+    sim_fault_t f = {PLANT_FAULT_CURRENT_OFFSET, 0.0, 0.1, 0u};
     (void)state;
     assert_int_equal(fault_run(PAPER, &f, 1u, NULL, 0u, FAULT_RUN_S, &cfg, &r), 0);
     print_message("offset 10 %% FS at start: code %u at %.4f s\n", r.fault_code[0],
@@ -159,7 +160,7 @@ static void test_gain_error_after_publication(void **state)
 {
     sim_config_t cfg;
     sim_result_t r;
-    sim_fault_t f = {PLANT_FAULT_HALL_GAIN, FAULT_T_AFTER, 0.2};
+    sim_fault_t f = {PLANT_FAULT_HALL_GAIN, FAULT_T_AFTER, 0.2, 0u};
     (void)state;
     assert_int_equal(fault_run(PAPER, &f, 1u, NULL, 0u, FAULT_RUN_S, &cfg, &r), 0);
     print_message("gain error 20 %% at 2 s: faults %u (code %u at %.4f s), max true |i| %.2f A, "
