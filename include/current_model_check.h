@@ -156,13 +156,13 @@ typedef struct {
     _iq q2;                   /* Q24 pu^2: |r - pos|^2, the fast MISMATCH's (at speed) */
     uint16_t fault;           /* 1 once tripped, until current_model_check_reset */
     uint16_t cause;           /* CMC_x bits */
-    uint16_t sat;             /* r reached its bound (counts, saturating) */
     /* state */
     _iq su_alpha, su_beta;    /* Q24 pu: the window's voltage sum */
     uint16_t n;               /* periods summed */
     uint16_t n_off;           /* periods of the window with the bridge off */
     uint16_t primed;          /* the previous sample below is valid */
     uint16_t at_speed;        /* slow steps with |w_s| > ws_min, saturating at seq_settle */
+    uint16_t phase;           /* the sequence tests' half of this call (0, 1) */
     _iq i_alpha_prev, i_beta_prev, psi_alpha_prev, psi_beta_prev;
 } current_model_check_t;
 

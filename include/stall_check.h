@@ -40,8 +40,8 @@
  *    on a rotor slower than w_min (in the residual's ~tau_r memory) reads
  *    as a stall; the safe state is the same (PWM off).
  *
- * Cost on the C28x: the count step ~12 cycles per period and per slow
- * step; the decision (5 multiplies, once per frozen trip) ~50 cycles.
+ * Cost on the C28x: the count step ~60 cycles per slow step; the decision
+ * (5 multiplies, once per frozen trip) ~80 cycles.
  *
  * Scaling and overflow: count differences are int32_t (|d| <= 32768, so
  * every difference and |d|/4 stay below 2^17); r_M, r_T below 8 pu flux
@@ -70,8 +70,6 @@ typedef struct {
     _iq cross;             /* Q24: the decision's c at the last frozen trip (diagnostic) */
     _iq cross_min;         /* Q24: its threshold there */
     /* state */
-    int32_t d1_prev;       /* the last period's count difference */
-    uint16_t primed;       /* d1_prev is valid */
     uint16_t w_count;      /* T2CNT at the last window step */
     int32_t dw_prev;       /* the last window's count difference */
     int32_t dw_prev2;      /* the one before (a stop inside a window spreads over two) */
@@ -89,17 +87,6 @@ static inline uint16_t stall_check_implausible(const stall_check_t *s, int32_t d
     const int32_t step = (d > prev) ? d - prev : prev - d;
     const int32_t allow = s->step_abs + ((prev < 0) ? -prev : prev) / 4;
     return (uint16_t)(step > allow);
-}
-
-/** Every period while the bridge switches (active), the QEP's count
- *  difference d1 of this period (qep_speed.h); inactive: re-primed. */
-static inline void stall_check_count_step(stall_check_t *s, int32_t d1, uint16_t active)
-{
-    if (active != 0u && s->primed != 0u && stall_check_implausible(s, d1, s->d1_prev) != 0u) {
-        s->enc_fault = 1u;
-    }
-    s->d1_prev = d1;
-    s->primed = active;
 }
 
 /** Every slow step while the bridge switches: the count over the window

@@ -25,6 +25,8 @@
 
 #include "drive_design.h"
 
+#include <math.h>
+
 /* The model check (current_model_check.h).  Healthy maxima over the start,
  * reversal, load-step, soak and drift scenarios of the three motors, the
  * adaptive sequence on the wrong nameplate and on the 1.1 kW and 15 kW
@@ -114,19 +116,23 @@ int16_t drive_safety_init(drive_t *d, const drive_config_t *c)
         const float a_max = CMC_ALLOW_ACCEL_MARGIN * pp * t_max /
                             (c->control.inertia_kgm2 * b->w_base_rad_s * b->w_base_rad_s);
         float k = tau_r_pu * a_max * Ts * (float)DRIVE_SLOTS * b->w_base_rad_s;
+        float k_emf = ((c->control.orientation == DRIVE_ORIENT_FLUX_OBS) ? CMC_EMF_TOL_OBS
+                                                                         : CMC_EMF_TOL_IFO) *
+                      tau_r_pu;
         if (!(k >= 0.0f)) {
             return 1;
         }
-        /* a believed inertia so small that one slow step allows 2 pu of flux
+        /* a believed inertia so small that one slow step allows 1 pu of flux
          * (1e-7 kg m^2 on the paper motor): the allowance is then full from
          * the first frozen step */
-        k = (k < 1.9f) ? k : 1.9f;
+        k = (k < 1.0f) ? k : 1.0f;
+        /* the back-EMF allowance's product k_emf |w_s| |psi_e| (each below 2
+         * pu) must fit Q24: k_emf < 16 (tau_r 5 ms at a base up to 850 Hz) */
+        k_emf = (k_emf < 16.0f) ? k_emf : 16.0f;
         s->k_allow = _IQ(k);
-        s->k_emf = _IQ(((c->control.orientation == DRIVE_ORIENT_FLUX_OBS) ? CMC_EMF_TOL_OBS
-                                                                         : CMC_EMF_TOL_IFO) *
-                       tau_r_pu);
-        s->k_emf_ident = _IQ(CMC_EMF_TOL_IFO * tau_r_pu);
-        s->allow_n_max = (uint16_t)((k * 65535.0f > 2.0f) ? 2.0f / k : 65535.0f);
+        s->k_emf = _IQ(k_emf);
+        s->k_emf_ident = _IQ(fminf(CMC_EMF_TOL_IFO * tau_r_pu, 16.0f));
+        s->allow_n_max = (uint16_t)((k * 65535.0f > 1.0f) ? 1.0f / k : 65535.0f);
     }
     if (current_model_check_init(&s->cmc, Ts, DRIVE_SLOTS, b->w_base_rad_s, CMC_TAU_R_S,
                                  CMC_TAU_SEQ_S,
@@ -231,7 +237,8 @@ void drive_safety_slow(drive_t *d)
     }
     /* the back-EMF a rotor may have gained while the counts stand still
      * under torque current: k_allow n |psi_e|, n the frozen count limited
-     * so that k_allow n <= 2, |psi_e| to 2 pu: below 4 pu flux */
+     * so that k_allow n <= 1, |psi_e| to 2 pu: at most 2 pu flux, the
+     * model check's contract */
     {
         const uint16_t n = (d->enc_chk.frozen < s->allow_n_max) ? d->enc_chk.frozen
                                                                  : s->allow_n_max;
@@ -242,8 +249,8 @@ void drive_safety_slow(drive_t *d)
          * 30 % off); from the second on, on the identified model */
         const _iq k_emf = (d->seq.pass >= 2u) ? s->k_emf_ident : s->k_emf;
         m->r_allow = _IQmpy(_IQmpyI32(s->k_allow, (int32_t)n), psi);
-        m->r_allow_emf =
-            _IQmpy(_IQmpy(k_emf, _IQsat(_IQabs(d->ws_ctl), _IQ(2.0), _IQ(0.0))), psi);
+        m->r_allow_emf = _IQsat(
+            _IQmpy(_IQmpy(k_emf, _IQsat(_IQabs(d->ws_ctl), _IQ(2.0), _IQ(0.0))), psi), _IQ(2.0), 0);
     }
     current_model_check_step(m);
     if (d->enc_chk.fault != 0u && d->prot.fault == FAULT_NONE &&

@@ -12,16 +12,10 @@
 int16_t drive_safety_init(drive_t *d, const drive_config_t *c);
 
 /** ISR, every period, after the voltage of the period that just ended is
- *  known (drive_step.c's voltage model): the model check's window sum and
- *  the encoder's count-step test.  ~30 cycles. */
+ *  known (drive_step.c's voltage model): the model check's window sum. */
 static inline void drive_safety_fast(drive_t *d)
 {
-    drive_safety_t *s = &d->safety;
-    current_model_check_accumulate(&s->cmc, d->volt.valpha, d->volt.vbeta, d->on_last);
-    stall_check_count_step(&s->stall, d->qep.d1, d->on_next);
-    if (s->stall.enc_fault != 0u) {
-        protect_latch(&d->prot, FAULT_ENCODER);
-    }
+    current_model_check_accumulate(&d->safety.cmc, d->volt.valpha, d->volt.vbeta, d->on_last);
 }
 
 /** Non-inline part of drive_safety_modulate (the sensor test's period). */

@@ -62,6 +62,5 @@ uint16_t stall_check_decide(stall_check_t *s, _iq r_alpha, _iq r_beta, _iq sin_t
 void stall_check_reset(stall_check_t *s)
 {
     s->enc_fault = 0u;
-    s->primed = 0u;
     s->w_primed = 0u;
 }

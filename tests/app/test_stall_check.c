@@ -1,10 +1,10 @@
 /* app_stall_check: the rotor checks (stall_check.h).
- *   count step: an encoder on a rotor at constant speed (with the
- *   quantisation of a real disc: the count is the floor of the angle) and
- *   one accelerating at the paper motor's largest acceleration pass at any
- *   speed; the count stream stopping at 3 counts per period trips in the
- *   period it stops, at 2 counts per period it does not (the limit), and
- *   over the window at 3 counts per window; a 100-count jump trips.
+ *   count step (over windows of 4 periods): an encoder on a rotor at
+ *   constant speed (with the quantisation of a real disc: the count is the
+ *   floor of the angle) and one accelerating at the paper motor's largest
+ *   acceleration pass at any speed; the count stream stopping at 3 or at 1
+ *   count per period trips within two windows of the stop, at 0.5 (2
+ *   counts per window, the limit) it does not; a 100-count jump trips.
  *   locked rotor: a residual that is the back-EMF of a rotation in the
  *   torque's direction (on the T axis, tau_r w |psi_e|) reads as turning
  *   above w_min and as locked below; one along the current vector (an Rs
@@ -36,14 +36,11 @@ static unsigned run_encoder(stall_check_t *s, double (*pos)(unsigned k, void *ct
                             unsigned n)
 {
     unsigned k;
-    int32_t prev = (int32_t)floor(pos(0u, ctx));
     for (k = 1u; k < n; k++) {
         const int32_t c = (int32_t)floor(pos(k, ctx));
-        stall_check_count_step(s, c - prev, 1u);
         if ((k % 4u) == 0u) {
             stall_check_window_step(s, (uint16_t)(uint32_t)c, 1u);
         }
-        prev = c;
         if (s->enc_fault != 0u) {
             return k;
         }
@@ -82,17 +79,16 @@ static void test_count_step(void **state)
         init(&s);
         assert_int_equal(run_encoder(&s, rotor_pos, &r, 3900u), 3900u);
     }
-    /* the count stops at 3 counts per period: the next period */
+    /* the count stops at 3 counts per period: within two windows */
     {
-        rotor_t r = {3.0, 0.0, 1000u};
+        rotor_t r = {3.0, 0.0, 1001u};
         init(&s);
         k = run_encoder(&s, rotor_pos, &r, 2000u);
-        print_message("stop at 3 counts/period: tripped %u periods after\n", k - 1000u);
-        assert_true(k > 1000u && k <= 1001u);
+        print_message("stop at 3 counts/period: tripped %u periods after\n", k - 1001u);
+        assert_true(k > 1001u && k <= 1001u + 8u);
     }
-    /* at 1 count per period: not per period (1 <= 2), but per window
-     * (4 counts against 2 + 1, the stop inside a window: against the window
-     * before the last): within two windows */
+    /* at 1 count per period (4 counts against 2 + 1, the stop inside a
+     * window: against the window before the last): within two windows */
     {
         rotor_t r = {1.0, 0.0, 1001u};
         init(&s);
@@ -108,13 +104,19 @@ static void test_count_step(void **state)
     }
     /* a jump of 100 counts */
     init(&s);
-    stall_check_count_step(&s, 6, 1u);
-    stall_check_count_step(&s, 106, 1u);
+    stall_check_window_step(&s, 0u, 1u);
+    stall_check_window_step(&s, 24u, 1u);
+    stall_check_window_step(&s, 48u, 1u);
+    assert_int_equal(s.enc_fault, 0u);
+    stall_check_window_step(&s, 172u, 1u);
     assert_int_equal(s.enc_fault, 1u);
-    /* inactive: re-primed, no judgement of the first period after */
+    /* inactive: re-primed, no judgement of the first windows after; and
+     * through the 16-bit wrap */
     stall_check_reset(&s);
-    stall_check_count_step(&s, 6, 0u);
-    stall_check_count_step(&s, 50, 1u);
+    stall_check_window_step(&s, 65530u, 0u);
+    stall_check_window_step(&s, 40u, 1u);
+    stall_check_window_step(&s, 64u, 1u);
+    stall_check_window_step(&s, 88u, 1u);
     assert_int_equal(s.enc_fault, 0u);
 }
 
