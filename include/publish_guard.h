@@ -66,7 +66,7 @@ static inline void publish_guard_tick(publish_guard_t *g, uint16_t fault_code)
 {
     const uint32_t now = g->now + 1u;
     g->now = now;
-    if (fault_code != 0u && g->fault_code == 0u) {
+    if ((uint16_t)((uint16_t)(fault_code != 0u) & (uint16_t)(g->fault_code == 0u)) != 0u) {
         g->t_fault = now;
         g->fault_code = fault_code;
     }

@@ -84,9 +84,10 @@ stall_check_status_t stall_check_init(stall_check_t *s, int32_t step_abs_counts,
  *  comment). */
 static inline uint16_t stall_check_implausible(const stall_check_t *s, int32_t d, int32_t prev)
 {
-    const int32_t step = (d > prev) ? d - prev : prev - d;
-    const int32_t allow = s->step_abs + ((prev < 0) ? -prev : prev) / 4;
-    return (uint16_t)(step > allow);
+    const int32_t diff = d - prev;
+    const int32_t step = (diff < 0) ? -diff : diff;
+    const int32_t mag = (prev < 0) ? -prev : prev;
+    return (uint16_t)(step > s->step_abs + (mag >> 2));   /* mag >= 0: the shift is /4 */
 }
 
 /** Every slow step while the bridge switches: the count over the window

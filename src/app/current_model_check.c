@@ -150,13 +150,15 @@ void current_model_check_step(current_model_check_t *c)
     const _iq p_b = _IQsat(c->psi_beta, _IQ(CMC_IN_MAX), _IQ(-CMC_IN_MAX));
     const _iq rs = c->rs, sls = c->sigma_ls;
     const uint16_t n = c->n;
-    const uint16_t window_ok = (uint16_t)(c->n_off == 0u && n >= 1u && n <= CMC_N_MAX);
+    /* every condition a 0/1 value, combined without a branch each */
+    const uint16_t window_ok = (uint16_t)((uint16_t)(c->n_off == 0u) & (uint16_t)(n >= 1u) &
+                                          (uint16_t)(n <= CMC_N_MAX));
     const _iq su_a = c->su_alpha, su_b = c->su_beta;
 
     c->su_alpha = c->su_beta = _IQ(0.0);
     c->n = 0u;
     c->n_off = 0u;
-    if (c->active == 0u || window_ok == 0u || c->primed == 0u) {
+    if ((uint16_t)(c->active & window_ok & c->primed) == 0u) {
         /* re-armed: the next window starts from this sample */
         clear_state(c);
         c->primed = (uint16_t)(c->active != 0u);

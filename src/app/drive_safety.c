@@ -240,15 +240,19 @@ void drive_safety_slow(drive_t *d)
      * so that k_allow n <= 1, |psi_e| to 2 pu: at most 2 pu flux, the
      * model check's contract */
     {
-        const uint16_t n = (d->enc_chk.frozen < s->allow_n_max) ? d->enc_chk.frozen
-                                                                 : s->allow_n_max;
         const _iq psi = _IQsat(_IQabs(psi_e), _IQ(2.0), _IQ(0.0));
-        /* and the model's back-EMF error: k_emf tau_r |w_s| |psi_e|, |w_s|
-         * saturated to 2 pu: < 0.6 x 8 x 2 x 2 */
         /* the adaptive sequence's first pass runs on the nameplate (up to
          * 30 % off); from the second on, on the identified model */
         const _iq k_emf = (d->seq.pass >= 2u) ? s->k_emf_ident : s->k_emf;
-        m->r_allow = _IQmpy(_IQmpyI32(s->k_allow, (int32_t)n), psi);
+        m->r_allow = _IQ(0.0);
+        if (d->enc_chk.frozen != 0u) {
+            const uint16_t n = (d->enc_chk.frozen < s->allow_n_max) ? d->enc_chk.frozen
+                                                                     : s->allow_n_max;
+            m->r_allow = _IQmpy(_IQmpyI32(s->k_allow, (int32_t)n), psi);
+        }
+        /* and the model's back-EMF error: k_emf |w_s| |psi_e| (k_emf < 16,
+         * |w_s| saturated to 2 pu, |psi_e| to 2: < 64), saturated to 2 pu,
+         * the contract */
         m->r_allow_emf = _IQsat(
             _IQmpy(_IQmpy(k_emf, _IQsat(_IQabs(d->ws_ctl), _IQ(2.0), _IQ(0.0))), psi), _IQ(2.0), 0);
     }

@@ -28,7 +28,7 @@ uint16_t drive_safety_test_period(drive_t *d, hal_pwm_compare_t *out, uint16_t p
 static inline uint16_t drive_safety_modulate(drive_t *d, hal_pwm_compare_t *out,
                                              uint16_t pwm_on)
 {
-    if (d->seq.state != ID_CALIBRATE && d->safety.stest.armed == 0u) {
+    if ((d->seq.state != ID_CALIBRATE) & (d->safety.stest.armed == 0u)) {
         return pwm_on;
     }
     return drive_safety_test_period(d, out, pwm_on);

@@ -140,8 +140,9 @@ void id_sequence_step(id_sequence_t *s)
     s->start_req = 0u;
 
     /* outputs as a function of the (new) state */
-    s->sensor_testing = (uint16_t)(s->state == ID_CALIBRATE && s->cal_done != 0u &&
-                                   s->sensor_test != 0u);
+    s->sensor_testing = (uint16_t)((uint16_t)(s->state == ID_CALIBRATE) &
+                                   (uint16_t)(s->cal_done != 0u) &
+                                   (uint16_t)(s->sensor_test != 0u));
     s->pwm_on = (uint16_t)(s->state == ID_MAGNETIZE || s->state == ID_ACCELERATE ||
                            s->state == ID_SETTLE || s->state == ID_RUN ||
                            s->state == ID_REFINE || s->sensor_testing != 0u);

@@ -28,10 +28,11 @@ void stall_check_window_step(stall_check_t *s, uint16_t count, uint16_t active)
         s->w_primed = 0u;
         return;
     }
-    if ((s->w_primed >= 2u && stall_check_implausible(s, dw, s->dw_prev) != 0u) ||
-        (s->w_primed >= 3u && stall_check_implausible(s, dw, s->dw_prev2) != 0u)) {
-        s->enc_fault = 1u;
-    }
+    /* 0/1 values combined without a branch each */
+    s->enc_fault |= (uint16_t)((uint16_t)(s->w_primed >= 2u) &
+                               stall_check_implausible(s, dw, s->dw_prev)) |
+                    (uint16_t)((uint16_t)(s->w_primed >= 3u) &
+                               stall_check_implausible(s, dw, s->dw_prev2));
     s->dw_prev2 = s->dw_prev;
     s->dw_prev = dw;
     if (s->w_primed < 3u) {
