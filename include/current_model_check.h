@@ -74,8 +74,11 @@
  *
  * Rates: current_model_check_accumulate every PWM period (the window's
  * voltage sum: two saturations and two additions), current_model_check_step
- * in the slow task.  Cost on the C28x (5-cycle multiplies): accumulate
- * ~16 cycles per period; step ~26 multiplies, ~300 cycles per slow step.
+ * in the slow task.  Cost on the C28x (tools/bench_isr.py's model, which
+ * errs high): accumulate 58 cycles per period; the step with the drive's
+ * glue (drive_safety.c) ~840 cycles at standstill, ~1050 at speed (the
+ * sequence tests' two halves alternate; the bench's sum of maxima over
+ * both: 1310).
  *
  * Scaling and overflow (Q24 pu throughout): each period's voltage is
  * saturated to +-4 pu before it is summed (the bridge cannot exceed

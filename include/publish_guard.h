@@ -20,8 +20,9 @@
  * Time: ticks of the ISR's slow task (uint32_t: 13 days at 3.75 kHz),
  * written by the ISR (publish_guard_tick, one 32-bit store: atomic on the
  * C28x), read by the background.  Everything else runs in the background.
- * Cost: the ISR's tick and fault time ~6 cycles per slow step; the
- * background pass ~100 cycles (comparisons and copies of 6 words).
+ * Cost: the ISR's tick and fault time ~25 cycles per slow step
+ * (tools/bench_isr.py); the background pass ~100 cycles (comparisons and
+ * copies of 6 words).
  */
 #ifndef PUBLISH_GUARD_H
 #define PUBLISH_GUARD_H

@@ -43,10 +43,11 @@
  * off acts at once, on period k itself, so the bridge goes off one ISR
  * after the last half-pulse's voltage was asked for.
  *
- * Cost on the C28x: while the test runs (3 (2N + Z) + Z periods, 1.2-2.6 ms
- * on the three motors) ~60 cycles a period plus the modulation the drive
- * runs for it; idle: one compare.  The evaluation (8 multiplies) once per
- * vector.
+ * Cost on the C28x (tools/bench_isr.py): while the test runs (3 (2N + Z)
+ * periods, 2.4-4.4 ms on the three motors) ~1180 cycles an ISR more than
+ * an idle CALIBRATE, the test's step and a second SVPWM included (the
+ * modulation path then runs as in MAGNETIZE); idle: one compare.  The
+ * evaluation (8 multiplies) once per vector.
  *
  * Scaling and overflow: currents Q24 pu saturated to +-4 before any
  * difference (|S| <= 16, Clarke components <= 16 x 1.2), constants below 2;

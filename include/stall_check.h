@@ -40,8 +40,8 @@
  *    on a rotor slower than w_min (in the residual's ~tau_r memory) reads
  *    as a stall; the safe state is the same (PWM off).
  *
- * Cost on the C28x: the count step ~60 cycles per slow step; the decision
- * (5 multiplies, once per frozen trip) ~80 cycles.
+ * Cost on the C28x (tools/bench_isr.py): the count step ~140 cycles per
+ * slow step; the decision (5 multiplies, once per frozen trip) ~80 cycles.
  *
  * Scaling and overflow: count differences are int32_t (|d| <= 32768, so
  * every difference and |d|/4 stay below 2^17); r_M, r_T below 8 pu flux
