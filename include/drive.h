@@ -58,6 +58,9 @@ typedef struct {
     uint16_t rls_dropped;    /* RLS samples lost to a full ISR -> background queue (the
                                 background fell behind by more than DRIVE_RLSQ_LEN slow
                                 periods), saturating */
+    uint16_t params_withdrawn;   /* published sets withdrawn because a fault latched within
+                                    the guard's window after them (publish_guard.h) */
+    uint16_t withdraw_reason;    /* the fault code of the last withdrawal (0: none) */
 } drive_telemetry_t;
 
 /** drive_init results: 0 or the first configuration field found bad. */

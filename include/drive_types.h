@@ -13,6 +13,10 @@
 #include "base_values.h"
 #include "clarke.h"
 #include "current_check.h"
+#include "current_model_check.h"
+#include "publish_guard.h"
+#include "sensor_test.h"
+#include "stall_check.h"
 #include "dc_bus.h"
 #include "encoder_check.h"
 #include "flux_obs.h"
@@ -207,6 +211,27 @@ typedef struct {
     uint32_t n_seen;          /* the tracker's n_updates the last Tr was made from */
 } drive_adapt_bg_t;
 
+/** The protections that do not trust one sensor (drive_safety.c): the
+ *  model-based current plausibility (SPEED slot), the sensors' pulse test
+ *  before the magnetisation, the rotor checks (count step every period,
+ *  locked rotor at the encoder's frozen trip), and what they need of the
+ *  drive's constants (pu, Q24). */
+typedef struct {
+    current_model_check_t cmc;   /* measured currents against the model -> FAULT_CURRENT_SENSOR */
+    sensor_test_t stest;         /* pulse test in CALIBRATE -> FAULT_SENSOR_TEST */
+    stall_check_t stall;         /* count step -> FAULT_ENCODER; locked rotor -> FAULT_STALL */
+    publish_guard_t pguard;      /* background: a set published while a fault developed is
+                                    withdrawn */
+    _iq rs;                      /* Q24 pu: the nameplate's Rs (the model in orientation 0) */
+    float tau_r_pu;              /* the model check's memory, pu time (diagnostic, host) */
+    _iq k_allow;                 /* Q24: tau_r alpha_max Ts_slow (pu), the back-EMF allowance
+                                    per slow step of frozen counts per pu of |psi_e| */
+    uint16_t allow_n_max;        /* the frozen count is taken at most this (k_allow n <= 2) */
+    _iq k_emf;                   /* Q24: k_emf tau_r (pu time): the allowance for the model's
+                                    back-EMF error per pu of |w_s| |psi_e| */
+    _iq k_emf_ident;             /* Q24: the same once the model is identified (pass >= 2) */
+} drive_safety_t;
+
 struct drive {
     base_values_t base;
     drive_consts_t k;
@@ -255,6 +280,7 @@ struct drive {
     current_check_t cur_chk;    /* current feedback plausibility -> FAULT_CURRENT_SENSOR */
     theta_guard_t guard;        /* last good theta: what the snapshots carry */
     isr_monitor_t ovr;          /* ISR overruns -> FAULT_ISR_OVERRUN */
+    drive_safety_t safety;      /* model-based plausibility (drive_safety.c) */
 
     /* PWM pipeline: duties computed at sample k apply during period k+1 and
      * are reconstructed into voltages at sample k+2 (hal_pwm.h timing). */

@@ -3,7 +3,9 @@
  * The identification sequence of the paper's experiment (method §2, §6), as a
  * state machine run once per ISR sample:
  *
- *   IDLE -> CALIBRATE (current offsets, PWM off)
+ *   IDLE -> CALIBRATE (current offsets, PWM off; then, with sensor_test, the
+ *                      sensors' pulse test: the bridge switches, no
+ *                      current reference, until the drive says test_done)
  *        -> MAGNETIZE (i_M to its reference, zero speed, >= 5 Tr)
  *        -> ACCELERATE (speed ramp to the target; RLS on: the transient that
  *                       excites the regression, method §2 "Excitation")
@@ -66,6 +68,7 @@ typedef struct {
     _iq dit;                  /* |d i_T/dt| filtered, pu/pu-time, Q24 */
     uint16_t adapt_ready;     /* REFINE (and the end of MAGNETIZE with wait_magnetize): the drive
                                  has applied the model the state waits for */
+    uint16_t test_done;       /* CALIBRATE: the sensor test passed (sensor_test.h) */
     /* parameters (id_sequence_init) */
     uint32_t magnetize_samples;
     uint32_t settle_min_samples;   /* least time in SETTLE */
@@ -80,10 +83,13 @@ typedef struct {
     _iq refine_speed;         /* REFINE speed, pu, as a fraction of speed_target (Q24) */
     uint16_t wait_magnetize;  /* 1: MAGNETIZE ends only with adapt_ready (id_sequence_set_wait) */
     uint32_t wait_max_samples;/* longest wait for adapt_ready (0: no limit) */
+    uint16_t sensor_test;     /* 1: CALIBRATE ends with the sensor test (0 after init) */
     /* outputs */
     id_state_t state;
     uint16_t pwm_on;          /* the bridge should switch */
     uint16_t calibrating;     /* the drive runs the offset calibration */
+    uint16_t sensor_testing;  /* the drive runs the sensor test (CALIBRATE, after the
+                                 calibration; pwm_on is 1, im_cmd 0) */
     uint16_t speed_loop_on;   /* speed PI drives i_T; else i_T ref = 0 */
     uint16_t rls_on;          /* the RLS may update */
     uint16_t extract_now;     /* one-sample pulse: take the steady i_M, extract */

@@ -23,9 +23,15 @@ typedef enum {
     FAULT_HW_TRIP = 7,         /* PDPINTA: the power stage tripped itself */
     FAULT_CONFIG = 8,          /* drive_init rejected the configuration */
     FAULT_CURRENT_SENSOR = 9,  /* measured currents do not follow their references
-                                  (a phase-current sensor lost: current_check.h) */
-    FAULT_ISR_OVERRUN = 10     /* the control ISR ran past its period several times in a
+                                  (a phase-current sensor lost: current_check.h) or
+                                  disagree with the current the applied voltage makes
+                                  (current_model_check.h) */
+    FAULT_ISR_OVERRUN = 10,    /* the control ISR ran past its period several times in a
                                   row (isr_monitor.h) */
+    FAULT_SENSOR_TEST = 11,    /* the current sensors failed their pulse test before the
+                                  magnetisation (sensor_test.h) */
+    FAULT_STALL = 12           /* encoder frozen with torque current while the standstill
+                                  model holds: a locked rotor (stall_check.h) */
 } fault_code_t;
 
 typedef struct {

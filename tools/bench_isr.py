@@ -125,6 +125,9 @@ STEM_MODULE = {
     "id_sequence": "sequence", "ramp_gen": "speed ramp + PIs", "pi_ctrl": "speed ramp + PIs",
     "svgen": "SVPWM", "tr_track": "adaptation", "standstill_z": "adaptation",
     "drive_adapt": "adaptation", "iq_rmpy": "rounded products (iq_rmpy)",
+    "drive_safety": "model-based protections", "current_model_check": "model-based protections",
+    "sensor_test": "model-based protections", "stall_check": "model-based protections",
+    "publish_guard": "model-based protections",
 }
 GLUE = "drive glue (drive_step, drive_slow)"
 FIRMWARE = "firmware ISR + HAL, entry/exit"

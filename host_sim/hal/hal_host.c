@@ -50,10 +50,32 @@ void hal_pwm_write(const hal_pwm_compare_t *c)
 void hal_pwm_enable(void)
 {
     hal_host_port_t *p = logged(HAL_HOST_PWM_ENABLE);
-    /* as on the F2812: the outputs cannot be enabled while PDPINTA is active */
-    p->outputs_enabled = (uint16_t)(p->trip_input == 0u);
+    /* as on the F2812: the outputs cannot be enabled while PDPINTA is active
+     * or its latch is set */
+    p->outputs_enabled = (uint16_t)(p->trip_input == 0u && p->trip_latch == 0u);
 }
 
 void hal_pwm_disable(void) { logged(HAL_HOST_PWM_DISABLE)->outputs_enabled = 0u; }
-uint16_t hal_pwm_tripped(void) { return logged(HAL_HOST_PWM_TRIPPED)->trip_input; }
+uint16_t hal_pwm_tripped(void)
+{
+    const hal_host_port_t *p = logged(HAL_HOST_PWM_TRIPPED);
+    return (uint16_t)(p->trip_input | p->trip_latch);
+}
+
+void hal_host_pdpinta_pulse(hal_host_port_t *p)
+{
+    p->trip_latch = 1u;
+    p->outputs_enabled = 0u;
+}
+
+uint16_t hal_host_clear_trip(hal_host_port_t *p)
+{
+    if (p == NULL) {
+        p = port();
+    }
+    if (p->trip_input == 0u) {
+        p->trip_latch = 0u;
+    }
+    return p->trip_latch;
+}
 uint16_t hal_isr_overrun(void) { return logged(HAL_HOST_ISR_OVERRUN)->overrun; }

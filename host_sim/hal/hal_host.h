@@ -29,6 +29,10 @@ typedef struct {
     hal_adc_sample_t adc;
     uint16_t qep_count;
     uint16_t trip_input;       /* PDPINTA level: 1 = the power stage tripped */
+    uint16_t trip_latch;       /* a PDPINTA pulse seen (the F2812's latch: its falling edge
+                                  cleared FCOMPOE in hardware and the PDPINTA ISR latched it,
+                                  hal_pwm_f2812.c); set by hal_host_pdpinta_pulse, cleared by
+                                  hal_host_clear_trip with the line high */
     uint16_t overrun;          /* what hal_isr_overrun() reports for this ISR (a test's fake:
                                   the host ISR never runs late) */
     /* written by the HAL calls of the ISR */
@@ -40,6 +44,13 @@ typedef struct {
 } hal_host_port_t;
 
 void hal_host_port_init(hal_host_port_t *p, uint16_t t1pr);
+/** A PDPINTA pulse (the bridge's comparator, plant.h): outputs off at once
+ *  (the EV's hardware), the trip latched until hal_host_clear_trip. */
+void hal_host_pdpinta_pulse(hal_host_port_t *p);
+/** The board's fault-reset path (firmware/main.c: pwm_f2812_clear_trip
+ *  before the drive's reset): the latch clears only with the line high.
+ *  @p p NULL: the bound port.  Returns the latch after the call. */
+uint16_t hal_host_clear_trip(hal_host_port_t *p);
 void hal_host_bind(hal_host_port_t *p);
 
 #endif /* HAL_HOST_H */

@@ -3,6 +3,7 @@
  * simulated induction motor, inverter and sensors; runs the identification
  * and reports what it found.  See `motor_sim --help`.
  */
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -109,8 +110,10 @@ static void usage(FILE *f)
             "                     --trace-every given, a run whose trace would be larger is\n"
             "                     refused, saying the --trace-every that fits; a --serial\n"
             "                     session without --duration stops tracing at the limit\n"
-            "  --fault NAME@T[=V] inject at T seconds (before the run's last PWM period); V\n"
-            "                     must change something (not 0; in its range):\n",
+            "  --fault NAME@T[=V] inject at T seconds (before the run's last PWM period), or\n"
+            "                     NAME@STATE[+T][=V]: T seconds after the sequence first\n"
+            "                     enters calibrate, magnetize, accelerate, settle, run or\n"
+            "                     refine; V must change something (not 0; in its range):\n",
             scenario_names(), SIM_TRACE_MAX_MB_DEFAULT, SIM_TRACE_MAX_MB_LIMIT);
     for (i = 0; i < N_FAULTS; i++) {
         const fault_spec_t *k = &k_faults[i];
@@ -200,6 +203,40 @@ static int parse_cmd(const char *arg, sim_cmd_t *c)
     return -1;
 }
 
+/* The time of a --fault: SECONDS from the start, or STATE[+SECONDS] after
+ * the sequence first enters that state (calibrate, magnetize, accelerate,
+ * settle, run, refine; any case). */
+static int parse_when(const char *s, sim_fault_t *f)
+{
+    static const char *const states[] = {"calibrate", "magnetize", "accelerate", "settle",
+                                         "run", "fault", "refine"};
+    char name[16];
+    const char *plus = strchr(s, '+');
+    size_t n = (plus != NULL) ? (size_t)(plus - s) : strlen(s);
+    unsigned i;
+    if (n > 0u && isalpha((unsigned char)s[0])) {
+        if (n >= sizeof name) {
+            return -1;
+        }
+        for (i = 0; i < n; i++) {
+            name[i] = (char)tolower((unsigned char)s[i]);
+        }
+        name[n] = '\0';
+        f->t_s = 0.0;
+        for (i = 0; i < sizeof states / sizeof states[0]; i++) {
+            if (strcmp(name, states[i]) == 0 && strcmp(name, "fault") != 0) {
+                f->at_state = (uint16_t)(i + 1u);   /* id_state_t: CALIBRATE = 1 */
+                return (plus == NULL || (parse_double(plus + 1, &f->t_s) == 0 &&
+                                         f->t_s >= 0.0 && f->t_s <= 1e6))
+                           ? 0
+                           : -1;
+            }
+        }
+        return -1;
+    }
+    return (parse_double(s, &f->t_s) == 0 && f->t_s >= 0.0 && f->t_s <= 1e6) ? 0 : -1;
+}
+
 /* One --fault: 0, or -1 with the reason in @p why ("" for a malformed
  * argument: the usage line says it). */
 static int parse_fault(const char *arg, sim_fault_t *f, char *why, size_t why_len)
@@ -229,7 +266,8 @@ static int parse_fault(const char *arg, sim_fault_t *f, char *why, size_t why_le
         }
         f->kind = k->kind;
         f->value = k->def;
-        if (parse_double(at + 1, &f->t_s) != 0 || !(f->t_s >= 0.0) || f->t_s > 1e6) {
+        f->at_state = 0u;
+        if (parse_when(at + 1, f) != 0) {
             return -1;
         }
         if (eq == NULL) {
@@ -270,6 +308,9 @@ static int check_timeline(const sim_config_t *cfg, const sim_options_t *opt,
     for (i = 0; i < opt->n_faults; i++) {
         const sim_fault_t *f = &opt->faults[i];
         int before = 0;
+        if (f->at_state != 0u) {
+            continue;   /* after a state's entry: the run decides when (reported) */
+        }
         if (f->t_s > last) {
             fprintf(stderr, "motor_sim: bad --fault '%s' (NAME@SECONDS[=VALUE], at most %d): at "
                     "%g s it comes after the run's last PWM period (%g s simulated%s)\n",
@@ -278,7 +319,8 @@ static int check_timeline(const sim_config_t *cfg, const sim_options_t *opt,
             return 1;
         }
         for (j = 0; j < opt->n_faults; j++) {
-            before |= (opt->faults[j].kind != PLANT_FAULT_CLEAR && opt->faults[j].t_s <= f->t_s);
+            before |= (opt->faults[j].kind != PLANT_FAULT_CLEAR &&
+                       (opt->faults[j].at_state != 0u || opt->faults[j].t_s <= f->t_s));
         }
         if (f->kind == PLANT_FAULT_CLEAR && !before) {
             fprintf(stderr, "motor_sim: bad --fault '%s' (NAME@SECONDS[=VALUE], at most %d): no "
@@ -450,7 +492,8 @@ int main(int argc, char **argv)
             why[0] = '\0';
             if (opt.n_faults >= SIM_MAX_FAULTS ||
                 parse_fault(v, &opt.faults[opt.n_faults], why, sizeof why) != 0) {
-                fprintf(stderr, "motor_sim: bad --fault '%s' (NAME@SECONDS[=VALUE], at most %d)%s%s\n",
+                fprintf(stderr, "motor_sim: bad --fault '%s' (NAME@SECONDS[=VALUE] or NAME@STATE[+SECONDS][=VALUE], "
+                        "at most %d)%s%s\n",
                         v, SIM_MAX_FAULTS, why[0] ? ": " : "", why);
                 return 1;
             }

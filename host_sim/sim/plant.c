@@ -28,6 +28,10 @@ int plant_init(plant_t *p, const sim_config_t *c, uint16_t t1pr, char *err, unsi
     p->i_trip_A = c->controller.overcurrent_A;
     p->i_fs_A = c->board.current_full_scale_A;
     p->hw_trip_until_s = -1.0;
+    p->hw_oc_A = c->inverter.overcurrent_hw_A;
+    p->hw_delay_s = c->inverter.overcurrent_hw_delay_s;
+    p->hw_pending_s = -1.0;
+    p->t_hw_first_s = -1.0;
 
     memset(&mp, 0, sizeof mp);
     mp.Rs_ohm = c->plant.Rs_ohm;
@@ -181,10 +185,87 @@ void plant_sample(plant_t *p, hal_host_port_t *port)
                          fmax(fabs(m->ia_A + p->i_short_A), fabs(m->ib_A - p->i_short_A)) >
                              p->i_trip_A ||
                          p->vdc_rail != 0u || p->offset_a_A != 0.0 ||
-                         p->qep_jump != 0u || plant_trip_line(p) != 0u);
+                         p->qep_jump != 0u || plant_trip_line(p) != 0u ||
+                         p->hw_trips != 0u);
     if (visible != 0u && p->t_visible_s < 0.0) {
         p->t_visible_s = p->t_s;
     }
+}
+
+/* |current| of each leg at the state @p m with the short's current @p i_sh
+ * (out of leg a, into leg b). */
+static void leg_currents(const motor_t *m, double i_sh, double out[3])
+{
+    out[0] = fabs(m->ia_A + i_sh);
+    out[1] = fabs(m->ib_A - i_sh);
+    out[2] = fabs(m->ic_A);
+}
+
+static void note_peaks(plant_t *p, const motor_t *m, double i_sh)
+{
+    double leg[3];
+    double ph = fmax(fabs(m->ia_A), fmax(fabs(m->ib_A), fabs(m->ic_A)));
+    leg_currents(m, i_sh, leg);
+    p->i_phase_peak_A = fmax(p->i_phase_peak_A, ph);
+    p->i_leg_peak_A = fmax(p->i_leg_peak_A, fmax(leg[0], fmax(leg[1], leg[2])));
+}
+
+/* The mean a-b voltage of the period that drives the short (no resistance,
+ * dead time or drops: a fault current is not a precision quantity). */
+static double short_vab(const plant_t *p, const double duty[3])
+{
+    return (duty[0] - duty[1]) * inverter_bus_voltage_V(&p->inv, p->t_s, 0.0) * p->vdc_scale;
+}
+
+/* The bridge on for @p t_on of the period (the voltage of the period's
+ * second pass), then open for the rest: the comparator's trip. */
+static void period_cut(plant_t *p, const motor_t *m0, const double duty[3], double t_on)
+{
+    motor_t *m = &p->motor;
+    double i_sh;
+    uint16_t n_on = (uint16_t)ceil((double)p->substeps * t_on / p->Ts_s);
+    *m = *m0;
+    if (t_on > 0.0) {
+        motor_step(m, p->inv.v_alpha_V * p->vdc_scale, p->inv.v_beta_V * p->vdc_scale, t_on,
+                   (n_on == 0u) ? 1u : n_on);
+    }
+    i_sh = (p->short_L_H > 0.0) ? p->i_short_A + short_vab(p, duty) * t_on / p->short_L_H : 0.0;
+    note_peaks(p, m, i_sh);   /* the currents when the outputs go off */
+    motor_step_open(m, p->Ts_s - t_on, p->substeps);
+    p->i_short_A = 0.0;       /* the short's loop current freewheels out within us */
+    p->i_dc_A = p->inv.i_dc_A * t_on / p->Ts_s;
+    p->hw_fired = 1u;
+    p->hw_trips++;
+    if (p->t_hw_first_s < 0.0) {
+        p->t_hw_first_s = p->t_s + t_on;
+    }
+}
+
+/* The comparator over the period just stepped from @p m0 (and the short's
+ * current @p i_sh0 at its start): when a leg crossed the level, the time
+ * into the period at which the outputs go off (crossing + delay; may lie
+ * beyond the period), else -1. */
+static double comparator_off_time(const plant_t *p, const motor_t *m0, double i_sh0)
+{
+    double l0[3], l1[3], t_cross = -1.0;
+    int x;
+    if (!(p->hw_oc_A > 0.0)) {
+        return -1.0;
+    }
+    leg_currents(m0, i_sh0, l0);
+    leg_currents(&p->motor, p->i_short_A, l1);
+    for (x = 0; x < 3; x++) {
+        if (l1[x] > p->hw_oc_A) {
+            /* linear between the ends (the start is below: the bridge would
+             * already be off otherwise) */
+            double f = (l0[x] >= p->hw_oc_A) ? 0.0 : (p->hw_oc_A - l0[x]) / (l1[x] - l0[x]);
+            double t = f * p->Ts_s;
+            if (t_cross < 0.0 || t < t_cross) {
+                t_cross = t;
+            }
+        }
+    }
+    return (t_cross < 0.0) ? -1.0 : t_cross + p->hw_delay_s;
 }
 
 void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_enabled)
@@ -192,10 +273,14 @@ void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_
     motor_t *m = &p->motor;
     load_t l;
 
+    p->hw_fired = 0u;
     (void)load_init_constant(&l, plant_load_Nm(p, m->w_m_rad_s));
     motor_set_load(m, &l);
     if (outputs_enabled != 0u) {
         double duty[3], i_abc[3];
+        const motor_t m0 = *m;
+        const double i_sh0 = p->i_short_A;
+        double t_off;
         uint16_t x;
         for (x = 0u; x < 3u; x++) {
             duty[x] = inverter_duty_from_cmpr(active->cmpr[x], p->t1pr);
@@ -209,7 +294,6 @@ void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_
              * very period.  Pass 1 extrapolates the current's change from
              * the last period; pass 2 redoes the period with the change pass
              * 1 produced (interpolation between its two ends). */
-            const motor_t m0 = *m;
             const inverter_t inv0 = p->inv;
             double di[3];
             inverter_step(&p->inv, p->t_s, duty, i_abc);
@@ -221,22 +305,38 @@ void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_
             *m = m0;
             p->inv = inv0;
             inverter_step_slope(&p->inv, p->t_s, duty, i_abc, di);
+            if (p->hw_pending_s >= 0.0) {
+                /* the comparator crossed near the end of the last period */
+                const double t_on = fmin(p->hw_pending_s, p->Ts_s);
+                p->hw_pending_s = -1.0;
+                period_cut(p, &m0, duty, t_on);
+                p->t_s += p->Ts_s;
+                return;
+            }
             motor_step(m, p->inv.v_alpha_V * p->vdc_scale, p->inv.v_beta_V * p->vdc_scale,
                        p->Ts_s, p->substeps);
         }
         p->i_dc_A = p->inv.i_dc_A;
         if (p->short_L_H > 0.0) {
             /* legs a and b drive the short: its current integrates the mean
-             * a-b voltage of the period (no resistance, dead time or drops:
-             * a fault current is not a precision quantity) */
-            double vab = (duty[0] - duty[1]) * inverter_bus_voltage_V(&p->inv, p->t_s, 0.0) *
-                         p->vdc_scale;
-            p->i_short_A += vab * p->Ts_s / p->short_L_H;
+             * a-b voltage of the period */
+            p->i_short_A += short_vab(p, duty) * p->Ts_s / p->short_L_H;
+        }
+        t_off = comparator_off_time(p, &m0, i_sh0);
+        if (t_off >= p->Ts_s) {
+            p->hw_pending_s = t_off - p->Ts_s;   /* off early in the next period */
+        } else if (t_off >= 0.0) {
+            p->i_short_A = i_sh0;
+            period_cut(p, &m0, duty, t_off);
+        } else {
+            /* no crossing */
         }
     } else {
         p->i_short_A = 0.0;   /* bridge off: the loop current freewheels out within us */
+        p->hw_pending_s = -1.0;
         motor_step_open(m, p->Ts_s, p->substeps);
         p->i_dc_A = 0.0;
     }
+    note_peaks(p, m, p->i_short_A);
     p->t_s += p->Ts_s;
 }

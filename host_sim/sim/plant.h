@@ -8,6 +8,21 @@
  *   plant_period()  one PWM period with the compare values that became
  *                   active at this underflow (written by the previous ISR)
  *                   and the output-enable state the ISR left.
+ *
+ * The bridge's overcurrent comparator ([inverter] overcurrent_hw_A,
+ * overcurrent_hw_delay_s): one per leg, on the TRUE leg current (the
+ * motor's phase current, plus the a-b short's current in legs a and b),
+ * independent of the Hall sensors and of the firmware, as a desaturation
+ * detector or a shunt comparator on the board.  When a leg's |current|
+ * crosses the level, the outputs go to high impedance overcurrent_hw_delay_s
+ * later (comparator, filter, gate driver) and PDPINTA is pulled low: the
+ * F2812 disables its outputs in hardware and latches the trip
+ * (hal_pwm_f2812.c), the firmware reads it in its next ISR
+ * (FAULT_HW_TRIP).  The averaged model carries the current as smooth
+ * within a period, so the crossing is found by linear interpolation
+ * between the period's two ends, and the period is redone: bridge on up to
+ * the crossing plus the delay, open for the rest (a delay that ends beyond
+ * the period carries into the next one).
  */
 #ifndef PLANT_H
 #define PLANT_H
@@ -72,6 +87,17 @@ typedef struct {
     double i_fs_A;            /* current-sensor full scale */
     double i_trip_A;          /* the drive's overcurrent level (for t_visible_s) */
     double t_visible_s;       /* first sample an injected fault changed (-1: none yet) */
+    /* the bridge's overcurrent comparator */
+    double hw_oc_A;           /* level on |leg current|, A (0: no comparator) */
+    double hw_delay_s;        /* crossing to outputs off */
+    double hw_pending_s;      /* >= 0: crossed, the outputs go off this far into the next period */
+    uint16_t hw_fired;        /* the outputs went off in the last plant_period (PDPINTA fell) */
+    uint32_t hw_trips;        /* times the comparator turned the bridge off */
+    double t_hw_first_s;      /* the first time it did (-1: never) */
+    /* the true currents' extremes over the periods (the ends of each period
+     * and the instant the comparator turned the outputs off) */
+    double i_phase_peak_A;    /* largest |motor phase current| */
+    double i_leg_peak_A;      /* largest |leg current| (with the short's) */
 } plant_t;
 
 /** Returns 0 or a message-worthy non-zero status (the sub-model that refused). */
@@ -80,7 +106,9 @@ int plant_init(plant_t *p, const sim_config_t *c, uint16_t t1pr, char *err, unsi
 void plant_sample(plant_t *p, hal_host_port_t *port);
 /** Apply an injected fault (or PLANT_FAULT_CLEAR) from now on. */
 void plant_inject(plant_t *p, plant_fault_t kind, double value);
-/** 1 while the power stage holds PDPINTA low (the simulator copies it to the port). */
+/** 1 while the power stage holds PDPINTA low (the simulator copies it to the
+ *  port; a comparator trip is a pulse: plant_t.hw_fired, latched by the
+ *  host HAL as by the F2812, hal_host.h). */
 uint16_t plant_trip_line(const plant_t *p);
 /** 1 while the motor's state (speed, angle, currents, rotor flux) and the
  *  short's current are finite numbers; 0 once the integration diverged. */

@@ -119,7 +119,8 @@ static const char *fault_name(uint16_t code)
     static const char *const names[] = {"none", "overcurrent", "bus_overvoltage",
                                         "bus_undervoltage", "encoder", "current_offset",
                                         "adc_rail", "hw_trip", "config",
-                                        "current_sensor", "isr_overrun"};
+                                        "current_sensor", "isr_overrun", "sensor_test",
+                                        "stall"};
     return (code < sizeof names / sizeof names[0]) ? names[code] : "unknown";
 }
 
@@ -203,6 +204,25 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
     jw_field(&w, "max_speed_err_rpm_ramp", r->max_speed_err_rpm_ramp);
     jw_field(&w, "max_flux_q_over_d", r->max_flux_q_over_d);
     jw_field(&w, "final_speed_rpm", r->final_speed_rpm);
+    jw_field(&w, "max_true_phase_A", r->max_true_phase_A);
+    jw_field(&w, "max_true_leg_A", r->max_true_leg_A);
+    jw_field(&w, "over_trip_s", r->over_trip_s);
+    jw_field(&w, "t_over_trip_first_s", r->t_over_trip_first_s);
+    jw_field(&w, "t_over_trip_last_s", r->t_over_trip_last_s);
+    jw_field(&w, "hw_comparator_trips", (double)r->hw_trips);
+    jw_field(&w, "t_hw_comparator_s", r->t_hw_trip_s);
+    jw_field(&w, "max_cmc_r_A", r->max_cmc_r_A);
+    jw_field(&w, "t_max_cmc_r_s", r->t_max_cmc_r_s);
+    jw_field(&w, "max_cmc_neg", r->max_cmc_neg);
+    jw_field(&w, "t_max_cmc_neg_s", r->t_max_cmc_neg_s);
+    jw_field(&w, "max_cmc_dc_A", r->max_cmc_dc_A);
+    jw_field(&w, "t_max_cmc_dc_s", r->t_max_cmc_dc_s);
+    jw_field(&w, "max_cmc_util_r", r->max_cmc_util_r);
+    jw_field(&w, "max_cmc_util_neg", r->max_cmc_util_neg);
+    jw_field(&w, "max_cmc_util_dc", r->max_cmc_util_dc);
+    jw_field(&w, "params_withdrawn", (double)r->params_withdrawn);
+    jw_field(&w, "withdraw_reason", (double)r->withdraw_reason);
+    jw_field(&w, "max_pub_err_after_fault_pct", r->max_pub_err_after_fault_pct);
     jw_field(&w, "v_err_along_i_V", r->v_err_along_i_V);
     jw_field(&w, "v_err_across_i_V", r->v_err_across_i_V);
     jw_field(&w, "i_mag_steady_A", r->i_mag_steady_A);

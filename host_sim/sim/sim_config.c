@@ -128,6 +128,13 @@ static const key_spec_t k_keys[] = {
     K(inverter, r_on_ohm, OPT, 0, NULL, 0, 1, 0, "ohm", SIM, "switch on-resistance"),
     K(inverter, dead_time_band_A, OPT, 0.1, NULL, 1e-3, 100, 0, "A", SIM,
       "current over which the bridge's dead-time error changes sign"),
+    /* the power stage's own overcurrent protection (desaturation or shunt
+     * comparator per leg, on the true leg current, independent of the Hall
+     * sensors): pulls PDPINTA, the bridge's outputs off after the delay */
+    K(inverter, overcurrent_hw_A, OPT, -1, NULL, -1, 1e5, 0, "A (-1: 1.25 x trip, 0: none)",
+      SIM, "hardware comparator level on |leg current| (above controller.overcurrent_A)"),
+    K(inverter, overcurrent_hw_delay_s, OPT, 2e-6, NULL, 0, 5e-5, 0, "s", SIM,
+      "comparator + gate driver response: crossing to outputs off"),
     /* residual after the production trim of the current channels; phase b
      * gets -0.6 x this (the two sensors differ) */
     K(sensors, hall_gain_error_pct, OPT, 0.1, NULL, -20, 20, 0, "%", SIM,
@@ -359,6 +366,10 @@ static int apply_defaults(parse_ctx_t *ctx, char *err, size_t len)
     }
     if (ctx->cfg->ident.target_speed_rpm == TARGET_RATED) {
         ctx->cfg->ident.target_speed_rpm = ctx->cfg->nameplate.rated_speed_rpm;
+    }
+    if (ctx->cfg->inverter.overcurrent_hw_A < 0.0) {
+        ctx->cfg->inverter.overcurrent_hw_A =
+            SIM_HW_OC_OF_TRIP * ctx->cfg->controller.overcurrent_A;
     }
     return 0;
 }

@@ -77,6 +77,10 @@ typedef struct {
 typedef struct {
     double vdc_V, source_resistance_ohm, ripple_V, ripple_Hz;
     double dead_time_s, device_drop_V, r_on_ohm, dead_time_band_A;
+    /* the bridge's own overcurrent comparator on the true leg currents
+     * (plant.h): its level (-1 in the file: 1.25 x controller.overcurrent_A,
+     * resolved when loaded; 0: none) and its response time to the outputs off */
+    double overcurrent_hw_A, overcurrent_hw_delay_s;
 } sim_inverter_t;
 
 /** [sensors] (sim): the simulated sensors' errors. */
@@ -112,6 +116,12 @@ typedef struct {
     sim_drift_t drift;
     sim_numerics_t simulation;
 } sim_config_t;
+
+/** The bridge's comparator level by default, per unit of the firmware's
+ *  trip (inverter.overcurrent_hw_A = -1): far enough above it that the
+ *  firmware, which sees the current every period, trips first whenever it
+ *  can; low enough for the devices' short-circuit rating. */
+#define SIM_HW_OC_OF_TRIP 1.25
 
 /** Error text buffer size for sim_config_load. */
 #define SIM_CONFIG_ERR_LEN 512

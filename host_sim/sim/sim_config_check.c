@@ -190,6 +190,13 @@ static int check_world(const sim_config_t *c, char *err, size_t len)
                            0.95 * vmax_phase, (td_max > 0.0) ? td_max : 0.0);
         return 1;
     }
+    if (inv->overcurrent_hw_A > 0.0 && !(inv->overcurrent_hw_A > c->controller.overcurrent_A)) {
+        sim_config_set_err(err, len, "key 'inverter.overcurrent_hw_A' = %g A is not above the "
+                           "firmware's trip controller.overcurrent_A = %g A (the comparator "
+                           "backs the firmware's protection up; 0: no comparator)",
+                           inv->overcurrent_hw_A, c->controller.overcurrent_A);
+        return 1;
+    }
     if (check_integration(c, err, len) != 0) {
         return 1;
     }

@@ -107,9 +107,58 @@ static void live_extremes(const base_values_t *b, const param_extract_t *p,
 static void observe_protection(const drive_t *d, sim_result_t *r, double t)
 {
     double e = (double)_IQtoF(d->cur_chk.e_f);
+    const current_model_check_t *m = &d->safety.cmc;
+    double sls = (double)_IQtoF(m->sigma_ls), rs = (double)_IQtoF(m->rs);
     if (e > r->max_cur_check_pu) {
         r->max_cur_check_pu = e;
         r->t_max_cur_check_s = t;
+    }
+    if (sls > 0.0 && d->slot == 1u) {   /* right after the SPEED slot's step */
+        double ib = d->base.I_base_A;
+        double rr = sqrt((double)_IQtoF(m->r2)) / sls * ib;
+        double ia = (double)_IQtoF(m->i_alpha), ibt = (double)_IQtoF(m->i_beta);
+        double imag = sqrt(ia * ia + ibt * ibt);
+        if (rr > r->max_cmc_r_A) {
+            r->max_cmc_r_A = rr;
+            r->t_max_cmc_r_s = t;
+        }
+        {
+            double thr = (double)_IQtoF(m->sigma_ls) * (double)_IQtoF(m->r_max) +
+                         (double)_IQtoF(m->r_allow);
+            double u = sqrt((double)_IQtoF(m->r2)) / thr;
+            if (m->active != 0u && u > r->max_cmc_util_r) {
+                r->max_cmc_util_r = u;
+            }
+        }
+        if (m->at_speed >= m->seq_settle) {
+            double leak = (double)CMC_LEAK * (fabs((double)_IQtoF(m->pos_d)) + fabs((double)_IQtoF(m->pos_q)));
+            double kn = fmin(sls * (double)_IQtoF(m->k_neg), 1.0);
+            double nthr = sqrt(kn * kn * imag * imag + leak * leak);
+            double dthr = rs * (double)_IQtoF(m->d_max_tau) + leak;
+            double un = sqrt((double)_IQtoF(m->neg2)) / nthr;
+            double ud = sqrt((double)_IQtoF(m->dc2)) / dthr;
+            if (un > r->max_cmc_util_neg) {
+                r->max_cmc_util_neg = un;
+            }
+            if (ud > r->max_cmc_util_dc) {
+                r->max_cmc_util_dc = ud;
+            }
+        }
+        if (m->at_speed >= m->seq_settle && imag > 0.05) {
+            double neg = sqrt((double)_IQtoF(m->neg2)) / sls / imag;
+            if (neg > r->max_cmc_neg) {
+                r->max_cmc_neg = neg;
+                r->t_max_cmc_neg_s = t;
+            }
+            if (rs > 0.0) {
+                /* d_max_tau / d_max = tau_r (pu time) */
+                double dc = sqrt((double)_IQtoF(m->dc2)) / (rs * d->safety.tau_r_pu) * ib;
+                if (dc > r->max_cmc_dc_A) {
+                    r->max_cmc_dc_A = dc;
+                    r->t_max_cmc_dc_s = t;
+                }
+            }
+        }
     }
 }
 
@@ -303,6 +352,15 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     res->t_accel_start_s = -1.0;
     res->plant_diverged_at_s = -1.0;
     res->trace_truncated_at_s = -1.0;
+    res->t_over_trip_first_s = -1.0;
+    res->t_over_trip_last_s = -1.0;
+    res->max_pub_err_after_fault_pct = -1.0;
+    for (k = 0; k < SIM_MAX_FAULTS; k++) {
+        res->t_injected_s[k] = -1.0;
+    }
+    for (k = 0; k < SIM_STATES; k++) {
+        res->t_state_s[k] = -1.0;
+    }
     sim_config_to_drive(cfg, &dc);
     st = drive_init(&drive, &dc);
     if (st != DRIVE_CFG_OK) {
@@ -370,13 +428,22 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
         unsigned i;
 
         for (i = 0; i < opt->n_faults; i++) {
-            if (!fault_applied[i] && t >= opt->faults[i].t_s) {
-                plant_inject(&plant, opt->faults[i].kind, opt->faults[i].value);
+            const sim_fault_t *f = &opt->faults[i];
+            const double t0 = (f->at_state == 0u)
+                                  ? 0.0
+                                  : ((f->at_state < SIM_STATES) ? res->t_state_s[f->at_state]
+                                                                : -1.0);
+            if (!fault_applied[i] && t0 >= 0.0 && t >= t0 + f->t_s) {
+                plant_inject(&plant, f->kind, f->value);
                 fault_applied[i] = 1u;
+                res->t_injected_s[i] = t;
             }
         }
         for (i = 0; i < opt->n_cmds; i++) {
             if (!cmd_given[i] && t >= opt->cmds[i].t_s) {
+                if (opt->cmds[i].cmd == DRIVE_CMD_RESET_FAULT) {
+                    (void)hal_host_clear_trip(&port);   /* the board's latch first (main.c) */
+                }
                 drive_command(&drive, (drive_cmd_t)opt->cmds[i].cmd);
                 cmd_given[i] = 1u;
             }
@@ -414,6 +481,17 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
             if (drive.live.valid != 0u) {
                 live_extremes(b, &drive.live, &res->truth, res);
             }
+            if (res->n_faults_seen > 0u && t >= res->fault_time_s[0] + 0.002) {
+                double w = fabs(pct(pub.Rs_ohm, res->truth.Rs_ohm));
+                w = fmax(w, fabs(pct(pub.Rr_ohm, res->truth.Rr_ohm)));
+                w = fmax(w, fabs(pct(pub.Lm_H, res->truth.Lm_H)));
+                w = fmax(w, fabs(pct(pub.Lr_H, res->truth.Lr_H)));
+                w = fmax(w, fabs(pct(pub.Tr_s, res->truth.Tr_s)));
+                if (res->truth.psi_r_Wb > 0.0) {
+                    w = fmax(w, fabs(pct(pub.psi_r_Wb, res->truth.psi_r_Wb)));
+                }
+                res->max_pub_err_after_fault_pct = fmax(res->max_pub_err_after_fault_pct, w);
+            }
         }
 
         /* observe (state at the sample instant, firmware's frame theta_k) */
@@ -429,6 +507,16 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
             psi_q = pq;
             if (imax > res->max_abs_i_A) {
                 res->max_abs_i_A = imax;
+            }
+            if (imax > cfg->controller.overcurrent_A) {
+                if (res->t_over_trip_first_s < 0.0) {
+                    res->t_over_trip_first_s = t;
+                }
+                res->t_over_trip_last_s = t;
+                res->over_trip_s += Ts;
+            }
+            if (state < SIM_STATES && res->t_state_s[state] < 0.0) {
+                res->t_state_s[state] = t;
             }
             if (state == ID_ACCELERATE && prev_state != ID_ACCELERATE && res->t_accel_start_s < 0.0) {
                 res->t_accel_start_s = t;
@@ -547,6 +635,11 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                 scen_done = (t >= t_run + 1.5);
             }
         }
+        if (opt->stop_after_fault_s > 0.0 && res->n_faults_seen > 0u &&
+            t >= res->fault_time_s[0] + opt->stop_after_fault_s) {
+            res->duration_s = t;   /* ended after the fault (sim_options_t.stop_after_fault_s) */
+            break;
+        }
         if (!opt->quiet && duration > 5.0 && (k % (uint64_t)cfg->board.pwm_freq_Hz) == 0u &&
             k > 0) {
             fprintf(stderr, "\r  simulated %.0f of %.0f s", t, duration);
@@ -555,6 +648,9 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
         /* one PWM period: the compare values written by the previous ISR are
          * loaded at this underflow; the output enable acts at once */
         plant_period(&plant, &active, port.outputs_enabled);
+        if (plant.hw_fired != 0u) {
+            hal_host_pdpinta_pulse(&port);   /* the bridge's comparator pulled PDPINTA */
+        }
         active = port.cmp;
         if (!plant_finite(&plant)) {
             /* nothing after this is a result: end the run here */
@@ -572,6 +668,10 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
         res->i_mag_steady_A /= (double)res->n_v_err;
     }
     res->final_speed_rpm = plant.motor.n_rpm;
+    res->max_true_phase_A = plant.i_phase_peak_A;
+    res->max_true_leg_A = plant.i_leg_peak_A;
+    res->hw_trips = plant.hw_trips;
+    res->t_hw_trip_s = plant.t_hw_first_s;
     res->final_state = drive.telemetry.state;
     res->final_fault = drive.telemetry.fault;
     res->final_pwm_on = port.outputs_enabled;
@@ -581,6 +681,8 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     res->theta_rejects = drive.guard.reject_count;
     res->publish_rejects = drive.telemetry.publish_rejects;
     res->identified = drive.telemetry.params_valid;
+    res->params_withdrawn = drive.telemetry.params_withdrawn;
+    res->withdraw_reason = drive.telemetry.withdraw_reason;
     res->final_pass = drive.telemetry.pass;
     res->Rs_dc_ohm = (double)_IQtoF(drive.telemetry.Rs_dc) * b->Z_base_ohm;
     res->adapt_timeouts = drive.seq.adapt_timeouts;

@@ -25,6 +25,7 @@
 #define SIM_TRACE_HEADER_BYTES 512.0
 #define SIM_TRACE_MAX_MB_DEFAULT 256.0
 #define SIM_TRACE_MAX_MB_LIMIT 1e6
+#define SIM_STATES 8   /* id_state_t: IDLE .. REFINE */
 
 /* SCEN_SOAK: after the identification, repeated speed reversals
  * (+-target every 4 s) and load steps (+50 % of the rated load for 1 s,
@@ -44,8 +45,10 @@ typedef struct {
 
 typedef struct {
     plant_fault_t kind;
-    double t_s;
+    double t_s;        /* when: seconds from the start, or after the state's first entry */
     double value;
+    uint16_t at_state; /* 0 (ID_IDLE): t_s is absolute; another id_state_t: t_s after the
+                          sequence first enters that state (the drive's telemetry) */
 } sim_fault_t;
 
 typedef struct {
@@ -68,6 +71,7 @@ typedef struct {
      * button), and a hook run after each drive_background (1 kHz) with the
      * ISRs run so far and the time; a non-zero return ends the run there */
     uint16_t no_autostart;
+    double stop_after_fault_s;   /* > 0: the run ends this long after the first fault latched */
     int (*background_hook)(void *ctx, drive_t *d, uint64_t isr_count, double t_s);
     void *hook_ctx;
 } sim_options_t;
@@ -98,6 +102,8 @@ typedef struct {
     uint16_t n_faults_seen;
     uint16_t fault_code[SIM_MAX_FAULTS];
     double fault_time_s[SIM_MAX_FAULTS];
+    double t_injected_s[SIM_MAX_FAULTS];   /* when each --fault was applied (-1: never) */
+    double t_state_s[SIM_STATES];   /* the sequence's first entry into each id_state_t (-1) */
     /* protection figures (issue 6) */
     double t_fault_visible_s;       /* first sample an injected fault reached the ADC/QEP
                                        (-1: none) */
@@ -109,8 +115,33 @@ typedef struct {
                                        tracking, Rs standstill, Rr and Tr tracked) */
     sim_params_t published_end_error_pct;   /* against the truth at the start of RUN */
     uint16_t params_tracked;        /* the end set carries the tracked values */
+    uint16_t params_withdrawn;      /* sets the publish guard withdrew (publish_guard.h) */
+    uint16_t withdraw_reason;       /* the fault code of the last withdrawal */
+    double max_pub_err_after_fault_pct;  /* the worst |error| of any published parameter
+                                       (psi_r once its truth is known) from 2 ms after the
+                                       first fault on (-1: nothing published then) */
     uint16_t published_changed;     /* a published value changed after that */
+    /* the TRUE currents (the motor's and the bridge legs', not the sensors'):
+     * what a protection must bound whatever the measurements say */
+    double max_true_phase_A;        /* largest |motor phase current| at any period end or
+                                       comparator trip instant */
+    double max_true_leg_A;          /* the same for the legs (with an a-b short's current) */
+    double over_trip_s;             /* time the true phase current spent above
+                                       controller.overcurrent_A (sample instants) */
+    double t_over_trip_first_s, t_over_trip_last_s;   /* -1: never above */
+    uint32_t hw_trips;              /* the bridge's comparator turned the outputs off */
+    double t_hw_trip_s;             /* its first trip (-1: never) */
     double max_cur_check_pu;        /* largest filtered current-tracking error */
+    /* the model check (current_model_check.h), in the units of its levels:
+     * |r| / sigma Ls (A), the negative sequence per unit of |i|, the DC part
+     * / (Rs tau_r) (A: the offset it stands for); largest values and when */
+    double max_cmc_r_A, t_max_cmc_r_s;
+    double max_cmc_neg, t_max_cmc_neg_s;
+    double max_cmc_dc_A, t_max_cmc_dc_s;
+    /* each test's value over its level (the level with its allowances and
+     * leak terms, as the firmware forms it), largest while the test is armed:
+     * the healthy margin is 1 / this */
+    double max_cmc_util_r, max_cmc_util_neg, max_cmc_util_dc;
     double t_max_cur_check_s;       /* when */
     /* soak figures: control-path flags, counted in samples after the
      * magnetisation, and the estimator's counters at the end */

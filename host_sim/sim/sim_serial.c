@@ -18,6 +18,7 @@
 
 #include "bg_loop.h"
 #include "board_config.h"   /* BOARD_SCI_BAUD */
+#include "hal_host.h"
 
 #define RX_CHUNK 256u
 #define TX_CHUNK 64u
@@ -280,6 +281,9 @@ static int receive(sim_serial_t *s, drive_t *d)
     while (s->rx_pos < s->rx_len) {
         tlm_cmd_t cmd = telemetry_rx_byte(&s->bg.tlm, (uint16_t)s->rx[s->rx_pos++]);
         if (cmd != TLM_CMD_NONE) {
+            if (cmd == TLM_CMD_RESET_FAULT) {
+                (void)hal_host_clear_trip(NULL);   /* the board's latch first (main.c) */
+            }
             bg_loop_apply(d, NULL, cmd);   /* no data log on the host: $C,D arms nothing */
             s->cmds++;
             break;

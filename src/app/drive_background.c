@@ -10,6 +10,7 @@
  */
 #include "drive_adapt.h"
 #include "drive_internal.h"
+#include "drive_safety.h"
 
 static void extract(param_extract_t *p, const drive_snapshot_t *s, uint16_t form)
 {
@@ -130,6 +131,7 @@ static void handle_command(drive_t *d, drive_cmd_t cmd)
          * trip again if their cause is still there once it runs */
         encoder_check_reset(&d->enc_chk);
         current_check_reset(&d->cur_chk);
+        drive_safety_reset(d);
         isr_monitor_reset(&d->ovr);
         d->prot.encoder_fault = 0u;
         d->prot.current_fault = 0u;
@@ -181,6 +183,7 @@ void drive_background(drive_t *d)
     }
     drive_adapt_background(d);   /* the adaptation's models and constants (drive_adapt_bg.c) */
     publish_tracked(d);
+    drive_safety_background(d);   /* nothing learned while a fault developed stays published */
 }
 
 void drive_command(drive_t *d, drive_cmd_t cmd)

@@ -17,6 +17,7 @@
 #include "drive_design.h"
 #include "drive_internal.h"
 #include "drive_limits.h"
+#include "drive_safety.h"
 
 #include <math.h>
 #include <string.h>
@@ -256,6 +257,9 @@ int16_t drive_init(drive_t *d, const drive_config_t *c)
      * slot; below a 2 kHz PWM (a slow period above 2 ms) tau is that period. */
     if (current_check_init(&d->cur_chk, g.Ts_slow, fmaxf(0.002f, g.Ts_slow), 0.15f) !=
             CURRENT_CHECK_OK) {
+        return DRIVE_CFG_PROTECTION;
+    }
+    if (drive_safety_init(d, c) != 0) {
         return DRIVE_CFG_PROTECTION;
     }
     isr_monitor_init(&d->ovr);

@@ -36,6 +36,7 @@
 
 #include "angle.h"
 #include "drive_adapt.h"
+#include "drive_safety.h"
 
 static void sequence(drive_t *d)
 {
@@ -127,6 +128,7 @@ static void task_checks(drive_t *d)
     d->enc_chk.count = d->qep.count;
     d->enc_chk.i_t = d->park.qs;
     encoder_check_frozen(&d->enc_chk);
+    drive_safety_slow(d);   /* currents against the model, locked rotor (drive_safety.c) */
 }
 
 static void task_speed(drive_t *d)

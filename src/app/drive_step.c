@@ -71,6 +71,7 @@
 
 #include "angle.h"
 #include "drive_adapt.h"
+#include "drive_safety.h"
 
 static inline void set_outputs_off(drive_t *d, hal_pwm_compare_t *out)
 {
@@ -300,6 +301,7 @@ static inline void step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_co
         calibrate(d);
     }
     voltage_model(d);
+    drive_safety_fast(d);   /* the model check's window (drive_safety.h) */
     transform_currents(d);
     identify_accumulate(d);
     drive_adapt_fast(d);
@@ -318,6 +320,8 @@ static inline void step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_co
         pi_reset(&d->pi_iq);
         set_outputs_off(d, out);
     }
+
+    pwm_on = drive_safety_modulate(d, out, pwm_on);   /* the sensor test (drive_safety.h) */
 
     /* PWM pipeline (hal_pwm.h): shift the duties one period */
     d->duty_last[0] = d->duty_next[0];

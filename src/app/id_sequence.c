@@ -118,7 +118,7 @@ void id_sequence_step(id_sequence_t *s)
         }
         break;
     case ID_CALIBRATE:
-        if (s->cal_done != 0u) {
+        if (s->cal_done != 0u && (s->sensor_test == 0u || s->test_done != 0u)) {
             enter(s, ID_MAGNETIZE);
         }
         break;
@@ -172,15 +172,18 @@ void id_sequence_step(id_sequence_t *s)
     s->start_req = 0u;
 
     /* outputs as a function of the (new) state */
+    s->sensor_testing = (uint16_t)((uint16_t)(s->state == ID_CALIBRATE) &
+                                   (uint16_t)(s->cal_done != 0u) &
+                                   (uint16_t)(s->sensor_test != 0u));
     s->pwm_on = (uint16_t)(s->state == ID_MAGNETIZE || s->state == ID_ACCELERATE ||
                            s->state == ID_SETTLE || s->state == ID_RUN ||
-                           s->state == ID_REFINE);
-    s->calibrating = (uint16_t)(s->state == ID_CALIBRATE);
+                           s->state == ID_REFINE || s->sensor_testing != 0u);
+    s->calibrating = (uint16_t)(s->state == ID_CALIBRATE && s->cal_done == 0u);
     s->speed_loop_on = (uint16_t)(s->state == ID_ACCELERATE || s->state == ID_SETTLE ||
                                   s->state == ID_RUN || s->state == ID_REFINE);
     s->rls_on = (uint16_t)(s->state == ID_ACCELERATE ||
                            (s->state == ID_SETTLE && s->t_state <= s->rls_tail_samples));
-    s->im_cmd = (s->pwm_on != 0u) ? s->im_ref : _IQ(0.0);
+    s->im_cmd = (s->pwm_on != 0u && s->state != ID_CALIBRATE) ? s->im_ref : _IQ(0.0);
     if (s->speed_loop_on == 0u) {
         s->speed_cmd = _IQ(0.0);
     } else {

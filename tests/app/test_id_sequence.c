@@ -71,20 +71,26 @@ static void step(id_sequence_t *s, pulses_t *p)
     }
 }
 
-/* Outputs of each state (header): PWM in MAGNETIZE..RUN and REFINE; the
- * speed loop in ACCELERATE, SETTLE, RUN, REFINE; i_M ref with the PWM;
- * speed target (REFINE: refine_speed) with the speed loop. */
+/* Outputs of each state (header): PWM in MAGNETIZE..RUN and REFINE, and
+ * in CALIBRATE while the sensor test runs (after the calibration, with the
+ * test enabled, until test_done); the speed loop in ACCELERATE, SETTLE,
+ * RUN, REFINE; i_M ref with the PWM but not in the sensor test; speed
+ * target (REFINE: refine_speed) with the speed loop. */
 static void check_outputs(const id_sequence_t *s)
 {
     const id_state_t st = s->state;
+    const uint16_t test = (uint16_t)(st == ID_CALIBRATE && s->cal_done != 0u &&
+                                     s->sensor_test != 0u);
     const uint16_t pwm = (uint16_t)(st == ID_MAGNETIZE || st == ID_ACCELERATE ||
-                                    st == ID_SETTLE || st == ID_RUN || st == ID_REFINE);
+                                    st == ID_SETTLE || st == ID_RUN || st == ID_REFINE ||
+                                    test != 0u);
     const uint16_t spd = (uint16_t)(st == ID_ACCELERATE || st == ID_SETTLE || st == ID_RUN ||
                                     st == ID_REFINE);
+    assert_int_equal(s->sensor_testing, test);
     assert_int_equal(s->pwm_on, pwm);
     assert_int_equal(s->speed_loop_on, spd);
-    assert_int_equal(s->calibrating, (uint16_t)(st == ID_CALIBRATE));
-    assert_true(s->im_cmd == (pwm ? s->im_ref : _IQ(0.0)));
+    assert_int_equal(s->calibrating, (uint16_t)(st == ID_CALIBRATE && s->cal_done == 0u));
+    assert_true(s->im_cmd == ((pwm && st != ID_CALIBRATE) ? s->im_ref : _IQ(0.0)));
     if (!spd) {
         assert_true(s->speed_cmd == _IQ(0.0));
     } else if (st == ID_REFINE) {
@@ -525,9 +531,66 @@ static void test_set_passes(void **state)
     assert_int_equal(s.passes, 1u);
 }
 
+/* The sensor test at the end of CALIBRATE (sensor_test = 1): after the
+ * calibration the sequence stays in CALIBRATE with the bridge switching
+ * and no current reference until the drive says test_done; then
+ * MAGNETIZE on the next sample.  A fault there goes to FAULT; a new start
+ * runs the test again (the drive clears test_done with the new run). */
+static void test_sensor_test_in_calibrate(void **state)
+{
+    id_sequence_t s;
+    pulses_t p;
+    uint32_t k;
+    (void)state;
+    memset(&p, 0, sizeof p);
+    seq_init(&s);
+    assert_int_equal(s.sensor_test, 0u);   /* off after init: the paper's sequence unchanged */
+    s.sensor_test = 1u;
+    id_sequence_start(&s);
+    step(&s, &p);
+    assert_int_equal(s.state, ID_CALIBRATE);
+    check_outputs(&s);
+    assert_int_equal(s.pwm_on, 0u);
+    s.cal_done = 1u;
+    for (k = 0u; k < 40u; k++) {
+        step(&s, &p);
+        assert_int_equal(s.state, ID_CALIBRATE);
+        assert_int_equal(s.sensor_testing, 1u);
+        assert_int_equal(s.pwm_on, 1u);
+        assert_true(s.im_cmd == _IQ(0.0));
+        assert_int_equal(s.speed_loop_on, 0u);
+        assert_int_equal(s.rls_on, 0u);
+        check_outputs(&s);
+    }
+    s.test_done = 1u;
+    step(&s, &p);
+    assert_int_equal(s.state, ID_MAGNETIZE);
+    assert_int_equal(s.sensor_testing, 0u);
+    assert_true(s.im_cmd == s.im_ref);
+    check_outputs(&s);
+    /* stop, a new start with the test's verdict cleared, and a fault in it */
+    id_sequence_stop(&s);
+    step(&s, &p);
+    assert_int_equal(s.state, ID_IDLE);
+    s.cal_done = 0u;
+    s.test_done = 0u;
+    id_sequence_start(&s);
+    step(&s, &p);
+    s.cal_done = 1u;
+    step(&s, &p);
+    assert_int_equal(s.sensor_testing, 1u);
+    s.fault = 1u;
+    step(&s, &p);
+    assert_int_equal(s.state, ID_FAULT);
+    assert_int_equal(s.pwm_on, 0u);
+    assert_int_equal(s.sensor_testing, 0u);
+    check_outputs(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_sensor_test_in_calibrate),
         cmocka_unit_test(test_three_passes),
         cmocka_unit_test(test_one_pass),
         cmocka_unit_test(test_settle_timeout),

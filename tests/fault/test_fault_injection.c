@@ -32,11 +32,22 @@ typedef struct {
 
 /* detect_window_s: 0 for a fault that one sample shows; the encoder's frozen
  * test waits 50 ms by design (encoder_check.h) and runs in the slow task
- * (one sample in DRIVE_SLOTS: DRIVE_SLOTS - 1 periods more); a sensor reading 0 A
- * shows nothing wrong in one sample (0 A is a legal reading): the current
- * check sees the consequence through its 2 ms low-pass (current_check.h) */
+ * (one sample in DRIVE_SLOTS: DRIVE_SLOTS - 1 periods more), but a count stream that
+ * stops while the rotor turns is implausible in the next period
+ * (stall_check.h); a sensor reading 0 A shows nothing wrong in one sample
+ * (0 A is a legal reading): the model check (current_model_check.h) sees
+ * the current the voltage makes leave the measured one: measured over 22
+ * injection instants 1 ms apart (one electrical period) at 0.7 s and at
+ * 2.0 s, at most 4.0 ms (an injection at phase b's zero crossing, where
+ * the measured step is nil and the residual has to grow), with the true
+ * current at most 12.4 A against the 18 A trip; 5 ms here. */
+/* The a-b short's current rises at up to vdc / 20 uH = 3 A/us: it crosses
+ * the bridge's comparator (1.25 x the trip level, plant.h) within the
+ * period of the injection, the outputs are off 2 us later and the firmware
+ * reads the latched PDPINTA in its next ISR (FAULT_HW_TRIP); the firmware's
+ * own overcurrent test would see it only at that sample. */
 static const fault_case_t k_cases[] = {
-    {"short a-b, 20 uH", PLANT_FAULT_SHORT, 20.0, FAULT_OVERCURRENT, 0.0},
+    {"short a-b, 20 uH", PLANT_FAULT_SHORT, 20.0, FAULT_HW_TRIP, 0.0},
     {"bus overvoltage +50 %", PLANT_FAULT_OVERVOLTAGE, 0.5, FAULT_BUS_OVERVOLTAGE, 0.0},
     {"bus sag -50 %", PLANT_FAULT_BUS_SAG, 0.5, FAULT_BUS_UNDERVOLTAGE, 0.0},
     {"encoder frozen", PLANT_FAULT_ENCODER_LOST, 0.0, FAULT_ENCODER,
@@ -49,7 +60,7 @@ static const fault_case_t k_cases[] = {
      * bus at its top rail and cannot tell it from a real one */
     {"bus feedback at the ADC rail", PLANT_FAULT_ADC_RAIL, 0.0, FAULT_BUS_OVERVOLTAGE, 0.0},
     {"PDPINTA (power stage trip)", PLANT_FAULT_HW_TRIP, 100.0, FAULT_HW_TRIP, 0.0},
-    {"phase-b sensor lost (reads 0 A)", PLANT_FAULT_HALL_LOST, 0.0, FAULT_CURRENT_SENSOR, 0.002},
+    {"phase-b sensor lost (reads 0 A)", PLANT_FAULT_HALL_LOST, 0.0, FAULT_CURRENT_SENSOR, 0.005},
 };
 #define N_CASES (sizeof k_cases / sizeof k_cases[0])
 
@@ -60,6 +71,7 @@ static void check_case(const fault_case_t *c, double t_fault)
     sim_fault_t f;
     double Ts, delay;
     f.kind = c->kind;
+    f.at_state = 0u;   /* t_s from the start */
     f.t_s = t_fault;
     f.value = c->value;
     assert_int_equal(fault_run(PAPER, &f, 1u, NULL, 0u, FAULT_RUN_S, &cfg, &r), 0);
@@ -82,9 +94,11 @@ static void check_case(const fault_case_t *c, double t_fault)
     assert_true(r.t_fault_visible_s >= t_fault - 1e-9);
     assert_true(delay >= -1e-9);
     assert_true(delay <= c->detect_window_s + Ts + 1e-9);
-    /* the motor's phase currents never reached the trip level (the short's
-     * own current is in the bridge, not the motor) */
+    /* the motor's TRUE phase currents never reached the trip level, at any
+     * period's end nor when the bridge's comparator cut a period short (the
+     * short's own current is in the bridge legs, not the motor) */
     assert_true(r.max_abs_i_A < cfg.controller.overcurrent_A);
+    assert_true(r.max_true_phase_A < cfg.controller.overcurrent_A);
     if (t_fault > 1.8) {
         /* published before the fault, unchanged after it */
         assert_true(r.t_first_published_s > 0.0 && r.t_first_published_s < t_fault);
@@ -122,7 +136,7 @@ static void test_offset_at_calibration(void **state)
 {
     sim_config_t cfg;
     sim_result_t r;
-    sim_fault_t f = {PLANT_FAULT_CURRENT_OFFSET, 0.0, 0.1};
+    sim_fault_t f = {PLANT_FAULT_CURRENT_OFFSET, 0.0, 0.1, 0u};
     (void)state;
     assert_int_equal(fault_run(PAPER, &f, 1u, NULL, 0u, FAULT_RUN_S, &cfg, &r), 0);
     print_message("offset 10 %% FS at start: code %u at %.4f s\n", r.fault_code[0],
@@ -143,34 +157,41 @@ static void test_offset_at_calibration(void **state)
     assert_int_equal(r.identified, 1);
 }
 
-/* A sensor gain error of 20 % on phase a after the publication is not a
- * protection fault: the true currents stay bounded (below the trip level) and
- * the drive keeps running; the published parameters do not change (the RLS
- * is off in RUN). */
+/* A sensor gain error of 20 % on phase a after the publication: the true
+ * currents stay below the trip level, but the measurement is wrong, and the
+ * model check sees its negative sequence at speed (current_model_check.h:
+ * e / sqrt(3) of |i|, 3x its level): FAULT_CURRENT_SENSOR, measured 26 ms
+ * after the injection (the sequence low-pass, 50 ms; bound 100 ms); the
+ * published parameters, older than the fault, do not change. */
 static void test_gain_error_after_publication(void **state)
 {
     sim_config_t cfg;
     sim_result_t r;
-    sim_fault_t f = {PLANT_FAULT_HALL_GAIN, FAULT_T_AFTER, 0.2};
+    sim_fault_t f = {PLANT_FAULT_HALL_GAIN, FAULT_T_AFTER, 0.2, 0u};
     (void)state;
     assert_int_equal(fault_run(PAPER, &f, 1u, NULL, 0u, FAULT_RUN_S, &cfg, &r), 0);
-    print_message("gain error 20 %% at 2 s: faults %u, max |i| %.2f A, PWM %u\n", r.n_faults_seen,
-                  r.max_abs_i_A, r.final_pwm_on);
-    assert_int_equal(r.n_faults_seen, 0);
-    assert_int_equal(r.final_pwm_on, 1);
-    assert_true(r.max_abs_i_A < cfg.controller.overcurrent_A);
+    print_message("gain error 20 %% at 2 s: faults %u (code %u at %.4f s), max true |i| %.2f A, "
+                  "PWM %u\n", r.n_faults_seen, r.fault_code[0], r.fault_time_s[0],
+                  r.max_true_phase_A, r.final_pwm_on);
+    assert_int_equal(r.n_faults_seen, 1);
+    assert_int_equal(r.fault_code[0], FAULT_CURRENT_SENSOR);
+    assert_true(r.fault_time_s[0] > FAULT_T_AFTER && r.fault_time_s[0] < FAULT_T_AFTER + 0.1);
+    assert_int_equal(r.final_pwm_on, 0);
+    assert_int_equal(r.pwm_periods_with_fault, 0);
+    assert_true(r.max_true_phase_A < cfg.controller.overcurrent_A);
     assert_int_equal(r.identified, 1);
     assert_int_equal(r.published_changed, 0);
 }
 
 /* A phase-a sensor reading twice the current (gain error +100 %) from the
- * start: the run's extraction is implausible, and nothing may be published
+ * start: the model check trips, or the run's extraction is implausible;
+ * nothing may be published
  * (the published-set gate: publishing an implausible extraction gave a set
  * of zeros); the drive keeps running.  Paper motor and the 1.1 kW motor. */
 static void test_gross_gain_error_publishes_nothing(void **state)
 {
     static const char *const inis[2] = {PAPER, MC_CONFIG_DIR "/motor_1kw.ini"};
-    const sim_fault_t f = {PLANT_FAULT_HALL_GAIN, 0.0, 1.0};
+    const sim_fault_t f = {PLANT_FAULT_HALL_GAIN, 0.0, 1.0, 0u};
     sim_config_t cfg;
     sim_result_t r;
     unsigned k;
@@ -182,8 +203,9 @@ static void test_gross_gain_error_publishes_nothing(void **state)
                       r.t_first_published_s, r.publish_rejects, r.n_faults_seen, r.final_state);
         assert_int_equal(r.identified, 0);
         assert_true(r.t_first_published_s < 0.0);
-        /* the sequence reached its extraction, and refused it */
-        assert_true(r.publish_rejects >= 1u);
+        /* refused at the extraction, or (the model check, current_model_check.h)
+         * a current-sensor fault latched before it: either way no set */
+        assert_true(r.publish_rejects >= 1u || r.n_faults_seen >= 1u);
     }
 }
 

@@ -26,7 +26,7 @@ static void test_restart_only_after_cause_cleared(void **state)
 {
     sim_config_t cfg;
     sim_result_t r;
-    const sim_fault_t f[2] = {{PLANT_FAULT_BUS_SAG, 2.0, 0.5}, {PLANT_FAULT_CLEAR, 2.4, 0.0}};
+    const sim_fault_t f[2] = {{PLANT_FAULT_BUS_SAG, 2.0, 0.5, 0u}, {PLANT_FAULT_CLEAR, 2.4, 0.0, 0u}};
     const sim_cmd_t c[4] = {{2.2, DRIVE_CMD_RESET_FAULT},
                             {2.25, DRIVE_CMD_START_IDENT},
                             {2.6, DRIVE_CMD_RESET_FAULT},
@@ -60,7 +60,7 @@ static void test_hw_trip_reset_needs_line_high(void **state)
 {
     sim_config_t cfg;
     sim_result_t r;
-    const sim_fault_t f = {PLANT_FAULT_HW_TRIP, 2.0, 0.3};
+    const sim_fault_t f = {PLANT_FAULT_HW_TRIP, 2.0, 0.3, 0u};
     const sim_cmd_t c[3] = {{2.1, DRIVE_CMD_RESET_FAULT},
                             {2.5, DRIVE_CMD_RESET_FAULT},
                             {2.6, DRIVE_CMD_START_IDENT}};
@@ -81,7 +81,7 @@ static void test_no_restart_without_reset(void **state)
 {
     sim_config_t cfg;
     sim_result_t r;
-    const sim_fault_t f[2] = {{PLANT_FAULT_OVERVOLTAGE, 2.0, 0.5}, {PLANT_FAULT_CLEAR, 2.1, 0.0}};
+    const sim_fault_t f[2] = {{PLANT_FAULT_OVERVOLTAGE, 2.0, 0.5, 0u}, {PLANT_FAULT_CLEAR, 2.1, 0.0, 0u}};
     const sim_cmd_t c = {2.2, DRIVE_CMD_START_IDENT};
     (void)state;
     assert_int_equal(fault_run(PAPER, f, 2u, &c, 1u, 2.5, &cfg, &r), 0);
@@ -102,7 +102,7 @@ static void test_reset_and_start_at_the_same_instant(void **state)
 {
     sim_config_t cfg;
     sim_result_t r;
-    const sim_fault_t f = {PLANT_FAULT_HW_TRIP, 1.0, 0.5};
+    const sim_fault_t f = {PLANT_FAULT_HW_TRIP, 1.0, 0.5, 0u};
     const sim_cmd_t orders[2][2] = {
         {{2.0, DRIVE_CMD_RESET_FAULT}, {2.0, DRIVE_CMD_START_IDENT}},
         {{2.0, DRIVE_CMD_START_IDENT}, {2.0, DRIVE_CMD_RESET_FAULT}},

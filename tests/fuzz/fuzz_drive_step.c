@@ -35,10 +35,20 @@
  *     op bits 4-7  the run is 2^n ISR periods (1 .. 32768)
  *     ia, ib, vdc  raw ADCRESULT words (any 16 bits, also the low 4 that the
  *                  F2812 leaves 0)
- *     dq           signed QEP counts per period (T2CNT wraps modulo 2^16)
- * Echo lets short inputs pass the current-plausibility protection and reach
- * acceleration, steady state and the parameter extraction, where fixed ADC
- * words would trip it within a few periods.
+ *     dq           signed QEP counts per period (T2CNT wraps modulo 2^16); with
+ *                  echo, the speed the rotor goes to at a physical
+ *                  acceleration (ECHO_ACCEL: a step of dq is not a motor,
+ *                  and the encoder's count-step test refuses it, as it must)
+ * Echo lets short inputs pass the current-plausibility protections and
+ * reach acceleration, steady state and the parameter extraction, where
+ * fixed ADC words would trip them within a few periods.  The echoed
+ * currents are those of the motor the configuration believes in (the
+ * fifth-order model of method §1 in the stationary frame, without its
+ * mechanics: the rotor turns by dq counts per period), driven by the
+ * voltage the drive's own compare values ask for at its measured bus (an
+ * ideal bridge; off: the stator current is zero): the model-based current
+ * check (current_model_check.h) refuses currents that no voltage explains,
+ * as it must, and the sensor test (sensor_test.h) its pulses' answer.
  * At most MAX_STEPS periods per input; the background loop runs every 15th
  * period, as the firmware's main loop at 1 kHz does.  With FUZZ_TRACE set in
  * the environment each state and fault change is printed (to read a crash
@@ -56,6 +66,8 @@
 #define MAX_STEPS 16384u        /* ~1.1 s at 15 kHz: the seeds need ~13 900 */
 #define BACKGROUND_DIV 15u      /* background at 1 kHz */
 #define RECORD_LEN 8u
+#define ECHO_ACCEL 0.002        /* counts per period per period: 0.2 s to 6 counts per
+                                   period (1350 r/min on the paper motor), half its largest */
 
 static drive_t g_drive;         /* large: static, one input at a time */
 static uint16_t g_states_seen;  /* bit n: id_state_t n was reached (corpus check) */
@@ -145,25 +157,81 @@ static uint16_t raw_of_current(double i_pu, _iq gain, uint16_t offset, int16_t p
     return (uint16_t)(raw + 0.5);
 }
 
-/* The phase currents an ideal current loop would give at the next sample:
- * the drive's M/T references rotated by its frame angle, advanced by the
- * rotor angle the encoder moves in one period (dq counts).  (With the
- * observer, orientation 1, this is no plant its voltage model can follow:
- * its frame leaves the encoder's at the first acceleration and the current
- * check trips; the adaptive seeds reach the standstill test, the frame
- * change, the fault and the restart, not the passes.) */
-static void echo_currents(const drive_t *d, const drive_config_t *c, int16_t dq,
-                          hal_adc_sample_t *adc, int16_t pa, int16_t pb)
+/* The believed motor behind the echo (see the file comment), SI. */
+typedef struct {
+    double rate;                /* counts per period (echo: follows dq at ECHO_ACCEL) */
+    double pos;                 /* counts, the fraction of the rotor's position */
+    double i_a, i_b;            /* stator current, alpha-beta, A */
+    double psi_a, psi_b;        /* rotor flux, Wb */
+    hal_pwm_compare_t out1, out2;   /* the compares of the last ISR and the one before */
+    uint16_t on1;               /* the bridge after the last ISR */
+} echo_motor_t;
+
+/* The period that just ended: the bridge as the last ISR left it, the
+ * compares of the ISR before (shadowed, hal_pwm.h), the drive's measured
+ * bus; 8 Euler steps of
+ *   sigma Ls di/dt = u - (Rs + Lm^2/(Lr Tr)) i + (Lm/Lr)(1/Tr - j w) psi
+ *   dpsi/dt = (Lm/Tr) i - (1/Tr - j w) psi
+ * (the bridge off: i = 0, the flux decays). */
+static void echo_motor_period(echo_motor_t *e, const drive_t *d, const drive_config_t *c,
+                              double dq)
 {
-    const double two_pi = 6.283185307179586;
-    double th = two_pi * ((double)_IQtoF(d->ifo.theta) +
-                          (double)dq * (double)c->motor.pole_pairs /
-                              (4.0 * (double)c->board.encoder_lines));
-    double i_m = (double)_IQtoF(d->pi_id.ref), i_t = (double)_IQtoF(d->pi_iq.ref);
-    double alpha = i_m * cos(th) - i_t * sin(th);
-    double beta = i_m * sin(th) + i_t * cos(th);
-    double ib = -0.5 * alpha + 0.8660254037844386 * beta;
-    adc->ia_raw = raw_of_current(alpha, d->cur.gain_a, d->cur.offset_a, pa);
+    const drive_motor_t *m = &c->motor;
+    const double Ts = 1.0 / (double)c->board.pwm_freq_Hz;
+    const double h = Ts / 8.0;
+    const double tr = (double)m->Lr_H / (double)m->Rr_ohm;
+    const double lm_lr = (double)m->Lm_H / (double)m->Lr_H;
+    const double sls = (double)m->Ls_H - (double)m->Lm_H * lm_lr;
+    const double r_t = (double)m->Rs_ohm + (double)m->Lm_H * lm_lr / tr;
+    const double w = (double)dq * 6.283185307179586 * (double)m->pole_pairs /
+                     (4.0 * (double)c->board.encoder_lines * Ts);
+    double u_a = 0.0, u_b = 0.0;
+    int n;
+    if (e->on1 != 0u) {
+        const double vdc = (double)_IQtoF(d->bus.vdc) * (double)d->base.V_base_V;
+        double dx[3], mean;
+        int x;
+        for (x = 0; x < 3; x++) {
+            dx[x] = (double)(d->t1pr - e->out2.cmpr[x]) / (double)d->t1pr;
+        }
+        mean = (dx[0] + dx[1] + dx[2]) / 3.0;
+        u_a = (dx[0] - mean) * vdc;
+        u_b = ((dx[1] - mean) - (dx[2] - mean)) * vdc / 1.7320508075688772;
+    }
+    for (n = 0; n < 8; n++) {
+        const double fa = e->psi_a / tr + w * e->psi_b;   /* (1/Tr - j w) psi */
+        const double fb = e->psi_b / tr - w * e->psi_a;
+        if (e->on1 != 0u) {
+            const double di_a = (u_a - r_t * e->i_a + lm_lr * fa) / sls;
+            const double di_b = (u_b - r_t * e->i_b + lm_lr * fb) / sls;
+            e->psi_a += h * ((double)m->Lm_H / tr * e->i_a - fa);
+            e->psi_b += h * ((double)m->Lm_H / tr * e->i_b - fb);
+            e->i_a += h * di_a;
+            e->i_b += h * di_b;
+        } else {
+            e->i_a = e->i_b = 0.0;
+            e->psi_a -= h * fa;
+            e->psi_b -= h * fb;
+        }
+    }
+}
+
+static void echo_motor_after(echo_motor_t *e, const drive_t *d, const hal_pwm_compare_t *out)
+{
+    e->out2 = e->out1;
+    e->out1 = *out;
+    e->on1 = d->telemetry.pwm_on;
+}
+
+/* The echoed phase currents: the believed motor's, plus the record's
+ * perturbations (raw counts). */
+static void echo_currents(const echo_motor_t *e, const drive_t *d, hal_adc_sample_t *adc,
+                          int16_t pa, int16_t pb)
+{
+    const double ib_base = (double)d->base.I_base_A;
+    const double ia = e->i_a / ib_base;
+    const double ib = (-0.5 * e->i_a + 0.8660254037844386 * e->i_b) / ib_base;
+    adc->ia_raw = raw_of_current(ia, d->cur.gain_a, d->cur.offset_a, pa);
     adc->ib_raw = raw_of_current(ib, d->cur.gain_b, d->cur.offset_b, pb);
 }
 
@@ -198,6 +266,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     int16_t st;
     id_state_t last_state = ID_IDLE;
     fault_code_t last_fault = FAULT_NONE;
+    echo_motor_t motor;
 
     if (size < 1u) {
         return 0;
@@ -206,6 +275,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         g_trace = (getenv("FUZZ_TRACE") != NULL) ? 1 : 0;
         g_selftest = (getenv("FUZZ_SELFTEST") != NULL) ? 1 : 0;
     }
+    memset(&motor, 0, sizeof motor);
     make_config((uint8_t)(data[0] & 7u), &cfg);
     g_latched = (data[0] & 8u) != 0u;
     /* garbage first, as in the F2812's .ebss (not zeroed by _c_int00):
@@ -240,15 +310,31 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         for (k = 0; k < n && step < MAX_STEPS; k++, step++) {
             adc.vdc_raw = get16(r + 5);
             if (echo != 0u) {
-                echo_currents(&g_drive, &cfg, dq, &adc, (int16_t)get16(r + 1),
+                /* the rotor accelerates towards dq counts per period */
+                const double err = (double)dq - motor.rate;
+                motor.rate += (err > ECHO_ACCEL) ? ECHO_ACCEL
+                                                 : ((err < -ECHO_ACCEL) ? -ECHO_ACCEL : err);
+                motor.pos += motor.rate;
+                {
+                    const double whole = floor(motor.pos);
+                    qep = (uint16_t)(qep + (uint16_t)(int16_t)whole);
+                    motor.pos -= whole;
+                }
+            } else {
+                motor.rate = (double)dq;
+                qep = (uint16_t)(qep + (uint16_t)dq);
+            }
+            echo_motor_period(&motor, &g_drive, &cfg, motor.rate);
+            if (echo != 0u) {
+                echo_currents(&motor, &g_drive, &adc, (int16_t)get16(r + 1),
                               (int16_t)get16(r + 3));
             } else {
                 adc.ia_raw = get16(r + 1);
                 adc.ib_raw = get16(r + 3);
             }
-            qep = (uint16_t)(qep + (uint16_t)dq);
             g_drive.prot.hw_trip = hw_trip;   /* as drive_isr does from hal_pwm_tripped() */
             drive_step(&g_drive, &adc, qep, &out);
+            echo_motor_after(&motor, &g_drive, &out);
             if (g_selftest != 0 && step == 100u) {
                 out.cmpr[0] = (uint16_t)(g_drive.t1pr + 1u);   /* the check must catch it */
             }

@@ -23,7 +23,8 @@ from dataclasses import dataclass, field
 STATES = ("IDLE", "CALIBRATE", "MAGNETIZE", "ACCELERATE", "SETTLE", "RUN", "FAULT", "REFINE")
 # include/protect.h fault_code_t, in enum order (likewise)
 FAULTS = ("none", "overcurrent", "bus_overvoltage", "bus_undervoltage", "encoder",
-          "current_offset", "adc_rail", "hw_trip", "config", "current_sensor", "isr_overrun")
+          "current_offset", "adc_rail", "hw_trip", "config", "current_sensor", "isr_overrun",
+          "sensor_test", "stall")
 
 # field layout of each frame type: (uint16 fields, Q24 fields)
 LAYOUT = {

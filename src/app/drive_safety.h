@@ -1,0 +1,50 @@
+/* Private to src/app: the protections that do not rely on one sensor
+ * (drive_safety.c), hooked into the ISR and the background by one line
+ * each.  See drive_safety.c for what they judge and how each threshold was
+ * chosen. */
+#ifndef DRIVE_SAFETY_H
+#define DRIVE_SAFETY_H
+
+#include "drive_types.h"
+
+/** Once, from drive_init after every other module (float).  Returns 0, or
+ *  1 when a module refused its constants. */
+int16_t drive_safety_init(drive_t *d, const drive_config_t *c);
+
+/** ISR, every period, after the voltage of the period that just ended is
+ *  known (drive_step.c's voltage model): the model check's window sum. */
+static inline void drive_safety_fast(drive_t *d)
+{
+    current_model_check_accumulate(&d->safety.cmc, d->volt.valpha, d->volt.vbeta, d->on_last);
+}
+
+/** Non-inline part of drive_safety_modulate (the sensor test's period). */
+uint16_t drive_safety_test_period(drive_t *d, hal_pwm_compare_t *out, uint16_t pwm_on);
+
+/** ISR, every period, after the modulation: while the sequence runs the
+ *  sensor test (CALIBRATE), its voltage replaces the current loops' (the
+ *  PIs are held at zero) or, when it fails, the bridge goes off with
+ *  FAULT_SENSOR_TEST.  Returns the period's PWM state.  Idle: one compare. */
+static inline uint16_t drive_safety_modulate(drive_t *d, hal_pwm_compare_t *out,
+                                             uint16_t pwm_on)
+{
+    if ((d->seq.state != ID_CALIBRATE) & (d->safety.stest.armed == 0u)) {
+        return pwm_on;
+    }
+    return drive_safety_test_period(d, out, pwm_on);
+}
+
+/** ISR, slot SPEED, after the encoder's frozen test: the model check's
+ *  step, the locked-rotor decision, the sensor test's verdict to the
+ *  sequence; latches their faults. */
+void drive_safety_slow(drive_t *d);
+
+/** Background, on the fault-reset command: re-arm (a cause still there
+ *  trips again once the drive runs). */
+void drive_safety_reset(drive_t *d);
+
+/** Background, last in each pass: the publish guard (publish_guard.h) on
+ *  the telemetry's published set. */
+void drive_safety_background(drive_t *d);
+
+#endif /* DRIVE_SAFETY_H */
