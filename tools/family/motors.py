@@ -5,7 +5,7 @@ written as motor_sim INI files.
 
     motors.py list [--ci | --grid] [--csv]          table of the family
     motors.py show NAME                              one motor, every key
-    motors.py write DIR [--ci | --grid] [--layout current|split]
+    motors.py write DIR [--ci | --grid] [--layout split|current]
                                                      one INI per motor + index.csv
 
 Importable: `design(P_kW, poles, f_Hz, V, sigma)`, `ci_subset()`, `grid()`,
@@ -388,15 +388,16 @@ def ini_values(m: Motor):
     }
 
 
-def key_map(layout="current"):
+def key_map(layout="split"):
     """Where each logical key goes: {key: (section, name)}.  THE one place to
     change when the INI layout changes.
 
-    'current': today's motor_sim layout ([motor] [load] [inverter] [sensors]
-    [controller] [ident] [simulation]; `motor_sim --keys`).
-    'split': the layout being introduced (drive side [nameplate] [board]
-    [controller] [ident]; simulated world [plant] [inverter] [sensors] [load]
-    [simulation]) as announced; provisional until it lands."""
+    'split': motor_sim's layout (drive side [nameplate] [board] [controller]
+    [ident]; simulated world [plant] [inverter] [sensors] [load] [drift]
+    [simulation]; `motor_sim --keys`, checked by test_key_map_matches_motor_sim).
+    'current': the former single-consumer layout ([motor] [load] [inverter]
+    [sensors] [controller] [ident] [simulation]); motor_sim refuses it, but
+    tools/study/ideal_drive.py (case_from_ini) still reads it."""
     if layout == "current":
         sec = {}
         for k in ("Rs_ohm", "Rr_ohm", "Lm_H", "Lls_H", "Llr_H", "pole_pairs", "rated_power_W",
@@ -454,7 +455,7 @@ def key_map(layout="current"):
 SECTION_ORDER = {
     "current": ("motor", "load", "inverter", "sensors", "controller", "ident", "simulation"),
     "split": ("nameplate", "board", "controller", "ident", "plant", "inverter", "sensors", "load",
-              "simulation"),
+              "drift", "simulation"),
 }
 
 
@@ -464,7 +465,7 @@ def _fmt(v):
     return f"{v:.6g}"
 
 
-def to_ini(m: Motor, layout="current", extra=None):
+def to_ini(m: Motor, layout="split", extra=None):
     """The INI text of one motor.  extra: {(section, key): value} appended
     (e.g. an ideal plant for a study)."""
     vals = ini_values(m)
@@ -509,7 +510,7 @@ def main(argv=None):
         sp = sub.add_parser(c)
         if c == "write":
             sp.add_argument("dir")
-            sp.add_argument("--layout", choices=("current", "split"), default="current")
+            sp.add_argument("--layout", choices=("split", "current"), default="split")
         g = sp.add_mutually_exclusive_group()
         g.add_argument("--ci", action="store_true", help="the CI subset (default)")
         g.add_argument("--grid", action="store_true", help="the whole family grid")
@@ -517,7 +518,7 @@ def main(argv=None):
             sp.add_argument("--csv", action="store_true")
     sp = sub.add_parser("show")
     sp.add_argument("name")
-    sp.add_argument("--layout", choices=("current", "split"), default="current")
+    sp.add_argument("--layout", choices=("split", "current"), default="split")
     a = ap.parse_args(argv)
     if a.cmd == "show":
         print(to_ini(by_name(a.name), a.layout), end="")

@@ -80,7 +80,7 @@ def s077_motor():
 
 
 def case_from_motor(m, **over):
-    return idd.case_from_ini(None, name=m.name, text=fam.to_ini(m), **over)
+    return idd.case_from_ini(None, name=m.name, text=fam.to_ini(m, "current"), **over)
 
 
 def named_cases():
