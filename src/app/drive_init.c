@@ -108,10 +108,6 @@ static int16_t init_identification(drive_t *d, const drive_config_t *c, const dr
     const base_values_t *b = &d->base;
     float Ts = g->Ts;
 
-    /* steady-state: filtered di/dt below 5 % of the rated peak current per
-     * second (g->didt_pu).  The speed loop's answer to encoder quantisation
-     * keeps the filtered d(i_T)/dt of the paper motor at up to 1.8 %/s in
-     * steady state (measured), so a 2 % threshold was reset by noise alone. */
     if (ident_regressor_init(&d->reg, id->filter_wc_rad_s, id->euler_passes, Ts,
                              b->w_base_rad_s, DRIVE_SLOTS_LOG2) != 0) {
         return 1;
@@ -137,10 +133,10 @@ static int16_t init_identification(drive_t *d, const drive_config_t *c, const dr
             return 1;
         }
     }
-    d->k.speed_tol = _IQ(0.005f * g->target_pu);
+    d->k.speed_tol = _IQ(g->speed_tol_pu);
     if (id_sequence_init(&d->seq, g->Ts_slow, id->magnetize_time_s, 0.2f, 0.2f, 3.0f, id->rls_tail_s,
-                         d->k.speed_tol,
-                         _IQ(g->didt_pu), _IQ(g->im_pu), _IQ(g->target_pu)) != 0) {
+                         d->k.speed_tol, _IQ(g->im_tol_pu), _IQ(g->it_tol_pu),
+                         _IQ(g->im_pu), _IQ(g->target_pu)) != 0) {
         return 2;
     }
     return 0;

@@ -40,8 +40,8 @@ static void sequence(drive_t *d)
     s->fault = (uint16_t)(d->prot.fault != FAULT_NONE);
     s->ramp_done = d->speed_ramp.done;
     s->speed_err = _IQabs(d->speed_ramp.out - d->qep.speed);
-    s->dim = _IQabs(d->reg.f_im.dy);
-    s->dit = _IQabs(d->reg.f_it.dy);
+    s->i_mf = d->reg.i_mf;
+    s->i_tf = d->reg.i_tf;
     id_sequence_step(s);
     if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS && s->state == ID_MAGNETIZE &&
         s->t_state == 0u) {
