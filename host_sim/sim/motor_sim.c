@@ -14,6 +14,8 @@
 #include "sim_run.h"
 #include "sim_serial.h"
 
+#define MOTOR_SIM_NOT_PUBLISHED 3   /* exit status: the run completed, nothing published */
+
 static void usage(FILE *f)
 {
     fprintf(f,
@@ -32,7 +34,10 @@ static void usage(FILE *f)
             "                     soak (then reversals every 4 s, a load step 2 s after each),\n"
             "                     drift (then the rotor resistance rises while the load\n"
             "                     changes: [drift] keys; for [ident] track_rr = 1)\n"
-            "  --duration S       simulated seconds (default: long enough for the scenario)\n"
+            "  --duration S       simulated seconds (default: the start scenario runs until the\n"
+            "                     drive's verdict on its set, published or refused, and 0.5 s\n"
+            "                     more, or a time-out long enough for every pass; the other\n"
+            "                     scenarios long enough for their events)\n"
             "  --out DIR          write DIR/trace.csv and DIR/report.json (DIR and its parents\n"
             "                     are created if missing)\n"
             "  --fault NAME@T     inject at T seconds: hall_gain (=rel. error, default 0.2),\n"
@@ -61,7 +66,12 @@ static void usage(FILE *f)
             "                     range, and the side that reads it (drive / sim); then the\n"
             "                     derived limits drive_init enforces\n"
             "\n"
-            "Exit status: 0 ok, 1 usage or configuration error, 2 run failed.\n");
+            "Exit status: 0 the drive published its identified set; 1 usage or configuration\n"
+            "error; 2 run failed (the firmware refused the configuration, a file could not be\n"
+            "written); 3 the run completed but nothing was published: the drive refused its set,\n"
+            "or the run ended before its verdict (report.json \"publish_reason\": not_converged,\n"
+            "low_excitation, high_residual, low_confidence, implausible, fault, timeout,\n"
+            "stopped, or pending).  --help and --keys exit 0.\n");
 }
 
 /* The options followed by a value.  Checked before any value is used, so
@@ -320,6 +330,9 @@ int main(int argc, char **argv)
                ser.link_path, sim_serial_slave_name(serial), ser.realtime_factor);
         fflush(stdout);
     }
+    /* the start scenario, as a board would be run: until the verdict */
+    opt.stop_when_decided =
+        (uint16_t)(opt.scenario == SCEN_START && opt.duration_s <= 0.0 && serial == NULL);
     rc = sim_run(&cfg, &opt, &res, err, sizeof err);
     if (serial != NULL) {
         uint32_t n_cmds, n_frames;
@@ -352,6 +365,13 @@ int main(int argc, char **argv)
         if (out_dir != NULL) {
             printf("wrote %s and %s\n", trace_path, report_path);
         }
+    }
+    if (!res.identified) {
+        if (!opt.quiet) {
+            fprintf(stderr, "motor_sim: nothing published: %s\n",
+                    drive_pub_reason_str(res.publish_reason));
+        }
+        return MOTOR_SIM_NOT_PUBLISHED;
     }
     return 0;
 }

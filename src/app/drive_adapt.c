@@ -44,8 +44,6 @@
 
 #define DRIVE_ADAPT_BLEND_S 0.1f
 #define DRIVE_ADAPT_TR_RATE 0.2f       /* relative per second */
-#define TRACK_DECIM 4u                 /* tracker RLS at 938 Hz (the slow task's 3.75 kHz / 4) */
-#define TRACK_LPF_HZ 10.0f             /* as the regression's Butterworth corner */
 #define TRACK_VALID_UPDATES 1000u      /* 1 s of tracker updates before Rr_track is valid */
 
 enum { P_RS = 0, P_LM, P_LR, P_LS, P_TR };

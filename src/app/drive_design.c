@@ -69,6 +69,9 @@ void drive_design(drive_design_t *g, const drive_config_t *c, const base_values_
     g->target_pu = ((c->ident.target_speed_rpm > 0.0f) ? c->ident.target_speed_rpm
                                                        : m->rated_speed_rpm) / b->n_base_rpm;
     settle_tolerances(g, c, b);
+    /* y2's w_s i_M at rated speed with the i_M reference (ident_conf.h: the
+     * excitation's reference) */
+    g->y_ref_pu = m->rated_speed_rpm / b->n_base_rpm * g->im_pu;
 }
 
 /* K of the believed motor (method §2, SI -> pu as in

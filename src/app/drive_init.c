@@ -133,6 +133,23 @@ static int16_t init_identification(drive_t *d, const drive_config_t *c, const dr
             return 1;
         }
     }
+    /* the publication's verdict (ident_conf.h; drive_design.h: the limits) */
+    if (ident_conf_init(&d->conf, DRIVE_CONF_MAX, DRIVE_CONF_RES_REF, DRIVE_CONF_EXC_REF,
+                        g->y_ref_pu) != IDENT_CONF_INIT_OK) {
+        return 1;
+    }
+    /* the tracker's judging window and the wait for it, in tracker updates and
+     * slow-task samples (drive_adapt.c: the tracker every TRACK_DECIM slow
+     * samples) */
+    d->k.conf_track_updates =
+        (uint16_t)(DRIVE_CONF_TRACK_S / (g->Ts_slow * (float)TRACK_DECIM) + 0.5f);
+    d->k.conf_track_wait = (uint32_t)(DRIVE_CONF_TRACK_WAIT_S / g->Ts_slow + 0.5f);
+    /* the tracker's standard error per relative residual: (1 - lambda)/2 for a
+     * forgetting RLS, c = f_upd / (2 B_n) samples per independent one for its
+     * first-order 10 Hz low-pass (B_n = pi f / 2): sqrt(c (1 - lambda) / 2) =
+     * 1 / sqrt(2 pi f T_memory) */
+    d->k.conf_track_se =
+        _IQ(1.0f / sqrtf(DRIVE_TWO_PI_F * TRACK_LPF_HZ * c->ident.track_memory_s));
     d->k.speed_tol = _IQ(g->speed_tol_pu);
     if (id_sequence_init(&d->seq, g->Ts_slow, id->magnetize_time_s, 0.2f, 0.2f, 3.0f, id->rls_tail_s,
                          d->k.speed_tol, _IQ(g->im_tol_pu), _IQ(g->it_tol_pu),

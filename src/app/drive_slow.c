@@ -12,7 +12,8 @@
  *   FILTERS   the regression's filters on the window means (method §5),
  *             y1, y2 and the rows; whether the RLS may update
  *   RLS_ROW1  forgetting + row 1 (method §3)
- *   RLS_ROW2  row 2, then the estimator guard on the completed sample
+ *   RLS_ROW2  row 2, then the estimator guard and the confidence's residual
+ *             sums (ident_conf.h) on the completed sample
  *
  * The order within a slow period is SPEED, FILTERS, ROW1, ROW2: the rows
  * use the regressors the FILTERS slot formed in the same period, the
@@ -50,7 +51,14 @@ static void sequence(drive_t *d)
          * integrated offsets while the bridge was off) */
         flux_obs_reset(&d->fobs);
     }
+    if (s->magnetize_end != 0u || s->rls_restart != 0u) {
+        ident_conf_acc_reset(&d->conf_acc);   /* a new RLS window begins */
+    }
     if (s->extract_now != 0u) {
+        /* the covariance and the residual sums go with the estimate */
+        rls_cov_save(&d->snap_cov, &d->rls);
+        d->snap_acc = d->conf_acc;
+        d->snap_pd = d->rls.pd_count;
         take_snapshot(&d->snap, d);
     }
     if (++d->live_div >= d->k.live_period) {
@@ -177,6 +185,7 @@ static void task_row2(drive_t *d)
     d->guard.updated = d->rls.enable;
     d->guard.windup_hold = d->rls.windup_hold;
     theta_guard_step(&d->guard);
+    ident_conf_acc_step(&d->conf_acc, &d->rls);   /* the residual (ident_conf.h) */
 }
 
 void drive_slow_task(drive_t *d, uint16_t slot)

@@ -112,4 +112,5 @@ def test_motor_sim_accepts_the_ci_subset(tmp_path):
         ini.write_text(fam.to_ini(m))
         r = subprocess.run([str(MOTOR_SIM), "--config", str(ini), "--duration", "0.05", "--quiet"],
                            capture_output=True, text=True)
-        assert r.returncode == 0, (m.name, r.stdout, r.stderr)
+        # accepted: the run completes (3: too short for the drive's verdict, nothing published)
+        assert r.returncode == 3, (m.name, r.stdout, r.stderr)
