@@ -101,9 +101,9 @@ typedef enum {
     IDENT_P_LM,
     IDENT_P_LR,
     IDENT_P_PSI,
-    IDENT_P_TR,
-    IDENT_NP
+    IDENT_P_TR
 } ident_param_t;
+#define IDENT_NP 6u   /* how many (IDENT_P_TR + 1) */
 
 #define IDENT_MASK_ALL 0x3Fu        /* every parameter */
 #define IDENT_MASK_MAGNETIC 0x1Cu   /* Lm, Lr, psi_r (K2, K4: the fused set's RLS part) */

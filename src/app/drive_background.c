@@ -13,7 +13,8 @@
 #include "drive_internal.h"
 
 /* the telemetry's confidences are ident_conf's parameters, in its order */
-typedef char drive_conf_np_matches[(DRIVE_CONF_NP == (unsigned)IDENT_NP) ? 1 : -1];
+typedef char drive_conf_np_matches[(DRIVE_CONF_NP == IDENT_NP &&
+                                    IDENT_NP == (unsigned)IDENT_P_TR + 1u) ? 1 : -1];
 
 const char *drive_pub_reason_str(uint16_t reason)
 {

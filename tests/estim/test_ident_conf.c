@@ -255,7 +255,7 @@ static void test_bounds_against_reference(void **state)
         th[i] = iq_to_d(fx.rls.theta[i]);
     }
     params_d(th, iq_to_d(fx.end.i_m), p0);
-    for (q = 0; q < IDENT_NP; q++) {
+    for (q = 0; q < (int)IDENT_NP; q++) {
         double g[4], var = 0.0, ref, got = 100.0 * iq_to_d(c.bound[q]);
         for (i = 0; i < 4; i++) {
             double hp[4], hm[4], pp[6], pm[6], h = 1e-6 * fabs(th[i]);
@@ -308,7 +308,7 @@ static void test_drift(void **state)
     params_d(th_m, iq_to_d(fx.end.i_m), pm);
     assert_int_equal(ident_conf_init(&c, 0.03f, 0.02f, 0.2f, 0.3f), IDENT_CONF_INIT_OK);
     ident_conf_eval(&c, &fx.cov, &fx.acc, 0u, &fx.end, &mid);
-    for (q = 0; q < IDENT_NP; q++) {
+    for (q = 0; q < (int)IDENT_NP; q++) {
         double ref = fabs(pe[q] - pm[q]) / fabs(pe[q]);
         assert_true(fabs(iq_to_d(c.drift[q]) - ref) < 1e-5 + 1e-4 * ref);
         assert_true(c.conf[q] == c.bound[q] + c.drift[q]);
@@ -365,7 +365,7 @@ static void test_repaired_covariance_refuses(void **state)
     (void)state;
     assert_int_equal(ident_conf_init(&c, 0.03f, 0.02f, 0.2f, 0.3f), IDENT_CONF_INIT_OK);
     ident_conf_eval(&c, &fx.cov, &fx.acc, 1u, &fx.end, NULL);
-    for (q = 0; q < IDENT_NP; q++) {
+    for (q = 0; q < (int)IDENT_NP; q++) {
         assert_true(c.bound[q] == _IQ(IDENT_CONF_MAX));
     }
     assert_int_not_equal(c.verdict, IDENT_CONF_OK);
