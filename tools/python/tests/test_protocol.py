@@ -114,10 +114,10 @@ def test_overlong_frame_is_dropped():
 
 def test_unknown_frame_types_are_counted_not_fatal():
     d = FrameDecoder()
-    frames = d.feed(with_ck("Q,0001,DEADBEEF") + T_FRAME + with_ck("Q,0002") +
+    frames = d.feed(with_ck("Z,0001,DEADBEEF") + T_FRAME + with_ck("Z,0002") +
                     with_ck("XY,1") + A_FRAME)
     assert [f.type for f in frames] == ["T", "A"]
-    assert d.counters.unknown_types == {"Q": 2, "XY": 1}
+    assert d.counters.unknown_types == {"Z": 2, "XY": 1}
     assert d.counters.framing_errors == 0 and d.counters.checksum_errors == 0
 
 
@@ -188,13 +188,13 @@ def test_bases_agree_with_the_firmware():
 
 
 def test_bases_config_errors_name_the_key(tmp_path):
-    bad = write_config(CONFIG_DIR / "paper_motor.ini", {"inverter": {"vdc_V": "sixty"}},
+    bad = write_config(CONFIG_DIR / "paper_motor.ini", {"board": {"vdc_nominal_V": "sixty"}},
                        tmp_path / "bad.ini")
-    with pytest.raises(ConfigError, match=r"\[inverter\] vdc_V is not a number"):
+    with pytest.raises(ConfigError, match=r"\[board\] vdc_nominal_V is not a number"):
         Bases.from_ini(bad)
-    text = (CONFIG_DIR / "paper_motor.ini").read_text().replace("hall_full_scale_A", "x_A")
+    text = (CONFIG_DIR / "paper_motor.ini").read_text().replace("current_full_scale_A", "x_A")
     (tmp_path / "missing.ini").write_text(text)
-    with pytest.raises(ConfigError, match=r"missing \[sensors\] hall_full_scale_A"):
+    with pytest.raises(ConfigError, match=r"missing \[board\] current_full_scale_A"):
         Bases.from_ini(tmp_path / "missing.ini")
     with pytest.raises(ConfigError, match="cannot read"):
         Bases.from_ini(tmp_path / "none.ini")
