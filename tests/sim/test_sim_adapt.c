@@ -168,16 +168,19 @@ static void test_nameplate_paper(void **state)
     nameplate_cube(&g_paper, 14.0, 0u);
 }
 
+/* 15 kW: the corners with the believed Tr and Lm 30 % low refused (Rr's
+ * confidence 3.5 %: the tracker's 1.9 % and Lr's 1.5 %, whose mid-window
+ * estimate moved 1.2 %), measured; the others published within 0.8 %. */
 static void test_nameplate_15kw(void **state)
 {
     (void)state;
-    nameplate_cube(&g_15kw, 22.0, 8u);
+    nameplate_cube(&g_15kw, 22.0, 2u);
 }
 
 static void test_nameplate_1kw(void **state)
 {
     (void)state;
-    nameplate_cube(&g_1kw, 18.0, 8u);
+    nameplate_cube(&g_1kw, 18.0, 0u);
 }
 
 /* Item 5: the paper's sequence (indirect orientation with the nameplate Tr,
