@@ -73,12 +73,15 @@
  * The limits are drive_init's (drive_design.h says where they come from).
  *
  * Scaling.  Accumulation (ISR, ident_conf_acc_step, once per completed RLS
- * sample): the prediction phi' theta in Q22 (inputs clamped to the RLS's
- * |phi| <= 8, |y| <= 64; theta < 16: |sum| < 448 < 512), eps clamped to
- * +-1 pu, eps^2 in Q31 added to J (Q24) with the part below 1/2 LSB24 kept
- * in J_res (Q48, estim_accumulate): exact to 2^-48 per term, saturating at
- * 128 pu^2 (counted); y^2 / 256 in Q24 (|y| clamped to 8) added with
- * saturation.  Evaluation (background, ident_conf_eval): block floating
+ * sample): the prediction phi' theta in Q22 (inputs clamped by _IQsat to
+ * the RLS's |phi| <= 8, |y| <= 64; theta < 16: |sum| < 448 < 512), eps
+ * clamped to +-0.7 pu, eps^2 in Q31 added to J (Q24) with the part below
+ * 1/2 LSB24 kept in J_res (Q48, estim_accumulate): exact to 2^-48 per term,
+ * saturating at 128 pu^2 (counted); y^2 / 256 in Q24 (|y| clamped to 8)
+ * added with saturation (counted).  The input clamps are not counted.
+ * Cost (tools/bench_isr.py): about 200 cycles, in the slow task's FILTERS
+ * slot (drive_slow.c: on the sample the RLS completed in the last period,
+ * before the new rows replace its inputs).  Evaluation (background, ident_conf_eval): block floating
  * point (mantissa Q30 in [0.5, 1), int16 exponent; estim_bfp.h) for J, Y,
  * P_ii and the bounds of each theta_i, so that values from 1e-8 to 1e4
  * keep ~28 bits; the quadratic form over normalised terms in Q26 (|.| <=
@@ -130,7 +133,8 @@ typedef struct {
 /** Start a new window (a new RLS pass). */
 void ident_conf_acc_reset(ident_conf_acc_t *a);
 /** After a completed RLS sample (both rows) of @p r, if it updated
- *  (r->enable): add its a-posteriori residual and its y to the sums. */
+ *  (r->enable), with its inputs still those of that sample: add its
+ *  a-posteriori residual and its y to the sums. */
 void ident_conf_acc_step(ident_conf_acc_t *a, const rls_t *r);
 
 typedef struct {

@@ -122,6 +122,8 @@ STEM_MODULE = {
     "id_sequence": "sequence", "ramp_gen": "speed ramp + PIs", "pi_ctrl": "speed ramp + PIs",
     "svgen": "SVPWM", "tr_track": "adaptation", "standstill_z": "adaptation",
     "drive_adapt": "adaptation", "iq_rmpy": "rounded products (iq_rmpy)",
+    "ident_conf": "confidence sums (ident_conf, rls_cov)",
+    "rls_cov": "confidence sums (ident_conf, rls_cov)",
 }
 GLUE = "drive glue (drive_step, drive_slow)"
 FIRMWARE = "firmware ISR + HAL, entry/exit"

@@ -9,11 +9,11 @@
  *             slow constants of the fast path (1/(Tr i_mr) of the slip, the
  *             bus for the SVPWM's 1/vdc), telemetry and the snapshots for
  *             the background
- *   FILTERS   the regression's filters on the window means (method §5),
- *             y1, y2 and the rows; whether the RLS may update
+ *   FILTERS   the confidence's residual sums of the last RLS sample
+ *             (ident_conf.h), the regression's filters on the window means
+ *             (method §5), y1, y2 and the rows; whether the RLS may update
  *   RLS_ROW1  forgetting + row 1 (method §3)
- *   RLS_ROW2  row 2, then the estimator guard and the confidence's residual
- *             sums (ident_conf.h) on the completed sample
+ *   RLS_ROW2  row 2, then the estimator guard on the completed sample
  *
  * The order within a slow period is SPEED, FILTERS, ROW1, ROW2: the rows
  * use the regressors the FILTERS slot formed in the same period, the
@@ -148,6 +148,10 @@ static void task_filters(drive_t *d)
     ident_regressor_t *r = &d->reg;
     uint16_t rls_on = d->seq.rls_on;
 
+    /* the residual of the sample the RLS completed in the last period, while
+     * its inputs are still that sample's (ident_conf.h); here, not after
+     * row 2, which is the slot that costs most */
+    ident_conf_acc_step(&d->conf_acc, &d->rls);
     /* the regression's rotor speed over exactly the window the other six
      * signals were summed over (the mean of its one-period speeds) */
     r->wr = qep_mean_speed(&d->qep, &d->reg_count);
@@ -185,7 +189,6 @@ static void task_row2(drive_t *d)
     d->guard.updated = d->rls.enable;
     d->guard.windup_hold = d->rls.windup_hold;
     theta_guard_step(&d->guard);
-    ident_conf_acc_step(&d->conf_acc, &d->rls);   /* the residual (ident_conf.h) */
 }
 
 void drive_slow_task(drive_t *d, uint16_t slot)
