@@ -4,8 +4,9 @@ tools/family/motors.py (the CI subset of 8, the grid of 56) under a grid of
 operating choices, in both builds and both identification sequences.
 
     family_sweep.py [--subset ci|grid|all] [--motors NAME,...] [--ops nominal|all|OP,...]
-                    [--seq paper,adaptive] [--builds iq,float] [--jobs N] [--out DIR]
-                    [--json] [--markdown] [--check-bounds FILE] [--keep]
+                    [--seq paper,adaptive] [--builds iq,float | --exe MOTOR_SIM] [--jobs N]
+                    [--out DIR] [--json] [--markdown [--summary-only]] [--no-plot]
+                    [--check-bounds FILE] [--keep]
 
 Sequences (`[controller]`/`[ident]` keys merged into each motor's file):
 
@@ -416,6 +417,8 @@ def parse_args(argv):
     ap.add_argument("--out", type=Path, default=ROOT / "out" / "family")
     ap.add_argument("--json", action="store_true", help="print the summary line only")
     ap.add_argument("--markdown", action="store_true", help="print the markdown tables")
+    ap.add_argument("--summary-only", action="store_true",
+                    help="with --markdown: the family table only, not one line per motor")
     ap.add_argument("--check-bounds", type=Path, metavar="FILE")
     ap.add_argument("--keep", action="store_true", help="keep every run's folder "
                     "(trace.csv, report.json, motor.ini) under OUT/runs")
@@ -450,10 +453,12 @@ def main(argv=None):
     with ProcessPoolExecutor(max_workers=a.jobs) as pool:
         rows = list(pool.map(run_one, jobs, chunksize=1))
     write_csv(rows, a.out / "family.csv")
+    fam_md = family_md(rows, builds, f"{len(motors)} motors, {len(ops)} operating choice(s)")
     md = ["### The motors (nominal operating point)", "", motor_rows_md(rows, motors, builds), "",
-          "### The family", "", family_md(rows, builds, f"{len(motors)} motors, "
-                                          f"{len(ops)} operating choice(s)"), ""]
+          "### The family", "", fam_md, ""]
     (a.out / "family.md").write_text("\n".join(md))
+    if a.summary_only:
+        md = [fam_md]
     if not a.no_plot:
         plot(rows, a.out / "family.png")
     s = summary(rows, len(motors))
