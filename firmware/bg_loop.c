@@ -61,4 +61,5 @@ void bg_loop_send(bg_loop_t *b, const drive_t *d, uint16_t isr_load, drive_telem
     (void)telemetry_send(&b->tlm, tl, isr_load);
     (void)telemetry_send_adapt(&b->tlm, tl);
     (void)telemetry_send_status(&b->tlm, tl, isr_load);
+    (void)telemetry_send_quality(&b->tlm, tl);
 }

@@ -11,7 +11,7 @@
  *   bg_loop_apply(.., bg_loop_button(.., pin));        start button edge
  *   bg_loop_apply(.., <command from the SCI bytes>);   $C,S / X / R / D
  *   if (bg_loop_frame_due(.., isr_ticks()))            every 750 periods:
- *       bg_loop_send(.., isr_load_max(), ..);          $T, $A and $S
+ *       bg_loop_send(.., isr_load_max(), ..);          $T, $A, $S and $Q
  * (isr_load_max() resets the worst ISR time: it is read only when a frame
  * goes out, so the load field covers the whole frame period.)
  */
@@ -49,7 +49,7 @@ void bg_loop_apply(drive_t *d, datalog_t *dlog, tlm_cmd_t cmd);
  *  pair (@p now: the ISR tick counter, modulo 2^16, correct across its
  *  wrap); the pair is then counted as sent at @p now.  0 otherwise. */
 uint16_t bg_loop_frame_due(bg_loop_t *b, uint16_t now);
-/** Queue a $T frame (with @p isr_load), an $A and an $S frame of the
+/** Queue a $T frame (with @p isr_load), an $A, an $S and a $Q frame of the
  *  drive's telemetry snapshot, which @p tl receives.  Each frame is queued whole or
  *  dropped and counted (telemetry_send). */
 void bg_loop_send(bg_loop_t *b, const drive_t *d, uint16_t isr_load, drive_telemetry_t *tl);

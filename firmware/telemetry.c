@@ -105,6 +105,15 @@ uint16_t telemetry_send_status(telemetry_t *t, const drive_telemetry_t *s, uint1
     return send_frame(t, (uint16_t)'S', u, 5u, 0, 0u);
 }
 
+uint16_t telemetry_send_quality(telemetry_t *t, const drive_telemetry_t *s)
+{
+    const uint16_t u[2] = {t->seq, s->publish_reason};
+    const _iq q[TLM_QUALITY_Q24_FIELDS] = {s->conf[0], s->conf[1], s->conf[2], s->conf[3],
+                                           s->conf[4], s->conf[5], s->conf_residual,
+                                           s->conf_amp};
+    return send_frame(t, (uint16_t)'Q', u, 2u, q, TLM_QUALITY_Q24_FIELDS);
+}
+
 uint16_t telemetry_tx_pop(telemetry_t *t, uint16_t *c)
 {
     if (t->tail == t->head) {

@@ -30,6 +30,17 @@
  *   FFFF: an ISR overran); telemetry frames dropped for lack of room; command
  *   frames rejected or receive errors recovered from.
  *
+ *   $Q,<seq>,<reason>,<c_Rs>,<c_Rr>,<c_Lm>,<c_Lr>,<c_psi>,<c_Tr>,<residual>,
+ *      <amp>*<CK>\r\n                                 (after each $S)
+ *
+ *   the publication's verdict on the last identification (reason: 4 hex
+ *   digits, drive_pub_reason_t: 0 pending, 1 published, 2 not_converged,
+ *   3 low_excitation, 4 high_residual, 5 low_confidence, 6 implausible,
+ *   7 fault, 8 timeout, 9 stopped) and, 8 hex digits Q24, the confidence of
+ *   each parameter of the set judged as a fraction (0.01 = 1 %; negative:
+ *   not available), the regression's residual and its amplification
+ *   (ident_conf.h)
+ *
  * Commands to the drive, same framing:  $C,<c>*<CK>\r\n  with c =
  *   S start the identification sequence   X stop
  *   R reset a latched fault               D arm the data-log trigger
@@ -44,10 +55,11 @@
 #include <stdint.h>
 #include "drive.h"
 
-#define TLM_TX_SIZE   512u    /* > 2 bursts of $T (136), $A (63) and $S (32 characters) */
+#define TLM_TX_SIZE   768u    /* > 2 bursts of $T (136), $A (63), $S (32), $Q (89 characters) */
 #define TLM_RX_SIZE   16u
 #define TLM_Q24_FIELDS 11u
 #define TLM_ADAPT_Q24_FIELDS 4u
+#define TLM_QUALITY_Q24_FIELDS 8u
 
 typedef enum {
     TLM_CMD_NONE = 0,
@@ -79,6 +91,10 @@ uint16_t telemetry_send_adapt(telemetry_t *t, const drive_telemetry_t *s);
 /** Queue one $S frame (ISR overruns, the ISR load as $T, the link's own
  *  dropped and rejected counts).  Returns 1 if queued, 0 if dropped. */
 uint16_t telemetry_send_status(telemetry_t *t, const drive_telemetry_t *s, uint16_t isr_load);
+/** Queue one $Q frame (the publication's reason, the six confidences, the
+ *  residual and the amplification in Q24).  Returns 1 if queued, 0 if
+ *  dropped. */
+uint16_t telemetry_send_quality(telemetry_t *t, const drive_telemetry_t *s);
 /** Next character to transmit; returns 0 when the ring is empty. */
 uint16_t telemetry_tx_pop(telemetry_t *t, uint16_t *c);
 /** Feed one received character; returns a command when a valid $C frame

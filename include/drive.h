@@ -29,6 +29,31 @@ typedef enum {
     DRIVE_CMD_RESET_FAULT    /* clear a latched fault once its cause is gone */
 } drive_cmd_t;
 
+/** Why the last identification's set is, or is not, published
+ *  (drive_telemetry_t.publish_reason; drive_background.c decides, once per
+ *  identification, from the final pass's data: ident_conf.h). */
+typedef enum {
+    DRIVE_PUB_PENDING = 0,      /* no verdict yet (the sequence has not reached it) */
+    DRIVE_PUB_PUBLISHED,        /* the set is published, every parameter within the limits */
+    DRIVE_PUB_NOT_CONVERGED,    /* no plausible estimate, or the estimate still moved: the
+                                   mid-window extraction differs by more than the limit */
+    DRIVE_PUB_LOW_EXCITATION,   /* the acceleration did not excite the regression enough:
+                                   a regression error is amplified beyond the limit */
+    DRIVE_PUB_HIGH_RESIDUAL,    /* the model does not fit the data (residual above the limit) */
+    DRIVE_PUB_LOW_CONFIDENCE,   /* a parameter's confidence bound above the limit */
+    DRIVE_PUB_IMPLAUSIBLE,      /* the extraction failed or left its plausibility range */
+    DRIVE_PUB_FAULT,            /* a protection tripped before the set was complete */
+    DRIVE_PUB_TIMEOUT,          /* steady state not confirmed within the SETTLE limit */
+    DRIVE_PUB_STOPPED,          /* stopped by a command before the verdict */
+    DRIVE_PUB_N
+} drive_pub_reason_t;
+
+/** A short name of a drive_pub_reason_t ("published", "not_converged", ...;
+ *  "unknown" out of range): telemetry decoders and reports use the same. */
+const char *drive_pub_reason_str(uint16_t reason);
+
+#define DRIVE_CONF_NP 6u   /* confidences: Rs, Rr, Lm, Lr, psi_r, Tr (ident_conf.h) */
+
 /** A snapshot for telemetry and data logging (per unit, Q GLOBAL_Q). */
 typedef struct {
     uint16_t state;          /* identification / drive state (id_state_t) */
@@ -44,7 +69,7 @@ typedef struct {
                                        leaves the last good set (and params_valid) as is */
     uint32_t rls_sat_count;  /* RLS saturation events (rls_t.sat_count), never wraps */
     uint32_t theta_rejects;  /* RLS samples whose theta the guard rejected (theta_guard.h) */
-    uint16_t publish_rejects;/* extractions that were implausible and not published */
+    uint16_t publish_rejects;/* identifications whose set was refused (publish_reason), not published */
     /* issue 8: adaptation and drift tracking (orientation 1 only) */
     uint16_t pass;           /* identification pass under way or last done (1, 2, ...) */
     uint16_t track_valid;    /* 1 while Rr_track / Tr_track follow the motor (RUN, tracking on) */
@@ -61,6 +86,12 @@ typedef struct {
     uint16_t params_withdrawn;   /* published sets withdrawn because a fault latched within
                                     the guard's window after them (publish_guard.h) */
     uint16_t withdraw_reason;    /* the fault code of the last withdrawal (0: none) */
+    /* the publication's verdict and the confidence of each parameter (ident_conf.h) */
+    uint16_t publish_reason; /* drive_pub_reason_t of the last identification */
+    _iq conf[DRIVE_CONF_NP]; /* Q24, relative (0.01 = 1 %): the confidence of each parameter
+                                of the set judged (published or refused); 0: none yet */
+    _iq conf_residual;       /* Q24: the regression's residual sqrt(J/Y) of the final pass */
+    _iq conf_amp;            /* Q24: its largest amplification (excitation) */
 } drive_telemetry_t;
 
 /** drive_init results: 0 or the first configuration field found bad. */

@@ -22,6 +22,7 @@
 #include "flux_obs.h"
 #include "id_sequence.h"
 #include "ident_regressor.h"
+#include "ident_conf.h"
 #include "ifo.h"
 #include "ipark.h"
 #include "isr_monitor.h"
@@ -71,6 +72,9 @@ typedef struct {
                                    this (pu), where the voltage model dominates */
     _iq psi_min;                /* flux observer: below this |psi_r| (pu) its angle is
                                    noise; the frame follows the encoder angle instead */
+    uint16_t conf_track_updates;/* fused set: tracker updates judged (DRIVE_CONF_TRACK_S) */
+    uint32_t conf_track_wait;   /* ... RUN samples waited for them (DRIVE_CONF_TRACK_WAIT_S) */
+    _iq conf_track_se;          /* Q24: the tracker's standard error per relative residual */
 } drive_consts_t;
 
 /** What the ISR hands to the background for the parameter extraction. */
@@ -97,6 +101,8 @@ typedef struct {
 #define DRIVE_RLSQ_RESTART 2u       /* before it: the RLS restarts from rls_start */
 #define DRIVE_RLSQ_EXTRACT 4u       /* before it: the steady-state snapshot (snap) */
 #define DRIVE_RLSQ_LIVE 8u          /* before it: a live snapshot (live_snap) */
+#define DRIVE_RLSQ_WINDOW 16u       /* before it: a new RLS window begins (the confidence's
+                                       residual sums restart, ident_conf.h) */
 typedef struct {
     _iq y1, y2;                     /* Q24 pu per pu time: rls_t's left-hand sides */
     _iq i_mf, u_mf, i_tf, u_tf, wr_f;   /* Q24 pu: its regressors */
@@ -312,8 +318,27 @@ struct drive {
     uint16_t reg_count;         /* encoder count at the last FILTERS slot (the regression's window) */
 
     drive_rls_queue_t rlsq;     /* ISR -> background: the RLS's samples and events */
-    drive_snapshot_t snap;      /* the steady-state extraction's input (background) */
-    drive_snapshot_t live_snap; /* running estimates' input, 100 Hz (background) */
+    drive_snapshot_t snap;      /* ISR -> background: the steady-state extraction */
+    /* the identification's confidence (ident_conf.h): the ISR's sums over
+     * the RLS pass under way; the covariance and the sums handed over with
+     * snap (written before snap.ready, read while it is set); the
+     * background's evaluation, its estimate at the middle of the window and
+     * the tracker's residual (fused set) */
+    ident_conf_acc_t conf_acc;
+    rls_cov_t snap_cov;
+    ident_conf_acc_t snap_acc;
+    uint32_t snap_pd;           /* rls_t.pd_count of the window */
+    ident_conf_t conf;
+    _iq conf_theta_mid[RLS_N];  /* Q24 pu: the guarded estimate at mid-window */
+    _iq conf_speed_mid;         /* Q24 pu: |speed| at which it is taken */
+    uint16_t conf_mid;          /* 0: none, 1: armed (conf_speed_mid set), 2: taken */
+    uint16_t conf_pass;         /* the pass the capture belongs to */
+    ident_conf_fit_t trk_fit;   /* the tracker's fit while it is valid (fused set) */
+    _iq trk_theta0;             /* Q24: its 1/Tr at the first sample of the fit */
+    uint32_t trk_updates;       /* the tracker's n_updates at the last sample taken */
+    uint16_t conf_run;          /* an identification was started (a verdict is owed) */
+    uint16_t conf_judged;       /* fused set: the final pass's RLS part passed its verdict */
+    drive_snapshot_t live_snap; /* ISR -> background: running estimates, 100 Hz */
     uint16_t live_div;          /* samples since the last live snapshot */
     param_extract_t live;       /* background: estimates from the running RLS */
     drive_telemetry_t telemetry;

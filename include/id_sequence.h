@@ -10,8 +10,12 @@
  *        -> ACCELERATE (speed ramp to the target; RLS on: the transient that
  *                       excites the regression, method §2 "Excitation")
  *        -> SETTLE (speed reached; the RLS runs on for rls_tail_s, then
- *                   stops; wait for steady state: di/dt ~ 0, the
- *                   precondition of the parameter formulas, method §4)
+ *                   stops; wait for steady state, the precondition of the
+ *                   parameter formulas (method §4: di/dt = 0): the speed
+ *                   error small in every sample, and the filtered i_M and
+ *                   i_T each within its tolerance of where they stood when
+ *                   the hold window began (the net change over the window,
+ *                   not the instantaneous di/dt: see the tolerances below))
  *        -> RUN (parameters extracted and published; RLS off)
  *   any  -> FAULT (from the protections; PWM off) ; STOP -> IDLE
  *
@@ -64,11 +68,11 @@ typedef struct {
     uint16_t fault;           /* a latched fault exists */
     uint16_t ramp_done;       /* the speed reference reached its target */
     _iq speed_err;            /* |speed ref - speed|, pu, Q24 */
-    _iq dim;                  /* |d i_M/dt| filtered, pu/pu-time, Q24 */
-    _iq dit;                  /* |d i_T/dt| filtered, pu/pu-time, Q24 */
     uint16_t adapt_ready;     /* REFINE (and the end of MAGNETIZE with wait_magnetize): the drive
                                  has applied the model the state waits for */
     uint16_t test_done;       /* CALIBRATE: the sensor test passed (sensor_test.h) */
+    _iq i_mf;                 /* i_M filtered (the regression's Butterworth), pu, Q24 */
+    _iq i_tf;                 /* i_T filtered, pu, Q24 */
     /* parameters (id_sequence_init) */
     uint32_t magnetize_samples;
     uint32_t settle_min_samples;   /* least time in SETTLE */
@@ -76,7 +80,8 @@ typedef struct {
     uint32_t settle_max_samples;   /* give up waiting: extract anyway, flagged */
     uint32_t rls_tail_samples;     /* the RLS runs this long into SETTLE */
     _iq speed_tol;            /* steady: speed error below, pu */
-    _iq didt_tol;             /* steady: |di/dt| below, pu/pu-time */
+    _iq im_tol, it_tol;       /* steady: the net change of i_mf, i_tf over the hold window
+                                 within these, pu (drive_design.c: from the motor) */
     _iq im_ref;               /* magnetising current reference, pu */
     _iq speed_target;         /* pu */
     uint16_t passes;          /* 1 .. ID_PASSES_MAX (id_sequence_set_passes) */
@@ -103,13 +108,15 @@ typedef struct {
     uint16_t adapt_timeouts;  /* waits for adapt_ready that ran out (saturating; 0 at start) */
     /* state */
     uint32_t t_state;         /* samples in the current state */
-    uint32_t t_steady;        /* consecutive steady samples (SETTLE); samples waited for
-                                 adapt_ready (MAGNETIZE, REFINE) */
+    uint32_t t_steady;        /* samples in the hold window (speed steady in each) (SETTLE);
+                                 samples waited for adapt_ready (MAGNETIZE, REFINE) */
+    _iq win_im, win_it;       /* i_mf, i_tf where the hold window began */
     uint16_t start_req;
     uint16_t stop_req;
 } id_sequence_t;
 
-/** Times in seconds, Ts the sample period; tolerances in pu.  rls_tail_s: how
+/** Times in seconds, Ts the sample period; tolerances in pu (im_tol, it_tol:
+ *  the net change of the filtered i_M, i_T over the hold window).  rls_tail_s: how
  *  long the RLS keeps running into SETTLE (the end of the ramp, where i_T
  *  steps, still excites the regression; later, steady operation carries no
  *  information and only lets biases pull the estimates).  Returns 0, or 1 if
@@ -117,7 +124,8 @@ typedef struct {
 int16_t id_sequence_init(id_sequence_t *s, float Ts_s, float magnetize_s,
                          float settle_min_s, float settle_hold_s, float settle_max_s,
                          float rls_tail_s,
-                         _iq speed_tol, _iq didt_tol, _iq im_ref, _iq speed_target);
+                         _iq speed_tol, _iq im_tol, _iq it_tol, _iq im_ref,
+                         _iq speed_target);
 /** Passes (1 .. ID_PASSES_MAX) and the REFINE speed as a fraction of the
  *  target speed (0 .. 1).  Returns 0, or 1 (nothing changed) if out of range.
  *  id_sequence_init sets 1 pass. */

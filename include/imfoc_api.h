@@ -53,9 +53,12 @@ extern "C" {
 #endif
 
 /** Bumped whenever a struct below changes layout (wrappers check it). */
-#define IMFOC_API_VERSION 3   /* 2: the issue-8 signals at the end of imfoc_signals_t;
+#define IMFOC_API_VERSION 4   /* 2: the issue-8 signals at the end of imfoc_signals_t;
                                  3: Rs_ohm..Tr_s are the published set, the last
-                                    extraction moved to extract_* */
+                                    extraction moved to extract_*;
+                                 4: the publication's verdict and confidences at the
+                                    end (publish_reason, conf_*) and
+                                    imfoc_publish_reason_str */
 
 typedef struct imfoc imfoc_t;   /* opaque: one firmware instance */
 
@@ -153,12 +156,23 @@ typedef struct {
     uint16_t extract_valid;
     double extract_Rs_ohm, extract_Rr_ohm, extract_Lm_H, extract_Lr_H, extract_psi_r_Wb,
         extract_Tr_s;
+    /* API version 4: why the last identification's set is or is not published
+     * (drive_pub_reason_t of drive.h: 0 pending, 1 published, 2 not_converged, ...;
+     * imfoc_publish_reason_str names it), and the confidence of each parameter of the
+     * set judged, relative (0.01 = 1 %; negative: not available), with the regression's
+     * relative residual, amplification and excitation (ident_conf.h) */
+    uint16_t publish_reason;
+    double conf_Rs, conf_Rr, conf_Lm, conf_Lr, conf_psi_r, conf_Tr;
+    double conf_residual, conf_amplification, conf_excitation;
 } imfoc_signals_t;
 
 /** IMFOC_API_VERSION of the library (compare with the header's). */
 int32_t imfoc_api_version(void);
 /** A short English text for an imfoc_status_t. */
 const char *imfoc_status_str(int32_t status);
+/** The name of a publish_reason ("pending", "published", "not_converged", ...;
+ *  "unknown" out of range): the telemetry's and report.json's names. */
+const char *imfoc_publish_reason_str(int32_t reason);
 
 /** New instance from a simulator INI file (host_sim/config/; the firmware part
  *  of it: sim_config_load + sim_config_to_drive).  NULL on error, the reason

@@ -128,6 +128,8 @@ STEM_MODULE = {
     "drive_safety": "model-based protections", "current_model_check": "model-based protections",
     "sensor_test": "model-based protections", "stall_check": "model-based protections",
     "publish_guard": "model-based protections",
+    "ident_conf": "confidence sums (ident_conf, rls_cov)",
+    "rls_cov": "confidence sums (ident_conf, rls_cov)",
 }
 GLUE = "drive glue (drive_step, drive_slow)"
 FIRMWARE = "firmware ISR + HAL, entry/exit"

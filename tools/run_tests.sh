@@ -16,3 +16,5 @@ if [ -f tools/python/pyproject.toml ]; then
   .venv/bin/python -m pip install --quiet --disable-pip-version-check -e tools/python
   IMFOC_LIB_DIR="$PWD/build/host-iq" .venv/bin/python -m pytest -q tools/python/tests
 fi
+# the motor family's generator and sweep (tools/family, tools/family_sweep.py)
+.venv/bin/python -m pytest -q tools/family

@@ -370,5 +370,20 @@ int32_t imfoc_get_signals(const imfoc_t *h, imfoc_signals_t *s)
     s->extract_valid = d->pex.valid;
     extract_si(h, &d->pex, &s->extract_Rs_ohm, &s->extract_Rr_ohm, &s->extract_Lm_H,
                &s->extract_Lr_H, &s->extract_psi_r_Wb, &s->extract_Tr_s);
+    s->publish_reason = t->publish_reason;
+    s->conf_Rs = f(t->conf[0]);
+    s->conf_Rr = f(t->conf[1]);
+    s->conf_Lm = f(t->conf[2]);
+    s->conf_Lr = f(t->conf[3]);
+    s->conf_psi_r = f(t->conf[4]);
+    s->conf_Tr = f(t->conf[5]);
+    s->conf_residual = f(t->conf_residual);
+    s->conf_amplification = f(t->conf_amp);
+    s->conf_excitation = f(d->conf.excitation);
     return IMFOC_OK;
+}
+
+const char *imfoc_publish_reason_str(int32_t reason)
+{
+    return (reason >= 0 && reason <= 0xFFFF) ? drive_pub_reason_str((uint16_t)reason) : "unknown";
 }

@@ -78,6 +78,8 @@ static const char *scenario_names(void)
     return buf;
 }
 
+#define MOTOR_SIM_NOT_PUBLISHED 3   /* exit status: the run completed, nothing published */
+
 static void usage(FILE *f)
 {
     size_t i;
@@ -100,7 +102,10 @@ static void usage(FILE *f)
             "                     drift (then the rotor resistance rises while the load\n"
             "                     changes: [drift] keys; for [ident] track_rr = 1)\n"
             "  --duration S       simulated seconds, at least one PWM period and at most 3600\n"
-            "                     (default: long enough for the scenario)\n"
+            "                     (default: the start scenario runs until the drive's verdict\n"
+            "                     on its set, published or refused, and 0.5 s more, or a\n"
+            "                     time-out long enough for every pass; the other scenarios\n"
+            "                     long enough for their events)\n"
             "  --out DIR          write DIR/trace.csv and DIR/report.json (DIR and its parents\n"
             "                     are created if missing)\n"
             "  --trace-every N    one trace row every N PWM periods (default: 1 ms, 15 at\n"
@@ -148,7 +153,12 @@ static void usage(FILE *f)
             "\n"
             "report.json is always valid JSON: a figure that is not a finite number is null\n"
             "and named in its \"non_finite\" member.\n"
-            "Exit status: 0 ok, 1 usage or configuration error, 2 run failed.\n");
+            "Exit status: 0 the drive published its identified set; 1 usage or configuration\n"
+            "error; 2 run failed (the firmware refused the configuration, a file could not be\n"
+            "written); 3 the run completed but nothing was published: the drive refused its set,\n"
+            "or the run ended before its verdict (report.json \"publish_reason\": not_converged,\n"
+            "low_excitation, high_residual, low_confidence, implausible, fault, timeout,\n"
+            "stopped, or pending).  --help and --keys exit 0.\n");
 }
 
 /* The options followed by a value.  Checked before any value is used, so
@@ -589,6 +599,9 @@ int main(int argc, char **argv)
                ser.link_path, sim_serial_slave_name(serial), ser.realtime_factor);
         fflush(stdout);
     }
+    /* the start scenario, as a board would be run: until the verdict */
+    opt.stop_when_decided =
+        (uint16_t)(opt.scenario == SCEN_START && opt.duration_s <= 0.0 && serial == NULL);
     rc = sim_run(&cfg, &opt, &res, err, sizeof err);
     if (serial != NULL) {
         uint32_t n_cmds, n_frames;
@@ -633,6 +646,13 @@ int main(int argc, char **argv)
         if (out_dir != NULL) {
             printf("wrote %s and %s\n", trace_path, report_path);
         }
+    }
+    if (!res.identified) {
+        if (!opt.quiet) {
+            fprintf(stderr, "motor_sim: nothing published: %s\n",
+                    drive_pub_reason_str(res.publish_reason));
+        }
+        return MOTOR_SIM_NOT_PUBLISHED;
     }
     return 0;
 }

@@ -114,6 +114,52 @@ static void json_adaptation(jw_t *w, const sim_result_t *r)
                      !(r->drift_rr_true_end_ohm < 0.0));
 }
 
+static const char *const k_param_keys[6] = {"Rs_ohm", "Rr_ohm", "Lm_H", "Lr_H", "psi_r_Wb",
+                                             "Tr_s"};
+
+/* {"Rs_ohm": v, ...} of six percentages; a negative value (not available) as null */
+static void json_pct6(jw_t *w, const char *name, const double v[6], int nullable)
+{
+    unsigned i;
+    fprintf(w->f, "\"%s\": {", name);
+    for (i = 0; i < 6u; i++) {
+        fprintf(w->f, "%s\"%s\": ", i ? ", " : "", k_param_keys[i]);
+        if (nullable && v[i] < 0.0) {
+            fputs("null", w->f);
+        } else {
+            jw_num(w, "%.6g", name, k_param_keys[i], v[i]);
+        }
+    }
+    fputc('}', w->f);
+}
+
+/* The publication's verdict and the confidence of the set judged
+ * (ident_conf.h): report.json's "publish_reason", "confidence_pct" and the
+ * figures behind them, "confidence". */
+static void json_confidence(jw_t *w, const sim_result_t *r)
+{
+    fprintf(w->f, "  \"publish_reason\": \"%s\",\n", drive_pub_reason_str(r->publish_reason));
+    json_num_or_null(w, "t_decided_s", r->t_decided_s, r->t_decided_s >= 0.0);
+    if (r->publish_reason == 0u || !r->extracted) {
+        fprintf(w->f, "  \"confidence_pct\": null,\n  \"confidence\": null,\n");
+        return;
+    }
+    fprintf(w->f, "  ");
+    json_pct6(w, "confidence_pct", r->conf_pct, 1);
+    fprintf(w->f, ",\n  \"confidence\": {\"residual_rel\": ");
+    jw_num(w, "%.6g", "confidence", "residual_rel", r->conf_residual);
+    fprintf(w->f, ", \"amplification\": ");
+    jw_num(w, "%.6g", "confidence", "amplification", r->conf_amp);
+    fprintf(w->f, ", \"excitation\": ");
+    jw_num(w, "%.6g", "confidence", "excitation", r->conf_excitation);
+    fprintf(w->f, ", \"rls_samples\": %u, \"rls_pd_repairs\": %u, ", (unsigned)r->conf_samples,
+            (unsigned)r->conf_pd);
+    json_pct6(w, "bound_pct", r->bound_pct, 0);
+    fprintf(w->f, ", ");
+    json_pct6(w, "drift_pct", r->drift_pct, 0);
+    fprintf(w->f, "},\n");
+}
+
 static const char *fault_name(uint16_t code)
 {
     static const char *const names[] = {"none", "overcurrent", "bus_overvoltage",
@@ -180,6 +226,7 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
     jw_field(&w, "t_published_s", r->t_published_s);
     jw_field(&w, "converge_s", r->converge_s);
     json_params(&w, "true", &r->truth, 0);
+    json_confidence(&w, r);
     if (r->identified) {
         /* identified: what the drive publishes at the end (the telemetry's set, as the
          * PC tool reads it): the RLS's extraction or, with tracking, the standstill Rs
@@ -189,16 +236,21 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
         json_params(&w, "published_end", &r->published_end, 0);
         json_params(&w, "published_end_error_pct", &r->published_end_error_pct, 0);
         fprintf(f, "  \"params_tracked\": %s,\n", r->params_tracked ? "true" : "false");
-        /* the RLS's last extraction as extracted (not published if implausible) */
-        json_params(&w, "last_extraction", &r->ident, 0);
-        json_params(&w, "last_extraction_error_pct", &r->error_pct, 0);
-        fprintf(f, "  \"last_extraction_valid\": %s,\n", r->ident_valid ? "true" : "false");
     } else {
         /* nothing was published: no numbers that could be mistaken for a result */
         fprintf(f, "  \"identified\": null,\n  \"error_pct\": null,\n"
                    "  \"published_end\": null,\n  \"published_end_error_pct\": null,\n"
-                   "  \"params_tracked\": false,\n  \"last_extraction\": null,\n"
-                   "  \"last_extraction_error_pct\": null,\n  \"last_extraction_valid\": false,\n");
+                   "  \"params_tracked\": false,\n");
+    }
+    if (r->extracted) {
+        /* the RLS's last extraction as extracted (the paper's method), published or
+         * refused: what the drive judged, not a result */
+        json_params(&w, "last_extraction", &r->ident, 0);
+        json_params(&w, "last_extraction_error_pct", &r->error_pct, 0);
+        fprintf(f, "  \"last_extraction_valid\": %s,\n", r->ident_valid ? "true" : "false");
+    } else {
+        fprintf(f, "  \"last_extraction\": null,\n  \"last_extraction_error_pct\": null,\n"
+                   "  \"last_extraction_valid\": false,\n");
     }
     jw_field(&w, "max_abs_i_A", r->max_abs_i_A);
     jw_field(&w, "max_speed_err_rpm_ramp", r->max_speed_err_rpm_ramp);
@@ -243,38 +295,72 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
     return (fclose(f) == 0 && write_failed == 0) ? 0 : -1;
 }
 
+static void row_values(FILE *f, const char *label, const sim_params_t *p)
+{
+    fprintf(f, "%-16s %10.4f %10.4f %10.5f %10.5f %10.5f %10.5f\n", label, p->Rs_ohm, p->Rr_ohm,
+            p->Lm_H, p->Lr_H, p->psi_r_Wb, p->Tr_s);
+}
+
+static void row_pct(FILE *f, const char *label, const sim_params_t *p)
+{
+    fprintf(f, "%-16s %+10.2f %+10.2f %+10.2f %+10.2f %+10.2f %+10.2f\n", label, p->Rs_ohm,
+            p->Rr_ohm, p->Lm_H, p->Lr_H, p->psi_r_Wb, p->Tr_s);
+}
+
+static void row_conf(FILE *f, const char *label, const double v[6])
+{
+    unsigned i;
+    fprintf(f, "%-16s", label);
+    for (i = 0; i < 6u; i++) {
+        if (v[i] < 0.0) {
+            fprintf(f, " %10s", "-");
+        } else {
+            fprintf(f, " %9.2f%%", v[i]);
+        }
+    }
+    fputc('\n', f);
+}
+
 void report_print_table(FILE *f, const sim_result_t *r)
 {
-    /* identified: what the drive publishes, as in report.json */
-    const sim_params_t *t = &r->truth, *e = &r->published_end, *p = &r->published_end_error_pct;
-    fprintf(f, "\n%-12s %10s %10s %10s %10s %10s %10s\n", "", "Rs/ohm", "Rr/ohm", "Lm/H", "Lr/H",
+    /* published: what the drive publishes, as in report.json; then the
+     * RLS's own extraction (the paper's method), published or not */
+    const sim_params_t *t = &r->truth;
+    fprintf(f, "\n%-16s %10s %10s %10s %10s %10s %10s\n", "", "Rs/ohm", "Rr/ohm", "Lm/H", "Lr/H",
             "psi_r/Wb", "Tr/s");
-    fprintf(f, "%-12s %10.4f %10.4f %10.5f %10.5f %10.5f %10.5f\n", "reference", t->Rs_ohm,
-            t->Rr_ohm, t->Lm_H, t->Lr_H, t->psi_r_Wb, t->Tr_s);
-    if (!r->identified) {
-        fprintf(f, "%-12s (not identified)\n", "identified");
-        return;
+    row_values(f, "reference", t);
+    if (r->identified) {
+        row_values(f, "published", &r->published_end);
+        row_pct(f, "  error %", &r->published_end_error_pct);
+        row_conf(f, "  confidence +-", r->conf_pct);
+    } else {
+        fprintf(f, "%-16s (nothing published: %s)\n", "published",
+                drive_pub_reason_str(r->publish_reason));
     }
-    fprintf(f, "%-12s %10.4f %10.4f %10.5f %10.5f %10.5f %10.5f\n", "identified", e->Rs_ohm,
-            e->Rr_ohm, e->Lm_H, e->Lr_H, e->psi_r_Wb, e->Tr_s);
-    fprintf(f, "%-12s %+10.2f %+10.2f %+10.2f %+10.2f %+10.2f %+10.2f\n", "error %", p->Rs_ohm,
-            p->Rr_ohm, p->Lm_H, p->Lr_H, p->psi_r_Wb, p->Tr_s);
+    if (r->extracted) {
+        row_values(f, "RLS (paper)", &r->ident);
+        row_pct(f, "  error %", &r->error_pct);
+        if (!r->params_tracked && r->publish_reason != 0u) {
+            row_conf(f, "  confidence +-", r->conf_pct);
+        } else {
+            row_conf(f, "  bound +-", r->bound_pct);
+        }
+    }
     if (r->params_tracked) {
-        /* issue 8: the published set above is the fused one (standstill Rs,
-         * tracked Rr and Tr, the RLS's Lm, Lr, psi_r); the RLS's own */
-        const sim_params_t *q = &r->ident, *qe = &r->error_pct;
-        fprintf(f, "%-12s %10.4f %10.4f %10.5f %10.5f %10.5f %10.5f\n", "extraction", q->Rs_ohm,
-                q->Rr_ohm, q->Lm_H, q->Lr_H, q->psi_r_Wb, q->Tr_s);
-        fprintf(f, "%-12s %+10.2f %+10.2f %+10.2f %+10.2f %+10.2f %+10.2f\n", "error %",
-                qe->Rs_ohm, qe->Rr_ohm, qe->Lm_H, qe->Lr_H, qe->psi_r_Wb, qe->Tr_s);
-        fprintf(f, "(identified: published by the drive: Rs from the standstill test, Rr and Tr "
-                   "tracked, Lm, Lr, psi_r from the RLS; extraction: the RLS at the end of the "
-                   "last pass%s)\n", r->ident_valid ? "" : ", implausible");
+        fprintf(f, "(published: the drive's fused set: Rs from the standstill test, Rr and Tr "
+                   "tracked, Lm, Lr, psi_r from the RLS; RLS (paper): the paper's RLS "
+                   "extraction at the end of the last pass%s)\n",
+                r->ident_valid ? "" : ", implausible");
     }
-    fprintf(f, "\nacceleration started at %.3f s; parameters published at %.3f s%s;\n"
+    fprintf(f, "verdict: %s%s; RLS residual %.2e of the signal, amplification %.3g over %u "
+               "samples\n",
+            drive_pub_reason_str(r->publish_reason),
+            r->publish_reason == 0u ? " (the run ended before the drive's verdict)" : "",
+            r->conf_residual, r->conf_amp, (unsigned)r->conf_samples);
+    fprintf(f, "\nacceleration started at %.3f s; verdict at %.3f s%s;\n"
                "all estimates within 2 %% of their final values %.3f s after the start of the "
                "acceleration.\n",
-            r->t_accel_start_s, r->t_published_s,
+            r->t_accel_start_s, r->t_decided_s,
             r->settle_timeout ? " (steady state not confirmed: settle time-out)" : "",
             r->converge_s);
 }

@@ -156,6 +156,11 @@ static int check_world(const sim_config_t *c, char *err, size_t len)
     const sim_plant_t *p = &c->plant;
     double vmax_phase = inv->vdc_V / sqrt(3.0);
     double need = rated_voltage_need_V(c);
+    /* what the real bridge loses (its dead time and drops: the compensation
+     * asks for it on top), the drive's table's formula */
+    double loss = (double)drive_limits_bridge_loss_V((float)inv->vdc_V, (float)inv->dead_time_s,
+                                                     (float)c->board.pwm_freq_Hz,
+                                                     (float)inv->device_drop_V);
     double tr = (p->Lm_H + p->Llr_H) / p->Rr_ohm;
 
     if (!(c->controller.vdc_min_V < inv->vdc_V && inv->vdc_V < c->controller.vdc_max_V)) {
@@ -165,29 +170,28 @@ static int check_world(const sim_config_t *c, char *err, size_t len)
                            c->controller.vdc_min_V, c->controller.vdc_max_V);
         return 1;
     }
-    if (need > 0.95 * vmax_phase) {
-        sim_config_set_err(err, len, "key 'inverter.vdc_V' = %g V (default board.vdc_nominal_V) "
-                           "is too low for rated speed: the simulated motor needs %.1f V peak "
-                           "per phase, the bus gives %.1f V (with 5 %% margin)", inv->vdc_V, need,
-                           0.95 * vmax_phase);
-        return 1;
-    }
-    /* the bridge's own losses on top (the drive's table asks the same of
-     * the programmed dead time, DRIVE_LD_HEADROOM): two device drops and the
-     * dead time's vdc td f_pwm within the same 95 % */
-    if (need + 2.0 * inv->device_drop_V + inv->vdc_V * inv->dead_time_s * c->board.pwm_freq_Hz >
-        0.95 * vmax_phase) {
+    if (need + loss > 0.95 * vmax_phase) {
+        /* the bus alone too low (no dead time would fit), or the dead time
+         * eats the modulation range (the drive's table asks the same of the
+         * programmed dead time, DRIVE_LD_HEADROOM) */
         double td_max = (0.95 * vmax_phase - need - 2.0 * inv->device_drop_V) /
                         (inv->vdc_V * c->board.pwm_freq_Hz);
-        sim_config_set_err(err, len, "key 'inverter.dead_time_s' = %g s (default "
-                           "board.dead_time_s) eats the modulation range: the simulated motor "
-                           "needs %.1f V peak per phase at rated speed, the bridge loses %.1f V "
-                           "(2 inverter.device_drop_V + inverter.vdc_V inverter.dead_time_s "
-                           "board.pwm_freq_Hz), the bus gives %.1f V (with 5 %% margin): at most "
-                           "%.3g s", inv->dead_time_s, need,
-                           2.0 * inv->device_drop_V +
-                               inv->vdc_V * inv->dead_time_s * c->board.pwm_freq_Hz,
-                           0.95 * vmax_phase, (td_max > 0.0) ? td_max : 0.0);
+        if (!(td_max > 0.0)) {
+            sim_config_set_err(err, len, "key 'inverter.vdc_V' = %g V (default "
+                               "board.vdc_nominal_V) is too low for rated speed: the simulated "
+                               "motor needs %.1f V peak per phase and the bridge loses %.1f V (2 "
+                               "inverter.device_drop_V + vdc inverter.dead_time_s "
+                               "board.pwm_freq_Hz), the bus gives %.1f V (with 5 %% margin)",
+                               inv->vdc_V, need, loss, 0.95 * vmax_phase);
+        } else {
+            sim_config_set_err(err, len, "key 'inverter.dead_time_s' = %g s (default "
+                               "board.dead_time_s) eats the modulation range: the simulated "
+                               "motor needs %.1f V peak per phase at rated speed, the bridge "
+                               "loses %.1f V (2 inverter.device_drop_V + inverter.vdc_V "
+                               "inverter.dead_time_s board.pwm_freq_Hz), the bus gives %.1f V "
+                               "(with 5 %% margin): at most %.3g s", inv->dead_time_s, need, loss,
+                               0.95 * vmax_phase, td_max);
+        }
         return 1;
     }
     if (inv->overcurrent_hw_A > 0.0 && !(inv->overcurrent_hw_A > c->controller.overcurrent_A)) {

@@ -54,6 +54,9 @@ static const char *const k_why[DRIVE_LD_COUNT] = {
                          "(0, 4 L_base]",
     [DRIVE_LD_DEAD] = "at most a quarter of the PWM period",
     [DRIVE_LD_DROP] = "at most V_base = board.vdc_nominal_V / sqrt(3)",
+    [DRIVE_LD_BRIDGE_LOSS] = "2 board.device_drop_V + board.vdc_nominal_V board.dead_time_s "
+                             "board.pwm_freq_Hz, the voltage the dead-time compensation adds, "
+                             "below the linear modulation's 0.95 board.vdc_nominal_V / sqrt(3)",
     [DRIVE_LD_BAND] = "between 0.0005 and 1 times board.current_full_scale_A",
     [DRIVE_LD_FILT] = "the regression's Butterworth corner",
     [DRIVE_LD_FILT_WB] = "below 4 nameplate.rated_freq_Hz",
@@ -94,7 +97,6 @@ static const char *const k_why[DRIVE_LD_COUNT] = {
                           "believed motor's no-load phase voltage there, "
                           "|Rs + j w Ls| controller.magnetizing_current_A (beyond, the "
                           "compensated reference clips once the motor is loaded)",
-    [DRIVE_LD_DIDT] = "the steady-state di/dt threshold (5 % of the rated peak a second) in Q24",
     [DRIVE_LD_OC_FS] = "below the current sensors' full scale board.current_full_scale_A",
     [DRIVE_LD_TORQUE_OC] = "at most the trip level controller.overcurrent_A",
     [DRIVE_LD_VDC_MIN] = "below board.vdc_nominal_V",

@@ -14,6 +14,7 @@
 #include "sim_limits.h"
 
 #define BACKGROUND_DIV 15u   /* background loop at 1 kHz */
+#define DECIDED_GRACE_S 0.5  /* stop_when_decided: simulated time after the verdict */
 
 static const char *const k_scen[] = {"start", "reversal", "load_steps", "soak", "drift"};
 
@@ -250,6 +251,10 @@ static double default_duration_s(const sim_config_t *c, sim_scenario_t s)
     double ident = 0.1 + c->ident.magnetize_s +
                    c->ident.target_speed_rpm / c->controller.speed_ramp_rpm_s + 3.2;
     double d = ident * c->ident.passes;
+    if (c->ident.track_rr != 0.0) {
+        /* the fused set: the tracker valid 1 s into RUN, then its fit judged */
+        d += 2.0;
+    }
     if (s == SCEN_DRIFT) {
         return d + c->drift.start_s + c->drift.ramp_s + DRIFT_TAIL_S;
     }
@@ -317,6 +322,24 @@ static void drift_period(drift_t *dr, const drive_t *d, const sim_config_t *c, p
     }
 }
 
+/* The publication's verdict and the confidences at the end of the run (%). */
+static void conf_figures(const drive_t *d, sim_result_t *r)
+{
+    const ident_conf_t *c = &d->conf;
+    unsigned i;
+    for (i = 0; i < 6u; i++) {
+        double v = (double)_IQtoF(d->telemetry.conf[i]);
+        r->conf_pct[i] = (v < 0.0) ? -1.0 : 100.0 * v;
+        r->bound_pct[i] = 100.0 * (double)_IQtoF(c->bound[i]);
+        r->drift_pct[i] = 100.0 * (double)_IQtoF(c->drift[i]);
+    }
+    r->conf_residual = (double)_IQtoF(d->telemetry.conf_residual);
+    r->conf_amp = (double)_IQtoF(d->telemetry.conf_amp);
+    r->conf_samples = d->snap_acc.n;
+    r->conf_excitation = (double)_IQtoF(c->excitation);
+    r->conf_pd = d->snap_pd;
+}
+
 int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res, char *err,
             unsigned err_len)
 {
@@ -361,6 +384,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     for (k = 0; k < SIM_STATES; k++) {
         res->t_state_s[k] = -1.0;
     }
+    res->t_decided_s = -1.0;
     sim_config_to_drive(cfg, &dc);
     st = drive_init(&drive, &dc);
     if (st != DRIVE_CFG_OK) {
@@ -462,6 +486,18 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
         }
         if (drive.telemetry.fault != 0u && port.outputs_enabled != 0u) {
             res->pwm_periods_with_fault++;
+        }
+        if (drive.seq.extract_now != 0u && drive.seq.pass >= drive.seq.passes) {
+            res->extracted = 1u;
+        }
+        if (res->t_decided_s < 0.0 && drive.conf_run != 0u &&
+            drive.telemetry.publish_reason != (uint16_t)DRIVE_PUB_PENDING) {
+            res->t_decided_s = t;
+        }
+        if (opt->stop_when_decided != 0u && res->t_decided_s >= 0.0 &&
+            t >= res->t_decided_s + DECIDED_GRACE_S) {
+            res->duration_s = t;   /* the verdict is in: the run has told what it can */
+            break;
         }
         observe_protection(&drive, res, t);
         observe_soak(&drive, res, t);
@@ -680,10 +716,13 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     res->rls_pd_count = drive.rls.pd_count;
     res->theta_rejects = drive.guard.reject_count;
     res->publish_rejects = drive.telemetry.publish_rejects;
-    res->identified = drive.telemetry.params_valid;
+    res->publish_reason = drive.telemetry.publish_reason;
+    res->identified = (uint16_t)(drive.telemetry.params_valid != 0u &&
+                                 res->publish_reason == (uint16_t)DRIVE_PUB_PUBLISHED);
     res->params_withdrawn = drive.telemetry.params_withdrawn;
     res->withdraw_reason = drive.telemetry.withdraw_reason;
     res->final_pass = drive.telemetry.pass;
+    conf_figures(&drive, res);
     res->Rs_dc_ohm = (double)_IQtoF(drive.telemetry.Rs_dc) * b->Z_base_ohm;
     res->adapt_timeouts = drive.seq.adapt_timeouts;
     drift_figures(&drift, res);
@@ -697,6 +736,9 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
         e->Lr_H = pct(res->published_end.Lr_H, res->truth.Lr_H);
         e->psi_r_Wb = pct(res->published_end.psi_r_Wb, res->truth.psi_r_Wb);
         e->Tr_s = pct(res->published_end.Tr_s, res->truth.Tr_s);
+    }
+    if (res->extracted) {
+        /* the RLS's last extraction, published or refused (the paper's method) */
         to_si(b, &drive.pex, &res->ident);
         res->ident_valid = drive.pex.valid;
         res->error_pct.Rs_ohm = pct(res->ident.Rs_ohm, res->truth.Rs_ohm);
@@ -705,7 +747,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
         res->error_pct.Lr_H = pct(res->ident.Lr_H, res->truth.Lr_H);
         res->error_pct.psi_r_Wb = pct(res->ident.psi_r_Wb, res->truth.psi_r_Wb);
         res->error_pct.Tr_s = pct(res->ident.Tr_s, res->truth.Tr_s);
-        if (res->t_accel_start_s >= 0.0) {
+        if (res->t_accel_start_s >= 0.0 && drive.pex.valid != 0u) {
             res->converge_s = converge_time(rows, n_rows, &res->ident, res->t_accel_start_s);
         }
     }

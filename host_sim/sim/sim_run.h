@@ -70,6 +70,9 @@ typedef struct {
      * sim_serial.h): no start at t = 0 (the board waits for $C,S or its
      * button), and a hook run after each drive_background (1 kHz) with the
      * ISRs run so far and the time; a non-zero return ends the run there */
+    uint16_t stop_when_decided;  /* end DECIDED_GRACE_S after the drive's publication verdict
+                                    (motor_sim's start scenario without --duration): the
+                                    default duration is then the time-out */
     uint16_t no_autostart;
     double stop_after_fault_s;   /* > 0: the run ends this long after the first fault latched */
     int (*background_hook)(void *ctx, drive_t *d, uint64_t isr_count, double t_s);
@@ -84,7 +87,19 @@ typedef struct {
 typedef struct {
     double duration_s;
     double wall_s;                  /* wall-clock time of the run */
-    uint16_t identified;            /* parameters published */
+    uint16_t identified;            /* this run's set published (publish_reason published) */
+    uint16_t publish_reason;        /* drive_pub_reason_t at the end (pending: the run ended
+                                       before the drive's verdict) */
+    double t_decided_s;             /* when the verdict came (-1: never) */
+    uint16_t extracted;             /* the final extraction ran: ident holds it */
+    /* the confidence of the set judged (ident_conf.h), %: the telemetry's, -1 where not
+     * available; then the RLS's figures of the final pass (background's evaluation) */
+    double conf_pct[6];             /* Rs, Rr, Lm, Lr, psi_r, Tr */
+    double conf_residual, conf_amp; /* sqrt(J/Y); largest amplification */
+    double conf_excitation;         /* sqrt(Y/2n) against a ramp to rated speed */
+    uint32_t conf_pd;               /* the final window's RLS covariance repairs */
+    double bound_pct[6], drift_pct[6];
+    uint32_t conf_samples;          /* RLS samples of the final window */
     uint16_t settle_timeout;        /* published after the SETTLE time limit */
     double t_accel_start_s;         /* the sequence entered ACCELERATE */
     double t_published_s;

@@ -64,7 +64,6 @@
 
 #include <math.h>
 
-#define TRACK_LPF_HZ 10.0f             /* as the regression's Butterworth corner */
 
 float drive_adapt_ssz_freq_Hz(const drive_config_t *c)
 {

@@ -10,6 +10,7 @@
 /* The standstill test and the tracker's guard (also read by the table of
  * limits, drive_limits.c, to say which bound a configuration misses). */
 #define TRACK_PHI_MIN_OF_RATED 0.1f    /* least |psi x i|: 10 % of rated flux x rated i_T */
+#define TRACK_LPF_HZ 10.0f             /* as the regression's Butterworth corner */
 #define SSZ_F_OF_BW 0.4f               /* injection at 40 % of the current-loop bandwidth */
 #define SSZ_F_MAX_HZ 400.0f            /* ... at most (>= 37 samples per period at 15 kHz) */
 #define SSZ_CYCLES 20u                 /* periods summed */

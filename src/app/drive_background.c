@@ -9,8 +9,21 @@
  * producer and one consumer no snapshot is ever read half-written.
  */
 #include "drive_adapt.h"
+#include "drive_design.h"
 #include "drive_internal.h"
 #include "drive_safety.h"
+
+/* the telemetry's confidences are ident_conf's parameters, in its order */
+typedef char drive_conf_np_matches[(DRIVE_CONF_NP == IDENT_NP &&
+                                    IDENT_NP == (unsigned)IDENT_P_TR + 1u) ? 1 : -1];
+
+const char *drive_pub_reason_str(uint16_t reason)
+{
+    static const char *const names[DRIVE_PUB_N] = {
+        "pending", "published", "not_converged", "low_excitation", "high_residual",
+        "low_confidence", "implausible", "fault", "timeout", "stopped"};
+    return (reason < (uint16_t)DRIVE_PUB_N) ? names[reason] : "unknown";
+}
 
 static void extract(param_extract_t *p, const drive_snapshot_t *s, uint16_t form)
 {
@@ -23,14 +36,88 @@ static void extract(param_extract_t *p, const drive_snapshot_t *s, uint16_t form
     param_extract_step(p);
 }
 
-/* Only a plausible set is published; an implausible extraction leaves the
- * last good set (and params_valid) untouched and is counted. */
-static void publish(drive_telemetry_t *t, const param_extract_t *p)
+/* The extraction of the mid-window estimate with the final i_M, in the
+ * form the final one has (the magnetic part alone in fused mode). */
+static void extract_mid(drive_t *d, param_extract_t *mid)
 {
-    if (p->valid == 0u) {
-        if (t->publish_rejects < 0xFFFFu) {
-            t->publish_rejects++;
+    uint16_t i;
+    *mid = d->pex;                 /* limits, form and i_M; the outputs are recomputed */
+    for (i = 0u; i < RLS_N; i++) {
+        mid->theta[i] = d->conf_theta_mid[i];
+    }
+    if (d->adapt.fused != 0u) {
+        param_extract_magnetic(mid);
+    } else {
+        param_extract_step(mid);
+    }
+}
+
+/* The final pass's data judged (ident_conf.h): the verdict as a reason.
+ * The confidences go to telemetry whether the set is published or not. */
+static uint16_t judge_rls(drive_t *d, const param_extract_t *end)
+{
+    ident_conf_t *c = &d->conf;
+    param_extract_t mid;
+    uint16_t i;
+
+    c->mask = (d->adapt.fused != 0u) ? IDENT_MASK_MAGNETIC : IDENT_MASK_ALL;
+    if (end->valid != 0u) {
+        if (d->conf_mid == 2u) {
+            extract_mid(d, &mid);
+        } else {
+            mid.valid = 0u;   /* the window never reached its middle with an estimate */
         }
+        ident_conf_eval(c, &d->snap_cov, &d->snap_acc, d->snap_pd, end, &mid);
+    } else {
+        for (i = 0u; i < IDENT_NP; i++) {
+            c->conf[i] = _IQ(0.0);
+        }
+        c->residual = _IQ(0.0);
+        c->amp = _IQ(0.0);
+    }
+    for (i = 0u; i < IDENT_NP; i++) {
+        d->telemetry.conf[i] = c->conf[i];
+    }
+    d->telemetry.conf_residual = c->residual;
+    d->telemetry.conf_amp = c->amp;
+    if (d->guard.good == 0u) {
+        /* no plausible estimate: the RLS never updated (the acceleration stayed below
+         * the speeds where it learns), or it did and never converged */
+        return (d->snap_acc.n == 0u) ? (uint16_t)DRIVE_PUB_LOW_EXCITATION
+                                : (uint16_t)DRIVE_PUB_NOT_CONVERGED;
+    }
+    if (end->valid == 0u) {
+        return DRIVE_PUB_IMPLAUSIBLE;
+    }
+    if (d->seq.settle_timeout != 0u) {
+        return DRIVE_PUB_TIMEOUT;         /* the formulas' steady state not confirmed */
+    }
+    switch (c->verdict) {
+    case IDENT_CONF_OK: return DRIVE_PUB_PUBLISHED;
+    case IDENT_CONF_HIGH_RESIDUAL: return DRIVE_PUB_HIGH_RESIDUAL;
+    case IDENT_CONF_LOW_EXCITATION: return DRIVE_PUB_LOW_EXCITATION;
+    case IDENT_CONF_LOW_CONFIDENCE: return DRIVE_PUB_LOW_CONFIDENCE;
+    case IDENT_CONF_NOT_CONVERGED:
+    case IDENT_CONF_NO_DATA:
+    default: return DRIVE_PUB_NOT_CONVERGED;
+    }
+}
+
+static void count_reject(drive_telemetry_t *t)
+{
+    if (t->publish_rejects < 0xFFFFu) {
+        t->publish_rejects++;
+    }
+}
+
+/* Only a set the data stand behind is published (the verdict of
+ * judge_rls); a refused one leaves the last good set (and params_valid)
+ * untouched and is counted. */
+static void publish(drive_telemetry_t *t, const param_extract_t *p, uint16_t reason)
+{
+    t->publish_reason = reason;
+    if (reason != (uint16_t)DRIVE_PUB_PUBLISHED) {
+        count_reject(t);
         return;
     }
     t->Rs = p->Rs;
@@ -40,6 +127,80 @@ static void publish(drive_telemetry_t *t, const param_extract_t *p)
     t->psi_r = p->psi_r;
     t->Tr = p->Tr;
     t->params_valid = 1u;
+}
+
+/* The tracker's fit while it is valid (fused set): each new update's
+ * filtered regression (y_f, phi_f, theta: tr_track.h) into its relative
+ * residual (ident_conf_fit_t).  Three words the ISR writes in one slow
+ * task: a sample torn by an ISR in between is skipped. */
+static void sample_tracker(drive_t *d)
+{
+    const tr_track_t *t = &d->track;
+    _iq y, phi, th;
+    if (t->n_updates == d->trk_updates || t->held != 0u) {
+        return;
+    }
+    d->trk_updates = t->n_updates;
+    y = t->y_f;
+    phi = t->phi_f;
+    th = t->theta;
+    if (y == t->y_f) {
+        if (d->trk_fit.n == 0u) {
+            d->trk_theta0 = th;
+        }
+        ident_conf_fit_add(&d->trk_fit, y, phi, th);
+    }
+}
+
+static void tracker_reset(drive_t *d)
+{
+    ident_conf_fit_reset(&d->trk_fit);
+    d->trk_updates = d->track.n_updates;
+    d->trk_theta0 = _IQ(0.0);
+}
+
+/* The fused set's verdict, once the tracker has fitted for
+ * DRIVE_CONF_TRACK_S: Lm, Lr, psi_r by the RLS's data (judge_rls of the
+ * final pass); Tr by the tracker: its standard error (the relative residual
+ * of its fit times k.conf_track_se: the tracker averages noise, and a bias
+ * of its frame leaves no residual at all, so its worst-case bound would say
+ * nothing more) plus how far its estimate moved over the window; Rr = Lr/Tr
+ * by both (the sum of the two relative figures).  The standstill Rs has no
+ * confidence from the data (-1, not available, not judged): its error is
+ * the dead-time compensation's at DC, which its own signals do not show,
+ * and the RLS's Rs, the only second measurement, is the worse one in this
+ * sequence (README "Beyond the paper": the observer's frame biases K1, K3;
+ * measured from a nameplate 30 % off, 1.1 kW: the RLS's Rs 4-5 % from the
+ * standstill one, 2.3 % its bound, the standstill Rs -0.17 %; 15 kW: the
+ * RLS's -38 %, bound 35 %, the standstill -0.1 %).  DRIVE_PUB_PENDING while it waits; a tracker
+ * that never learns (no torque: tr_track.h's wind-up guard) within
+ * DRIVE_CONF_TRACK_WAIT_S of RUN is low_excitation. */
+static uint16_t judge_fused(drive_t *d)
+{
+    drive_telemetry_t *t = &d->telemetry;
+    _iq trk, drift, lim = d->conf.conf_max;
+    if (t->Rs_dc == _IQ(0.0)) {
+        return DRIVE_PUB_IMPLAUSIBLE;   /* the standstill Rs was implausible: no fused set */
+    }
+    if (d->trk_fit.n < d->k.conf_track_updates) {
+        return (d->seq.state == ID_RUN && d->seq.t_state >= d->k.conf_track_wait)
+                   ? (uint16_t)DRIVE_PUB_LOW_EXCITATION : (uint16_t)DRIVE_PUB_PENDING;
+    }
+    trk = ident_conf_fit_bound(&d->trk_fit);
+    trk = (trk < _IQ(IDENT_CONF_MAX)) ? _IQmpy(trk, d->k.conf_track_se) : trk;
+    drift = ident_conf_rel_change(d->track.theta, d->trk_theta0);   /* 1/Tr: the same relative change */
+    /* as ident_conf's: the sum of the two figures (each < 100) */
+    t->conf[IDENT_P_TR] = (trk + drift < _IQ(IDENT_CONF_MAX)) ? trk + drift : _IQ(IDENT_CONF_MAX);
+    t->conf[IDENT_P_RR] = (t->conf[IDENT_P_TR] < _IQ(IDENT_CONF_MAX / 2.0f) &&
+                           t->conf[IDENT_P_LR] < _IQ(IDENT_CONF_MAX / 2.0f))
+                              ? t->conf[IDENT_P_TR] + t->conf[IDENT_P_LR]
+                              : _IQ(IDENT_CONF_MAX);
+    t->conf[IDENT_P_RS] = -_IQ(1.0);   /* the standstill Rs: not available (above) */
+    if (t->conf[IDENT_P_TR] > lim || t->conf[IDENT_P_RR] > lim) {
+        return (drift > trk && t->conf[IDENT_P_TR] > lim) ? (uint16_t)DRIVE_PUB_NOT_CONVERGED
+                                                           : (uint16_t)DRIVE_PUB_LOW_CONFIDENCE;
+    }
+    return DRIVE_PUB_PUBLISHED;
 }
 
 /* With the tracker valid (RUN, track_rr), the published set takes the
@@ -57,8 +218,9 @@ static void publish_tracked(drive_t *d)
     }
     if (d->adapt.fused != 0u) {
         /* every value from its well-conditioned source, or nothing */
-        if (d->fused_ready == 0u || t->Rs_dc == _IQ(0.0)) {
-            return;
+        if (d->fused_ready == 0u || t->Rs_dc == _IQ(0.0) ||
+            t->publish_reason != (uint16_t)DRIVE_PUB_PUBLISHED) {
+            return;   /* not yet, or refused (fused_verdict): the last good set stays */
         }
         t->Lm = d->fused_lm;
         t->Lr = d->fused_lr;
@@ -75,6 +237,28 @@ static void publish_tracked(drive_t *d)
     t->Tr = t->Tr_track;
     t->params_tracked = 1u;
     t->params_valid = 1u;
+}
+
+/* The fused set's verdict (judge_fused), from the final pass's extraction
+ * on, until it is given: the tracker's fit sampled while it is valid. */
+static void fused_verdict(drive_t *d)
+{
+    drive_telemetry_t *t = &d->telemetry;
+    uint16_t reason;
+    if (d->adapt.fused == 0u || d->conf_judged == 0u ||
+        t->publish_reason != (uint16_t)DRIVE_PUB_PENDING) {
+        return;
+    }
+    if (t->track_valid != 0u) {
+        sample_tracker(d);
+    }
+    reason = judge_fused(d);
+    if (reason != (uint16_t)DRIVE_PUB_PENDING) {
+        t->publish_reason = reason;
+        if (reason != (uint16_t)DRIVE_PUB_PUBLISHED) {
+            count_reject(t);
+        }
+    }
 }
 
 /* After a pass's extraction: in fused mode keep the magnetic part (from the
@@ -115,6 +299,13 @@ static void handle_command(drive_t *d, drive_cmd_t cmd)
              * plausible one replaces it; the guard starts afresh */
             theta_guard_reset(&d->guard);
             d->fused_ready = 0u;
+            /* a new verdict is owed for this run */
+            d->telemetry.publish_reason = (uint16_t)DRIVE_PUB_PENDING;
+            d->conf_run = 1u;
+            d->conf_judged = 0u;
+            d->conf_mid = 0u;
+            d->conf_pass = 0u;
+            tracker_reset(d);
             /* this run's standstill test decides (an old measurement must
              * not stand in for one that fails now); the ISR writes them
              * only at the end of the magnetisation, not in IDLE */
@@ -125,6 +316,9 @@ static void handle_command(drive_t *d, drive_cmd_t cmd)
         break;
     case DRIVE_CMD_STOP:
         id_sequence_stop(&d->seq);
+        if (d->conf_run != 0u && d->telemetry.publish_reason == (uint16_t)DRIVE_PUB_PENDING) {
+            d->telemetry.publish_reason = (uint16_t)DRIVE_PUB_STOPPED;
+        }
         break;
     case DRIVE_CMD_RESET_FAULT:
         /* the plausibility checks judge a running drive: re-armed here, they
@@ -142,6 +336,65 @@ static void handle_command(drive_t *d, drive_cmd_t cmd)
     case DRIVE_CMD_NONE:
     default:
         break;
+    }
+}
+
+/* The estimate at the middle of the RLS window, for the drift
+ * (ident_conf.h): armed at the first live snapshot of the window (the RLS
+ * has updated: its sums count), halfway between that speed and the
+ * target; taken at the first live snapshot at or above it. */
+static void capture_mid(drive_t *d, const drive_snapshot_t *live)
+{
+    const id_sequence_t *s = &d->seq;
+    _iq sp = _IQabs(d->qep.speed);
+    uint16_t i;
+    if (s->pass != d->conf_pass) {
+        d->conf_pass = s->pass;
+        d->conf_mid = 0u;
+    }
+    if (s->state != ID_ACCELERATE || d->conf_acc.n == 0u || d->guard.good == 0u) {
+        return;
+    }
+    if (d->conf_mid == 0u) {
+        /* both < 2 pu (the speed reference's range) */
+        d->conf_speed_mid = _IQmpy(sp + _IQabs(s->speed_target), _IQ(0.5));
+        d->conf_mid = 1u;
+    } else if (d->conf_mid == 1u && sp >= d->conf_speed_mid) {
+        for (i = 0u; i < RLS_N; i++) {
+            d->conf_theta_mid[i] = live->theta[i];
+        }
+        d->conf_mid = 2u;
+    } else {
+        /* armed, below the middle; or taken */
+    }
+}
+
+/* The extraction of the final pass: judged (ident_conf.h) and, unless the
+ * set is the fused one (publish_tracked), published or refused.  Earlier
+ * passes only hand their model on (after_extraction). */
+static void extraction_done(drive_t *d)
+{
+    const param_extract_t *end = &d->pex;
+    param_extract_t mag;
+    uint16_t reason;
+    if (d->seq.pass < d->seq.passes) {
+        return;
+    }
+    if (d->adapt.fused != 0u && d->pex.valid == 0u) {
+        mag = d->pex;   /* the magnetic part alone, as after_extraction keeps it */
+        param_extract_magnetic(&mag);
+        end = &mag;
+    }
+    reason = judge_rls(d, end);
+    if (d->adapt.fused == 0u) {
+        publish(&d->telemetry, &d->pex, reason);
+        return;
+    }
+    d->conf_judged = 1u;
+    if (reason != (uint16_t)DRIVE_PUB_PUBLISHED) {
+        /* the RLS's part already fails: the fused set cannot be published */
+        d->telemetry.publish_reason = reason;
+        count_reject(&d->telemetry);
     }
 }
 
@@ -171,19 +424,25 @@ void drive_background(drive_t *d)
 
     if (d->snap.ready != 0u) {
         extract(&d->pex, &d->snap, d->rls.form);
-        if (d->adapt.fused == 0u) {
-            publish(&d->telemetry, &d->pex);
-        }   /* fused mode publishes once the tracker is valid (publish_tracked) */
+        extraction_done(d);
         after_extraction(d);
         d->snap.ready = 0u;
     }
     if (d->live_snap.ready != 0u) {
         extract(&d->live, &d->live_snap, d->rls.form);
+        capture_mid(d, &d->live_snap);
         d->live_snap.ready = 0u;
     }
     drive_adapt_background(d);   /* the adaptation's models and constants (drive_adapt_bg.c) */
+    fused_verdict(d);
     publish_tracked(d);
     drive_safety_background(d);   /* nothing learned while a fault developed stays published */
+    /* a protection that trips before the verdict: the set was never complete */
+    if (d->conf_run != 0u && d->telemetry.publish_reason == (uint16_t)DRIVE_PUB_PENDING &&
+        d->seq.state == ID_FAULT) {
+        d->telemetry.publish_reason = (uint16_t)DRIVE_PUB_FAULT;
+        count_reject(&d->telemetry);
+    }
 }
 
 void drive_command(drive_t *d, drive_cmd_t cmd)

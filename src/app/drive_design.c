@@ -11,6 +11,38 @@ base_status_t drive_design_bases(base_values_t *b, const drive_config_t *c)
                             c->motor.pole_pairs, 1.0f / c->board.pwm_freq_Hz);
 }
 
+/* The steady-state tolerances (drive_design.h).  The ripple: the bridge's
+ * dead-time and drop voltage dv = vdc td f_pwm + v_drop (per unit of V_base)
+ * is a square wave along each phase current, whose 5th and 7th harmonics,
+ * (4/pi)(1/5 + 1/7) dv, appear at 6 w_e in the rotor-flux frame; the current
+ * follows through sigma Ls, above the current loop's bandwidth by its
+ * impedance, below it rejected at the loop's rate: i6 = (4/pi)(12/35) dv /
+ * (sigma Ls max(6 w_e, w_c)); the regression's 2nd-order Butterworth
+ * (corner w_f) passes 1/sqrt(1 + (6 w_e / w_f)^4) of it.  This is the
+ * uncompensated ripple, a bound on what the compensation leaves. */
+static void settle_tolerances(drive_design_t *g, const drive_config_t *c, const base_values_t *b)
+{
+    float dv = (c->board.vdc_nominal_V * c->board.dead_time_s * c->board.pwm_freq_Hz +
+                c->board.device_drop_V) / b->V_base_V;
+    float sls = g->sls / b->L_base_H;
+    float w6 = 6.0f * fabsf(g->target_pu);
+    float wc = c->control.current_bw_Hz / b->f_base_Hz;
+    float wf = c->ident.filter_wc_rad_s / b->w_base_rad_s;
+    float x = w6 / wf;
+    float i6 = (4.0f / 3.14159265f) * (12.0f / 35.0f) * dv / (sls * fmaxf(w6, wc));
+    g->ripple_pu = i6 / sqrtf(1.0f + x * x * x * x);
+    /* at least 16 LSB of Q24 (a tolerance that rounds to 0 would never hold) */
+    g->im_tol_pu = fmaxf(fmaxf(DRIVE_SETTLE_IM_FRAC * g->im_pu,
+                               DRIVE_SETTLE_RIPPLE_K * g->ripple_pu), 16.0f / 16777216.0f);
+    g->it_tol_pu = fmaxf(fmaxf(DRIVE_SETTLE_IT_FRAC * g->i_max,
+                               DRIVE_SETTLE_RIPPLE_K * g->ripple_pu), 16.0f / 16777216.0f);
+    /* one count in the QEP's window: pp / (W 4 lines Ts f_base) pu (qep_speed.h) */
+    g->speed_tol_pu = fmaxf(DRIVE_SETTLE_SPEED_FRAC * fabsf(g->target_pu),
+                            DRIVE_SETTLE_SPEED_COUNTS * (float)c->motor.pole_pairs /
+                                ((float)DRIVE_QEP_WINDOW * 4.0f * (float)c->board.encoder_lines *
+                                 g->Ts * b->f_base_Hz));
+}
+
 void drive_design(drive_design_t *g, const drive_config_t *c, const base_values_t *b)
 {
     const drive_motor_t *m = &c->motor;
@@ -36,8 +68,10 @@ void drive_design(drive_design_t *g, const drive_config_t *c, const base_values_
     g->im_pu = m->magnetizing_current_A / b->I_base_A;
     g->target_pu = ((c->ident.target_speed_rpm > 0.0f) ? c->ident.target_speed_rpm
                                                        : m->rated_speed_rpm) / b->n_base_rpm;
-    g->didt_pu = DRIVE_SETTLE_DIDT * 1.41421356f * m->rated_current_A_rms / b->I_base_A /
-                 b->w_base_rad_s;
+    settle_tolerances(g, c, b);
+    /* y2's w_s i_M at rated speed with the i_M reference (ident_conf.h: the
+     * excitation's reference) */
+    g->y_ref_pu = m->rated_speed_rpm / b->n_base_rpm * g->im_pu;
 }
 
 /* K of the believed motor (method §2, SI -> pu as in

@@ -109,10 +109,6 @@ static int16_t init_identification(drive_t *d, const drive_config_t *c, const dr
     const base_values_t *b = &d->base;
     float Ts = g->Ts;
 
-    /* steady-state: filtered di/dt below 5 % of the rated peak current per
-     * second (g->didt_pu).  The speed loop's answer to encoder quantisation
-     * keeps the filtered d(i_T)/dt of the paper motor at up to 1.8 %/s in
-     * steady state (measured), so a 2 % threshold was reset by noise alone. */
     if (ident_regressor_init(&d->reg, id->filter_wc_rad_s, id->euler_passes, Ts,
                              b->w_base_rad_s, DRIVE_SLOTS_LOG2) != 0) {
         return 1;
@@ -138,10 +134,27 @@ static int16_t init_identification(drive_t *d, const drive_config_t *c, const dr
             return 1;
         }
     }
-    d->k.speed_tol = _IQ(0.005f * g->target_pu);
+    /* the publication's verdict (ident_conf.h; drive_design.h: the limits) */
+    if (ident_conf_init(&d->conf, DRIVE_CONF_MAX, DRIVE_CONF_RES_REF, DRIVE_CONF_EXC_REF,
+                        g->y_ref_pu) != IDENT_CONF_INIT_OK) {
+        return 1;
+    }
+    /* the tracker's judging window and the wait for it, in tracker updates and
+     * slow-task samples (drive_adapt.c: the tracker every DRIVE_ADAPT_TRACK_DECIM slow
+     * samples) */
+    d->k.conf_track_updates =
+        (uint16_t)(DRIVE_CONF_TRACK_S / (g->Ts_slow * (float)DRIVE_ADAPT_TRACK_DECIM) + 0.5f);
+    d->k.conf_track_wait = (uint32_t)(DRIVE_CONF_TRACK_WAIT_S / g->Ts_slow + 0.5f);
+    /* the tracker's standard error per relative residual: (1 - lambda)/2 for a
+     * forgetting RLS, c = f_upd / (2 B_n) samples per independent one for its
+     * first-order 10 Hz low-pass (B_n = pi f / 2): sqrt(c (1 - lambda) / 2) =
+     * 1 / sqrt(2 pi f T_memory) */
+    d->k.conf_track_se =
+        _IQ(1.0f / sqrtf(DRIVE_TWO_PI_F * TRACK_LPF_HZ * c->ident.track_memory_s));
+    d->k.speed_tol = _IQ(g->speed_tol_pu);
     if (id_sequence_init(&d->seq, g->Ts_slow, id->magnetize_time_s, 0.2f, 0.2f, 3.0f, id->rls_tail_s,
-                         d->k.speed_tol,
-                         _IQ(g->didt_pu), _IQ(g->im_pu), _IQ(g->target_pu)) != 0) {
+                         d->k.speed_tol, _IQ(g->im_tol_pu), _IQ(g->it_tol_pu),
+                         _IQ(g->im_pu), _IQ(g->target_pu)) != 0) {
         return 2;
     }
     return 0;

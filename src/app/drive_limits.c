@@ -174,6 +174,7 @@ static const drive_limit_t k_limits[] = {
     DERIVED("sigma Ls", "H", DRIVE_CFG_ORIENTATION, DRIVE_LD_OBS_SLS),
     DERIVED("board.dead_time_s", "s", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_DEAD),
     DERIVED("board.device_drop_V", "V", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_DROP),
+    DERIVED("bridge loss", "V", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_BRIDGE_LOSS),
     DERIVED("controller.dead_time_band_A", "A", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_BAND),
     DERIVED_RANGE("ident.filter_cutoff_Hz", "Hz", DRIVE_CFG_IDENT, DRIVE_LD_FILT, 0u, 0.5f, 500.0f),
     DERIVED("ident.filter_cutoff_Hz", "Hz", DRIVE_CFG_IDENT, DRIVE_LD_FILT_WB),
@@ -196,7 +197,6 @@ static const drive_limit_t k_limits[] = {
     DERIVED("ident.target_speed_rpm", "r/min", DRIVE_CFG_SEQUENCE, DRIVE_LD_TARGET),
     DERIVED("ident.target_speed_rpm", "r/min", DRIVE_CFG_SEQUENCE, DRIVE_LD_TARGET_PU),
     DERIVED("board.dead_time_s", "s", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_HEADROOM),
-    DERIVED("nameplate.rated_current_A", "A rms", DRIVE_CFG_SEQUENCE, DRIVE_LD_DIDT),
     DERIVED("controller.overcurrent_A", "A", DRIVE_CFG_PROTECTION, DRIVE_LD_OC_FS),
     DERIVED("controller.max_torque_current_A", "A", DRIVE_CFG_PROTECTION, DRIVE_LD_TORQUE_OC),
     DERIVED("controller.vdc_min_V", "V", DRIVE_CFG_PROTECTION, DRIVE_LD_VDC_MIN),
@@ -212,6 +212,12 @@ typedef struct {
     base_values_t b;
     drive_design_t g;
 } limit_ctx_t;
+
+float drive_limits_bridge_loss_V(float vdc_V, float dead_time_s, float pwm_freq_Hz,
+                                 float device_drop_V)
+{
+    return 2.0f * device_drop_V + vdc_V * dead_time_s * pwm_freq_Hz;
+}
 
 uint16_t drive_limits_count(void)
 {
@@ -498,6 +504,11 @@ static int16_t check_voltage_model(const drive_limit_t *l, const limit_ctx_t *x,
         v = bd->device_drop_V / b->V_base_V;
         return verdict((int16_t)(v >= 0.0f && v <= VOLT_CALC_DROP_MAX_PU), f, bd->device_drop_V,
                        0.0f, VOLT_CALC_DROP_MAX_PU * b->V_base_V, 0u);
+    case DRIVE_LD_BRIDGE_LOSS:   /* the compensation's voltage must fit the modulation */
+        v = drive_limits_bridge_loss_V(bd->vdc_nominal_V, bd->dead_time_s, bd->pwm_freq_Hz,
+                                       bd->device_drop_V);
+        return verdict((int16_t)(v < DRIVE_LIMITS_LINEAR_OF_VDC * bd->vdc_nominal_V), f, v, 0.0f,
+                       DRIVE_LIMITS_LINEAR_OF_VDC * bd->vdc_nominal_V, HI_OPEN);
     case DRIVE_LD_BAND:
         v = bd->dead_time_band_A / b->I_base_A;
         return verdict((int16_t)(v >= VOLT_CALC_ITH_MIN_PU && v <= VOLT_CALC_ITH_MAX_PU), f,
@@ -685,9 +696,6 @@ static int16_t check_sequence_and_protection(const drive_limit_t *l, const limit
         return verdict((int16_t)(bd->dead_time_s * per_s + bd->device_drop_V <= allowed), f,
                        bd->dead_time_s, 0.0f, (allowed - bd->device_drop_V) / per_s, 0u);
     }
-    case DRIVE_LD_DIDT:
-        return verdict((int16_t)(g->didt_pu < Q24_HEADROOM), f, c->motor.rated_current_A_rms, 0.0f,
-                       c->motor.rated_current_A_rms * Q24_HEADROOM / g->didt_pu, BOTH_OPEN);
     case DRIVE_LD_OC_FS:   /* drive_init and protect_init */
         return verdict((int16_t)(bd->overcurrent_A < bd->current_full_scale_A &&
                                  _IQ(bd->overcurrent_A / b->I_base_A) > _IQ(0.0)),

@@ -69,7 +69,14 @@ void drive_rls_drain(drive_t *d)
             d->rls = d->rls_start;
             theta_guard_reset(&d->guard);
         }
+        if ((e->flags & DRIVE_RLSQ_WINDOW) != 0u) {
+            ident_conf_acc_reset(&d->conf_acc);   /* a new RLS window begins */
+        }
         if ((e->flags & DRIVE_RLSQ_EXTRACT) != 0u) {
+            /* the covariance and the residual sums go with the estimate */
+            rls_cov_save(&d->snap_cov, &d->rls);
+            d->snap_acc = d->conf_acc;
+            d->snap_pd = d->rls.pd_count;
             take_snapshot(&d->snap, d, e->i_mf);
         }
         if ((e->flags & DRIVE_RLSQ_LIVE) != 0u && d->live_snap.ready == 0u) {
@@ -77,6 +84,9 @@ void drive_rls_drain(drive_t *d)
         }
         if ((e->flags & DRIVE_RLSQ_UPDATE) != 0u) {
             rls_update(d, e);
+            /* the a-posteriori residual of this sample, with its inputs
+             * still in the RLS (ident_conf.h) */
+            ident_conf_acc_step(&d->conf_acc, &d->rls);
         }
         tail = (uint16_t)((tail + 1u) & (DRIVE_RLSQ_LEN - 1u));
         q->tail = tail;   /* the entry is free for the ISR only now */

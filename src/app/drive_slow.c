@@ -44,8 +44,8 @@ static void sequence(drive_t *d)
     s->fault = (uint16_t)(d->prot.fault != FAULT_NONE);
     s->ramp_done = d->speed_ramp.done;
     s->speed_err = _IQabs(d->speed_ramp.out - d->qep.speed);
-    s->dim = _IQabs(d->reg.f_im.dy);
-    s->dit = _IQabs(d->reg.f_it.dy);
+    s->i_mf = d->reg.i_mf;
+    s->i_tf = d->reg.i_tf;
     id_sequence_step(s);
     if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS && s->state == ID_MAGNETIZE &&
         s->t_state == 0u) {
@@ -55,7 +55,11 @@ static void sequence(drive_t *d)
         flux_obs_reset(&d->fobs);
     }
     /* the snapshots, taken by the background in the RLS's own order: the
-     * events ride with the next queued sample (drive_rls_bg.c) */
+     * events ride with the next queued sample (drive_rls_bg.c); with the
+     * extraction go the covariance and the confidence's residual sums */
+    if (s->magnetize_end != 0u || s->rls_restart != 0u) {
+        d->rlsq.pending |= DRIVE_RLSQ_WINDOW;   /* a new RLS window begins */
+    }
     if (s->extract_now != 0u) {
         d->rlsq.pending |= DRIVE_RLSQ_EXTRACT;
     }

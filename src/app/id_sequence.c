@@ -11,12 +11,14 @@ static uint32_t seconds_to_samples(float t_s, float Ts_s)
 int16_t id_sequence_init(id_sequence_t *s, float Ts_s, float magnetize_s,
                          float settle_min_s, float settle_hold_s, float settle_max_s,
                          float rls_tail_s,
-                         _iq speed_tol, _iq didt_tol, _iq im_ref, _iq speed_target)
+                         _iq speed_tol, _iq im_tol, _iq it_tol, _iq im_ref,
+                         _iq speed_target)
 {
     memset(s, 0, sizeof *s);
     if (!(Ts_s > 0.0f) || !(magnetize_s > 0.0f) || !(settle_min_s >= 0.0f) ||
         !(settle_hold_s > 0.0f) || !(settle_max_s >= settle_hold_s) ||
-        !(rls_tail_s >= 0.0f) || rls_tail_s > settle_max_s) {
+        !(rls_tail_s >= 0.0f) || rls_tail_s > settle_max_s || !(im_tol > _IQ(0.0)) ||
+        !(it_tol > _IQ(0.0))) {
         return 1;
     }
     s->magnetize_samples = seconds_to_samples(magnetize_s, Ts_s);
@@ -25,7 +27,8 @@ int16_t id_sequence_init(id_sequence_t *s, float Ts_s, float magnetize_s,
     s->settle_max_samples = seconds_to_samples(settle_max_s, Ts_s);
     s->rls_tail_samples = seconds_to_samples(rls_tail_s, Ts_s);
     s->speed_tol = speed_tol;
-    s->didt_tol = didt_tol;
+    s->im_tol = im_tol;
+    s->it_tol = it_tol;
     s->im_ref = im_ref;
     s->speed_target = speed_target;
     s->state = ID_IDLE;
@@ -137,10 +140,28 @@ void id_sequence_step(id_sequence_t *s)
         }
         break;
     case ID_SETTLE: {
-        uint16_t steady = (uint16_t)(s->speed_err < s->speed_tol && s->dim < s->didt_tol &&
-                                     s->dit < s->didt_tol);
-        s->t_steady = (steady != 0u) ? s->t_steady + 1u : 0u;
-        if (s->t_state >= s->settle_min_samples && s->t_steady >= s->settle_hold_samples) {
+        /* steady: the speed error small in every sample of the hold window,
+         * and the filtered currents' net change over it within tolerance.
+         * A window that fails the currents' test closes; the next sample
+         * opens another.  (|i| < 4 pu: the differences cannot overflow.) */
+        uint16_t held = 0u;
+        if (s->speed_err >= s->speed_tol) {
+            s->t_steady = 0u;
+        } else {
+            if (s->t_steady == 0u) {
+                s->win_im = s->i_mf;
+                s->win_it = s->i_tf;
+            }
+            s->t_steady++;
+            if (s->t_steady >= s->settle_hold_samples) {
+                held = (uint16_t)(_IQabs(s->i_mf - s->win_im) <= s->im_tol &&
+                                  _IQabs(s->i_tf - s->win_it) <= s->it_tol);
+                if (held == 0u) {
+                    s->t_steady = 0u;
+                }
+            }
+        }
+        if (s->t_state >= s->settle_min_samples && held != 0u) {
             s->settle_timeout = 0u;
             s->extract_now = 1u;
         } else if (s->t_state >= s->settle_max_samples) {

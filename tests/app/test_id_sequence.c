@@ -8,8 +8,9 @@
  *
  * Rig: Ts = 1/15000 s; magnetise 10 ms (150 samples), settle at least
  * 2 ms (30), steady for 1 ms (15), at most 20 ms (300), RLS tail 4 ms
- * (60); tolerances 0.01 pu (speed), 0.1 pu (di/dt); i_M ref 0.33 pu,
- * target 0.9333 pu, REFINE at 0.4 of it. */
+ * (60); tolerances 0.01 pu (speed), 0.01 pu (net change of the filtered i_M
+ * over the hold window), 0.02 pu (of i_T); i_M ref 0.33 pu, target 0.9333 pu,
+ * REFINE at 0.4 of it. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -42,7 +43,7 @@ typedef struct {
 static void seq_init(id_sequence_t *s)
 {
     assert_int_equal(id_sequence_init(s, TS_S, 0.01f, 0.002f, 0.001f, 0.02f, 0.004f, _IQ(0.01),
-                                      _IQ(0.1), _IQ(0.33), _IQ(0.9333)),
+                                      _IQ(0.01), _IQ(0.02), _IQ(0.33), _IQ(0.9333)),
                      0);
     assert_int_equal(s->magnetize_samples, N_MAG);
     assert_int_equal(s->settle_min_samples, N_SMIN);
@@ -103,12 +104,13 @@ static void check_outputs(const id_sequence_t *s)
     }
 }
 
-/* steady inputs for SETTLE (or not) */
+/* steady inputs for SETTLE (or not): the speed error; the filtered
+ * currents constant */
 static void set_steady(id_sequence_t *s, int steady)
 {
     s->speed_err = steady ? _IQ(0.005) : _IQ(0.02);
-    s->dim = _IQ(0.05);
-    s->dit = _IQ(0.05);
+    s->i_mf = _IQ(0.33);
+    s->i_tf = _IQ(0.1);
 }
 
 /* From IDLE to the entry of the first ACCELERATE: start, calibration
@@ -347,6 +349,101 @@ static void test_settle_timeout(void **state)
     assert_int_equal(s.state, ID_RUN);
     assert_int_equal(s.extract_now, 1u);
     assert_int_equal(s.settle_timeout, 1u);
+}
+
+/* Steady state is the net change of the filtered currents over the hold
+ * window, not their instantaneous derivative: a ripple that swings i_M by
+ * 0.9 tolerance from one sample to the next (a derivative of 0.009 pu per
+ * sample, 135 pu/s: any derivative threshold would refuse it) confirms on
+ * the same sample as constant currents, max(N_SMIN, N_HOLD) = N_SMIN. */
+static void test_settle_ripple_confirms(void **state)
+{
+    id_sequence_t s;
+    pulses_t p = {0u, 0u, 0u};
+    uint32_t k;
+    (void)state;
+
+    seq_init(&s);
+    run_to_accelerate(&s, &p);
+    s.ramp_done = 1u;
+    set_steady(&s, 1);
+    step(&s, &p);
+    assert_int_equal(s.state, ID_SETTLE);   /* entered: t_state 1 at the next sample */
+    for (k = 1u; k <= N_SMIN; k++) {
+        s.i_mf = _IQ(0.33) + ((k & 1u) ? _IQ(0.009) : _IQ(0.0));
+        s.i_tf = _IQ(0.1) + ((k & 1u) ? -_IQ(0.018) : _IQ(0.0));
+        step(&s, &p);
+        if (k < N_SMIN) {
+            assert_int_equal(s.state, ID_SETTLE);
+            assert_int_equal(s.extract_now, 0u);
+        }
+    }
+    assert_int_equal(s.extract_now, 1u);
+    assert_int_equal(s.settle_timeout, 0u);
+    assert_int_equal(s.state, ID_RUN);
+}
+
+/* A drift of the filtered i_M (i_T) beyond its tolerance over each hold
+ * window keeps SETTLE waiting, whatever the speed; once it stops, the
+ * window opened next confirms N_HOLD samples later.  The ramp: 1.5
+ * tolerance per window (0.1 tolerance per sample over 15). */
+static void settle_drift(int which)
+{
+    id_sequence_t s;
+    pulses_t p = {0u, 0u, 0u};
+    uint32_t k, stop = 3u * N_SMIN;
+    _iq tol;
+
+    seq_init(&s);
+    tol = (which == 0) ? s.im_tol : s.it_tol;
+    run_to_accelerate(&s, &p);
+    s.ramp_done = 1u;
+    set_steady(&s, 1);
+    step(&s, &p);
+    assert_int_equal(s.state, ID_SETTLE);
+    for (k = 1u; k < stop; k++) {
+        _iq d = _IQmpyI32(_IQmpy(tol, _IQ(0.1)), (int32_t)k);
+        if (which == 0) {
+            s.i_mf = _IQ(0.33) + d;
+        } else {
+            s.i_tf = _IQ(0.1) + d;
+        }
+        step(&s, &p);
+        assert_int_equal(s.state, ID_SETTLE);
+        assert_int_equal(s.extract_now, 0u);
+    }
+    /* held from here: a window that closed at a multiple of N_HOLD opens at
+     * the next sample; the one open at `stop` still carries the ramp */
+    for (k = stop; k < stop + 2u * N_HOLD + 1u && s.extract_now == 0u; k++) {
+        step(&s, &p);
+    }
+    assert_int_equal(s.extract_now, 1u);
+    assert_int_equal(s.settle_timeout, 0u);
+    /* the first window entirely after the stop confirms: within 2 N_HOLD */
+    assert_true(k > stop + N_HOLD - 1u);
+}
+
+static void test_settle_im_drift_waits(void **state)
+{
+    (void)state;
+    settle_drift(0);
+}
+
+static void test_settle_it_drift_waits(void **state)
+{
+    (void)state;
+    settle_drift(1);
+}
+
+/* A tolerance that is not positive is refused (it would never hold). */
+static void test_settle_tolerance_positive(void **state)
+{
+    id_sequence_t s;
+    (void)state;
+    assert_int_equal(id_sequence_init(&s, TS_S, 0.01f, 0.002f, 0.001f, 0.02f, 0.004f, _IQ(0.01),
+                                      _IQ(0.0), _IQ(0.02), _IQ(0.33), _IQ(0.9333)), 1);
+    assert_int_equal(id_sequence_init(&s, TS_S, 0.01f, 0.002f, 0.001f, 0.02f, 0.004f, _IQ(0.01),
+                                      _IQ(0.01), -_IQ(0.02), _IQ(0.33), _IQ(0.9333)), 1);
 }
 
 /* A fault in REFINE (that of pass 2 of 3): FAULT at once (PWM off, no
@@ -594,6 +691,10 @@ int main(void)
         cmocka_unit_test(test_three_passes),
         cmocka_unit_test(test_one_pass),
         cmocka_unit_test(test_settle_timeout),
+        cmocka_unit_test(test_settle_ripple_confirms),
+        cmocka_unit_test(test_settle_im_drift_waits),
+        cmocka_unit_test(test_settle_it_drift_waits),
+        cmocka_unit_test(test_settle_tolerance_positive),
         cmocka_unit_test(test_fault_in_refine),
         cmocka_unit_test(test_set_passes),
         cmocka_unit_test(test_magnetize_wait),

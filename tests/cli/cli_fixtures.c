@@ -1,7 +1,8 @@
 /*
  * Writes the hostile inputs of the motor_sim CLI tests (tests/cli) into one
- * directory: binary and textual garbage, over-long lines, 10 000 keys, and
- * output directories that cannot be written.  Everything is deterministic
+ * directory: binary and textual garbage, over-long lines, 10 000 keys,
+ * output directories that cannot be written, and configurations whose
+ * identified set the drive refuses (one per reason).  Everything is deterministic
  * (a fixed LCG, no /dev/urandom), so a failure reproduces.
  *
  *   cli_fixtures OUT_DIR BASE_CONFIG
@@ -277,6 +278,29 @@ static void write_outputs(void)
     }
 }
 
+/* The base configuration with @p text appended (keys it does not have; a
+ * repeated section continues the first). */
+static void base_plus(const char *name, const char *text)
+{
+    FILE *f = create(name);
+    fputs(g_base, f);
+    fputs(text, f);
+    finish(f, name);
+}
+
+/* Runs whose set the drive refuses, one per reason (tests/cli: reason_*) */
+static void write_reasons(void)
+{
+    /* 280 r/min of 1400, the lowest target the INI check accepts (20 % of
+     * rated): the excitation 0.18, below the verdict's limit */
+    base_plus("reason_low_excitation.ini", "\n[ident]\ntarget_speed_rpm = 280\n");
+    /* P(0) = 0.001: the RLS hardly leaves theta(0) = 0, the guard never takes it */
+    base_plus("reason_not_converged.ini", "\n[ident]\nrls_p0 = 0.001\n");
+    /* a viscous load of 2.9 N m at 1400 r/min, beyond the 10 A torque limit: the
+     * speed never reaches the target, steady state never comes */
+    base_plus("reason_timeout.ini", "\n[load]\nprop_Nm_s = 0.02\n");
+}
+
 int main(int argc, char **argv)
 {
     FILE *f;
@@ -306,5 +330,6 @@ int main(int argc, char **argv)
     write_many_keys();
     write_outputs();
     write_unusable_values();
+    write_reasons();
     return 0;
 }

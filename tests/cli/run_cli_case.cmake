@@ -1,10 +1,11 @@
 # One hostile-input case of motor_sim (tests/cli/CMakeLists.txt):
 #   cmake -DEXE=motor_sim -DARGS=a|b|c -DRC=1 -DERR=regex [-DOUT=regex]
-#         [-DJSON=file -DJSON_CONFIG=expected] -P run_cli_case.cmake
+#         [-DJSON=file -DJSON_CONFIG=expected [-DJSON_REASON=name]] -P run_cli_case.cmake
 # Runs EXE with ARGS ("|" separates the arguments), then asserts
-#   - the exit status is exactly RC (0 ok, 1 usage/config error, 2 run failed),
+#   - the exit status is exactly RC (0 published, 1 usage/config error, 2 run
+#     failed, 3 the run completed and nothing was published),
 #   - stderr matches the regular expression ERR (an empty ERR: stderr empty),
-#   - stdout matches OUT when given, and is empty for an error (RC != 0),
+#   - stdout matches OUT when given, and is empty for an error (RC 1 or 2),
 #   - no sanitizer report and no crash (ASan/UBSan exit with 1 too, so the
 #     status alone would not tell them from a clean error),
 #   - JSON, when given, is valid JSON whose "config" equals JSON_CONFIG, and
@@ -13,6 +14,8 @@
 #     holds (booleans read ON / OFF).
 #   - TRACE_ROWS_MAX, when given: the trace.csv next to JSON has at most
 #     that many lines.
+#   - the report's "publish_reason" is JSON_REASON when given ("published" then
+#     also needs "published": true, any other reason "published": false).
 cmake_minimum_required(VERSION 3.25)
 
 string(REPLACE "|" ";" args "${ARGS}")
@@ -37,7 +40,7 @@ endif()
 if(DEFINED OUT AND NOT out MATCHES "${OUT}")
   string(APPEND problems "stdout does not match /${OUT}/\n")
 endif()
-if(NOT RC STREQUAL "0" AND NOT out STREQUAL "")
+if((RC STREQUAL "1" OR RC STREQUAL "2") AND NOT out STREQUAL "")
   string(APPEND problems "an error must not print to stdout\n")
 endif()
 if(DEFINED JSON)
@@ -71,6 +74,19 @@ if(DEFINED JSON)
       list(LENGTH rows n)
       if(n GREATER TRACE_ROWS_MAX)
         string(APPEND problems "${dir}/trace.csv has ${n} lines, more than ${TRACE_ROWS_MAX}\n")
+      endif()
+    endif()
+    if(DEFINED JSON_REASON)
+      string(JSON reason ERROR_VARIABLE json_err GET "${json}" publish_reason)
+      string(JSON published ERROR_VARIABLE json_err2 GET "${json}" published)
+      if(json_err OR json_err2)
+        string(APPEND problems "${JSON}: no publish_reason or published\n")
+      elseif(NOT reason STREQUAL "${JSON_REASON}")
+        string(APPEND problems "${JSON}: publish_reason is '${reason}', expected '${JSON_REASON}'\n")
+      elseif(JSON_REASON STREQUAL "published" AND NOT published STREQUAL "ON")
+        string(APPEND problems "${JSON}: published is '${published}' with the reason published\n")
+      elseif(NOT JSON_REASON STREQUAL "published" AND NOT published STREQUAL "OFF")
+        string(APPEND problems "${JSON}: published is '${published}' with the reason ${reason}\n")
       endif()
     endif()
   endif()

@@ -114,7 +114,12 @@ static const inject_state_t k_states[] = {
 static uint16_t expected(plant_fault_t k, id_state_t st, int adaptive)
 {
     const uint16_t cal = (uint16_t)(st == ID_CALIBRATE);
-    const uint16_t low_speed = (uint16_t)(adaptive && (st == ID_MAGNETIZE || st == ID_ACCELERATE));
+    /* (REFINE too: between the passes the observer's frame runs on the
+     * lying current as in ACCELERATE; measured: an offset at 1.58 s on the
+     * paper motor, the frame collapsed and the rotor stopped, STALL at
+     * 0.23 s after the injection, the true current 12.6 A) */
+    const uint16_t low_speed = (uint16_t)(adaptive && (st == ID_MAGNETIZE || st == ID_ACCELERATE ||
+                                                       st == ID_REFINE));
     switch (k) {
     case PLANT_FAULT_HALL_GAIN:
         return (uint16_t)(cal ? BIT(FAULT_SENSOR_TEST)
@@ -166,7 +171,8 @@ typedef struct {
     double accuracy_pct;      /* the sequence's accuracy on this motor */
     double bound_A;           /* (a) */
     double t_state[SIM_STATES];
-    double t_pub;             /* the clean run's first publication */
+    double t_pub;             /* the clean run's first publication (or its refusal) */
+    uint16_t refused;         /* the clean run published nothing: neither may a faulty one */
 } matrix_t;
 
 static matrix_t g_m;
@@ -207,18 +213,26 @@ static void test_matrix(void **state)
     /* the clean run: state times, publication, accuracy */
     assert_int_equal(run(m, NULL, adaptive ? 11.0 : 7.0, 0.0, &r), 0);
     assert_int_equal(r.n_faults_seen, 0);
-    assert_int_equal(r.identified, 1);
+    /* a refusal is the drive's verdict, not a failure: the paper's sequence
+     * on the 1.1 kW and 15 kW motors cannot stand behind its Rr and Tr
+     * (ident_conf.h, low_confidence); the matrix then checks that no fault
+     * makes it publish (every published set after a fault is an error) */
+    if (r.identified != 1) {
+        assert_false(adaptive);
+        assert_int_equal(r.publish_reason, DRIVE_PUB_LOW_CONFIDENCE);
+    }
     for (s = 0; s < SIM_STATES; s++) {
         m->t_state[s] = r.t_state_s[s];
     }
-    m->t_pub = r.t_first_published_s;
+    m->t_pub = (r.identified == 1) ? r.t_first_published_s : r.t_decided_s;
     print_message("%s, %s sequence: clean run published at %.3f s, worst error %.2f %% "
                   "(accuracy %.0f %%); bound (a) %.2f A (trip %.1f A, comparator %.2f A)\n",
                   m->ini, m->seq, m->t_pub, worst_abs(&r.published_end_error_pct),
                   m->accuracy_pct, m->bound_A, m->cfg.controller.overcurrent_A,
                   m->cfg.inverter.overcurrent_hw_A);
-    assert_true(worst_abs(&r.published_end_error_pct) <= m->accuracy_pct);
+    assert_true(r.identified != 1 || worst_abs(&r.published_end_error_pct) <= m->accuracy_pct);
     assert_true(r.max_true_phase_A < m->cfg.controller.overcurrent_A);
+    m->refused = (uint16_t)(r.identified != 1);
 
     for (k = 0; k < N_FAULTS; k++) {
         worst_A[k] = 0.0;
@@ -278,8 +292,11 @@ static void test_matrix(void **state)
             if (pub_end > m->accuracy_pct || pub_after > m->accuracy_pct) {
                 bad = 1;
             }
-            if (code == 0u && !r.identified) {
+            if (code == 0u && !r.identified && !m->refused) {
                 bad = 1;   /* nothing latched: the identification must have finished */
+            }
+            if (m->refused && r.identified) {
+                bad = 1;   /* a fault made a refused identification publish */
             }
             print_message("%-11s %-13s %8.3f %-17s %8.4f %8.2f %7.4f %4u %9.2f %8.2f%s\n",
                           is->name, fc->name, r.t_injected_s[0], code_name(code), det,

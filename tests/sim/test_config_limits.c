@@ -395,6 +395,32 @@ static void test_derived_limits(void **state)
  *     of 2 ms.  test_sim_config.c has the observer features and the
  *     standstill test's refusals by key. */
 
+/* The bridge's loss (2 drops + vdc td f_pwm, the voltage the dead-time
+ * compensation adds) within the linear modulation's 0.95 vdc / sqrt(3), on
+ * the drive's side (the simulated bus check counts the same for the real
+ * bridge: test_sim_config.c): at 40 kHz with the dead time at its quarter
+ * period on a 33 V bus the drop's boundary is (0.95 x 33 / sqrt 3 - 33 / 4)
+ * / 2 = 4.925 V; 4.92 V passes, 4.93 V fails naming "bridge loss". */
+static void test_bridge_loss(void **state)
+{
+    drive_limit_fail_t f;
+    /* (a believed Ls of 27.4 mH: the dead time's own limit against the
+     * voltage at the target speed, DRIVE_LD_HEADROOM, passes first) */
+    edit_t e[7] = {{"board.pwm_freq_Hz", 40000.0}, {"board.dead_time_s", 6.25e-6},
+                   {"board.vdc_nominal_V", 33.0}, {"controller.vdc_min_V", 20.0},
+                   {"nameplate.Lls_H", 0.021}, {"plant.Lls_H", 0.0028},
+                   {"board.device_drop_V", 4.92}};
+    const double boundary = (0.95 * 33.0 / sqrt(3.0) - 33.0 * 6.25e-6 * 40000.0) / 2.0;
+    (void)state;
+    assert_true(fabs(boundary - 4.925) < 1e-3);
+    assert_int_equal(drive_with(e, 7, &f), DRIVE_CFG_OK);
+    e[6].value = 4.93;
+    assert_int_equal(drive_with(e, 7, &f), DRIVE_CFG_VOLTAGE_MODEL);
+    assert_string_equal(f.key, "bridge loss");
+    assert_true(fabs((double)f.value - (2.0 * 4.93 + 8.25)) < 1e-4);
+    assert_true(fabs((double)f.hi - 0.95 * 33.0 / sqrt(3.0)) < 1e-4);
+}
+
 /* The task's two examples, word for word. */
 static void test_examples(void **state)
 {
@@ -422,6 +448,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_every_field_both_ends),
         cmocka_unit_test(test_derived_limits),
+        cmocka_unit_test(test_bridge_loss),
         cmocka_unit_test(test_examples),
     };
     return cmocka_run_group_tests(tests, setup, NULL);

@@ -152,6 +152,7 @@ static void test_many_non_finite(void **state)
     (void)state;
     base_result(&r);
     r.identified = 1u;
+    r.extracted = 1u;   /* the last extraction is written too */
     r.published_end.Rs_ohm = r.published_end.Rr_ohm = r.published_end.Lm_H = NAN;
     r.published_end.Lr_H = r.published_end.psi_r_Wb = r.published_end.Tr_s = NAN;
     r.published_end_error_pct = r.published_end;

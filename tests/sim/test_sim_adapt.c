@@ -106,7 +106,9 @@ static void run(const sim_config_t *c, sim_scenario_t scen, double duration_s, s
     assert_int_equal(sim_run(c, &opt, r, err, sizeof err), 0);
 }
 
-/* One wrong nameplate, adaptive sequence: the published set at the end. */
+/* One wrong nameplate, adaptive sequence: the worst error of the set
+ * published at the end, or -1 if the drive refused it (then for a reason
+ * from its data, not a fault or a time-out: ident_conf.h). */
 static double nameplate_case(const sim_config_t *base, double tr, double lm, double rs,
                              double duration_s)
 {
@@ -116,55 +118,77 @@ static double nameplate_case(const sim_config_t *base, double tr, double lm, dou
     adaptive(&c);
     wrong_nameplate(&c, rs, lm, rr_error_for_tr(base, tr, lm));
     run(&c, SCEN_START, duration_s, &r);
+    assert_int_equal(r.n_faults_seen, 0);
+    assert_int_equal(r.final_pass, 2);
+    if (!r.identified) {
+        printf("  believed Tr %+3.0f Lm %+3.0f Rs %+3.0f %%: refused, %s (confidence %% Rs %.2f "
+               "Rr %.2f Lm %.2f Lr %.2f psi_r %.2f Tr %.2f)\n", tr, lm, rs,
+               drive_pub_reason_str(r.publish_reason), r.conf_pct[0], r.conf_pct[1],
+               r.conf_pct[2], r.conf_pct[3], r.conf_pct[4], r.conf_pct[5]);
+        assert_true(r.publish_reason == DRIVE_PUB_LOW_CONFIDENCE ||
+                    r.publish_reason == DRIVE_PUB_NOT_CONVERGED);
+        return -1.0;
+    }
     printf("  believed Tr %+3.0f Lm %+3.0f Rs %+3.0f %%: Rs %+.2f Rr %+.2f Lm %+.2f Lr %+.2f "
            "psi_r %+.2f Tr %+.2f %%; standstill Rs %.4f ohm\n",
            tr, lm, rs, e->Rs_ohm, e->Rr_ohm, e->Lm_H, e->Lr_H, e->psi_r_Wb, e->Tr_s,
            r.Rs_dc_ohm);
-    assert_int_equal(r.n_faults_seen, 0);
-    assert_int_equal(r.identified, 1);
+    assert_int_equal(r.publish_reason, DRIVE_PUB_PUBLISHED);
     assert_int_equal(r.params_tracked, 1);   /* the fused set, not the bare RLS one */
-    assert_int_equal(r.final_pass, 2);
     return worst_abs(e);
 }
 
-/* The centre and the 8 corners of the +-30 % cube; every parameter within
- * 3 %.  Duration: two passes and 5 s of tracking after them. */
-static void nameplate_cube(const sim_config_t *base, double duration_s)
+/* The centre and the 8 corners of the +-30 % cube: every published
+ * parameter within 3 %, the centre (the true nameplate) published, and at
+ * most max_refused of the 8 corners refused (each for a reason from its
+ * data).  Duration: two passes and 5 s of tracking after them. */
+static void nameplate_cube(const sim_config_t *base, double duration_s, unsigned max_refused)
 {
     static const double s[2] = {-30.0, 30.0};
     double worst = nameplate_case(base, 0.0, 0.0, 0.0, duration_s);
-    unsigned i;
+    unsigned i, refused = 0u;
+    assert_true(worst >= 0.0);
     for (i = 0u; i < 8u; i++) {
-        worst = fmax(worst, nameplate_case(base, s[i & 1u], s[(i >> 1) & 1u],
-                                           s[(i >> 2) & 1u], duration_s));
+        double w = nameplate_case(base, s[i & 1u], s[(i >> 1) & 1u], s[(i >> 2) & 1u],
+                                  duration_s);
+        if (w < 0.0) {
+            refused++;
+        }
+        worst = fmax(worst, w);
     }
-    printf("worst parameter error over the 9 cases: %.2f %% (bound 3 %%)\n", worst);
+    printf("worst published parameter error over the 9 cases: %.2f %% (bound 3 %%); %u of 8 "
+           "corners refused (at most %u)\n", worst, refused, max_refused);
     assert_true(worst < 3.0);
+    assert_true(refused <= max_refused);
 }
 
 static void test_nameplate_paper(void **state)
 {
     (void)state;
-    nameplate_cube(&g_paper, 14.0);
+    nameplate_cube(&g_paper, 14.0, 0u);
 }
 
+/* 15 kW: the corners with the believed Tr and Lm 30 % low refused (Rr's
+ * confidence 3.5 %: the tracker's 1.9 % and Lr's 1.5 %, whose mid-window
+ * estimate moved 1.2 %), measured; the others published within 0.8 %. */
 static void test_nameplate_15kw(void **state)
 {
     (void)state;
-    nameplate_cube(&g_15kw, 22.0);
+    nameplate_cube(&g_15kw, 22.0, 2u);
 }
 
 static void test_nameplate_1kw(void **state)
 {
     (void)state;
-    nameplate_cube(&g_1kw, 18.0);
+    nameplate_cube(&g_1kw, 18.0, 0u);
 }
 
 /* Item 5: the paper's sequence (indirect orientation with the nameplate Tr,
  * one pass) is still there, unchanged; with the believed Tr 30 % high it
  * cannot see past it (method §7 point 4: the RLS's Tr follows the
  * controller's), which is what the adaptive sequence is for.  Measured:
- * IFO Tr error > 10 % (README table: Rr -30 % gives Tr +46 %). */
+ * IFO Tr error > 10 % (README table: Rr -30 % gives Tr +46 %) in its RLS
+ * extraction, which the drive does not publish (confidence above 3 %). */
 static void test_paper_sequence_contrast(void **state)
 {
     sim_config_t c = g_paper;
@@ -174,7 +198,9 @@ static void test_paper_sequence_contrast(void **state)
     run(&c, SCEN_START, 0.0, &r);
     printf("paper sequence, believed Tr +30 %%: Tr %+.2f %%, Rr %+.2f %%\n", r.error_pct.Tr_s,
            r.error_pct.Rr_ohm);
-    assert_int_equal(r.identified, 1);
+    assert_int_equal(r.extracted, 1);
+    assert_int_equal(r.identified, 0);
+    assert_int_not_equal(r.publish_reason, DRIVE_PUB_PENDING);
     assert_int_equal(r.final_pass, 1);
     assert_int_equal(r.params_tracked, 0);
     assert_true(worst_abs(&r.error_pct) > 10.0);

@@ -45,12 +45,18 @@ static int run_paper_motor(void **state)
     return 0;
 }
 
-/* Issue 4: every parameter within 2 % of truth (the paper reports up to 4.3 %). */
+/* Issue 4: every parameter within 2 % of truth (the paper reports up to 4.3 %),
+ * published: every confidence within the drive's 3 % (ident_conf.h). */
 static void test_identification_accuracy(void **state)
 {
     const double bound_pct = 2.0;
+    int i;
     (void)state;
     assert_int_equal(g_res.identified, 1);
+    assert_int_equal(g_res.publish_reason, DRIVE_PUB_PUBLISHED);
+    for (i = 0; i < 6; i++) {
+        assert_true(g_res.conf_pct[i] >= 0.0 && g_res.conf_pct[i] <= 3.0);
+    }
     assert_true(fabs(g_res.error_pct.Rs_ohm) < bound_pct);
     assert_true(fabs(g_res.error_pct.Rr_ohm) < bound_pct);
     assert_true(fabs(g_res.error_pct.Lm_H) < bound_pct);
@@ -104,7 +110,12 @@ static void test_current_limits(void **state)
 }
 
 /* Issue 4: other motors, set up only through their own files.  Bound 3 %
- * per parameter (issue 4). */
+ * per parameter (issue 4) on the RLS's extraction.  The paper's sequence is
+ * biased on these motors by an error w_r Tr times larger in K3 (25 and 81),
+ * and the data cannot bound Rr and Tr within 3 % (confidence of the refused
+ * set, IQ_MATH: 1.1 kW Tr 3.4 %, 15 kW 4.6 %): the drive publishes nothing,
+ * and says so (ident_conf.h; the adaptive sequence publishes these motors:
+ * sim_adapt). */
 static void check_other_motor(const char *path, const char *name)
 {
     sim_config_t cfg;
@@ -119,7 +130,13 @@ static void check_other_motor(const char *path, const char *name)
     printf("%s: error %% Rs %+.2f Rr %+.2f Lm %+.2f Lr %+.2f psi_r %+.2f Tr %+.2f\n", name,
            res.error_pct.Rs_ohm, res.error_pct.Rr_ohm, res.error_pct.Lm_H, res.error_pct.Lr_H,
            res.error_pct.psi_r_Wb, res.error_pct.Tr_s);
-    assert_int_equal(res.identified, 1);
+    printf("%s: verdict %s; confidence %% Rs %.2f Rr %.2f Lm %.2f Lr %.2f psi_r %.2f Tr %.2f\n",
+           name, drive_pub_reason_str(res.publish_reason), res.conf_pct[0], res.conf_pct[1],
+           res.conf_pct[2], res.conf_pct[3], res.conf_pct[4], res.conf_pct[5]);
+    assert_int_equal(res.identified, 0);
+    assert_int_equal(res.publish_reason, DRIVE_PUB_LOW_CONFIDENCE);
+    assert_true(res.conf_pct[1] > bound_pct || res.conf_pct[5] > bound_pct);
+    assert_int_equal(res.extracted, 1);
     assert_true(fabs(res.error_pct.Rs_ohm) < bound_pct);
     assert_true(fabs(res.error_pct.Rr_ohm) < bound_pct);
     assert_true(fabs(res.error_pct.Lm_H) < bound_pct);

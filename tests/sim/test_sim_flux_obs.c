@@ -60,9 +60,18 @@ static void run_obs(double rr_pct, sim_result_t *res)
            res->max_flux_q_over_d, res->converge_s);
 }
 
-static void assert_all_within(const sim_result_t *r, double bound_pct)
+/* Every parameter of the RLS's extraction within bound_pct; published if
+ * @p published, else refused by the drive with a reason (ident_conf.h: a set
+ * whose confidence exceeds 3 %). */
+static void assert_all_within(const sim_result_t *r, double bound_pct, int published)
 {
-    assert_int_equal(r->identified, 1);
+    assert_int_equal(r->extracted, 1);
+    assert_int_equal(r->identified, published);
+    if (!published) {
+        printf("  refused: %s\n", drive_pub_reason_str(r->publish_reason));
+        assert_int_not_equal(r->publish_reason, DRIVE_PUB_PUBLISHED);
+        assert_int_not_equal(r->publish_reason, DRIVE_PUB_PENDING);
+    }
     assert_int_equal(r->n_faults_seen, 0);
     assert_true(fabs(r->error_pct.Rs_ohm) < bound_pct);
     assert_true(fabs(r->error_pct.Rr_ohm) < bound_pct);
@@ -77,18 +86,23 @@ static void assert_all_within(const sim_result_t *r, double bound_pct)
  * largest at low speed, around the crossover where the current model
  * hands over (measured 0.040; 0.019 above 900 r/min against 0.003 with
  * IFO: the observer's angle carries the current noise through sigma Ls i):
- * bound 0.06. */
+ * bound 0.06.  The drive does not publish it: with the RLS above 0.6 pu
+ * only, Tr's bound is 2.6 % and the estimate still moved 2.2 % over the
+ * second half of the window (confidence 4.8 %, ident_conf.h); the adaptive
+ * sequence, which adds the standstill Rs, two passes and the tracker,
+ * publishes this motor (sim_adapt). */
 static void test_true_parameters(void **state)
 {
     sim_result_t r;
     (void)state;
     run_obs(0.0, &r);
-    assert_all_within(&r, 2.0);
+    assert_all_within(&r, 2.0, 0);
     assert_true(r.max_flux_q_over_d < 0.06);
 }
 
 /* Believed Rr +30 %: every parameter within 4.5 % (measured, noise seeds
- * 1-6: 2.95-3.93 %, Rr; IFO: Tr -10.7 %).  It was 2.75 % while the RLS
+ * 1-6: 2.95-3.93 %, Rr; IFO: Tr -10.7 %), and not published: its
+ * confidence (Rr: bound 2.6 % + drift 1.2 %) is above the drive's 3 %.  It was 2.75 % while the RLS
  * started from P(0) = 100 pu: that prior pulled the weakly excited
  * direction towards theta = 0 and happened to offset part of the bias the
  * wrong Tr leaves below the crossover (seeds 1-6: 1.05-2.04 %); with the
@@ -101,19 +115,19 @@ static void test_rr_plus_30(void **state)
     sim_result_t r;
     (void)state;
     run_obs(30.0, &r);
-    assert_all_within(&r, 4.5);
+    assert_all_within(&r, 4.5, 0);
     assert_true(r.max_flux_q_over_d < 0.1);
 }
 
 /* Believed Rr -30 %: every parameter within 6 % (measured 4.86 %, Tr; IFO:
- * Rr -27.1 %, Tr +46 %).  q/d below 0.2 (measured 0.154 at 190 r/min, the
+ * Rr -27.1 %, Tr +46 %), not published (confidence above 3 %).  q/d below 0.2 (measured 0.154 at 190 r/min, the
  * current model's region; 0.020 above 900 r/min, where the RLS runs). */
 static void test_rr_minus_30(void **state)
 {
     sim_result_t r;
     (void)state;
     run_obs(-30.0, &r);
-    assert_all_within(&r, 6.0);
+    assert_all_within(&r, 6.0, 0);
     assert_true(r.max_flux_q_over_d < 0.2);
 }
 

@@ -95,6 +95,7 @@ static void test_send_queues_the_drive_snapshot(void **state)
     s_d.telemetry.state = 5u;
     s_d.telemetry.params_valid = 1u;
     s_d.telemetry.pass = 2u;
+    s_d.telemetry.publish_reason = 1u;   /* published */
     bg_loop_init(&s_b, BG_TLM_PERIOD_TICKS);
     bg_loop_send(&s_b, &s_d, 1234u, &tl);
     assert_int_equal(tl.state, 5u);
@@ -102,7 +103,7 @@ static void test_send_queues_the_drive_snapshot(void **state)
         buf[n++] = (char)c;
     }
     buf[n] = '\0';
-    assert_int_equal(n, 136u + 63u + 32u);   /* one $T, one $A and one $S */
+    assert_int_equal(n, 136u + 63u + 32u + 89u);   /* one $T, one $A, one $S and one $Q */
     assert_int_equal(sscanf(buf, "$T,%4x,%4x,%4x,%4x,%4x,%4x,", &f[0], &f[1], &f[2], &f[3],
                             &f[4], &f[5]), 6);
     assert_int_equal(f[1], 5u);
@@ -115,6 +116,10 @@ static void test_send_queues_the_drive_snapshot(void **state)
     assert_int_equal(sscanf(buf + 136 + 63, "$S,%4x,%4x,%4x,", &f[0], &f[1], &f[2]), 3);
     assert_int_equal(f[0], 2u);
     assert_int_equal(f[2], 1234u);
+    /* $Q: its sequence number and the publication's reason */
+    assert_int_equal(sscanf(buf + 136 + 63 + 32, "$Q,%4x,%4x,", &f[0], &f[1]), 2);
+    assert_int_equal(f[0], 3u);
+    assert_int_equal(f[1], 1u);
 }
 
 int main(void)

@@ -137,6 +137,44 @@ static void test_status_frame(void **state)
     assert_int_equal(s_t.seq, 1u);
 }
 
+/* $Q: the publication's reason (4 hex) and eight Q24 fields: the six
+ * confidences (one negative: not available), the residual and the
+ * amplification; same framing and checksum; counted in the sequence. */
+static void test_quality_frame(void **state)
+{
+    drive_telemetry_t d;
+    char buf[160];
+    unsigned f[2], q[8], ck;
+    int n;
+    size_t len;
+    (void)state;
+    telemetry_init(&s_t);
+    memset(&d, 0, sizeof d);
+    d.publish_reason = 5u;                 /* low_confidence */
+    d.conf[0] = -_IQ(1.0);                 /* not available */
+    d.conf[1] = _IQ(0.03125);              /* dyadic values: exact in both builds */
+    d.conf[5] = _IQ(0.25);
+    d.conf_residual = _IQ(0.0009765625);   /* 2^-10 */
+    d.conf_amp = _IQ(40.0);
+    assert_int_equal(telemetry_send_quality(&s_t, &d), 1);
+    len = drain(&s_t, buf, sizeof buf);
+    assert_int_equal(len, strlen(buf));
+    assert_int_equal(len, 89u);   /* 2 + 2*5 + 8*9 + 5 characters */
+    n = sscanf(buf, "$Q,%4x,%4x,%8x,%8x,%8x,%8x,%8x,%8x,%8x,%8x*%2x\r\n", &f[0], &f[1], &q[0],
+               &q[1], &q[2], &q[3], &q[4], &q[5], &q[6], &q[7], &ck);
+    assert_int_equal(n, 11);
+    assert_int_equal(f[0], 0u);
+    assert_int_equal(f[1], 5u);
+    assert_int_equal((int32_t)q[0], -16777216);
+    assert_int_equal((int32_t)q[1], 524288);      /* 0.03125 * 2^24 */
+    assert_int_equal((int32_t)q[2], 0);
+    assert_int_equal((int32_t)q[5], 4194304);
+    assert_int_equal((int32_t)q[6], 16384);
+    assert_int_equal((int32_t)q[7], 671088640);   /* 40 * 2^24 */
+    assert_int_equal(ck, nmea_ck(buf));
+    assert_int_equal(s_t.seq, 1u);
+}
+
 static void test_ring_full_drops_whole_frames(void **state)
 {
     drive_telemetry_t d;
@@ -149,14 +187,14 @@ static void test_ring_full_drops_whole_frames(void **state)
     for (i = 0u; i < 10u; i++) {
         sent = (uint16_t)(sent + telemetry_send(&s_t, &d, 0u));
     }
-    /* a frame is 2+6*5+11*9+5 = 136 characters; the ring keeps 511: 3 fit */
-    assert_int_equal(sent, 3u);
-    assert_int_equal(s_t.dropped, 7u);
+    /* a frame is 2+6*5+11*9+5 = 136 characters; the ring keeps 767: 5 fit */
+    assert_int_equal(sent, 5u);
+    assert_int_equal(s_t.dropped, 5u);
     len = drain(&s_t, buf, sizeof buf);
-    assert_int_equal(len, 3u * 136u);
+    assert_int_equal(len, 5u * 136u);
     /* no partial frame: every frame starts with $T */
     assert_int_equal(buf[136], '$');
-    assert_int_equal(buf[272], '$');
+    assert_int_equal(buf[544], '$');
 }
 
 static tlm_cmd_t feed(const char *s)
@@ -202,6 +240,7 @@ int main(void)
         cmocka_unit_test(test_frame_round_trip),
         cmocka_unit_test(test_adapt_frame),
         cmocka_unit_test(test_status_frame),
+        cmocka_unit_test(test_quality_frame),
         cmocka_unit_test(test_ring_full_drops_whole_frames),
         cmocka_unit_test(test_commands),
     };

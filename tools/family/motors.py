@@ -4,9 +4,11 @@ an inverter, DC bus, sensors, load and controller keys scaled to its ratings,
 written as motor_sim INI files.
 
     motors.py list [--ci | --grid] [--csv]          table of the family
-    motors.py show NAME                              one motor, every key
-    motors.py write DIR [--ci | --grid] [--layout current|split]
+    motors.py show NAME [--set SECTION.KEY=VALUE]... one motor, every key
+    motors.py write DIR [--ci | --grid] [--layout split|current] [--set ...]
                                                      one INI per motor + index.csv
+NAME: a motor of the family, or P_kW,poles,f_Hz,V,sigma for any other design()
+(e.g. 37,8,50,690,0.08).  --set replaces or adds a key (e.g. board.dead_time_s=3e-6).
 
 Importable: `design(P_kW, poles, f_Hz, V, sigma)`, `ci_subset()`, `grid()`,
 `to_ini(motor, layout)`.
@@ -346,10 +348,33 @@ def ci_subset():
 
 
 def by_name(name):
+    """A motor of the family by its name, or design(*spec) for "P_kW,poles,f_Hz,V,sigma"."""
     for m in ci_subset() + grid():
         if m.name == name:
             return m
+    parts = name.split(",")
+    if len(parts) == 5:
+        try:
+            P, poles, f, V, sg = (float(x) for x in parts)
+        except ValueError:
+            raise KeyError(name) from None
+        return design(P, int(poles), f, V, sg)
     raise KeyError(name)
+
+
+def parse_sets(items):
+    """['section.key=value', ...] -> {(section, key): float or text}."""
+    out = {}
+    for it in items or ():
+        left, sep, value = it.partition("=")
+        sec, dot, key = left.strip().partition(".")
+        if not sep or not dot or not sec or not key:
+            raise SystemExit(f"motors.py: --set {it!r} is not SECTION.KEY=VALUE")
+        try:
+            out[(sec, key)] = float(value)
+        except ValueError:
+            out[(sec, key)] = value.strip()
+    return out
 
 
 # --------------------------------------------------------------------------
@@ -367,7 +392,8 @@ def ini_values(m: Motor):
         # load
         "const_Nm": m.load_const, "fan_Nm": m.load_fan,
         # inverter (the simulated bridge)
-        "vdc_V": m.vdc, "source_resistance_ohm": 0.005 * m.vdc ** 2 / (m.P_kW * 1e3),
+        # 0.5 % of the bus at rated power, within motor_sim's [0, 10] ohm
+        "vdc_V": m.vdc, "source_resistance_ohm": min(0.005 * m.vdc ** 2 / (m.P_kW * 1e3), 10.0),
         "ripple_V": 0.005 * m.vdc, "ripple_Hz": 6.0 * m.f_Hz,
         "dead_time_s": m.dead_time_s, "device_drop_V": m.device_drop_V,
         # sensors (relative to their range)
@@ -388,15 +414,16 @@ def ini_values(m: Motor):
     }
 
 
-def key_map(layout="current"):
+def key_map(layout="split"):
     """Where each logical key goes: {key: (section, name)}.  THE one place to
     change when the INI layout changes.
 
-    'current': today's motor_sim layout ([motor] [load] [inverter] [sensors]
-    [controller] [ident] [simulation]; `motor_sim --keys`).
-    'split': the layout being introduced (drive side [nameplate] [board]
-    [controller] [ident]; simulated world [plant] [inverter] [sensors] [load]
-    [simulation]) as announced; provisional until it lands."""
+    'split': motor_sim's layout (drive side [nameplate] [board] [controller]
+    [ident]; simulated world [plant] [inverter] [sensors] [load] [drift]
+    [simulation]; `motor_sim --keys`, checked by test_key_map_matches_motor_sim).
+    'current': the former single-consumer layout ([motor] [load] [inverter]
+    [sensors] [controller] [ident] [simulation]); motor_sim refuses it, but
+    tools/study/ideal_drive.py (case_from_ini) still reads it."""
     if layout == "current":
         sec = {}
         for k in ("Rs_ohm", "Rr_ohm", "Lm_H", "Lls_H", "Llr_H", "pole_pairs", "rated_power_W",
@@ -454,7 +481,7 @@ def key_map(layout="current"):
 SECTION_ORDER = {
     "current": ("motor", "load", "inverter", "sensors", "controller", "ident", "simulation"),
     "split": ("nameplate", "board", "controller", "ident", "plant", "inverter", "sensors", "load",
-              "simulation"),
+              "drift", "simulation"),
 }
 
 
@@ -464,7 +491,7 @@ def _fmt(v):
     return f"{v:.6g}"
 
 
-def to_ini(m: Motor, layout="current", extra=None):
+def to_ini(m: Motor, layout="split", extra=None):
     """The INI text of one motor.  extra: {(section, key): value} appended
     (e.g. an ideal plant for a study)."""
     vals = ini_values(m)
@@ -509,7 +536,8 @@ def main(argv=None):
         sp = sub.add_parser(c)
         if c == "write":
             sp.add_argument("dir")
-            sp.add_argument("--layout", choices=("current", "split"), default="current")
+            sp.add_argument("--layout", choices=("split", "current"), default="split")
+            sp.add_argument("--set", action="append", metavar="SECTION.KEY=VALUE")
         g = sp.add_mutually_exclusive_group()
         g.add_argument("--ci", action="store_true", help="the CI subset (default)")
         g.add_argument("--grid", action="store_true", help="the whole family grid")
@@ -517,10 +545,16 @@ def main(argv=None):
             sp.add_argument("--csv", action="store_true")
     sp = sub.add_parser("show")
     sp.add_argument("name")
-    sp.add_argument("--layout", choices=("current", "split"), default="current")
+    sp.add_argument("--layout", choices=("split", "current"), default="split")
+    sp.add_argument("--set", action="append", metavar="SECTION.KEY=VALUE")
     a = ap.parse_args(argv)
     if a.cmd == "show":
-        print(to_ini(by_name(a.name), a.layout), end="")
+        try:
+            m = by_name(a.name)
+        except KeyError:
+            raise SystemExit(f"motors.py: no motor {a.name!r} (motors.py list, or "
+                             "P_kW,poles,f_Hz,V,sigma)") from None
+        print(to_ini(m, a.layout, extra=parse_sets(a.set)), end="")
         return 0
     motors = grid() if a.grid else ci_subset()
     if a.cmd == "list":
@@ -545,7 +579,7 @@ def main(argv=None):
         w = csv.writer(f)
         w.writerow(COLUMNS)
         for m in motors:
-            (out / f"{m.name}.ini").write_text(to_ini(m, a.layout))
+            (out / f"{m.name}.ini").write_text(to_ini(m, a.layout, extra=parse_sets(a.set)))
             w.writerow(row(m))
     print(f"wrote {len(motors)} INI files and index.csv to {out}")
     return 0

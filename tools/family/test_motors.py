@@ -78,6 +78,33 @@ def test_ini_round_trip(layout):
         assert abs(float(cp.get(s, name)) - v) <= 1e-5 * max(1.0, abs(v)), k
 
 
+def motor_sim_keys():
+    """{(section, key)} of `motor_sim --keys`: a "[section]" line, then one
+    indented line per key."""
+    out = subprocess.run([str(MOTOR_SIM), "--keys"], capture_output=True, text=True,
+                         check=True).stdout
+    keys, sec = set(), None
+    for line in out.splitlines():
+        if line.startswith("derived limits"):
+            break
+        if line.startswith("[") and line.rstrip().endswith("]"):
+            sec = line.strip()[1:-1]
+        elif sec is not None and line.startswith("  ") and line.split():
+            keys.add((sec, line.split()[0]))
+    return keys
+
+
+@pytest.mark.skipif(not MOTOR_SIM.exists(), reason="motor_sim not built")
+def test_key_map_matches_motor_sim():
+    """Every key the split layout writes is one motor_sim lists, in that
+    section (a renamed or moved key fails here, not in a sweep)."""
+    listed = motor_sim_keys()
+    assert ("nameplate", "Rs_ohm") in listed and len(listed) > 60
+    missing = {k: v for k, v in fam.key_map("split").items() if v not in listed}
+    assert not missing, missing
+    assert {s for s, _ in listed} <= set(fam.SECTION_ORDER["split"])
+
+
 @pytest.mark.skipif(not MOTOR_SIM.exists(), reason="motor_sim not built")
 def test_motor_sim_accepts_the_ci_subset(tmp_path):
     for m in fam.ci_subset():
@@ -85,4 +112,5 @@ def test_motor_sim_accepts_the_ci_subset(tmp_path):
         ini.write_text(fam.to_ini(m, "split"))   # motor_sim reads the split layout only
         r = subprocess.run([str(MOTOR_SIM), "--config", str(ini), "--duration", "0.05", "--quiet"],
                            capture_output=True, text=True)
-        assert r.returncode == 0, (m.name, r.stdout, r.stderr)
+        # accepted: the run completes (3: too short for the drive's verdict, nothing published)
+        assert r.returncode == 3, (m.name, r.stdout, r.stderr)

@@ -7,7 +7,7 @@ import ctypes as C
 import os
 from pathlib import Path
 
-API_VERSION = 3
+API_VERSION = 4
 LIB_NAME = "libimfoc.so"
 
 # tools/python/imfoc/_lib.py -> the repository root
@@ -43,6 +43,7 @@ _SIGNAL_DOUBLES_1 = ("speed_rpm", "speed_ref_rpm", "ia_A", "ib_A", "vdc_V", "i_m
                      "u_m_ref_V", "u_t_ref_V")
 _SIGNAL_REG = ("y1", "y2", "i_mf", "u_mf", "i_tf", "u_tf", "wr_f")
 PARAM_NAMES = ("Rs_ohm", "Rr_ohm", "Lm_H", "Lr_H", "psi_r_Wb", "Tr_s")
+CONF_NAMES = ("Rs", "Rr", "Lm", "Lr", "psi_r", "Tr")   # imfoc_signals_t.conf_*, PARAM_NAMES' order
 
 
 class Signals(C.Structure):
@@ -61,7 +62,12 @@ class Signals(C.Structure):
                                            "Tr_track_s")] +
                 # API version 3: the last extraction (Rs_ohm.. above are the published set)
                 [("extract_valid", C.c_uint16)] +
-                [("extract_" + n, C.c_double) for n in PARAM_NAMES])
+                [("extract_" + n, C.c_double) for n in PARAM_NAMES] +
+                # API version 4: the publication's verdict and confidences
+                [("publish_reason", C.c_uint16)] +
+                [("conf_" + n, C.c_double) for n in CONF_NAMES] +
+                [(n, C.c_double) for n in ("conf_residual", "conf_amplification",
+                                           "conf_excitation")])
 
 
 def find_library():
@@ -102,6 +108,7 @@ def load():
     i32 = C.c_int32
     proto = {
         "imfoc_api_version": (i32, []),
+        "imfoc_publish_reason_str": (C.c_char_p, [i32]),
         "imfoc_status_str": (C.c_char_p, [i32]),
         "imfoc_create_ini": (P, [C.c_char_p, C.c_char_p, C.c_size_t]),
         "imfoc_destroy": (None, [P]),

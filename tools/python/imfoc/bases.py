@@ -14,12 +14,13 @@ import math
 from dataclasses import dataclass
 
 # quantity -> (section, key, default or None if required), as host_sim/sim/sim_config.c
-# names them and sim_config_to_drive() hands them to drive_init
+# names them and sim_config_to_drive() hands them to drive_init (the drive side of the
+# INI: the bases are the firmware's, board.vdc_nominal_V not the simulated bus)
 INI_KEYS = {
-    "current_full_scale_A": ("sensors", "hall_full_scale_A", None),
-    "vdc_nominal_V": ("inverter", "vdc_V", None),
-    "rated_freq_Hz": ("motor", "rated_freq_Hz", None),
-    "pole_pairs": ("motor", "pole_pairs", None),
+    "current_full_scale_A": ("board", "current_full_scale_A", None),
+    "vdc_nominal_V": ("board", "vdc_nominal_V", None),
+    "rated_freq_Hz": ("nameplate", "rated_freq_Hz", None),
+    "pole_pairs": ("nameplate", "pole_pairs", None),
     # the identification sequence, to know when the published set is this run's final one
     "passes": ("ident", "passes", 1),
     "track_rr": ("ident", "track_rr", 0),

@@ -22,8 +22,8 @@ import time
 from pathlib import Path
 
 from .bases import PARAM_FIELDS, SI_FIELDS, Bases, ConfigError
-from .protocol import (COMMANDS, LAYOUT, LOAD_PERIOD_TICKS, FrameDecoder, command_frame,
-                       fault_name, state_name)
+from .protocol import (COMMANDS, CONF_FIELDS, LAYOUT, LOAD_PERIOD_TICKS, REASONS, FrameDecoder,
+                       command_frame, fault_name, reason_name, state_name)
 
 # tools/python/imfoc/cli.py -> the repository root (for the default configuration)
 DEFAULT_CONFIG = Path(__file__).resolve().parents[3] / "host_sim" / "config" / "paper_motor.ini"
@@ -116,6 +116,14 @@ def frame_values(frame, bases):
     elif frame.type == "S":
         v.update(isr_overruns=r["isr_overruns"], load_pct=100.0 * r["load"] / LOAD_PERIOD_TICKS,
                  tx_dropped=r["tx_dropped"], rx_errors=r["rx_errors"])
+    elif frame.type == "Q":
+        # the publication: not per-unit values but fractions (percent here)
+        v.update(reason=r["reason"], reason_name=reason_name(r["reason"]))
+        for n in CONF_FIELDS:
+            x = frame.pu[n]
+            v[n + "_pct"] = None if x < 0 else 100.0 * x
+        v.update(residual_rel=frame.pu["residual"], amplification=frame.pu["amplification"])
+        return v
     else:
         v.update({"pass": r["pass"], "track_valid": r["track_valid"], "tracked": r["tracked"]})
     for name, pu in frame.pu.items():
@@ -135,7 +143,9 @@ def csv_columns(bases):
     qa = list(LAYOUT["A"][1])
     name = (lambda n: n + "_pu") if bases is None else (lambda n: SI_FIELDS[n][0])
     cols_s = ["isr_overruns", "tx_dropped", "rx_errors"]
-    return cols + [name(n) for n in q] + cols_a + [name(n) for n in qa] + cols_s
+    cols_q = (["reason", "reason_name"] + [n + "_pct" for n in CONF_FIELDS] +
+              ["residual_rel", "amplification"])
+    return cols + [name(n) for n in q] + cols_a + [name(n) for n in qa] + cols_s + cols_q
 
 
 def params_si(frame, bases):
@@ -235,7 +245,7 @@ def cmd_monitor(a, out):
               f"{'SI units (' + str(a.config or DEFAULT_CONFIG) + ')' if bases else 'per unit'}"
               f"; Ctrl-C ends\n")
     t0 = time.monotonic()
-    last = {"T": None, "A": None, "S": None}
+    last = {"T": None, "A": None, "S": None, "Q": None}
     t_draw = 0.0
     status = EXIT_OK
     try:
@@ -277,7 +287,7 @@ def cmd_monitor(a, out):
 
 def _draw(out, port, last, counters, t):
     lines = [f"\x1b[H\x1b[J{port}  {t:7.1f} s   {counters_line(counters)}", ""]
-    for kind in ("T", "A", "S"):
+    for kind in ("T", "A", "S", "Q"):
         v = last.get(kind)
         if v is None:
             lines.append(f"${kind}: (none yet)")
@@ -366,13 +376,15 @@ class Identify:
                     self.last_a = fr
                 elif fr.type == "S":
                     self.last_s = fr      # the ISR's overruns and load: shown, not followed
+                elif fr.type == "Q":
+                    self.last_q = fr      # the publication's verdict and confidences
                 elif fr.type == "T":
                     return fr
         raise Failure(what, EXIT_DRIVE if self.seen_t else EXIT_PORT)
 
     def _follow(self, link):
         a, out = self.a, self.out
-        self._frames, self.last_a, self.last_s, self.seen_t = [], None, None, False
+        self._frames, self.last_a, self.last_s, self.last_q, self.seen_t = [], None, None, None, False
         t0 = time.monotonic()
         deadline = t0 + a.timeout
         first = self._next_t(link, min(deadline, t0 + 5.0),
@@ -406,6 +418,7 @@ class Identify:
                 out.write(f"{time.monotonic() - t_start:7.2f} s  {state_name(state)}\n")
             if state != IDLE:
                 started = True
+                self._check_refused()
             elif not started and time.monotonic() - t_sent > 1.0:
                 if tries >= 3:
                     raise Failure("the drive did not leave IDLE after 3 x $C,S", EXIT_DRIVE)
@@ -441,6 +454,22 @@ class Identify:
                     return None
         return None
 
+    def _check_refused(self):
+        """The drive's verdict on this run's set, once it has one and it is not
+        "published" (a $Q frame sent after this run's start: its reason left
+        "pending" when the start was taken)."""
+        q = self.last_q
+        if q is None:
+            return
+        if q.raw["reason"] == REASONS.index("pending"):
+            self.pending_seen = True
+            return
+        if getattr(self, "pending_seen", False) and q.raw["reason"] != REASONS.index("published"):
+            conf = ", ".join(f"{n[5:]} {100.0 * q.pu[n]:.2f} %" for n in CONF_FIELDS
+                             if q.pu[n] >= 0)
+            raise Failure(f"the drive refused its set: {reason_name(q.raw['reason'])}"
+                          f"{' (confidence ' + conf + ')' if conf else ''}", EXIT_DRIVE)
+
     def _check_fault(self, fr):
         f = fr.raw["fault"]
         if f != 0 or fr.raw["state"] == FAULT:
@@ -462,6 +491,14 @@ class Identify:
             rs_dc = b.si("Rs_dc", ad.pu["Rs_dc"])[1] if ad.raw["Rs_dc"] else None
             extra = (f"; pass {ad.raw['pass']}"
                      f"{', fused set (standstill Rs, tracked Rr and Tr)' if ad.raw['tracked'] else ''}")
+        q = self.last_q
+        conf = None
+        if q is not None and q.raw["reason"] == REASONS.index("published"):
+            conf = {SI_FIELDS[n][0]: (None if q.pu["conf_" + n] < 0 else
+                                      100.0 * q.pu["conf_" + n]) for n in PARAM_FIELDS}
+            self.out.write("%-12s" % "confidence" + "".join(
+                "%10s" % ("-" if conf[SI_FIELDS[n][0]] is None else
+                          f"{conf[SI_FIELDS[n][0]]:.2f}%") for n in PARAM_FIELDS) + "\n")
         self.out.write(f"\npublished {res['t_s']:.2f} s after $C,S (frame {fr.raw['seq']}){extra}\n"
                        f"{link.port}: {counters_line(link.decoder.counters)}\n")
         rep = {
@@ -469,6 +506,8 @@ class Identify:
             "port": link.port,
             "source": "telemetry",
             "published": True,
+            "publish_reason": "published",
+            "confidence_pct": conf,
             "t_published_s": round(res["t_s"], 4),
             "identified": params,
             "published_end": params,
@@ -530,7 +569,7 @@ def parser():
         p.add_argument("--timeout", type=_positive, default=timeout,
                        help=f"{what} (default {timeout:g} s)")
 
-    m = sub.add_parser("monitor", help="decode $T and $A frames: live table, CSV, plot")
+    m = sub.add_parser("monitor", help="decode $T, $A, $S and $Q frames: live table, CSV, plot")
     common(m, 5.0, "seconds without a frame before giving up")
     m.add_argument("--config", help="INI of the firmware, for SI units (default: the board's)")
     m.add_argument("--csv", help="log every decoded field with a time stamp to FILE")

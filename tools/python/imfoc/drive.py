@@ -8,8 +8,10 @@ from pathlib import Path
 
 from . import _lib
 from .protocol import STATES   # every id_state_t of include/id_sequence.h, REFINE included
+from .protocol import REASONS  # every drive_pub_reason_t of include/drive.h
 
 CMD_START_IDENT, CMD_STOP, CMD_RESET_FAULT = 1, 2, 3
+PUB_PUBLISHED = REASONS.index("published")
 CONFIG_DIR = _lib.REPO_ROOT / "host_sim" / "config"
 
 
@@ -158,6 +160,23 @@ class Drive:
         published Rs, Rr, Tr come from elsewhere (parameters())."""
         s = self.signals()
         return {n: getattr(s, "extract_" + n) for n in _lib.PARAM_NAMES}, bool(s.extract_valid)
+
+    def publication(self):
+        """Why the last identification's set is or is not published, and how far each
+        parameter can be trusted (ident_conf.h): {"reason": name ("pending",
+        "published", "not_converged", "low_excitation", "high_residual",
+        "low_confidence", "implausible", "fault", "timeout", "stopped"), "published":
+        bool, "confidence_pct": {Rs_ohm: %, ...} (None where not available),
+        "residual_rel", "amplification", "excitation"}."""
+        s = self.signals()
+        conf = {}
+        for n, c in zip(_lib.PARAM_NAMES, _lib.CONF_NAMES):
+            v = getattr(s, "conf_" + c)
+            conf[n] = None if v < 0 else 100.0 * v
+        return {"reason": self._lib.imfoc_publish_reason_str(s.publish_reason).decode(),
+                "published": s.publish_reason == PUB_PUBLISHED, "confidence_pct": conf,
+                "residual_rel": s.conf_residual, "amplification": s.conf_amplification,
+                "excitation": s.conf_excitation}
 
 
 def rpm(w_m_rad_s):

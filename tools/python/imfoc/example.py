@@ -77,7 +77,7 @@ def run(config=None, duration_s=2.5, csv_path=None, every=15, overrides=None):
            "params_tracked": bool(s.params_tracked), "extraction": extraction,
            "extraction_valid": extraction_valid, "signals": drv.signals_dict(),
            "truth": tr, "estimate": est, "error_pct": err, "rows": rows,
-           "regression": reg, "K_last_rls": k_last_rls,
+           "regression": reg, "K_last_rls": k_last_rls, "publication": drv.publication(),
            "speed_rpm": motor.w_m * 60 / 6.283185307179586}
     if csv_path:
         with open(csv_path, "w", newline="") as f:

@@ -5,6 +5,12 @@ Drive -> PC, NMEA style, one frame per line, 20 $T/$A pairs a second:
     $T,<seq>,<state>,<fault>,<pwm_on>,<valid>,<load>,<speed>,<speed_ref>,<i_m>,<i_t>,<vdc>,
        <Rs>,<Rr>,<Lm>,<Lr>,<psi_r>,<Tr>*<CK>\\r\\n
     $A,<seq>,<pass>,<track_valid>,<tracked>,<Rs_dc>,<sigma_ls_dc>,<Rr_track>,<Tr_track>*<CK>\\r\\n
+    $S,<seq>,<overruns>,<load>,<dropped>,<rx_errors>*<CK>\\r\\n
+    $Q,<seq>,<reason>,<c_Rs>,<c_Rr>,<c_Lm>,<c_Lr>,<c_psi_r>,<c_Tr>,<residual>,<amp>*<CK>\\r\\n
+
+$Q is the publication's verdict (REASONS) and the confidence of each parameter of the
+set judged, a fraction (0.01 = 1 %; negative: not available), then the regression's
+relative residual and its amplification (include/ident_conf.h).
 
 The first fields of each type are 4 hex digits (uint16), the rest 8 hex digits: a per-unit
 value in Q24 two's complement (value = int32 / 2^24).  CK: XOR of the characters between
@@ -26,6 +32,11 @@ FAULTS = ("none", "overcurrent", "bus_overvoltage", "bus_undervoltage", "encoder
           "current_offset", "adc_rail", "hw_trip", "config", "current_sensor", "isr_overrun",
           "sensor_test", "stall")
 
+# include/drive.h drive_pub_reason_t, in enum order (likewise)
+REASONS = ("pending", "published", "not_converged", "low_excitation", "high_residual",
+           "low_confidence", "implausible", "fault", "timeout", "stopped")
+CONF_FIELDS = ("conf_Rs", "conf_Rr", "conf_Lm", "conf_Lr", "conf_psi_r", "conf_Tr")
+
 # field layout of each frame type: (uint16 fields, Q24 fields)
 LAYOUT = {
     "T": (("seq", "state", "fault", "pwm_on", "valid", "load"),
@@ -33,6 +44,7 @@ LAYOUT = {
     "A": (("seq", "pass", "track_valid", "tracked"),
           ("Rs_dc", "sigma_ls_dc", "Rr_track", "Tr_track")),
     "S": (("seq", "isr_overruns", "load", "tx_dropped", "rx_errors"), ()),
+    "Q": (("seq", "reason"), CONF_FIELDS + ("residual", "amplification")),
 }
 COMMANDS = {"start": "S", "stop": "X", "reset": "R", "dlog-arm": "D"}
 FRAME_MAX = 160        # firmware/telemetry.c TLM_FRAME_MAX: no frame is longer
@@ -45,6 +57,10 @@ def state_name(code):
 
 def fault_name(code):
     return FAULTS[code] if 0 <= code < len(FAULTS) else f"fault {code}"
+
+
+def reason_name(code):
+    return REASONS[code] if 0 <= code < len(REASONS) else f"reason {code}"
 
 
 def checksum(body):

@@ -19,6 +19,14 @@ def test_identification_converges_on_numpy_plant(paper_run):
     # the speed loop reached the 1400 r/min target (+-5 r/min: the speed
     # measurement resolution at 1000 lines and the loop's steady error)
     assert abs(r["speed_rpm"] - 1400.0) < 5.0
+    # the drive's verdict through the API: published, every confidence within its
+    # 3 % and above the error it carries here (an ideal plant: Tr's about 1 %)
+    pub = r["publication"]
+    assert pub["reason"] == "published" and pub["published"]
+    for k in PARAM_NAMES:
+        c = pub["confidence_pct"][k]
+        assert c is not None and abs(r["error_pct"][k]) <= c <= 3.0, (k, c, r["error_pct"][k])
+    assert 0.0 < pub["residual_rel"] < 0.01 and pub["excitation"] > 0.2
 
 
 def test_rls_agrees_with_batch_least_squares(paper_run):

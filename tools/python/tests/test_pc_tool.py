@@ -179,7 +179,7 @@ def _injecting_relay(sim_port, tool_master, stop):
                 elif k == 3:
                     ln = b"$T," + b"7" * 300 + b"\r\n" + ln
                 else:
-                    body = "Q,%04X,DEADBEEF" % (n & 0xFFFF)
+                    body = "Z,%04X,DEADBEEF" % (n & 0xFFFF)
                     ln = f"${body}*{checksum(body):02X}\r\n".encode() + ln
                 try:
                     os.write(tool_master, ln)
@@ -207,7 +207,7 @@ def test_pc_tool_identify_through_garbage(sim, tmp_path):
     pc = json.loads((tmp_path / "pc" / "report.json").read_text())
     link = pc["link"]
     assert link["checksum_errors"] >= 1 and link["garbage"] >= 1 and link["partial"] >= 1
-    assert link["overlong"] >= 1 and link["unknown_types"].get("Q", 0) >= 1
+    assert link["overlong"] >= 1 and link["unknown_types"].get("Z", 0) >= 1
     assert re.search(r"\d+ checksum errors, \d+ framing errors", r.stdout)
     rc, _out, err = sim.wait()
     assert rc == 0, err
@@ -232,7 +232,7 @@ def test_pc_tool_commands_and_monitor(tmp_path):
         recs = [dict(zip(head, x.split(","))) for x in rows[1:]]
         t_rows = [x for x in recs if x["frame"] == "T"]
         assert 14 <= len(t_rows) <= 26                        # 20 per second for 1 s
-        assert {x["frame"] for x in recs} == {"T", "A", "S"}
+        assert {x["frame"] for x in recs} == {"T", "A", "S", "Q"}
         assert all(abs(float(x["vdc_V"]) - 60.0) < 2.0 for x in t_rows)
         assert {x["state_name"] for x in t_rows} <= {"CALIBRATE", "MAGNETIZE", "ACCELERATE",
                                                       "SETTLE", "RUN"}

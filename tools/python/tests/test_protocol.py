@@ -8,7 +8,7 @@ import pytest
 
 from imfoc import CONFIG_DIR, Drive, STATES, write_config
 from imfoc.bases import Bases, ConfigError
-from imfoc.protocol import FAULTS, FrameDecoder, checksum, command_frame, q24
+from imfoc.protocol import FAULTS, REASONS, FrameDecoder, checksum, command_frame, q24
 from imfoc.protocol import STATES as PROTO_STATES
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -114,10 +114,10 @@ def test_overlong_frame_is_dropped():
 
 def test_unknown_frame_types_are_counted_not_fatal():
     d = FrameDecoder()
-    frames = d.feed(with_ck("Q,0001,DEADBEEF") + T_FRAME + with_ck("Q,0002") +
+    frames = d.feed(with_ck("Z,0001,DEADBEEF") + T_FRAME + with_ck("Z,0002") +
                     with_ck("XY,1") + A_FRAME)
     assert [f.type for f in frames] == ["T", "A"]
-    assert d.counters.unknown_types == {"Q": 2, "XY": 1}
+    assert d.counters.unknown_types == {"Z": 2, "XY": 1}
     assert d.counters.framing_errors == 0 and d.counters.checksum_errors == 0
 
 
@@ -141,11 +141,39 @@ def _enum(header, prefix):
     return [n[len(prefix):] for n in names]
 
 
+def _enum_named(header, name, prefix):
+    """The members of `typedef enum {...} name;` of the header, without the prefix."""
+    text = (ROOT / "include" / header).read_text()
+    body = re.search(r"typedef enum \{([^}]*)\}\s*" + name + r"\s*;", text, re.S).group(1)
+    body = re.sub(r"/\*.*?\*/", "", body, flags=re.S)
+    names = [n.strip().split("=")[0].strip() for n in body.split(",") if n.strip()]
+    return [n[len(prefix):] for n in names]
+
+
 def test_state_and_fault_names_follow_the_headers():
     assert list(PROTO_STATES) == _enum("id_sequence.h", "ID_")
     assert list(STATES) == _enum("id_sequence.h", "ID_")       # the co-simulation's too
     assert STATES[7] == "REFINE"
     assert list(FAULTS) == [n.lower() for n in _enum("protect.h", "FAULT_")]
+    # the publication's reasons, up to the count DRIVE_PUB_N
+    reasons = [n.lower() for n in _enum_named("drive.h", "drive_pub_reason_t", "DRIVE_PUB_")]
+    assert reasons[-1] == "n" and list(REASONS) == reasons[:-1]
+
+
+def test_quality_frame_decodes_field_by_field():
+    """$Q (firmware/telemetry.h): the reason, six confidences (a negative one: not
+    available), the residual and the amplification, Q24; values worked out by hand."""
+    body = ("Q,0012,0005,FF000000,00080000,0000A3D7,00000000,0000A3D7,00400000,"
+            "00004000,28000000")
+    (q,) = FrameDecoder().feed(with_ck(body))
+    assert q.type == "Q" and (q["seq"], q["reason"]) == (0x12, 5)
+    assert REASONS[q["reason"]] == "low_confidence"
+    assert q.pu["conf_Rs"] == -1.0                       # not available
+    assert q.pu["conf_Rr"] == 0.03125                     # 0x80000 / 2^24
+    assert q.pu["conf_Lm"] == 0xA3D7 / 2 ** 24            # 0.25 %: 41943 / 2^24 = 0.0025
+    assert q.pu["conf_Tr"] == 0.25
+    assert q.pu["residual"] == 2.0 ** -10
+    assert q.pu["amplification"] == 40.0
 
 
 def test_bases_agree_with_the_firmware():
@@ -160,13 +188,13 @@ def test_bases_agree_with_the_firmware():
 
 
 def test_bases_config_errors_name_the_key(tmp_path):
-    bad = write_config(CONFIG_DIR / "paper_motor.ini", {"inverter": {"vdc_V": "sixty"}},
+    bad = write_config(CONFIG_DIR / "paper_motor.ini", {"board": {"vdc_nominal_V": "sixty"}},
                        tmp_path / "bad.ini")
-    with pytest.raises(ConfigError, match=r"\[inverter\] vdc_V is not a number"):
+    with pytest.raises(ConfigError, match=r"\[board\] vdc_nominal_V is not a number"):
         Bases.from_ini(bad)
-    text = (CONFIG_DIR / "paper_motor.ini").read_text().replace("hall_full_scale_A", "x_A")
+    text = (CONFIG_DIR / "paper_motor.ini").read_text().replace("current_full_scale_A", "x_A")
     (tmp_path / "missing.ini").write_text(text)
-    with pytest.raises(ConfigError, match=r"missing \[sensors\] hall_full_scale_A"):
+    with pytest.raises(ConfigError, match=r"missing \[board\] current_full_scale_A"):
         Bases.from_ini(tmp_path / "missing.ini")
     with pytest.raises(ConfigError, match="cannot read"):
         Bases.from_ini(tmp_path / "none.ini")
