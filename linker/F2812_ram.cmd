@@ -34,7 +34,8 @@ MEMORY
 {
 PAGE 0 :
    BEGINH0    : origin = 0x3F8000, length = 0x000002   /* boot-to-H0 entry */
-   RAML0L1    : origin = 0x008000, length = 0x002000   /* L0 + L1 SARAM, ramfuncs */
+   RAML0L1    : origin = 0x008000, length = 0x001180   /* L0 + first 384 words of L1: ramfuncs */
+   RAMH0      : origin = 0x3F8002, length = 0x0019FE   /* H0 after BEGINH0 up to 0x3F99FF: ramfuncs_slow */
    XRAM6      : origin = 0x100000, length = 0x010000   /* external SRAM, XINTF zone 6 */
    CSM_PWL    : origin = 0x3F7FF8, length = 0x000008   /* CsmPwlFile (F2812_headers.cmd) */
    IQTABLES   : origin = 0x3FF000, length = 0x000B50
@@ -42,7 +43,8 @@ PAGE 0 :
 
 PAGE 1 :
    RAMM0M1    : origin = 0x000000, length = 0x000800   /* M0 + M1 SARAM */
-   RAMH0      : origin = 0x3F8002, length = 0x001FFE
+   RAML0L1_DATA : origin = 0x009180, length = 0x000E80 /* rest of L1: .ebss */
+   RAMH0_DATA : origin = 0x3F9A00, length = 0x000600   /* last 1.5K of H0: dlog */
 }
 
 SECTIONS
@@ -51,12 +53,23 @@ SECTIONS
    ramfuncs         : {
                          *(ramfuncs)
 #include "F2812_isr_path.cmd"
-                         *(IQmath)
                       }
                       LOAD = RAML0L1, RUN = RAML0L1,
                       LOAD_START(_RamfuncsLoadStart),
                       LOAD_END(_RamfuncsLoadEnd),
                       RUN_START(_RamfuncsRunStart),
+                      PAGE = 0
+   /* the slow set (reached only through drive_slow_task) and TI's IQmath
+    * (called from both sets) run from H0, zero wait states as L0/L1 */
+   ramfuncs_slow    : {
+                         *(ramfuncs_slow)
+#include "F2812_isr_slow.cmd"
+                         *(IQmath)
+                      }
+                      LOAD = RAMH0, RUN = RAMH0,
+                      LOAD_START(_RamfuncsSlowLoadStart),
+                      LOAD_END(_RamfuncsSlowLoadEnd),
+                      RUN_START(_RamfuncsSlowRunStart),
                       PAGE = 0
    .text            : > XRAM6,      PAGE = 0
    .cinit           : > XRAM6,      PAGE = 0
@@ -67,7 +80,7 @@ SECTIONS
    .reset           : > RESET,      PAGE = 0, TYPE = DSECT
 
    .stack           : > RAMM0M1,    PAGE = 1
-   .ebss            : > RAMH0,      PAGE = 1
-   dlog             : > RAMH0,      PAGE = 1
+   .ebss            : > RAML0L1_DATA, PAGE = 1
+   dlog             : > RAMH0_DATA, PAGE = 1
    .esysmem         : > RAMM0M1,    PAGE = 1
 }
