@@ -1,29 +1,31 @@
 /*
  * F2812_ram.cmd: the debug image that CCS loads into RAM, without
  * programming the flash (FIRMWARE_IMAGE=ram).  Use with F2812_headers.cmd;
- * #includes F2812_isr_path.cmd as F2812_flash.cmd does.
+ * #includes F2812_isr_path.cmd and F2812_isr_slow.cmd as F2812_flash.cmd does.
  * Memory map: SPRS174, as in F2812_flash.cmd (checked by the same CI test).
  *
  * What fits (16-bit words, estimates of tools/bench_size.py
- * --linker-cmd linker/F2812_ram.cmd): the on-chip RAM is 18K (M0 1K, M1 1K,
- * L0 4K, L1 4K, H0 8K); the firmware needs about 30K: ramfuncs (the ISR
- * path) 9 500, the other code 12 400, constants 2 800, .ebss + dlog 4 100,
- * stack 1 500.  So a RAM-only image of the whole firmware does NOT fit the
- * F2812's internal RAM.  This image therefore needs a board with external
- * SRAM on XINTF zone 6 (0x100000, 64K words here, as the eZdsp F2812 board
- * has; the XINTF timing registers reset to their slowest setting, SPRU067,
- * so CCS can load there before any code ran), which takes the
- * code that runs at most once per telemetry frame (init, background,
- * telemetry, the float emulation) and the constants.  Everything that runs
- * in the ISR is on-chip as in the flash image:
- *   L0+L1 8K   ramfuncs, loaded in place (LOAD = RUN: flash_copy_ramfuncs
- *              copies the section onto itself, a no-op, so main.c is the
- *              same for both images).  Estimated 9 500: does not fit, as in
- *              the flash image.
- *   H0 8K      codestart (boot-to-H0 entry, 2 words), .ebss (2 009) and
- *              dlog (2 068)
+ * --linker-cmd linker/F2812_ram.cmd, CTest target_ram_fit_ram_image): the
+ * on-chip RAM is 18K (M0 1K, M1 1K, L0 4K, L1 4K, H0 8K); the firmware needs
+ * about 31K: the ISR path 7 145 (every-period set 3 083, slow set + IQmath
+ * 4 094), the other code and the constants about 22 400, .ebss 2 501, dlog
+ * 1 050, stack 1 536.  So a RAM-only image of the whole firmware does NOT
+ * fit the F2812's internal RAM.  This image therefore needs a board with
+ * external SRAM on XINTF zone 6 (0x100000, 64K words here, as the eZdsp
+ * F2812 board has; the XINTF timing registers reset to their slowest
+ * setting, SPRU067, so CCS can load there before any code ran), which takes
+ * the code that runs at most once per telemetry frame (init, background,
+ * telemetry, the float emulation) and the constants.  Everything the ISR
+ * runs is on-chip in the same ranges as in the flash image
+ * (F2812_flash.cmd gives the budget), loaded in place (LOAD = RUN:
+ * flash_copy_ramfuncs copies each section onto itself, a no-op, so main.c
+ * is the same for both images):
+ *   L0+L1 8K   ramfuncs (RAML0L1, 4 480) and .ebss (RAML0L1_DATA, 3 712)
+ *   H0 8K      codestart (boot-to-H0 entry, 2 words), ramfuncs_slow
+ *              (RAMH0, 6 654) and dlog (RAMH0_DATA, 1 536)
  *   M0+M1 2K   .stack (0x600) and .esysmem (no heap)
- *   XINTF 6    .text, .cinit, .pinit, .switch, .econst (about 15 000)
+ *   XINTF 6    .text, .cinit, .pinit, .switch, .econst (about 22 400 of
+ *              65 536)
  * On a board without external RAM use the flash image.  How to load: CCS
  * "Load Program" of the FIRMWARE_IMAGE=ram build (the loader sets the PC to
  * _c_int00), or a reset in the boot ROM's "jump to H0 SARAM" mode (boot mode

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Code and RAM size of the F2812 firmware, estimated with a stand-in compiler,
-and the placement of the control ISR's call graph in RAM (`ramfuncs`).
+and the placement of the control ISR's call graph in RAM (`ramfuncs`, `ramfuncs_slow`).
 
 TI's cl2000 cannot be installed here, so the code is compiled for Thumb-2
 (Debian's gcc-arm-none-eabi, -mthumb -mcpu=cortex-m3) and its bytes are
@@ -37,6 +37,12 @@ ADCINT entry, which calls drive_isr and the data log), nothing else: init,
 background and float code are not on it unless the ISR calls them (checked:
 no soft-float helper may be reachable).  The call graph has no function
 pointers to miss: the core has none, and every interrupt entry is a root.
+It is split in two sets: FAST, every function reachable without going through
+the slow-task dispatch `drive_slow_task` (the dispatch itself included: it
+runs every period), placed in `ramfuncs` (linker/F2812_isr_path.cmd), and
+SLOW, reachable only through it (the slot tasks), placed in `ramfuncs_slow`
+(linker/F2812_isr_slow.cmd); a function reached both ways is fast.  TI's
+IQmath section counts in whichever of the two gathers `*(IQmath)`.
 
 Conversion Thumb-2 bytes -> C28x words: WORDS_PER_HALFWORD (1.2) words per
 Thumb-2 halfword, i.e. 0.6 words per byte.  Why: both instruction sets mix 16-
@@ -56,22 +62,28 @@ directly on memory (loc32 operands), so factor 1 is possible; 1.2 errs high
 and is stated in every output.
 
 RAM capacities come from the linker command file the firmware build uses
-(--linker-cmd, default linker/F2812_flash.cmd): the RUN range(s) of
-`ramfuncs`, the range of `.ebss` (with everything else placed there, e.g.
-`dlog`) and of `.stack`.  .ebss is computed in C28x words from the declared
+(--linker-cmd, default linker/F2812_flash.cmd): every RAM range is counted
+with what it holds (the RUN ranges of `ramfuncs` and `ramfuncs_slow`, the
+ranges of `.ebss`, `dlog`), the stack against --stack_size; in the RAM image
+(linker/F2812_ram.cmd) the rest of the program against its external RAM.  .ebss is computed in C28x words from the declared
 types of every global variable (tools/bench_ram.py's C28x layout of the
 structures, drive_t included), not from the Thumb-2 sizes.
 
 Usage:
   bench_size.py [--json] [--build DIR] [--linker-cmd F] [--board-config F]
                 [--factor X] [--check] [--write-isr-cmd F | --check-isr-cmd F]
---check [ramfuncs|data|all]: exit 1 when (ramfuncs) the ISR path in
-`ramfuncs` > 70 % of its RUN RAM or a soft-float helper is reachable from the
-ISR; (data) .ebss + the other sections of its block > 70 % of that block, or
-the estimated stack > 70 % of --stack_size (firmware/CMakeLists.txt).
---check-isr-cmd: exit 1 when the committed linker include differs from what
-the call graph gives now, or when the firmware's `#pragma CODE_SECTION(f,
-"ramfuncs")` and the ISR path disagree.
+                [--slow-cmd S]
+--check [ramfuncs|data|all]: exit 1 when (ramfuncs) a RAM range that runs
+ramfuncs or ramfuncs_slow holds > 70 % of its size, or a soft-float helper is
+reachable from the ISR, or (RAM image) the rest of the program > 70 % of its
+external RAM; (data) a range holding .ebss or dlog > 70 %, or the estimated
+stack > 70 % of --stack_size (firmware/CMakeLists.txt).
+--write-isr-cmd F: write the fast set to F and the slow set to --slow-cmd
+(default next to F: F2812_isr_path.cmd -> F2812_isr_slow.cmd).
+--check-isr-cmd F [--slow-cmd S]: exit 1 when a committed include differs
+from what the call graph gives now (naming a function in the wrong set), or
+when the firmware's `#pragma CODE_SECTION(f, "ramfuncs")` and the ISR path
+disagree.
 """
 import argparse
 import concurrent.futures as cf
