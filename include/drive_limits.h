@@ -52,6 +52,18 @@ typedef enum {
     DRIVE_LD_COUNT
 } drive_derived_limit_t;
 
+/* The limits' names and units: DRIVE_LIMITS_NAMES 0 builds them as ""
+ * (a small target without the room for the text: refusals keep their
+ * status, value and range, not the key's name; the 8 KB AVR co-simulation). */
+#ifndef DRIVE_LIMITS_NAMES
+#define DRIVE_LIMITS_NAMES 1
+#endif
+#if DRIVE_LIMITS_NAMES
+#define DRIVE_LT(s) (s)
+#else
+#define DRIVE_LT(s) ""
+#endif
+
 typedef struct {
     const char *key;     /* INI key or derived quantity */
     const char *unit;    /* of lo, hi (and of the value reported) */

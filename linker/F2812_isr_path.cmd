@@ -20,7 +20,7 @@
  * the same name in two files is matched in both (a few words more in RAM).
  * The firmware's own ISR functions are in `ramfuncs` by #pragma CODE_SECTION
  * (checked by the same test); TI's IQmath functions by the IQmath section.
- * 59 functions.
+ * 67 functions.
  */
 *(.text:_angle_diff_pu)
 *(.text:_angle_sincos)
@@ -30,12 +30,16 @@
 *(.text:_calibrate)
 *(.text:_clarke_step)
 *(.text:_control)
+*(.text:_current_model_check_accumulate)
 *(.text:_dc_bus_measure)
 *(.text:_drive_adapt_fast)
 *(.text:_drive_frame_speed)
 *(.text:_drive_get_log_signals)
 *(.text:_drive_isr)
 *(.text:_drive_log_due)
+*(.text:_drive_safety_fast)
+*(.text:_drive_safety_modulate)
+*(.text:_drive_safety_test_period)
 *(.text:_drive_slow_task)
 *(.text:_encoder_check_jump)
 *(.text:_ident_in)
@@ -48,6 +52,7 @@
 *(.text:_iq_rmpy)
 *(.text:_iq_round_half)
 *(.text:_isr_monitor_step)
+*(.text:_judge)
 *(.text:_modulate)
 *(.text:_orient)
 *(.text:_park_step)
@@ -56,6 +61,7 @@
 *(.text:_phase_current_cal_step)
 *(.text:_phase_current_rail_bits)
 *(.text:_phase_current_step)
+*(.text:_phase_unit)
 *(.text:_pi_reset)
 *(.text:_pi_step)
 *(.text:_protect)
@@ -66,8 +72,10 @@
 *(.text:_qep_angle_step)
 *(.text:_qep_diff)
 *(.text:_qep_wrap)
+*(.text:_sat4)
 *(.text:_sat_in)
 *(.text:_sense)
+*(.text:_sensor_test_step)
 *(.text:_set_outputs_off)
 *(.text:_standstill_z_step)
 *(.text:_step)

@@ -67,15 +67,15 @@
 
 #define ST(s) ((int16_t)(s))
 #define FIELD_F(key, member, unit, st, lo, hi)                                                   \
-    { key, unit, ST(st), DRIVE_LIMIT_F32, (uint16_t)offsetof(drive_config_t, member), 0u,   \
+    { DRIVE_LT(key), DRIVE_LT(unit), ST(st), DRIVE_LIMIT_F32, (uint16_t)offsetof(drive_config_t, member), 0u,   \
       lo, hi }
 #define FIELD_U(key, member, unit, st, lo, hi)                                                   \
-    { key, unit, ST(st), DRIVE_LIMIT_U16, (uint16_t)offsetof(drive_config_t, member), 0u,    \
+    { DRIVE_LT(key), DRIVE_LT(unit), ST(st), DRIVE_LIMIT_U16, (uint16_t)offsetof(drive_config_t, member), 0u,    \
       lo, hi }
 #define DERIVED(key, unit, st, which) \
-    { key, unit, ST(st), DRIVE_LIMIT_DERIVED, which, 0u, 1.0f, 0.0f }
+    { DRIVE_LT(key), DRIVE_LT(unit), ST(st), DRIVE_LIMIT_DERIVED, which, 0u, 1.0f, 0.0f }
 #define DERIVED_RANGE(key, unit, st, which, open, lo, hi) \
-    { key, unit, ST(st), DRIVE_LIMIT_DERIVED, which, open, lo, hi }
+    { DRIVE_LT(key), DRIVE_LT(unit), ST(st), DRIVE_LIMIT_DERIVED, which, open, lo, hi }
 
 static const drive_limit_t k_limits[] = {
     /* every field: the bases first (the derived limits below need them) */
@@ -608,14 +608,14 @@ static int16_t check_adaptation(const drive_limit_t *l, const limit_ctx_t *x,
                        DRIVE_SLOTS;
         uint32_t need = 2u * ((uint32_t)standstill_z_samples(&z) + drive_adapt_ssz_gap(Ts));
         if (st == STANDSTILL_Z_ERR_AMPL) {
-            return report_as(f, "controller.magnetizing_current_A", "A",
+            return report_as(f, DRIVE_LT("controller.magnetizing_current_A"), DRIVE_LT("A"),
                              c->motor.magnetizing_current_A, 0.0f,
                              0.5f / SSZ_AMPL_OF_IM * b->I_base_A, LO_OPEN);
         }
         if (st != STANDSTILL_Z_OK) {
             /* (the bounds: 8 to 3120 samples a period of the injection, 0.01 to
              * 30 pu of frequency: standstill_z_init) */
-            return report_as(f, "standstill injection frequency", "Hz",
+            return report_as(f, DRIVE_LT("standstill injection frequency"), DRIVE_LT("Hz"),
                              drive_adapt_ssz_freq_Hz(c),
                              fmaxf(1.0f / (3120.0f * Ts), 0.01f * b->f_base_Hz),
                              fminf(1.0f / (8.0f * Ts), 30.0f * b->f_base_Hz), 0u);
@@ -623,7 +623,7 @@ static int16_t check_adaptation(const drive_limit_t *l, const limit_ctx_t *x,
         if (need <= mag) {
             return 0;
         }
-        return report_as(f, "ident.magnetize_s", "s", id->magnetize_time_s, (float)need * Ts,
+        return report_as(f, DRIVE_LT("ident.magnetize_s"), DRIVE_LT("s"), id->magnetize_time_s, (float)need * Ts,
                          100.0f, 0u);
     }
     if (which == DRIVE_LD_TRACKER && id->track_rr != 0u) {
@@ -631,18 +631,18 @@ static int16_t check_adaptation(const drive_limit_t *l, const limit_ctx_t *x,
         tr_track_status_t st = drive_adapt_track_init(&t, c, b, Ts);
         if (st == TR_TRACK_ERR_RANGE) {
             /* theta = 1/Tr in pu up to 4 times the believed one, at most 30 */
-            return report_as(f, "Tr", "s", x->g.tr, 4.0f / 30.0f * b->t_base_s, NO_UPPER,
+            return report_as(f, DRIVE_LT("Tr"), DRIVE_LT("s"), x->g.tr, 4.0f / 30.0f * b->t_base_s, NO_UPPER,
                              HI_OPEN);
         }
         if (st == TR_TRACK_ERR_PHI) {
-            return report_as(f, "controller.max_torque_current_A", "A",
+            return report_as(f, DRIVE_LT("controller.max_torque_current_A"), DRIVE_LT("A"),
                              c->control.max_torque_current_A, 0.0f,
                              b->I_base_A * b->psi_base_Wb /
                                  (TRACK_PHI_MIN_OF_RATED * c->motor.Lm_H *
                                   c->motor.magnetizing_current_A), LO_OPEN);
         }
         if (st != TR_TRACK_OK) {
-            return report_as(f, "ident.track_memory_s", "s", id->track_memory_s, 0.2f, 20.0f, 0u);
+            return report_as(f, DRIVE_LT("ident.track_memory_s"), DRIVE_LT("s"), id->track_memory_s, 0.2f, 20.0f, 0u);
         }
     }
     return 0;
@@ -674,7 +674,7 @@ static int16_t check_sequence_and_protection(const drive_limit_t *l, const limit
         if (lo > v && floor_obs >= lo) {
             /* no target can reach the observer's gate: the motor's rated
              * frequency is below it */
-            return report_as(f, "controller.orientation", "-", 1.0f, 0.0f, 0.0f, 0u);
+            return report_as(f, DRIVE_LT("controller.orientation"), DRIVE_LT("-"), 1.0f, 0.0f, 0.0f, 0u);
         }
         return verdict((int16_t)(target >= lo && target <= v), f, target, lo, v, 0u);
     }
@@ -690,7 +690,7 @@ static int16_t check_sequence_and_protection(const drive_limit_t *l, const limit
         float per_s = bd->vdc_nominal_V * bd->pwm_freq_Hz;   /* V per second of dead time */
         if (!(allowed > bd->device_drop_V)) {
             /* the drop alone takes it: no dead time fits */
-            return report_as(f, "board.device_drop_V", "V", bd->device_drop_V, 0.0f, allowed,
+            return report_as(f, DRIVE_LT("board.device_drop_V"), DRIVE_LT("V"), bd->device_drop_V, 0.0f, allowed,
                              HI_OPEN);
         }
         return verdict((int16_t)(bd->dead_time_s * per_s + bd->device_drop_V <= allowed), f,

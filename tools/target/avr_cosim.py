@@ -37,9 +37,10 @@ STRICT = ["-std=c99", "-Wall", "-Wextra", "-Wconversion", "-Wsign-conversion",
           "-Wshadow", "-Wstrict-prototypes", "-Wmissing-prototypes", "-Wundef",
           "-Wdouble-promotion", "-Werror"]
 # the RLS queue (drive_types.h) at 4 entries: the harnesses run the
-# background every 15 steps (2 entries at most) and the 8 KB of RAM hold
-# every constant of avr-gcc's image
-DEFS = ["-DMATH_TYPE=IQ_MATH", "-DGLOBAL_Q=24", "-DDRIVE_RLSQ_LEN=4u"]
+# background every 15 steps (2 entries at most); the limits' names off
+# (drive_limits.h: avr-gcc keeps every constant in RAM, and the 8 KB of the
+# atmega2560 must hold drive_t, the tables and the stack)
+DEFS = ["-DMATH_TYPE=IQ_MATH", "-DGLOBAL_Q=24", "-DDRIVE_RLSQ_LEN=4u", "-DDRIVE_LIMITS_NAMES=0"]
 
 
 def sources(root, dirs):
@@ -130,11 +131,15 @@ def main():
     avr_strict = [f for f in STRICT if f != "-Wdouble-promotion"]
     # no built-in exp: both sides call cosim_libm.c's (see there)
     nobuiltin = ["-fno-builtin-exp", "-fno-builtin-expf"]
-    avr_flags = ["-mmcu=" + a.mcu, "-Os"] + nobuiltin + avr_strict + DEFS + inc
+    # each function and object in its own section, the unused ones dropped
+    # at the link (--gc-sections): the 8 KB of atmega2560 RAM hold drive_t
+    # and what the harness really uses, not every table of the core
+    avr_flags = (["-mmcu=" + a.mcu, "-Os", "-ffunction-sections", "-fdata-sections"] + nobuiltin
+                 + avr_strict + DEFS + inc)
     host_flags = ["-O1"] + nobuiltin + ["-fsingle-precision-constant", "-fsanitize=undefined",
                   "-fno-sanitize-recover=all"] + STRICT + DEFS + inc
     if not build("avr-gcc", avr_flags, srcs, os.path.join(a.workdir, name + "_avr"), avr_exe,
-                 ["-lm"], a.jobs):
+                 ["-lm", "-Wl,--gc-sections"], a.jobs):
         return 2
     if not build("gcc", host_flags, srcs, os.path.join(a.workdir, name + "_host"), host_exe,
                  ["-lm", "-fsanitize=undefined"], a.jobs):
