@@ -204,7 +204,7 @@ static uint16_t judge_fused(drive_t *d)
 }
 
 /* With the tracker valid (RUN, track_rr), the published set takes the
- * estimates that are well conditioned for each parameter (issue 8): Rs
+ * estimates that are well conditioned for each parameter (the fused set): Rs
  * from the standstill test (independent of the frame), Rr and Tr from the
  * tracker (the slip in the observer's frame: an angle error delta moves it
  * by ~2 delta, against ~w_r Tr delta for the RLS's K3, w_r Tr = 81 on the
