@@ -159,7 +159,7 @@ def test_shell_block_runs(path, line, kind, reason, script):
     where = f"{_rel(path)}:{line}"
     if kind:
         print(f"skipped {where} ({kind}: {reason})")
-        pytest.skip(f"{kind}: {reason}")
+        pytest.skip(f"{where}: {kind}: {reason}")
     try:
         p = subprocess.run(["bash", "-c", "set -euo pipefail\n" + script], cwd=ROOT,
                            capture_output=True, text=True, timeout=TIMEOUT_S)
@@ -175,7 +175,7 @@ def test_table_is_the_tools_output(path, line, cmd, tol, slow, text):
     where = f"{_rel(path)}:{line}"
     if slow:
         print(f"skipped {where} ({cmd}: slow: {slow})")
-        pytest.skip(f"slow: {slow}")
+        pytest.skip(f"{where}: {cmd}: slow: {slow}")
     diffs = compare_tables(text, run_generator(cmd), tol)
     assert not diffs, (f"{where}: the table differs from `{cmd}` beyond tol {tol} "
                        f"(rewrite: .venv/bin/python tools/python/tests/test_docs.py --update):\n"
