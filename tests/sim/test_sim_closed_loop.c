@@ -155,7 +155,7 @@ static void test_identification_1kw(void **state)
 
 /* a 15 kW 400 V machine on a 600 V bus: the hard case (omega_r Tr = 81 at
  * rated speed, so the resistive voltage is about 1 % of the stator
- * voltage; README "Accuracy") */
+ * voltage; docs/accuracy.md) */
 static void test_identification_15kw(void **state)
 {
     (void)state;
