@@ -1,7 +1,8 @@
 /**
  * @file flash.c
  * Flash wait states (F2812 datasheet SPRS174, "Flash timing": at 150 MHz
- * paged and random wait states >= 5, OTP >= 8) and the copy of `ramfuncs`.
+ * paged and random wait states >= 5, OTP >= 8) and the copy of `ramfuncs`
+ * and `ramfuncs_slow`.
  */
 #include <stdint.h>
 #include <string.h>
@@ -25,6 +26,8 @@ void flash_copy_ramfuncs(void)
      * counts 16-bit words, the unit of sizeof and memcpy there. */
     size_t n = (size_t)((uintptr_t)&RamfuncsLoadEnd - (uintptr_t)&RamfuncsLoadStart);
     memcpy(&RamfuncsRunStart, &RamfuncsLoadStart, n);
+    n = (size_t)((uintptr_t)&RamfuncsSlowLoadEnd - (uintptr_t)&RamfuncsSlowLoadStart);
+    memcpy(&RamfuncsSlowRunStart, &RamfuncsSlowLoadStart, n);
 }
 
 void flash_init(void)

@@ -53,8 +53,8 @@ static interrupt void isr_control(void)
 
     const uint16_t overran = drive_isr(s_drive);   /* hal_adc_read (re-arm) ... hal_isr_overrun */
 
-    /* i_M, i_T, speed, Rr for a CCS graph (datalog.h), in the ISR whose
-     * slow slot is empty (drive_log_due): the log's cost never adds to the
+    /* i_M, i_T, speed, Rr for a CCS graph (datalog.h), in the ISR of the
+     * lightest slow slot (drive_log_due): the log's cost never adds to the
      * heaviest ISR */
     if (drive_log_due(s_drive) != 0u) {
         drive_get_log_signals(s_drive, s_dlog->in);

@@ -77,6 +77,8 @@ int main(void)
         halt_on_config_error();
     }
     (void)datalog_init(&g_dlog, DLOG_PRESCALE, _IQ(0.1));
+    /* i_M, i_T, speed: +-2 pu (the default); Rr: +-0.25 pu (pu of Z_base) */
+    (void)datalog_set_full_scale(&g_dlog, 3u, -2);
     bg_loop_init(&g_bg, BG_TLM_PERIOD_TICKS);
 
     pwm_f2812_init(tm.t1pr, tm.dbtcona);

@@ -126,10 +126,10 @@ uint16_t drive_isr(drive_t *d);
  *  GLOBAL_Q) as the ISR last left them: for the firmware's data log, read
  *  without copying the whole telemetry snapshot. */
 void drive_get_log_signals(const drive_t *d, _iq sig[4]);
-/** 1 right after the ISR whose slow slot carries no drive work
- *  (DRIVE_SLOT_LOG): the firmware's data log runs then, so that its cost
- *  adds to the lightest ISR of the schedule (data at f_pwm / DRIVE_SLOTS,
- *  before the log's own prescaler). */
+/** 1 right after the ISR of DRIVE_LOG_SLOT, the schedule's lightest slow
+ *  slot: the firmware's data log runs then, so that its cost adds to the
+ *  lightest ISR (data at f_pwm / DRIVE_SLOTS, before the log's own
+ *  prescaler). */
 uint16_t drive_log_due(const drive_t *d);
 /** The same without the HAL. */
 void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,

@@ -55,8 +55,11 @@ typedef enum {
     DRIVE_SLOT_SEQUENCE,    /* identification sequence, adaptation, telemetry, snapshot events */
     DRIVE_SLOT_OBSERVER_A,  /* the rotor-flux observer's models (orientation 1) */
     DRIVE_SLOT_OBSERVER_B,  /* its rotor flux, angle and speed */
-    DRIVE_SLOT_LOG          /* no drive work: the firmware's data log runs in this ISR */
+    DRIVE_SLOT_SAFETY       /* the model-based protections' slow step (drive_safety.c) */
 } drive_slot_t;
+/** The firmware's data log runs in the ISR after this slot's, the lightest
+ *  of the schedule (drive_log_due; tools/bench_isr.py adds its cost there). */
+#define DRIVE_LOG_SLOT DRIVE_SLOT_FILTERS_B
 
 /** Gains and constants derived once by drive_init (pu, Q24). */
 typedef struct {
@@ -236,6 +239,7 @@ typedef struct {
     _iq k_emf;                   /* Q24: k_emf tau_r (pu time): the allowance for the model's
                                     back-EMF error per pu of |w_s| |psi_e| */
     _iq k_emf_ident;             /* Q24: the same once the model is identified (pass >= 2) */
+    _iq psi_e;                   /* Q24 pu: the model's back-EMF flux of the last slow step */
 } drive_safety_t;
 
 struct drive {

@@ -1,7 +1,8 @@
 /*
  * F2812_flash.cmd: the stand-alone (boot to flash) image of the F2812
  * firmware.  Use with F2812_headers.cmd (peripheral register frames); it
- * #includes F2812_isr_path.cmd (generated, the ISR path's functions), found
+ * #includes F2812_isr_path.cmd and F2812_isr_slow.cmd (generated, the ISR
+ * path's functions, every period / only through the slow dispatch), found
  * through the link's --search_path (firmware/CMakeLists.txt, the CCS project).
  *
  * Memory map: TMS320F2812 data sheet (SPRS174), "F2812 memory map" and
@@ -11,27 +12,50 @@
  * the same address space, so no range may appear on both pages.
  *
  * RAM budget, 16-bit words.  Estimates of tools/bench_size.py (Thumb-2
- * stand-in compiler x 1.2; CTest target_ram_fit checks each block at 70 %):
- *   L0+L1 SARAM 8K  ramfuncs RUN: exactly the control ISR's call graph
- *                   (F2812_isr_path.cmd: the src/ functions by input section,
- *                   compiled --gen_func_subsections=on), the firmware's ISR
- *                   and HAL functions (#pragma CODE_SECTION "ramfuncs"),
- *                   flash_init (reprograms the wait states) and TI's IQmath
- *                   code (section IQmath, TI's IQmath examples run it from
- *                   RAM too: 2812_IQmath_lnk.cmd).  Estimated 9 500 words:
- *                   MORE than L0+L1; the link fails ("placement fails for
- *                   object ramfuncs") if the cl2000 code is that large.
- *                   L0/L1 are CSM-secure RAM: secure code may run there.
- *   H0 SARAM 8K     .ebss (drive_t 1 464, telemetry rings 537, statics:
- *                   2 009) and dlog (the data log, 2 068, fixed address
- *                   for the CCS graph window): 4 077
- *   M0+M1 SARAM 2K  .stack (--stack_size=0x600 in firmware/CMakeLists.txt;
- *                   the stack pointer is 16 bits, so the stack must be in the
- *                   low 64K words: M0/M1 or L0/L1, SPRU430) estimated 701
- *                   (deepest background chain + deepest ISR chain + the
- *                   interrupt context); .esysmem (no heap: --heap_size=0)
- * Flash 128K: code in J..E (estimated 12 400 words outside ramfuncs),
- * constants in F, ramfuncs LOAD image in D, C..B spare, A holds only
+ * stand-in compiler x 1.2; CTests target_ram_fit_* check each range below at
+ * 70 %).  Only the ISR path runs from RAM, split by the call graph in two
+ * sets; all SARAM is zero-wait at 150 MHz (SPRS174), so which block an ISR
+ * function runs from does not change its cycles.  L0+L1 and H0 are each
+ * split in a program range (PAGE 0) and a data range (PAGE 1) that do not
+ * overlap (one unified memory):
+ *   L0+L1 8K  RAML0L1 0x8000, 4 480: ramfuncs RUN: the every-period set
+ *             (F2812_isr_path.cmd: src/ functions the control ISR reaches
+ *             without going through drive_slow_task, drive_slow_task
+ *             itself included), the firmware's ISR and HAL functions
+ *             (#pragma CODE_SECTION "ramfuncs"), flash_init (reprograms the
+ *             wait states).  Estimated 3 083 (69 %).
+ *             RAML0L1_DATA 0x9180, 3 712: .ebss (drive_t 1 956, telemetry
+ *             rings, statics): 2 501 (67 %).
+ *   H0 8K     RAMH0 0x3F8000, 6 656: ramfuncs_slow RUN: the set the ISR
+ *             reaches only through drive_slow_task (F2812_isr_slow.cmd: the
+ *             slot tasks: filters, observer, sequence, adaptation, tracker)
+ *             and TI's IQmath code (section IQmath, called from both sets;
+ *             TI's IQmath examples run it from RAM too: 2812_IQmath_lnk.cmd).
+ *             Estimated 4 094 (62 %).
+ *             RAMH0_DATA 0x3F9A00, 1 536: dlog (the data log, 16-bit
+ *             samples, fixed address for the CCS graph window): 1 050 (68 %).
+ *   M0+M1 2K  .stack (--stack_size=0x600 in firmware/CMakeLists.txt; the
+ *             stack pointer is 16 bits, so the stack must be in the low 64K
+ *             words: M0/M1 or L0/L1, SPRU430) estimated 612 (40 % of
+ *             0x600: deepest background chain + deepest ISR chain + the
+ *             interrupt context); .esysmem (no heap: --heap_size=0).
+ * Headroom: L0+L1 holds 5 584 of 8 192 (68 %): about 150 words of code or
+ * data growth before one of its two ranges passes 70 % (the boundary
+ * 0x9180 can move between them); H0's program range about 560 more.  The
+ * ISR path is 7 145 words today; at 8 000-8 500 (the pending branches) the
+ * 70 % rule holds only if most of the growth is in the slow set, or if
+ * .ebss or the stack reservation shrinks.
+ * Code security (CSM): on the F281x the CSM protects the flash, the OTP and
+ * the L0/L1 SARAM (TI SPRU078, "Code Security Module"; H0, M0, M1 are not
+ * secure memory).  With a password programmed and the device locked, code
+ * running from unsecure memory cannot read secure memory (reads return 0).
+ * ramfuncs_slow runs from H0 and reads .ebss (L1) and flash constants, so a
+ * locked device would break the slow tasks: run the drive with the CSM
+ * unlocked (erased password, as in development), or move ramfuncs_slow to
+ * secure memory.  (This reading of SPRU078 could not be checked against the
+ * document here; confirm it before programming a password.)
+ * Flash 128K: code in J..E, constants in F, ramfuncs LOAD image in D,
+ * ramfuncs_slow LOAD image in C, B spare, A holds only
  * codestart (BEGIN), the CSM reserved words and password.
  * IQmathTables (sin/cos/atan/div/sqrt seed tables) stay in boot ROM
  * (NOLOAD; 1 wait state, SPRS174): TI's IQmath functions read them there.
@@ -42,7 +66,8 @@
 MEMORY
 {
 PAGE 0 :   /* program */
-   RAML0L1    : origin = 0x008000, length = 0x002000   /* L0 + L1 SARAM, ramfuncs RUN */
+   RAML0L1    : origin = 0x008000, length = 0x001180   /* L0 + first 384 words of L1: ramfuncs RUN */
+   RAMH0      : origin = 0x3F8000, length = 0x001A00   /* first 6.5K of H0: ramfuncs_slow RUN */
    OTP        : origin = 0x3D7800, length = 0x000400   /* 1K OTP, not used */
    FLASHJ     : origin = 0x3D8000, length = 0x002000
    FLASHI     : origin = 0x3DA000, length = 0x002000
@@ -62,7 +87,8 @@ PAGE 0 :   /* program */
 
 PAGE 1 :   /* data */
    RAMM0M1    : origin = 0x000000, length = 0x000800   /* M0 + M1 SARAM */
-   RAMH0      : origin = 0x3F8000, length = 0x002000
+   RAML0L1_DATA : origin = 0x009180, length = 0x000E80 /* rest of L1: .ebss */
+   RAMH0_DATA : origin = 0x3F9A00, length = 0x000600   /* last 1.5K of H0: dlog */
 }
 
 SECTIONS
@@ -74,12 +100,23 @@ SECTIONS
    ramfuncs         : {
                          *(ramfuncs)
 #include "F2812_isr_path.cmd"
-                         *(IQmath)
                       }
                       LOAD = FLASHD, RUN = RAML0L1,
                       LOAD_START(_RamfuncsLoadStart),
                       LOAD_END(_RamfuncsLoadEnd),
                       RUN_START(_RamfuncsRunStart),
+                      PAGE = 0
+   /* the slow set (reached only through drive_slow_task) and TI's IQmath
+    * (called from both sets) run from H0, zero wait states as L0/L1 */
+   ramfuncs_slow    : {
+                         *(ramfuncs_slow)
+#include "F2812_isr_slow.cmd"
+                         *(IQmath)
+                      }
+                      LOAD = FLASHC, RUN = RAMH0,
+                      LOAD_START(_RamfuncsSlowLoadStart),
+                      LOAD_END(_RamfuncsSlowLoadEnd),
+                      RUN_START(_RamfuncsSlowRunStart),
                       PAGE = 0
    .text            : >> FLASHJ | FLASHI | FLASHH | FLASHG,  PAGE = 0
    .cinit           : > FLASHE,     PAGE = 0
@@ -90,7 +127,7 @@ SECTIONS
    .reset           : > RESET,      PAGE = 0, TYPE = DSECT   /* boot ROM supplies it */
 
    .stack           : > RAMM0M1,    PAGE = 1
-   .ebss            : > RAMH0,      PAGE = 1
-   dlog             : > RAMH0,      PAGE = 1
+   .ebss            : > RAML0L1_DATA, PAGE = 1
+   dlog             : > RAMH0_DATA, PAGE = 1
    .esysmem         : > RAMM0M1,    PAGE = 1
 }

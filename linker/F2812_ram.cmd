@@ -1,29 +1,31 @@
 /*
  * F2812_ram.cmd: the debug image that CCS loads into RAM, without
  * programming the flash (FIRMWARE_IMAGE=ram).  Use with F2812_headers.cmd;
- * #includes F2812_isr_path.cmd as F2812_flash.cmd does.
+ * #includes F2812_isr_path.cmd and F2812_isr_slow.cmd as F2812_flash.cmd does.
  * Memory map: SPRS174, as in F2812_flash.cmd (checked by the same CI test).
  *
  * What fits (16-bit words, estimates of tools/bench_size.py
- * --linker-cmd linker/F2812_ram.cmd): the on-chip RAM is 18K (M0 1K, M1 1K,
- * L0 4K, L1 4K, H0 8K); the firmware needs about 30K: ramfuncs (the ISR
- * path) 9 500, the other code 12 400, constants 2 800, .ebss + dlog 4 100,
- * stack 1 500.  So a RAM-only image of the whole firmware does NOT fit the
- * F2812's internal RAM.  This image therefore needs a board with external
- * SRAM on XINTF zone 6 (0x100000, 64K words here, as the eZdsp F2812 board
- * has; the XINTF timing registers reset to their slowest setting, SPRU067,
- * so CCS can load there before any code ran), which takes the
- * code that runs at most once per telemetry frame (init, background,
- * telemetry, the float emulation) and the constants.  Everything that runs
- * in the ISR is on-chip as in the flash image:
- *   L0+L1 8K   ramfuncs, loaded in place (LOAD = RUN: flash_copy_ramfuncs
- *              copies the section onto itself, a no-op, so main.c is the
- *              same for both images).  Estimated 9 500: does not fit, as in
- *              the flash image.
- *   H0 8K      codestart (boot-to-H0 entry, 2 words), .ebss (2 009) and
- *              dlog (2 068)
+ * --linker-cmd linker/F2812_ram.cmd, CTest target_ram_fit_ram_image): the
+ * on-chip RAM is 18K (M0 1K, M1 1K, L0 4K, L1 4K, H0 8K); the firmware needs
+ * about 31K: the ISR path 7 145 (every-period set 3 083, slow set + IQmath
+ * 4 094), the other code and the constants about 22 400, .ebss 2 501, dlog
+ * 1 050, stack 1 536.  So a RAM-only image of the whole firmware does NOT
+ * fit the F2812's internal RAM.  This image therefore needs a board with
+ * external SRAM on XINTF zone 6 (0x100000, 64K words here, as the eZdsp
+ * F2812 board has; the XINTF timing registers reset to their slowest
+ * setting, SPRU067, so CCS can load there before any code ran), which takes
+ * the code that runs at most once per telemetry frame (init, background,
+ * telemetry, the float emulation) and the constants.  Everything the ISR
+ * runs is on-chip in the same ranges as in the flash image
+ * (F2812_flash.cmd gives the budget), loaded in place (LOAD = RUN:
+ * flash_copy_ramfuncs copies each section onto itself, a no-op, so main.c
+ * is the same for both images):
+ *   L0+L1 8K   ramfuncs (RAML0L1, 4 480) and .ebss (RAML0L1_DATA, 3 712)
+ *   H0 8K      codestart (boot-to-H0 entry, 2 words), ramfuncs_slow
+ *              (RAMH0, 6 654) and dlog (RAMH0_DATA, 1 536)
  *   M0+M1 2K   .stack (0x600) and .esysmem (no heap)
- *   XINTF 6    .text, .cinit, .pinit, .switch, .econst (about 15 000)
+ *   XINTF 6    .text, .cinit, .pinit, .switch, .econst (about 22 400 of
+ *              65 536)
  * On a board without external RAM use the flash image.  How to load: CCS
  * "Load Program" of the FIRMWARE_IMAGE=ram build (the loader sets the PC to
  * _c_int00), or a reset in the boot ROM's "jump to H0 SARAM" mode (boot mode
@@ -34,7 +36,8 @@ MEMORY
 {
 PAGE 0 :
    BEGINH0    : origin = 0x3F8000, length = 0x000002   /* boot-to-H0 entry */
-   RAML0L1    : origin = 0x008000, length = 0x002000   /* L0 + L1 SARAM, ramfuncs */
+   RAML0L1    : origin = 0x008000, length = 0x001180   /* L0 + first 384 words of L1: ramfuncs */
+   RAMH0      : origin = 0x3F8002, length = 0x0019FE   /* H0 after BEGINH0 up to 0x3F99FF: ramfuncs_slow */
    XRAM6      : origin = 0x100000, length = 0x010000   /* external SRAM, XINTF zone 6 */
    CSM_PWL    : origin = 0x3F7FF8, length = 0x000008   /* CsmPwlFile (F2812_headers.cmd) */
    IQTABLES   : origin = 0x3FF000, length = 0x000B50
@@ -42,7 +45,8 @@ PAGE 0 :
 
 PAGE 1 :
    RAMM0M1    : origin = 0x000000, length = 0x000800   /* M0 + M1 SARAM */
-   RAMH0      : origin = 0x3F8002, length = 0x001FFE
+   RAML0L1_DATA : origin = 0x009180, length = 0x000E80 /* rest of L1: .ebss */
+   RAMH0_DATA : origin = 0x3F9A00, length = 0x000600   /* last 1.5K of H0: dlog */
 }
 
 SECTIONS
@@ -51,12 +55,23 @@ SECTIONS
    ramfuncs         : {
                          *(ramfuncs)
 #include "F2812_isr_path.cmd"
-                         *(IQmath)
                       }
                       LOAD = RAML0L1, RUN = RAML0L1,
                       LOAD_START(_RamfuncsLoadStart),
                       LOAD_END(_RamfuncsLoadEnd),
                       RUN_START(_RamfuncsRunStart),
+                      PAGE = 0
+   /* the slow set (reached only through drive_slow_task) and TI's IQmath
+    * (called from both sets) run from H0, zero wait states as L0/L1 */
+   ramfuncs_slow    : {
+                         *(ramfuncs_slow)
+#include "F2812_isr_slow.cmd"
+                         *(IQmath)
+                      }
+                      LOAD = RAMH0, RUN = RAMH0,
+                      LOAD_START(_RamfuncsSlowLoadStart),
+                      LOAD_END(_RamfuncsSlowLoadEnd),
+                      RUN_START(_RamfuncsSlowRunStart),
                       PAGE = 0
    .text            : > XRAM6,      PAGE = 0
    .cinit           : > XRAM6,      PAGE = 0
@@ -67,7 +82,7 @@ SECTIONS
    .reset           : > RESET,      PAGE = 0, TYPE = DSECT
 
    .stack           : > RAMM0M1,    PAGE = 1
-   .ebss            : > RAMH0,      PAGE = 1
-   dlog             : > RAMH0,      PAGE = 1
+   .ebss            : > RAML0L1_DATA, PAGE = 1
+   dlog             : > RAMH0_DATA, PAGE = 1
    .esysmem         : > RAMM0M1,    PAGE = 1
 }

@@ -106,7 +106,7 @@ FIRMWARE_ISR = (("firmware/isr.c", "isr_control"), ("firmware/isr.c", "isr_elaps
                 ("firmware/hal_qep_f2812.c", "hal_qep_read_count"),
                 ("src/app/drive_slow.c", "drive_log_due"))
 # ... and what isr_control runs only in the ISR of the slot without drive
-# work (drive_log_due: DRIVE_SLOT_LOG, the schedule's last slot)
+# work (drive_log_due: after DRIVE_LOG_SLOT's ISR, the lightest slot)
 FIRMWARE_LOG_SLOT = (("firmware/datalog.c", "datalog_step"),
                      ("src/app/drive_step.c", "drive_get_log_signals"))
 
@@ -483,7 +483,7 @@ def estimate(build, config, uniform, jobs):
     for s, lines in zip(samples, dumps):
         calls = {}
         c_lines, _, _ = coster.cost(lines, calls)
-        fw = fixed + (log_cost if s["slot"] == data["slots"] - 1 else 0)
+        fw = fixed + (log_cost if s["slot"] == data["log_slot"] else 0)
         s["cycles"] = fw + c_lines
         # the IQmath calls attributed to lines must cover every call counted
         # (more is possible: both arms of a ?: are costed, errs high)
@@ -504,7 +504,7 @@ def estimate(build, config, uniform, jobs):
                 for ln, n in d.items():
                     t[ln] = max(t.get(ln, 0), n)
         c_lines, mods, hot = coster.cost(wl)
-        fw = fixed + (log_cost if slot == data["slots"] - 1 else 0)
+        fw = fixed + (log_cost if slot == data["log_slot"] else 0)
         worst = fw + c_lines
         mods = dict(mods)
         mods[FIRMWARE] = fw
@@ -523,7 +523,7 @@ def estimate(build, config, uniform, jobs):
                       "isrs": data["state_isrs"].get(state, 0), "classes": cl}
     return {"states": out, "fixed": fixed, "firmware_functions": fw_fns,
             "log_slot_cycles": log_cost, "log_slot_functions": log_fns,
-            "slots": data["slots"], "isrs": data["isrs"]}
+            "slots": data["slots"], "log_slot": data["log_slot"], "isrs": data["isrs"]}
 
 
 def summary(res):
@@ -617,7 +617,7 @@ def main(argv=None):
     fw = next(iter(results.values()))
     print(f"fixed per ISR {fw['fixed']:.0f} cycles: entry/exit {ISR_ENTRY_EXIT}, firmware "
           + ", ".join(f"{k} {v:.0f}" for k, v in fw["firmware_functions"].items()))
-    print(f"in the log slot's ISR (slot {fw['slots'] - 1}) {fw['log_slot_cycles']:.0f} more: "
+    print(f"in the log slot's ISR (slot {fw['log_slot']}) {fw['log_slot_cycles']:.0f} more: "
           + ", ".join(f"{k} {v:.0f}" for k, v in fw["log_slot_functions"].items()))
     print("cycles per operation: " + ", ".join(f"{k} {v}" for k, v in OTHER_COST.items()) +
           f", peripheral register access +{PERIPH_WAIT}; assumed IQmath: " +

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Code and RAM size of the F2812 firmware, estimated with a stand-in compiler,
-and the placement of the control ISR's call graph in RAM (`ramfuncs`).
+and the placement of the control ISR's call graph in RAM (`ramfuncs`, `ramfuncs_slow`).
 
 TI's cl2000 cannot be installed here, so the code is compiled for Thumb-2
 (Debian's gcc-arm-none-eabi, -mthumb -mcpu=cortex-m3) and its bytes are
@@ -37,6 +37,12 @@ ADCINT entry, which calls drive_isr and the data log), nothing else: init,
 background and float code are not on it unless the ISR calls them (checked:
 no soft-float helper may be reachable).  The call graph has no function
 pointers to miss: the core has none, and every interrupt entry is a root.
+It is split in two sets: FAST, every function reachable without going through
+the slow-task dispatch `drive_slow_task` (the dispatch itself included: it
+runs every period), placed in `ramfuncs` (linker/F2812_isr_path.cmd), and
+SLOW, reachable only through it (the slot tasks), placed in `ramfuncs_slow`
+(linker/F2812_isr_slow.cmd); a function reached both ways is fast.  TI's
+IQmath section counts in whichever of the two gathers `*(IQmath)`.
 
 Conversion Thumb-2 bytes -> C28x words: WORDS_PER_HALFWORD (1.2) words per
 Thumb-2 halfword, i.e. 0.6 words per byte.  Why: both instruction sets mix 16-
@@ -56,25 +62,32 @@ directly on memory (loc32 operands), so factor 1 is possible; 1.2 errs high
 and is stated in every output.
 
 RAM capacities come from the linker command file the firmware build uses
-(--linker-cmd, default linker/F2812_flash.cmd): the RUN range(s) of
-`ramfuncs`, the range of `.ebss` (with everything else placed there, e.g.
-`dlog`) and of `.stack`.  .ebss is computed in C28x words from the declared
+(--linker-cmd, default linker/F2812_flash.cmd): every RAM range is counted
+with what it holds (the RUN ranges of `ramfuncs` and `ramfuncs_slow`, the
+ranges of `.ebss`, `dlog`), the stack against --stack_size; in the RAM image
+(linker/F2812_ram.cmd) the rest of the program against its external RAM.  .ebss is computed in C28x words from the declared
 types of every global variable (tools/bench_ram.py's C28x layout of the
 structures, drive_t included), not from the Thumb-2 sizes.
 
 Usage:
   bench_size.py [--json] [--build DIR] [--linker-cmd F] [--board-config F]
                 [--factor X] [--check] [--write-isr-cmd F | --check-isr-cmd F]
---check [ramfuncs|data|all]: exit 1 when (ramfuncs) the ISR path in
-`ramfuncs` > 70 % of its RUN RAM or a soft-float helper is reachable from the
-ISR; (data) .ebss + the other sections of its block > 70 % of that block, or
-the estimated stack > 70 % of --stack_size (firmware/CMakeLists.txt).
---check-isr-cmd: exit 1 when the committed linker include differs from what
-the call graph gives now, or when the firmware's `#pragma CODE_SECTION(f,
-"ramfuncs")` and the ISR path disagree.
+                [--slow-cmd S]
+--check [ramfuncs|data|all]: exit 1 when (ramfuncs) a RAM range that runs
+ramfuncs or ramfuncs_slow holds > 70 % of its size, or a soft-float helper is
+reachable from the ISR, or (RAM image) the rest of the program > 70 % of its
+external RAM; (data) a range holding .ebss or dlog > 70 %, or the estimated
+stack > 70 % of --stack_size (firmware/CMakeLists.txt).
+--write-isr-cmd F: write the fast set to F and the slow set to --slow-cmd
+(default next to F: F2812_isr_path.cmd -> F2812_isr_slow.cmd).
+--check-isr-cmd F [--slow-cmd S]: exit 1 when a committed include differs
+from what the call graph gives now (naming a function in the wrong set), or
+when the firmware's `#pragma CODE_SECTION(f, "ramfuncs")` and the ISR path
+disagree.
 """
 import argparse
 import concurrent.futures as cf
+import difflib
 import json
 import os
 import re
@@ -94,6 +107,9 @@ NM = "arm-none-eabi-nm"
 ARCH = ["-mthumb", "-mcpu=cortex-m3"]
 WORDS_PER_HALFWORD = 1.2           # see the module docstring
 ISR_ROOTS = ("isr_control",)       # firmware/isr.c: the ADCINT (PIE 1.6) entry
+# the slow-task dispatch (src/app/drive_slow.c): what only it reaches runs
+# once per DRIVE_SLOTS periods, in `ramfuncs_slow`; it runs every period itself
+SLOW_DISPATCH = "drive_slow_task"
 LIMIT = 0.70                       # 30 % of every RAM block kept spare
 SIZE_FLAGS = ["-Os", "-fno-inline-functions", "-fno-inline-small-functions",
               "-fno-inline-functions-called-once", "-fno-ipa-cp", "-fno-ipa-sra",
@@ -281,18 +297,25 @@ def linker_plan(path):
     text = Path(path).read_text()
     ranges, sections = check_linker_cmd.parse(text)
     lengths = {r[0]: r[3] for r in ranges}
-    place = {}
+    place, contents = {}, {}
     body = check_linker_cmd.strip_comments(sections)
     # one output section per entry: NAME [: {..}] (> | >> | RUN =) R1 [| R2 ...]
     for m in re.finditer(r"^\s*([.\w]+)\s*:(.*?)(?=^\s*[.\w]+\s*:|\Z)", body, re.S | re.M):
         name, spec = m.group(1), m.group(2)
+        contents[name] = spec
         run = re.search(r"RUN\s*=\s*(\w+(?:\s*\|\s*\w+)*)", spec)
         tgt = run or re.search(r">>?\s*(\w+(?:\s*\|\s*\w+)*)", spec)
         if tgt:
             place[name] = re.split(r"\s*\|\s*", tgt.group(1).strip())
-    if "ramfuncs" not in place:
-        raise SystemExit(f"bench_size: {path} places no ramfuncs")
-    return {"ranges": lengths, "place": place, "file": rel(path)}
+    for need in ("ramfuncs", "ramfuncs_slow"):
+        if need not in place:
+            raise SystemExit(f"bench_size: {path} places no {need}")
+    # the output section that gathers TI's IQmath code (ramfuncs or ramfuncs_slow)
+    iq = [n for n, c in contents.items() if re.search(r"\*\(\s*IQmath\s*\)", c)]
+    if len(iq) != 1:
+        raise SystemExit(f"bench_size: {path}: *(IQmath) must be in one output section, not {iq}")
+    return {"ranges": lengths, "place": place, "file": rel(path), "iqmath_in": iq[0],
+            "text_in": place.get(".text", [])}
 
 
 def stack_size():
@@ -371,40 +394,65 @@ def ebss(graph, srcs, layout):
     return rows
 
 
-# --- the linker include of the ISR path --------------------------------------
+# --- the linker includes of the ISR path -------------------------------------
 PRAGMA = re.compile(r'#pragma\s+CODE_SECTION\s*\(\s*(\w+)\s*,\s*"(\w+)"\s*\)')
+FAST_SECTION, SLOW_SECTION = "ramfuncs", "ramfuncs_slow"
+
+
+def pragma_sections():
+    """{function: (section, file)} of the firmware's #pragma CODE_SECTION
+    into ramfuncs or ramfuncs_slow."""
+    out = {}
+    for f in sorted((ROOT / "firmware").glob("*.c")):
+        for m in PRAGMA.finditer(f.read_text()):
+            if m.group(2) in (FAST_SECTION, SLOW_SECTION):
+                out[m.group(1)] = (m.group(2), rel(f))
+    return out
 
 
 def pragma_ramfuncs():
     """{function: file} of the firmware's #pragma CODE_SECTION(f, "ramfuncs")."""
-    out = {}
-    for f in sorted((ROOT / "firmware").glob("*.c")):
-        for m in PRAGMA.finditer(f.read_text()):
-            if m.group(2) == "ramfuncs":
-                out[m.group(1)] = rel(f)
-    return out
+    return {f: p for f, (s, p) in pragma_sections().items() if s == FAST_SECTION}
 
 
-def isr_cmd_text(graph, abi="coffabi"):
-    """The linker include: the input sections of every source function the
-    control ISR reaches, except the firmware's own (in `ramfuncs` by
-    #pragma) and the IQmath stand-in (TI's IQmath section, placed whole)."""
-    seen, _ext = graph.reach(graph.roots(ISR_ROOTS), stop=is_iqmath)
+def isr_sets(graph):
+    """(fast, slow) titles of the ISR path, the IQmath stand-in's entries
+    included where they are reached: fast = reachable from the control ISR
+    without going through the slow-task dispatch (the dispatch itself runs
+    every period: fast), slow = reachable only through it."""
+    roots = graph.roots(ISR_ROOTS)
+    fast, _ = graph.reach(roots, stop=lambda f: is_iqmath(f) or f["name"] == SLOW_DISPATCH)
+    every, _ = graph.reach(roots, stop=is_iqmath)
+    if not any(graph.func[t]["name"] == SLOW_DISPATCH for t in fast):
+        raise SystemExit(f"bench_size: {SLOW_DISPATCH} is not reachable from {ISR_ROOTS}")
+    return fast, every - fast
+
+
+def slow_cmd_path(fast_path):
+    """The slow set's include next to the fast one: F2812_isr_path.cmd ->
+    F2812_isr_slow.cmd (other names: <stem>_slow.cmd)."""
+    p = Path(fast_path)
+    if p.name.endswith("_isr_path.cmd"):
+        return p.with_name(p.name[:-len("_isr_path.cmd")] + "_isr_slow.cmd")
+    return p.with_name(p.stem + "_slow" + p.suffix)
+
+
+def src_names(graph, titles):
+    return {graph.func[t]["name"] for t in titles
+            if not is_iqmath(graph.func[t])
+            and not rel(graph.func[t]["file"]).startswith("firmware/")}
+
+
+def isr_cmd_texts(graph, abi="coffabi"):
+    """(fast include, slow include): the input sections of every source
+    function the control ISR reaches, except the firmware's own (placed by
+    #pragma) and the IQmath stand-in (TI's IQmath section, placed whole).  A
+    name reached both ways is in the fast file only."""
+    fast, slow = isr_sets(graph)
     prefix = "_" if abi == "coffabi" else ""
-    names = sorted({graph.func[t]["name"] for t in seen
-                    if not is_iqmath(graph.func[t])
-                    and not rel(graph.func[t]["file"]).startswith("firmware/")})
-    lines = [
-        "/*",
-        " * F2812_isr_path.cmd: GENERATED by tools/bench_size.py --write-isr-cmd, do not edit.",
-        " * CTest target_isr_path_cmd_current fails when it differs from the call graph.",
-        " *",
-        " * The input sections of every function of src/ (and of the inline functions of",
-        " * include/ that cl2000 may emit as functions) that the control ISR (isr_control",
-        " * -> drive_isr ...) can call, found in the call graph of gcc -O1 -fno-inline",
-        " * (every source-level function kept).  Included inside the `ramfuncs` output",
-        " * section of F2812_flash.cmd / F2812_ram.cmd, which loads it from flash and runs",
-        " * it from RAM (copied at boot by flash_copy_ramfuncs).",
+    fast_names = sorted(src_names(graph, fast))
+    slow_names = sorted(src_names(graph, slow) - set(fast_names))
+    common = [
         " *",
         " * cl2000 --gen_func_subsections=on puts each function in its own subsection",
         " * `.text:<symbol>` (SPRU514 \"--gen_func_subsections\"; SPRU513 \"Subsections\": the",
@@ -412,27 +460,91 @@ def isr_cmd_text(graph, abi="coffabi"):
         " * name).  Symbol names: COFF ABI prefixes C names with '_', EABI does not",
         f" * (SPRU514 \"COFF ABI vs EABI\").  This file: --abi={abi}.  A static function of",
         " * the same name in two files is matched in both (a few words more in RAM).",
+    ]
+    fast_lines = [
+        "/*",
+        " * F2812_isr_path.cmd: GENERATED by tools/bench_size.py --write-isr-cmd, do not edit.",
+        " * CTest target_isr_path_cmd_current fails when it differs from the call graph.",
+        " *",
+        " * The FAST set of the ISR path: the input sections of every function of src/",
+        " * (and of the inline functions of include/ that cl2000 may emit as functions)",
+        " * that the control ISR (isr_control -> drive_isr ...) can call WITHOUT going",
+        f" * through the slow-task dispatch {SLOW_DISPATCH} (which is listed: it runs every",
+        " * period), found in the call graph of gcc -O1 -fno-inline (every source-level",
+        " * function kept).  Included inside the `ramfuncs` output section of",
+        " * F2812_flash.cmd / F2812_ram.cmd (RUN in L0+L1, copied at boot by",
+        " * flash_copy_ramfuncs).  What only the dispatch reaches is in",
+        " * F2812_isr_slow.cmd (`ramfuncs_slow`, RUN in H0).",
+    ] + common + [
         " * The firmware's own ISR functions are in `ramfuncs` by #pragma CODE_SECTION",
         " * (checked by the same test); TI's IQmath functions by the IQmath section.",
-        f" * {len(names)} functions.",
+        f" * {len(fast_names)} functions.",
         " */",
-    ]
-    lines += [f"*(.text:{prefix}{n})" for n in names]
-    return "\n".join(lines) + "\n"
+    ] + [f"*(.text:{prefix}{n})" for n in fast_names]
+    slow_lines = [
+        "/*",
+        " * F2812_isr_slow.cmd: GENERATED by tools/bench_size.py --write-isr-cmd, do not edit.",
+        " * CTest target_isr_path_cmd_current fails when it differs from the call graph.",
+        " *",
+        " * The SLOW set of the ISR path: the input sections of every function of src/",
+        f" * that the control ISR reaches ONLY through the slow-task dispatch {SLOW_DISPATCH}",
+        " * (the slot tasks: filters, observer, sequence, adaptation, tracker), found in",
+        " * the call graph of gcc -O1 -fno-inline.  A function also reached on the",
+        " * every-period path is in F2812_isr_path.cmd instead.  Included inside the",
+        " * `ramfuncs_slow` output section of F2812_flash.cmd / F2812_ram.cmd (RUN in",
+        " * H0 SARAM, zero wait states as L0/L1; copied at boot by flash_copy_ramfuncs).",
+    ] + common + [
+        f" * {len(slow_names)} functions.",
+        " */",
+    ] + [f"*(.text:{prefix}{n})" for n in slow_names]
+    return "\n".join(fast_lines) + "\n", "\n".join(slow_lines) + "\n"
 
 
 def pragma_problems(graph):
-    """Firmware ISR-path functions without the pragma, and pragma'd functions
-    that are not on the ISR path nor in RAMFUNCS_NOT_ISR."""
-    seen, _ = graph.reach(graph.roots(ISR_ROOTS), stop=is_iqmath)
-    fw_isr = {graph.func[t]["name"]: rel(graph.func[t]["file"]) for t in seen
-              if rel(graph.func[t]["file"]).startswith("firmware/")}
-    pr = pragma_ramfuncs()
-    errs = [f"{f} ({p}) is called from the ISR but has no #pragma CODE_SECTION({f}, \"ramfuncs\")"
-            for f, p in sorted(fw_isr.items()) if f not in pr]
-    errs += [f"{f} ({p}) is in ramfuncs by #pragma but not on the ISR path "
+    """Firmware ISR-path functions without the pragma of their set, and
+    pragma'd functions that are not in that set nor in RAMFUNCS_NOT_ISR."""
+    fast, slow = isr_sets(graph)
+    want = {}
+    for titles, sec in ((slow, SLOW_SECTION), (fast, FAST_SECTION)):   # fast wins
+        for t in titles:
+            if rel(graph.func[t]["file"]).startswith("firmware/"):
+                want[graph.func[t]["name"]] = (sec, rel(graph.func[t]["file"]))
+    pr = pragma_sections()
+    errs = []
+    for f, (sec, p) in sorted(want.items()):
+        have = pr.get(f, (None,))[0]
+        if have != sec:
+            errs.append(f"{f} ({p}) is on the ISR path ({sec}) but has "
+                        + (f"#pragma CODE_SECTION({f}, \"{have}\")" if have else "no #pragma")
+                        + f": want #pragma CODE_SECTION({f}, \"{sec}\")")
+    errs += [f"{f} ({p}) is in {sec} by #pragma but not on the ISR path "
              f"(add it to RAMFUNCS_NOT_ISR with a reason, or drop the pragma)"
-             for f, p in sorted(pr.items()) if f not in fw_isr and f not in RAMFUNCS_NOT_ISR]
+             for f, (sec, p) in sorted(pr.items()) if f not in want and f not in RAMFUNCS_NOT_ISR]
+    return errs
+
+
+def cmd_problems(old_fast, old_slow, new_fast, new_slow, fast_file, slow_file):
+    """Errors of the committed includes against the call graph's."""
+    def names(t):
+        return set(re.findall(r"\(\.text:(\w+)\)", t))
+    errs = []
+    was_f, was_s, now_f, now_s = names(old_fast), names(old_slow), names(new_fast), names(new_slow)
+    for n in sorted(was_f & now_s):
+        errs.append(f"{n} is in {fast_file} but only {SLOW_DISPATCH} reaches it: "
+                    f"it belongs in {slow_file}")
+    for n in sorted(was_s & now_f):
+        errs.append(f"{n} is in {slow_file} but the every-period path reaches it: "
+                    f"it belongs in {fast_file}")
+    for n in sorted(was_f & was_s):
+        errs.append(f"{n} is in both {fast_file} and {slow_file}")
+    for old, new, path in ((old_fast, new_fast, fast_file), (old_slow, new_slow, slow_file)):
+        if old != new:
+            sys.stdout.writelines(difflib.unified_diff(
+                old.splitlines(True), new.splitlines(True), str(path), "call graph now"))
+            was, now = names(old), names(new)
+            errs.append(f"{path} is stale: missing {sorted(now - was)}, "
+                        f"not in this set any more {sorted(was - now)}; run "
+                        f"tools/bench_size.py --write-isr-cmd {fast_file}")
     return errs
 
 
@@ -450,31 +562,42 @@ def measure(args, kind):
 def report(args, srcs, g):
     factor = args.factor
     plan = linker_plan(args.linker_cmd)
-    isr, isr_ext = g.reach(g.roots(ISR_ROOTS), stop=is_iqmath)
-    # the IQmath stand-in's own helpers count (TI's IQmath code is in RAM too);
-    # their run-time calls (64-bit division) are the stand-in's, not the target's
-    iq_entries = [t for t in isr if is_iqmath(g.func[t])]
-    isr |= g.reach(iq_entries)[0]
+    fast, slow = isr_sets(g)
+    isr = fast | slow
+    _all, isr_ext = g.reach(g.roots(ISR_ROOTS), stop=is_iqmath)
+    # the IQmath stand-in's own helpers count (TI's IQmath code is in RAM too,
+    # in the one output section that gathers *(IQmath)); their run-time calls
+    # (64-bit division) are the stand-in's, not the target's
+    iq = g.reach([t for t in isr if is_iqmath(g.func[t])])[0]
     if not any(g.func[t]["name"] == "drive_isr" for t in isr):
         raise SystemExit("bench_size: drive_isr is not reachable from isr_control")
     soft_float = sorted(e for e in isr_ext if SOFT_FLOAT.search(e))
     pr = pragma_ramfuncs()
     rows = []
-    for t in isr:
+    for t in isr | iq:
         f = g.func[t]
         kind = "IQmath stand-in" if is_iqmath(f) else rel(f["file"]).split("/")[0]
+        if is_iqmath(f):
+            sec = plan["iqmath_in"]
+        else:
+            sec = FAST_SECTION if t in fast else SLOW_SECTION
         rows.append({"function": f["name"], "file": rel(f["file"]), "kind": kind,
-                     "thumb_bytes": f["bytes"], "words": words(f["bytes"], factor)})
+                     "section": sec, "thumb_bytes": f["bytes"], "words": words(f["bytes"], factor)})
     rows.sort(key=lambda r: (-r["thumb_bytes"], r["function"]))
-    # ramfuncs: the ISR path + the other firmware functions placed there by pragma
+    # ramfuncs: the fast set + the other firmware functions placed there by pragma
     extra = [t for t, f in g.func.items() if f["name"] in RAMFUNCS_NOT_ISR
              and rel(f["file"]) == pr.get(f["name"])]
     isr_bytes = sum(r["thumb_bytes"] for r in rows)
     extra_bytes = sum(g.func[t]["bytes"] for t in extra)
-    ramfuncs_words = words(isr_bytes + extra_bytes, factor)
-    run = plan["place"]["ramfuncs"]
+    sec_bytes = {s: sum(r["thumb_bytes"] for r in rows if r["section"] == s)
+                 for s in (FAST_SECTION, SLOW_SECTION)}
+    ramfuncs_words = words(sec_bytes[FAST_SECTION] + extra_bytes, factor)
+    slow_words = words(sec_bytes[SLOW_SECTION], factor)
+    run = plan["place"][FAST_SECTION]
+    run_slow = plan["place"][SLOW_SECTION]
     # with RUN = A | B the linker puts the section in ONE of the ranges
     cap = max(plan["ranges"][r] for r in run)
+    cap_slow = max(plan["ranges"][r] for r in run_slow)
 
     # whole image: every function reachable from main and the interrupt entries
     fw_text = "".join(s.read_text() for s in srcs if "firmware" in s.parts)
@@ -496,12 +619,34 @@ def report(args, srcs, g):
     for tu, name, w, s in data:
         if s != ".ebss":
             other_ram[s] = other_ram.get(s, 0) + w
-    ebss_block = plan["place"][".ebss"][0]
-    in_block = {s: w for s, w in other_ram.items() if plan["place"].get(s, [None])[0] == ebss_block}
-    if ebss_block in run:
-        in_block["ramfuncs"] = ramfuncs_words
-    ebss_block_used = ebss_words + sum(in_block.values())
     drive_words = lay.struct_size("struct drive")[0]
+
+    # what each RAM range holds (a section with RUN = A | B counts in A)
+    blocks = {}
+
+    def put(sec, w):
+        rng = plan["place"].get(sec, [None])[0]
+        if rng is None:
+            raise SystemExit(f"bench_size: {plan['file']} does not place {sec}")
+        blocks.setdefault(rng, {})[sec] = w
+    put(FAST_SECTION, ramfuncs_words)
+    put(SLOW_SECTION, slow_words)
+    put(".ebss", ebss_words)
+    for s, w in other_ram.items():
+        put(s, w)
+    block_rows = {k: {"contents": v, "used_words": sum(v.values()),
+                      "capacity_words": plan["ranges"][k],
+                      "fraction": round(sum(v.values()) / plan["ranges"][k], 3)}
+                  for k, v in sorted(blocks.items())}
+    ebss_block = plan["place"][".ebss"][0]
+    in_block = {s: w for s, w in blocks[ebss_block].items() if s != ".ebss"}
+
+    # the rest of the image (code outside the ISR path, constants) where .text
+    # goes: flash in the flash image, external RAM in the RAM image
+    rest_words = (words(code_bytes - sum(g.func[t]["bytes"] for t in isr | iq if t in image),
+                        factor) + const_words)
+    text_in = plan["text_in"]
+    text_offchip = bool(text_in) and not any(re.fullmatch(r"FLASH[A-J]", r) for r in text_in)
 
     # stack: the background's deepest chain + the deeper ISR's + its context
     bg_bytes = g.deepest(g.roots(["main"])[0])
@@ -517,8 +662,15 @@ def report(args, srcs, g):
         "ramfuncs_capacity_words": cap,
         "ramfuncs_run": run,
         "ramfuncs_fraction": round(ramfuncs_words / cap, 3),
+        "ramfuncs_slow_words": slow_words,
+        "ramfuncs_slow_capacity_words": cap_slow,
+        "ramfuncs_slow_run": run_slow,
+        "ramfuncs_slow_fraction": round(slow_words / cap_slow, 3),
+        "iqmath_section_in": plan["iqmath_in"],
         "isr_path_functions": len(rows),
         "isr_path_words": words(isr_bytes, factor),
+        "isr_path_fast_functions": sum(1 for r in rows if r["section"] == FAST_SECTION),
+        "isr_path_slow_functions": sum(1 for r in rows if r["section"] == SLOW_SECTION),
         "isr_path_iqmath_standin_words": sum(r["words"] for r in rows
                                              if r["kind"] == "IQmath stand-in"),
         "ramfuncs_not_isr": sorted(g.func[t]["name"] for t in extra),
@@ -532,11 +684,17 @@ def report(args, srcs, g):
         "image_functions": len(image),
         "image_external_calls": sorted(image_ext),
         "image_runtime_words": words(sum(rts.values()), factor),
+        "image_rest_words": rest_words,
+        "image_rest_in": text_in,
+        "image_rest_offchip": text_offchip,
+        "image_rest_capacity_words": (max(plan["ranges"][r] for r in text_in)
+                                      if text_offchip else None),
+        "blocks": block_rows,
         "drive_t_words": drive_words,
         "ebss_words": ebss_words,
         "ebss_block": ebss_block,
         "ebss_block_other": in_block,
-        "ebss_block_used_words": ebss_block_used,
+        "ebss_block_used_words": block_rows[ebss_block]["used_words"],
         "ebss_block_capacity_words": plan["ranges"][ebss_block],
         "ebss_variables": {f"{tu}:{n}": w for tu, n, w, _s in sorted(data, key=lambda r: -r[2])},
         "stack_words": stack_words,
@@ -549,15 +707,30 @@ def report(args, srcs, g):
     }
 
 
+CODE_SECTIONS = (FAST_SECTION, SLOW_SECTION)
+
+
 def problems(r, what=("ramfuncs", "data")):
+    """--check ramfuncs: every RAM range that holds ramfuncs or ramfuncs_slow
+    (with whatever data shares it) within LIMIT, no soft float on the ISR
+    path, and in the RAM image the rest of the program within LIMIT of its
+    external RAM; --check data: every range that holds .ebss or another data
+    section (dlog) within LIMIT, and the estimated stack within LIMIT of
+    --stack_size."""
     out = []
-    if "ramfuncs" in what and r["ramfuncs_words"] > LIMIT * r["ramfuncs_capacity_words"]:
-        out.append(f"ramfuncs {r['ramfuncs_words']} words > {LIMIT:.0%} of its RUN RAM "
-                   f"{r['ramfuncs_run']} ({r['ramfuncs_capacity_words']} words)")
-    if "data" in what and r["ebss_block_used_words"] > LIMIT * r["ebss_block_capacity_words"]:
-        out.append(f".ebss {r['ebss_words']} + {r['ebss_block_other']} = "
-                   f"{r['ebss_block_used_words']} words > {LIMIT:.0%} of {r['ebss_block']} "
-                   f"({r['ebss_block_capacity_words']} words)")
+    for rng, b in r["blocks"].items():
+        code = any(s in CODE_SECTIONS for s in b["contents"])
+        dat = any(s not in CODE_SECTIONS for s in b["contents"])
+        if not (("ramfuncs" in what and code) or ("data" in what and dat)):
+            continue
+        if b["used_words"] > LIMIT * b["capacity_words"]:
+            parts = " + ".join(f"{s} {w}" for s, w in b["contents"].items())
+            out.append(f"{rng}: {parts} = {b['used_words']} words > {LIMIT:.0%} of "
+                       f"{rng} ({b['capacity_words']} words)")
+    if ("ramfuncs" in what and r["image_rest_offchip"]
+            and r["image_rest_words"] > LIMIT * r["image_rest_capacity_words"]):
+        out.append(f"the rest of the image {r['image_rest_words']} words > {LIMIT:.0%} of "
+                   f"{r['image_rest_in']} ({r['image_rest_capacity_words']} words)")
     if "data" in what and r["stack_words"] > LIMIT * r["stack_capacity_words"]:
         out.append(f"stack {r['stack_words']} words > {LIMIT:.0%} of {r['stack_block']} "
                    f"({r['stack_capacity_words']} words)")
@@ -570,25 +743,40 @@ def print_table(r):
     f = r["words_per_thumb_halfword"]
     print(f"F2812 size estimate (Thumb-2 stand-in, {f} C28x words per Thumb-2 halfword; "
           f"linker file {r['linker_cmd']})")
-    print(f"  ramfuncs (ISR path + {', '.join(r['ramfuncs_not_isr']) or 'nothing else'}): "
+    iq = f", IQmath in {r['iqmath_section_in']}"
+    print(f"  ramfuncs (fast ISR path + {', '.join(r['ramfuncs_not_isr']) or 'nothing else'}"
+          f"{iq if r['iqmath_section_in'] == FAST_SECTION else ''}): "
           f"{r['ramfuncs_words']} words of {r['ramfuncs_capacity_words']} "
-          f"({100 * r['ramfuncs_fraction']:.0f} %, limit {LIMIT:.0%}), RUN {r['ramfuncs_run']}")
-    print(f"  ISR path: {r['isr_path_functions']} functions, {r['isr_path_words']} words "
+          f"({100 * r['ramfuncs_fraction']:.0f} %), RUN {r['ramfuncs_run']}")
+    print(f"  ramfuncs_slow (only through {SLOW_DISPATCH}"
+          f"{iq if r['iqmath_section_in'] == SLOW_SECTION else ''}): "
+          f"{r['ramfuncs_slow_words']} words of {r['ramfuncs_slow_capacity_words']} "
+          f"({100 * r['ramfuncs_slow_fraction']:.0f} %), RUN {r['ramfuncs_slow_run']}")
+    print(f"  ISR path: {r['isr_path_functions']} functions ({r['isr_path_fast_functions']} fast, "
+          f"{r['isr_path_slow_functions']} slow), {r['isr_path_words']} words "
           f"(IQmath stand-in {r['isr_path_iqmath_standin_words']}); "
           f"run-time calls {r['isr_path_external_calls']}")
     print(f"  flash image: {r['flash_words']} words (code {r['flash_code_words']}, "
           f"constants {r['flash_const_words']}; run-time library stand-in "
           f"{r['image_runtime_words']}) of {r['flash_capacity_words']}")
-    print(f"  .ebss: {r['ebss_words']} words (drive_t {r['drive_t_words']}) + "
-          f"{r['ebss_block_other']} in {r['ebss_block']}: {r['ebss_block_used_words']} of "
-          f"{r['ebss_block_capacity_words']} words")
+    if r["image_rest_offchip"]:
+        print(f"  the rest of the image (code off the ISR path + constants): "
+              f"{r['image_rest_words']} words in {r['image_rest_in']} "
+              f"({r['image_rest_capacity_words']} words, off-chip)")
+    print(f"  .ebss: {r['ebss_words']} words (drive_t {r['drive_t_words']}) in {r['ebss_block']}")
+    print(f"  RAM ranges (limit {LIMIT:.0%} each):")
+    for rng, b in r["blocks"].items():
+        parts = " + ".join(f"{s} {w}" for s, w in b["contents"].items())
+        print(f"    {rng:14s} {parts} = {b['used_words']} of {b['capacity_words']} "
+              f"({100 * b['fraction']:.0f} %)")
     print(f"  stack: {r['stack_words']} words (background {r['stack_background_thumb_bytes']} + "
           f"ISR {r['stack_isr_thumb_bytes']} Thumb bytes, + {ISR_CONTEXT_WORDS} words of "
           f"interrupt context) of {r['stack_capacity_words']} (--stack_size, in "
           f"{r['stack_block']})")
-    print(f"\n  {'ISR-path function':32s} {'file':34s} {'Thumb B':>8s} {'words':>6s}")
+    print(f"\n  {'ISR-path function':32s} {'file':34s} {'section':14s} {'Thumb B':>8s} {'words':>6s}")
     for row in r["isr_path"]:
-        print(f"  {row['function']:32s} {row['file']:34s} {row['thumb_bytes']:8d} {row['words']:6d}")
+        print(f"  {row['function']:32s} {row['file']:34s} {row['section']:14s} "
+              f"{row['thumb_bytes']:8d} {row['words']:6d}")
 
 
 def main(argv=None):
@@ -601,34 +789,41 @@ def main(argv=None):
     ap.add_argument("--factor", type=float, default=WORDS_PER_HALFWORD,
                     help="C28x words per Thumb-2 halfword (default %(default)s)")
     ap.add_argument("--check", nargs="?", const="all", choices=("all", "ramfuncs", "data"),
-                    help="exit 1 if a RAM limit is exceeded: ramfuncs (the ISR path's RUN "
-                         "RAM, no soft float), data (.ebss block and stack), all")
+                    help="exit 1 if a RAM limit is exceeded: ramfuncs (the RAM ranges that "
+                         "run ramfuncs/ramfuncs_slow, no soft float), data (the ranges of "
+                         ".ebss and dlog, the stack), all")
     ap.add_argument("--abi", choices=("coffabi", "eabi"), default="coffabi")
     g = ap.add_mutually_exclusive_group()
-    g.add_argument("--write-isr-cmd", metavar="FILE")
-    g.add_argument("--check-isr-cmd", metavar="FILE")
+    g.add_argument("--write-isr-cmd", metavar="FILE",
+                   help="write the fast set to FILE and the slow set to --slow-cmd")
+    g.add_argument("--check-isr-cmd", metavar="FILE",
+                   help="check FILE (fast set) and --slow-cmd (slow set)")
+    ap.add_argument("--slow-cmd", metavar="FILE",
+                    help="the slow set's include (default: next to FILE, "
+                         "F2812_isr_path.cmd -> F2812_isr_slow.cmd)")
     a = ap.parse_args(argv)
 
     if a.write_isr_cmd or a.check_isr_cmd:
         _srcs, graph_g = measure(a, "graph")
-        text = isr_cmd_text(graph_g, a.abi)
+        fast_text, slow_text = isr_cmd_texts(graph_g, a.abi)
         errs = pragma_problems(graph_g)
+        fast_file = a.write_isr_cmd or a.check_isr_cmd
+        slow_file = a.slow_cmd or slow_cmd_path(fast_file)
         if a.write_isr_cmd:
-            Path(a.write_isr_cmd).write_text(text)
-            print(f"wrote {a.write_isr_cmd}")
+            Path(fast_file).write_text(fast_text)
+            Path(slow_file).write_text(slow_text)
+            print(f"wrote {fast_file} and {slow_file}")
         else:
-            old = Path(a.check_isr_cmd).read_text()
-            if old != text:
-                import difflib
-                sys.stdout.writelines(difflib.unified_diff(
-                    old.splitlines(True), text.splitlines(True), a.check_isr_cmd, "call graph now"))
-                was = set(re.findall(r"\(\.text:(\w+)\)", old))
-                now = set(re.findall(r"\(\.text:(\w+)\)", text))
-                errs.append(f"{a.check_isr_cmd} is stale: missing {sorted(now - was)}, "
-                            f"no longer on the ISR path {sorted(was - now)}; run "
-                            f"tools/bench_size.py --write-isr-cmd {a.check_isr_cmd}")
+            if not Path(slow_file).exists():
+                errs.append(f"{slow_file}: no such file (the slow set's include; --slow-cmd)")
+                old_slow = ""
             else:
-                print(f"{a.check_isr_cmd}: current ({text.count('*(.text:')} functions)")
+                old_slow = Path(slow_file).read_text()
+            errs += cmd_problems(Path(fast_file).read_text(), old_slow, fast_text, slow_text,
+                                 fast_file, slow_file)
+            if not errs:
+                print(f"{fast_file}: current ({fast_text.count('*(.text:')} functions); "
+                      f"{slow_file}: current ({slow_text.count('*(.text:')} functions)")
         for e in errs:
             print("ERROR", e)
         return 1 if errs else 0

@@ -22,7 +22,7 @@
  *     attribution against these counts).
  *
  * Output (stdout, JSON):
- *   {"isrs": N, "iqmath_names": [...], "slots": S,
+ *   {"isrs": N, "iqmath_names": [...], "slots": S, "log_slot": L,
  *    "state_isrs": {"STATE": n, ...},
  *    "samples": [{"index": k, "state": "ACCELERATE", "slot": s,
  *                 "uniform": 0|1, "dir": "s<k>", "iq": [per op]}, ...]}
@@ -216,8 +216,8 @@ int main(int argc, char **argv)
     if (run_start(&run, &cfg) != 0) {
         return 1;
     }
-    printf("{\"isrs\": %u, \"slots\": %u, \"iqmath_names\": [", (unsigned)n_isr,
-           (unsigned)DRIVE_SLOTS);
+    printf("{\"isrs\": %u, \"slots\": %u, \"log_slot\": %u, \"iqmath_names\": [",
+           (unsigned)n_isr, (unsigned)DRIVE_SLOTS, (unsigned)DRIVE_LOG_SLOT);
     for (i = 0; i < N_OPS; i++) {
         printf("%s\"%s\"", i ? ", " : "", iqmath_fn_name(i));
     }

@@ -229,6 +229,8 @@ void drive_safety_slow(drive_t *d)
     current_model_check_t *m = &s->cmc;
     const _iq psi_e = model_inputs(d, m);
 
+    s->psi_e = psi_e;   /* for the locked-rotor decision (drive_safety_stall) */
+
     m->active = (uint16_t)(d->on_next != 0u && d->on_last != 0u);
     /* the encoder's count over the window (stall_check.h) */
     stall_check_window_step(&s->stall, d->qep.count, d->on_next);
@@ -257,6 +259,19 @@ void drive_safety_slow(drive_t *d)
             _IQmpy(_IQmpy(k_emf, _IQsat(_IQabs(d->ws_ctl), _IQ(2.0), _IQ(0.0))), psi), _IQ(2.0), 0);
     }
     current_model_check_step(m);
+    if (m->fault != 0u) {
+        protect_latch(&d->prot, FAULT_CURRENT_SENSOR);
+    }
+    d->seq.test_done = (uint16_t)(s->stest.state == SENSOR_TEST_PASSED);
+    publish_guard_tick(&s->pguard, (uint16_t)d->prot.fault);
+}
+
+void drive_safety_stall(drive_t *d)
+{
+    drive_safety_t *s = &d->safety;
+    const current_model_check_t *m = &s->cmc;
+    const _iq psi_e = s->psi_e;
+
     if (d->enc_chk.fault != 0u && d->prot.fault == FAULT_NONE &&
         (d->enc_chk.cause & ENCODER_CHECK_FROZEN) != 0u &&
         stall_check_decide(&s->stall, m->r_alpha, m->r_beta, d->park.sine, d->park.cosine,
@@ -266,11 +281,6 @@ void drive_safety_slow(drive_t *d)
          * the encoder check in the next ISR) */
         protect_latch(&d->prot, FAULT_STALL);
     }
-    if (m->fault != 0u) {
-        protect_latch(&d->prot, FAULT_CURRENT_SENSOR);
-    }
-    d->seq.test_done = (uint16_t)(s->stest.state == SENSOR_TEST_PASSED);
-    publish_guard_tick(&s->pguard, (uint16_t)d->prot.fault);
 }
 
 void drive_safety_reset(drive_t *d)

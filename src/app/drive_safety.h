@@ -34,10 +34,16 @@ static inline uint16_t drive_safety_modulate(drive_t *d, hal_pwm_compare_t *out,
     return drive_safety_test_period(d, out, pwm_on);
 }
 
-/** ISR, slot SPEED, after the encoder's frozen test: the model check's
- *  step, the locked-rotor decision, the sensor test's verdict to the
- *  sequence; latches their faults. */
+/** ISR, slot SAFETY: the model check's step over the slow window, the
+ *  encoder's count step, the sensor test's verdict to the sequence, the
+ *  publish guard's tick; latches their faults. */
 void drive_safety_slow(drive_t *d);
+
+/** ISR, right after the encoder's frozen test (slot FILTERS_C, the same
+ *  ISR: before protect() latches FAULT_ENCODER in the next one): at a
+ *  frozen trip, the locked-rotor decision on the model check's last
+ *  residual; latches FAULT_STALL. */
+void drive_safety_stall(drive_t *d);
 
 /** Background, on the fault-reset command: re-arm (a cause still there
  *  trips again once the drive runs). */

@@ -25,7 +25,12 @@
  *   6 OBSERVER_B  its rotor flux, magnitude, angle and speed; the frame's
  *                 angle from here on; then the Rr/Tr tracker (mode 1, RUN
  *                 with tracking: drive_adapt_track)
- *   7 LOG         nothing of the drive's: the firmware's data log
+ *   7 SAFETY      the model-based protections' slow step (drive_safety.c:
+ *                 the currents against the model over the window, the
+ *                 encoder's count step, the publish guard's tick; the
+ *                 locked-rotor decision stays with the frozen test, slot 3)
+ * The firmware's data log runs in the ISR of slot 2 (DRIVE_LOG_SLOT), the
+ * lightest: its cost adds there.
  *
  * The sequence sees the filtered di/dt of this period and judges the RLS's
  * enable for the next one.  The 10 Hz regression band and the speed loop's
@@ -132,7 +137,7 @@ static void task_checks(drive_t *d)
     d->enc_chk.count = d->qep.count;
     d->enc_chk.i_t = d->park.qs;
     encoder_check_frozen(&d->enc_chk);
-    drive_safety_slow(d);   /* currents against the model, locked rotor (drive_safety.c) */
+    drive_safety_stall(d);   /* a frozen trip: locked rotor or dead encoder (drive_safety.c) */
 }
 
 static void task_speed(drive_t *d)
@@ -316,7 +321,9 @@ void drive_slow_task(drive_t *d, uint16_t slot)
             drive_adapt_track(d);
         }
         break;
-    case DRIVE_SLOT_LOG:
+    case DRIVE_SLOT_SAFETY:
+        drive_safety_slow(d);   /* currents against the model, locked rotor (drive_safety.c) */
+        break;
     default:
         break;
     }
@@ -328,5 +335,5 @@ void drive_slow_task(drive_t *d, uint16_t slot)
 uint16_t drive_log_due(const drive_t *d)
 {
     /* drive_step advanced d->slot past the slot it ran */
-    return (uint16_t)(d->slot == ((DRIVE_SLOT_LOG + 1u) & (DRIVE_SLOTS - 1u)));
+    return (uint16_t)(d->slot == ((DRIVE_LOG_SLOT + 1u) & (DRIVE_SLOTS - 1u)));
 }

@@ -388,19 +388,25 @@ static void test_protect_overcurrent_each_phase(void **state)
     _iq *phase[3];
     unsigned k;
     int sgn;
+#if MATH_TYPE == IQ_MATH
+    const _iq lsb = 1;            /* one Q24 LSB */
+#else
+    const _iq lsb = 0.9f * 1e-6f;   /* a few float ulps of 0.9 */
+#endif
     (void)state;
     for (k = 0; k < 3u; k++) {
         for (sgn = -1; sgn <= 1; sgn += 2) {
+            const _iq s = (sgn < 0) ? -_IQ(1.0) : _IQ(1.0);
             assert_int_equal(protect_init(&p, _IQ(0.9), _IQ(1.3), _IQ(0.7)), 0);
             phase[0] = &p.ia;
             phase[1] = &p.ib;
             phase[2] = &p.ic;
             p.vdc = _IQ(1.0);
             p.pwm_on = 1u;
-            *phase[k] = sgn * _IQ(0.9);   /* at the level: no trip */
+            *phase[k] = _IQmpy(s, _IQ(0.9));   /* at the level: no trip */
             protect_step(&p);
             assert_int_equal(p.fault, FAULT_NONE);
-            *phase[k] = sgn * (_IQ(0.9) + 1);
+            *phase[k] = _IQmpy(s, _IQ(0.9) + lsb);
             protect_step(&p);
             if (p.fault != FAULT_OVERCURRENT) {
                 fail_msg("phase %c at %+d (trip + 1 LSB): fault %d, not OVERCURRENT", 'a' + (int)k,

@@ -12,6 +12,16 @@
 
 static datalog_t s_d;
 
+/* every channel at full scale 8 pu: one sample of the ramp (1/1024 pu)
+ * is 4 LSB of the 16-bit Q15 sample, exact */
+static void scale8(datalog_t *d)
+{
+    uint16_t c;
+    for (c = 0u; c < DLOG_CHANNELS; c++) {
+        assert_int_equal(datalog_set_full_scale(d, c, 3), 0);
+    }
+}
+
 /* channel c at call k: _IQ(k / 1024) + c (exact in Q24 and in float) */
 static void feed(datalog_t *d, int32_t k)
 {
@@ -22,9 +32,10 @@ static void feed(datalog_t *d, int32_t k)
     datalog_step(d);
 }
 
-static int32_t sample_of(_iq v)
+/* the ramp's sample index of a stored value (full scale 8 pu: v / 4) */
+static int32_t sample_of(int16_t v)
 {
-    return (int32_t)(_IQtoF(v) * 1024.0f + 0.5f);
+    return (int32_t)v / 4;
 }
 
 static void test_free_running_wraps(void **state)
@@ -32,6 +43,7 @@ static void test_free_running_wraps(void **state)
     int32_t k;
     (void)state;
     assert_int_equal(datalog_init(&s_d, 1u, _IQ(0.0)), 0);
+    scale8(&s_d);
     for (k = 0; k < 300; k++) {
         feed(&s_d, k);
     }
@@ -41,7 +53,7 @@ static void test_free_running_wraps(void **state)
     assert_int_equal(sample_of(s_d.buf[0][0]), 256);
     assert_int_equal(sample_of(s_d.buf[0][43]), 299);
     assert_int_equal(sample_of(s_d.buf[0][44]), 44);
-    assert_int_equal(sample_of(s_d.buf[3][44] - _IQ(3.0)), 44);
+    assert_int_equal(sample_of((int16_t)(s_d.buf[3][44] - 3 * 4096)), 44);
 }
 
 static void test_trigger_centres_the_capture(void **state)
@@ -50,6 +62,7 @@ static void test_trigger_centres_the_capture(void **state)
     (void)state;
     /* prescale 2, trigger when channel 0 rises through sample 600 / 1024 */
     assert_int_equal(datalog_init(&s_d, 2u, _IQmpyI32(_IQ(0.0009765625), 600)), 0);
+    scale8(&s_d);
     for (k = 0; k < 100; k++) {
         feed(&s_d, k);
     }
@@ -85,12 +98,45 @@ static void test_no_trigger_on_falling(void **state)
     assert_int_equal(datalog_init(&s_d, 0u, _IQ(0.5)), 1);
 }
 
+static void test_sixteen_bits_saturate(void **state)
+{
+    (void)state;
+    /* 1024 words of samples, not 2048 */
+    assert_int_equal(sizeof s_d.buf, DLOG_CHANNELS * DLOG_SIZE * sizeof(int16_t));
+    assert_int_equal(datalog_init(&s_d, 1u, _IQ(0.5)), 0);
+    assert_int_equal(s_d.fs_exp[2], DLOG_FS_EXP_DEFAULT);
+    /* default full scale 2 pu: 1 pu -> 16384, -2 pu -> -32768, beyond -> saturated */
+    s_d.in[0] = _IQ(1.0);
+    s_d.in[1] = _IQ(-2.0);
+    s_d.in[2] = _IQ(2.5);
+    s_d.in[3] = _IQ(-7.0);
+    datalog_step(&s_d);
+    assert_int_equal(s_d.buf[0][0], 16384);
+    assert_int_equal(s_d.buf[1][0], -32768);
+    assert_int_equal(s_d.buf[2][0], 32767);
+    assert_int_equal(s_d.buf[3][0], -32768);
+    /* full scale 0.25 pu (Rr): 0.1 pu -> 13107 (floor of 13107.2) */
+    assert_int_equal(datalog_set_full_scale(&s_d, 3u, -2), 0);
+    s_d.in[3] = _IQ(0.1);
+    datalog_step(&s_d);
+    assert_int_equal(s_d.buf[3][1], 13107);
+    /* negative values floor toward -infinity, as an arithmetic shift */
+    assert_int_equal(datalog_q15(-1, (uint16_t)(GLOBAL_Q - 15 + 1)), -1);
+    assert_int_equal(datalog_q15(0, (uint16_t)(GLOBAL_Q - 15 + 1)), 0);
+    /* bad channel or exponent: refused */
+    assert_int_equal(datalog_set_full_scale(&s_d, DLOG_CHANNELS, 0), 1);
+    assert_int_equal(datalog_set_full_scale(&s_d, 0u, DLOG_FS_EXP_MAX + 1), 1);
+    assert_int_equal(datalog_set_full_scale(&s_d, 0u, DLOG_FS_EXP_MIN - 1), 1);
+    assert_int_equal(s_d.fs_exp[0], DLOG_FS_EXP_DEFAULT);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_free_running_wraps),
         cmocka_unit_test(test_trigger_centres_the_capture),
         cmocka_unit_test(test_no_trigger_on_falling),
+        cmocka_unit_test(test_sixteen_bits_saturate),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -16,12 +16,15 @@ range of every file given (all files together form one link):
   * peripheral frames named as in the DSP281x header files are at the
     data-sheet addresses with the data-sheet sizes;
   * SECTIONS: every '> NAME' / 'LOAD =' / 'RUN =' names a declared range;
-    ramfuncs loads from flash, runs in RAM and defines the three symbols
-    main.c uses; codestart goes to BEGIN (flash) or BEGINH0 (RAM image);
-  * ramfuncs gathers exactly the ISR path: the firmware's `ramfuncs` input
-    sections, TI's IQmath section and the #include of the generated
-    F2812_isr_path.cmd (so that no linker file can drop the ISR path's src/
-    functions back into flash);
+    ramfuncs and ramfuncs_slow load from flash (or in place, RAM image), run
+    in SARAM and define the three symbols each that flash_copy_ramfuncs
+    uses; codestart goes to BEGIN (flash) or BEGINH0 (RAM image);
+  * the two sections gather exactly the ISR path: ramfuncs the firmware's
+    `ramfuncs` input sections and the #include of the generated
+    F2812_isr_path.cmd (the every-period set), ramfuncs_slow the firmware's
+    `ramfuncs_slow` input sections and F2812_isr_slow.cmd (the set reached
+    only through the slow-task dispatch), and one of them TI's IQmath
+    section (so that no linker file can drop the ISR path back into flash);
   * every #include "file" names a file next to the command file, and an
     included file holds only comments and input section specifications
     `*(.text:name)` (it is spliced inside an output section's braces).
@@ -126,6 +129,14 @@ def parse(text):
 
 
 ISR_PATH_INCLUDE = "F2812_isr_path.cmd"
+ISR_SLOW_INCLUDE = "F2812_isr_slow.cmd"
+# output section -> (its input section, its generated include, its symbols)
+RAM_CODE = {
+    "ramfuncs": ("ramfuncs", ISR_PATH_INCLUDE,
+                 ("_RamfuncsLoadStart", "_RamfuncsLoadEnd", "_RamfuncsRunStart")),
+    "ramfuncs_slow": ("ramfuncs_slow", ISR_SLOW_INCLUDE,
+                      ("_RamfuncsSlowLoadStart", "_RamfuncsSlowLoadEnd", "_RamfuncsSlowRunStart")),
+}
 INPUT_SPEC = re.compile(r"^\*\(\.text:\w+\)$")
 
 
@@ -193,31 +204,42 @@ def check(files, included=None):
             for t in re.split(r"\s*\|\s*", target):
                 if t not in names:
                     errors.append("%s: SECTIONS places into undeclared range %s" % (f, t))
-        rf = re.search(r"\bramfuncs\s*:(.*?)PAGE", s, re.S)
-        if rf:
+        iq_in = []
+        # an image's command file (not the headers) places the RAM code
+        has_code = any(re.search(r"\b%s\s*:" % o, s) for o in RAM_CODE)
+        for out, (insec, inc, syms) in (RAM_CODE.items() if has_code else ()):
+            rf = re.search(r"\b%s\s*:(.*?)PAGE" % out, s, re.S)
+            if not rf:
+                errors.append("%s: no %s output section" % (f, out))
+                continue
             body = rf.group(1)
             ld = re.search(r"LOAD\s*=\s*(\w+)", body)
             rn = re.search(r"RUN\s*=\s*(\w+)", body)
-            for sym in ("_RamfuncsLoadStart", "_RamfuncsLoadEnd", "_RamfuncsRunStart"):
+            for sym in syms:
                 if sym not in body:
-                    errors.append("%s: ramfuncs does not define %s" % (f, sym))
-            spec = re.search(r"\bramfuncs\s*:\s*\{(.*?)\}", s, re.S)
+                    errors.append("%s: %s does not define %s" % (f, out, sym))
+            spec = re.search(r"\b%s\s*:\s*\{(.*?)\}" % out, s, re.S)
             spec = spec.group(1) if spec else ""
-            for need, what in (("*(ramfuncs)", "the firmware's #pragma'd ISR functions"),
-                               ("*(IQmath)", "TI's IQmath code"),
-                               ('#include "%s"' % ISR_PATH_INCLUDE, "the ISR path's src/ functions")):
-                if need not in spec.replace(" ", "").replace('#include"', '#include "'):
-                    errors.append("%s: ramfuncs does not gather %s (%s)" % (f, what, need))
+            flat = spec.replace(" ", "").replace('#include"', '#include "')
+            for need, what in (("*(%s)" % insec, "the firmware's #pragma'd functions"),
+                               ('#include "%s"' % inc, "the ISR path's src/ functions")):
+                if need not in flat:
+                    errors.append("%s: %s does not gather %s (%s)" % (f, out, what, need))
+            if "*(IQmath)" in flat:
+                iq_in.append(out)
             if not ld or not rn:
-                errors.append("%s: ramfuncs needs LOAD and RUN" % f)
+                errors.append("%s: %s needs LOAD and RUN" % (f, out))
             else:
                 run = names.get(rn.group(1))
                 blk = containing_block(run[3], run[3] + run[4] - 1) if run else None
                 if run and (not blk or blk[3] != "ram"):
-                    errors.append("%s: ramfuncs must RUN in SARAM" % f)
+                    errors.append("%s: %s must RUN in SARAM" % (f, out))
                 load = names.get(ld.group(1))
                 if load and ld.group(1) != rn.group(1) and not (0x3D8000 <= load[3] <= 0x3F7FFF):
-                    errors.append("%s: ramfuncs must LOAD from flash" % f)
+                    errors.append("%s: %s must LOAD from flash" % (f, out))
+        if has_code and len(iq_in) != 1:
+            errors.append("%s: TI's IQmath code (*(IQmath)) must be gathered by exactly one "
+                          "of ramfuncs, ramfuncs_slow, not %s" % (f, iq_in or "none"))
         cs = re.search(r"\bcodestart\s*:\s*>\s*(\w+)", s)
         if cs and cs.group(1) not in ("BEGIN", "BEGINH0"):
             errors.append("%s: codestart must go to BEGIN (0x3F7FF6) or BEGINH0" % f)
@@ -233,6 +255,7 @@ PAGE 0 :
    BEGIN : origin = 0x3F7FF6, length = 0x000002
    FLASHD : origin = 0x3EC000, length = 0x004000
    RAML0L1 : origin = 0x008000, length = 0x002000
+   RAMH0 : origin = 0x3F8000, length = 0x001A00
 PAGE 1 :
    RAMM1 : origin = 0x000400, length = 0x000400
 }
@@ -243,6 +266,10 @@ SECTIONS {
                 *(IQmath) }
               LOAD = FLASHD, RUN = RAML0L1, LOAD_START(_RamfuncsLoadStart),
               LOAD_END(_RamfuncsLoadEnd), RUN_START(_RamfuncsRunStart), PAGE = 0
+   ramfuncs_slow : { *(ramfuncs_slow)
+#include "F2812_isr_slow.cmd"
+              } LOAD = FLASHD, RUN = RAMH0, LOAD_START(_RamfuncsSlowLoadStart),
+              LOAD_END(_RamfuncsSlowLoadEnd), RUN_START(_RamfuncsSlowRunStart), PAGE = 0
    .stack : > RAMM1, PAGE = 1
 }
 """
@@ -257,11 +284,17 @@ SECTIONS {
         "missing symbol": good.replace("RUN_START(_RamfuncsRunStart)", ""),
         "ISR path not included": good.replace('#include "F2812_isr_path.cmd"', ""),
         "IQmath left in flash": good.replace("*(IQmath)", ""),
+        "IQmath in both": good.replace("*(ramfuncs_slow)", "*(ramfuncs_slow) *(IQmath)"),
+        "slow set not included": good.replace('#include "F2812_isr_slow.cmd"', ""),
+        "slow set runs in flash": good.replace("RUN = RAMH0", "RUN = FLASHD"),
+        "slow symbol missing": good.replace("RUN_START(_RamfuncsSlowRunStart)", ""),
+        "no ramfuncs_slow": good[:good.index("   ramfuncs_slow")] + good[good.index("   .stack"):],
         "include of a missing file": good.replace("F2812_isr_path.cmd", "F2812_nothing.cmd"),
         "include that is not input specs": good.replace('#include "F2812_isr_path.cmd"',
                                                         '#include "bad_include.cmd"'),
     }
-    inc = {"F2812_isr_path.cmd": "/* generated */\n*(.text:_drive_isr)\n*(.text:_rls_update_row)\n",
+    inc = {"F2812_isr_path.cmd": "/* generated */\n*(.text:_drive_isr)\n*(.text:_modulate)\n",
+           "F2812_isr_slow.cmd": "/* generated */\n*(.text:_tr_track_step)\n",
            "bad_include.cmd": "*(.text:_drive_isr)\n.text : > FLASHD\n"}
     if check([("good", good)], inc):
         print("self-test: the good snippet was rejected:", check([("good", good)], inc))

@@ -130,10 +130,11 @@ def check(root, cm, tc):
             errs.append("%s must be linked for the %s configuration only" % (name, conf))
     if "F2812_headers.cmd" not in cmds or cmds["F2812_headers.cmd"].get("applicableConfigurations"):
         errs.append("F2812_headers.cmd must be linked for every configuration")
-    isr = cmds.get("F2812_isr_path.cmd")
-    if isr is None or isr.get("excludeFromBuild") != "True":
-        errs.append("F2812_isr_path.cmd must be linked with excludeFromBuild=\"True\" "
-                    "(#included by the image's command file)")
+    for inc in ("F2812_isr_path.cmd", "F2812_isr_slow.cmd"):
+        isr = cmds.get(inc)
+        if isr is None or isr.get("excludeFromBuild") != "True":
+            errs.append("%s must be linked with excludeFromBuild=\"True\" "
+                        "(#included by the image's command file)" % inc)
     return errs
 
 

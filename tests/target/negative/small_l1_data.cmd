@@ -1,11 +1,12 @@
-/* Fixture of CTest target_ram_fit_data_can_fail: F2812_flash.cmd with H0
- * cut to 5K words, so that .ebss + dlog (about 4 100 words) exceed 70 % of
- * it; tools/bench_size.py --check data must say so.  Not a linker file of
- * the build. */
+/* Fixture of CTest target_ram_fit_data_can_fail: F2812_flash.cmd with the
+ * data part of L0+L1 (RAML0L1_DATA, .ebss) cut to 2.5K words, so that .ebss
+ * (about 2 500 words) exceeds 70 % of it; tools/bench_size.py --check data
+ * must say so.  Not a linker file of the build. */
 MEMORY
 {
 PAGE 0 :   /* program */
-   RAML0L1    : origin = 0x008000, length = 0x002000   /* L0 + L1 SARAM, ramfuncs RUN */
+   RAML0L1    : origin = 0x008000, length = 0x001180   /* L0 + first 384 words of L1: ramfuncs RUN */
+   RAMH0      : origin = 0x3F8000, length = 0x001A00   /* first 6.5K of H0: ramfuncs_slow RUN */
    OTP        : origin = 0x3D7800, length = 0x000400   /* 1K OTP, not used */
    FLASHJ     : origin = 0x3D8000, length = 0x002000
    FLASHI     : origin = 0x3DA000, length = 0x002000
@@ -25,7 +26,8 @@ PAGE 0 :   /* program */
 
 PAGE 1 :   /* data */
    RAMM0M1    : origin = 0x000000, length = 0x000800   /* M0 + M1 SARAM */
-   RAMH0      : origin = 0x3F8000, length = 0x001400
+   RAML0L1_DATA : origin = 0x009180, length = 0x000A00 /* cut to 2.5K */
+   RAMH0_DATA : origin = 0x3F9A00, length = 0x000600   /* last 1.5K of H0: dlog */
 }
 
 SECTIONS
@@ -37,12 +39,23 @@ SECTIONS
    ramfuncs         : {
                          *(ramfuncs)
 #include "F2812_isr_path.cmd"
-                         *(IQmath)
                       }
                       LOAD = FLASHD, RUN = RAML0L1,
                       LOAD_START(_RamfuncsLoadStart),
                       LOAD_END(_RamfuncsLoadEnd),
                       RUN_START(_RamfuncsRunStart),
+                      PAGE = 0
+   /* the slow set (reached only through drive_slow_task) and TI's IQmath
+    * (called from both sets) run from H0, zero wait states as L0/L1 */
+   ramfuncs_slow    : {
+                         *(ramfuncs_slow)
+#include "F2812_isr_slow.cmd"
+                         *(IQmath)
+                      }
+                      LOAD = FLASHC, RUN = RAMH0,
+                      LOAD_START(_RamfuncsSlowLoadStart),
+                      LOAD_END(_RamfuncsSlowLoadEnd),
+                      RUN_START(_RamfuncsSlowRunStart),
                       PAGE = 0
    .text            : >> FLASHJ | FLASHI | FLASHH | FLASHG,  PAGE = 0
    .cinit           : > FLASHE,     PAGE = 0
@@ -53,8 +66,7 @@ SECTIONS
    .reset           : > RESET,      PAGE = 0, TYPE = DSECT   /* boot ROM supplies it */
 
    .stack           : > RAMM0M1,    PAGE = 1
-   .ebss            : > RAMH0,      PAGE = 1
-   dlog             : > RAMH0,      PAGE = 1
+   .ebss            : > RAML0L1_DATA, PAGE = 1
+   dlog             : > RAMH0_DATA, PAGE = 1
    .esysmem         : > RAMM0M1,    PAGE = 1
 }
-
