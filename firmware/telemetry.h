@@ -16,7 +16,7 @@
  *   CK            2 hex digits: XOR of every character between '$' and '*'
  *
  *   $A,<seq>,<pass>,<track_valid>,<tracked>,<Rs_dc>,<sigma_ls_dc>,<Rr_track>,
- *      <Tr_track>*<CK>\r\n                       (issue 8, after each $T)
+ *      <Tr_track>*<CK>\r\n                       (adaptation, after each $T)
  *
  *   seq .. tracked  4 hex digits (frame counter, identification pass, 0/1
  *                   tracker valid, 0/1 the published set is the fused one)
@@ -84,7 +84,7 @@ typedef struct {
 void telemetry_init(telemetry_t *t);
 /** Queue one $T frame.  Returns 1 if queued, 0 if dropped. */
 uint16_t telemetry_send(telemetry_t *t, const drive_telemetry_t *s, uint16_t isr_load);
-/** Queue one $A frame (issue 8: pass, track_valid, params_tracked; Rs_dc,
+/** Queue one $A frame (the adaptive sequence: pass, track_valid, params_tracked; Rs_dc,
  *  sigma_ls_dc, Rr_track, Tr_track in Q24).  Returns 1 if queued, 0 if
  *  dropped.  The $T format is unchanged. */
 uint16_t telemetry_send_adapt(telemetry_t *t, const drive_telemetry_t *s);

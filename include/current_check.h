@@ -1,6 +1,6 @@
 /**
  * @file current_check.h
- * Current-feedback plausibility (issue 6): the measured M/T currents must
+ * Current-feedback plausibility (protections): the measured M/T currents must
  * follow their references.  With two phase sensors a sensor that is lost
  * with its output at the zero-current level (1.5 V: a broken signal path
  * after the level shift, a dead sensor with a mid-rail bias) reads 0 A, is

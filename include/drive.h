@@ -70,7 +70,7 @@ typedef struct {
     uint32_t rls_sat_count;  /* RLS saturation events (rls_t.sat_count), never wraps */
     uint32_t theta_rejects;  /* RLS samples whose theta the guard rejected (theta_guard.h) */
     uint16_t publish_rejects;/* identifications whose set was refused (publish_reason), not published */
-    /* issue 8: adaptation and drift tracking (orientation 1 only) */
+    /* the adaptive sequence: adaptation and drift tracking (orientation 1 only) */
     uint16_t pass;           /* identification pass under way or last done (1, 2, ...) */
     uint16_t track_valid;    /* 1 while Rr_track / Tr_track follow the motor (RUN, tracking on) */
     _iq Rs_dc;               /* Rs measured at standstill (end of magnetisation), pu; 0: none */

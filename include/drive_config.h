@@ -71,7 +71,7 @@ typedef struct {
     float magnetize_time_s;    /* pre-magnetisation, >= 5 Tr */
     float target_speed_rpm;    /* speed the sequence accelerates to */
     float rls_tail_s;          /* the RLS runs this long after the ramp ends */
-    /* beyond the paper (issue 8); every one needs orientation = DRIVE_ORIENT_FLUX_OBS
+    /* beyond the paper (the adaptive sequence); every one needs orientation = DRIVE_ORIENT_FLUX_OBS
      * except passes = 1 and the zeros, which keep the paper's sequence */
     uint16_t passes;           /* identification passes, 1..4 (0 = 1): from the 2nd on each
                                   starts with the previous pass's parameters in the observer

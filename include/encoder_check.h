@@ -1,6 +1,6 @@
 /**
  * @file encoder_check.h
- * Encoder plausibility (issue 6): the QEP counter must move while torque
+ * Encoder plausibility (protections): the QEP counter must move while torque
  * current flows, and must not move faster than the motor can turn.
  *
  *  - frozen: T2CNT unchanged for `frozen_max` consecutive samples while

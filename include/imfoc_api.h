@@ -53,7 +53,7 @@ extern "C" {
 #endif
 
 /** Bumped whenever a struct below changes layout (wrappers check it). */
-#define IMFOC_API_VERSION 4   /* 2: the issue-8 signals at the end of imfoc_signals_t;
+#define IMFOC_API_VERSION 4   /* 2: the adaptive sequence's signals at the end of imfoc_signals_t;
                                  3: Rs_ohm..Tr_s are the published set, the last
                                     extraction moved to extract_*;
                                  4: the publication's verdict and confidences at the
@@ -144,7 +144,7 @@ typedef struct {
      * RLS's Lm, Lr, psi_r; valid when params_valid) */
     double live_Rs_ohm, live_Rr_ohm, live_Lm_H, live_Lr_H, live_psi_r_Wb, live_Tr_s;
     double Rs_ohm, Rr_ohm, Lm_H, Lr_H, psi_r_Wb, Tr_s;
-    /* issue 8: adaptation and tracking (0 when not measured / not valid) */
+    /* the adaptive sequence: adaptation and tracking (0 when not measured / not valid) */
     uint16_t pass;                 /* identification pass */
     uint16_t track_valid;          /* Rr_track, Tr_track follow the motor */
     uint16_t params_tracked;       /* the published set is the fused one */

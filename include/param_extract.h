@@ -89,7 +89,7 @@ param_init_status_t param_extract_init(param_extract_t *p, const base_values_t *
 void param_extract_step(param_extract_t *p);
 
 /**
- * The magnetic part only (issue 8, fused mode): Lr = Ls, Lm, psi_r from K2,
+ * The magnetic part only (the adaptive sequence's fused mode): Lr = Ls, Lm, psi_r from K2,
  * K4 and i_M (a = -K4/(K2 i_M), as param_extract_step), each checked
  * against its range; K1 and theta3 are not used, Rs, Rr, Tr and K3p are set
  * to 0.  Same status codes (PARAM_ERR_IM, _K2, _DIV, _SQRT, _OVERFLOW,

@@ -1,6 +1,6 @@
 /**
  * @file standstill_z.h
- * Standstill measurement of the transient inductance sigma Ls (issue 8,
+ * Standstill measurement of the transient inductance sigma Ls (adaptive sequence,
  * beyond the paper): a small sinusoid added to the i_M reference at the end
  * of the magnetisation, and the M-axis impedance at that frequency found by
  * correlating u_M and i_M with the injection's sine and cosine over a whole

@@ -1,6 +1,6 @@
 /**
  * @file theta_guard.h
- * Estimator safeguard (issue 6): what the drive takes from the RLS (the
+ * Estimator safeguard (protections): what the drive takes from the RLS (the
  * steady-state snapshot that gets published, and the live estimates) is
  * the last *good* theta, held while the running estimate is implausible or
  * the excitation is poor.
@@ -54,7 +54,7 @@ typedef struct {
 theta_guard_status_t theta_guard_init(theta_guard_t *g, const float k_nom[RLS_N], float span);
 /** Which K must be plausible for a theta to be taken (bit i: K(i+1)), a
  *  non-empty subset of 0xF; returns THETA_GUARD_ERR_ARG (nothing changed)
- *  otherwise.  One way: a K released stays released until theta_guard_init.  The drive's fused mode (issue 8) needs only K2 and K4: it
+ *  otherwise.  One way: a K released stays released until theta_guard_init.  The drive's fused mode (adaptive sequence) needs only K2 and K4: it
  *  takes Rs, Rr, Tr from elsewhere, and on a motor with a large w_r Tr the
  *  RLS's K1, K3 are the ill-conditioned ones. */
 theta_guard_status_t theta_guard_set_required(theta_guard_t *g, uint16_t mask);

@@ -1,6 +1,6 @@
 /**
  * @file tr_track.h
- * Rotor-time-constant tracker (issue 8 item 3, beyond the paper): follows
+ * Rotor-time-constant tracker (drift tracking, beyond the paper): follows
  * 1/Tr (and so Rr = Lr/Tr) while the drive runs, from the slip that a
  * Tr-independent rotor-flux observer (flux_obs.h) sees.
  *

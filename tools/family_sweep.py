@@ -13,7 +13,7 @@ Sequences (`[controller]`/`[ident]` keys merged into each motor's file):
     paper      orientation 0, standstill 0, passes 1, track_rr 0: the paper's
                (indirect orientation on the nameplate, one RLS pass)
     adaptive   orientation 1, standstill 1, passes 2, track_rr 1: the drive's
-               default (README "Beyond the paper"; host_sim/config/paper_motor.ini)
+               default (docs/method.md "Beyond the paper"; host_sim/config/paper_motor.ini)
 
 Operating choices (one at a time from the generator's nominal point; the same
 as tools/study/regression_bias.py's, scaled to each motor): `nominal`, `load0`

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Dead-time and device-drop compensation, with and without (issue 8 item 4).
+"""Dead-time and device-drop compensation, with and without.
 
 Runs motor_sim (start scenario) on a motor config twice, with
 [controller] dead_time_comp = 1 and = 0, prints the voltage-reconstruction

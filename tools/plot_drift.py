@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Rotor-resistance tracking under thermal drift (issue 8 item 3), from a
+"""Rotor-resistance tracking under thermal drift, from a
 `motor_sim --scenario drift --out DIR` run.
 
 Reads DIR/trace.csv and DIR/report.json, prints the report's drift figures

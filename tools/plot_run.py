@@ -67,7 +67,7 @@ def plot_parameters(d, truth, out):
     for ax, (key, label) in zip(axes.flat, PARAMS):
         y = np.where(valid, d[key], np.nan)
         ax.plot(t, y, label="identified (RLS)")
-        # issue 8: the tracked Rr, Tr and the standstill Rs, where the run has them
+        # the adaptive sequence: the tracked Rr, Tr and the standstill Rs, where the run has them
         names = d.dtype.names
         if key in ("Rr_ohm", "Tr_s") and "track_valid" in names and np.any(d["track_valid"] > 0):
             col = "Rr_track_ohm" if key == "Rr_ohm" else "Tr_track_s"

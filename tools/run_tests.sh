@@ -14,7 +14,8 @@ if [ -f tools/python/pyproject.toml ]; then
   echo "=== python"
   # the package wraps the shared library of the host-iq build
   .venv/bin/python -m pip install --quiet --disable-pip-version-check -e tools/python
-  IMFOC_LIB_DIR="$PWD/build/host-iq" .venv/bin/python -m pytest -q tools/python/tests
+  # -rs: the skipped docs blocks and tables, with their reasons (test_docs.py)
+  IMFOC_LIB_DIR="$PWD/build/host-iq" .venv/bin/python -m pytest -q -rs tools/python/tests
 fi
 # the motor family's generator and sweep (tools/family, tools/family_sweep.py)
 .venv/bin/python -m pytest -q tools/family

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Soak (issue 6): ten minutes of simulated time (default; tools/soak.sh SECONDS
+# Soak (long-run robustness): ten minutes of simulated time (default; tools/soak.sh SECONDS
 # for another length) of the paper motor after its identification: speed
 # reversals every 4 s and load steps, in the IQ_MATH and FLOAT_MATH builds.
 # Prints the figures (faults, control-path saturation flags, RLS counters and

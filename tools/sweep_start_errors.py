@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Identification from a wrong nameplate: every combination of believed errors
-in Tr, Lm and Rs (issue 8 item 2).
+in Tr, Lm and Rs (identification from wrong starting values).
 
 For each (tr, lm, rs) of the grid (default -30, 0, +30 %: 27 runs) motor_sim
 runs the start scenario on the base config with a wrong nameplate: [plant]
@@ -34,7 +34,7 @@ Usage: sweep_start_errors.py [--exe MOTOR_SIM] [--config INI] [--grid=-30,0,30]
                              [--adaptive] [--compare] [--duration S]
                              [--set SECTION.KEY=VALUE]... [--jobs N] [--out DIR]
 e.g.   .venv/bin/python tools/sweep_start_errors.py --adaptive --compare
-       (the issue-8 sequence and, on the same cases, the paper's; one table
+       (the adaptive sequence and, on the same cases, the paper's; one table
        and one row of panels each)
 
 Exit status 0 when the sweep ran (whatever the runs found: this is a study,
@@ -56,7 +56,7 @@ SHORT = {"Rs_ohm": "Rs", "Rr_ohm": "Rr", "Lm_H": "Lm", "Lr_H": "Lr", "psi_r_Wb":
          "Tr_s": "Tr"}
 MOTOR = ("Rs_ohm", "Rr_ohm", "Lm_H", "Lls_H", "Llr_H")   # [plant] and [nameplate], set by the sweep
 BOUND_PCT = 3.0
-# the issue-8 sequence (README): observer, standstill Rs and sigma Ls, two
+# the adaptive sequence (README): observer, standstill Rs and sigma Ls, two
 # passes, Rr/Tr tracking with the fused published set
 ADAPTIVE = {("controller", "orientation"): "1", ("ident", "standstill"): "1",
             ("ident", "passes"): "2", ("ident", "track_rr"): "1"}
@@ -335,10 +335,10 @@ def parse_args(argv):
     ap.add_argument("--set", action="append", default=[], metavar="SECTION.KEY=VALUE",
                     help="extra key for every run (repeatable)")
     ap.add_argument("--adaptive", action="store_true",
-                    help="the issue-8 sequence: " + ", ".join(f"{k[0]}.{k[1]}={v}"
+                    help="the adaptive sequence: " + ", ".join(f"{k[0]}.{k[1]}={v}"
                                                               for k, v in ADAPTIVE.items()))
     ap.add_argument("--compare", action="store_true",
-                    help="also run the paper's sequence on every case (issue 8 item 5): "
+                    help="also run the paper's sequence on every case (its keys unchanged): "
                          "a second table and a second row of panels")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--duration", type=float, default=0.0,

@@ -190,7 +190,7 @@ static void observe_soak(const drive_t *d, sim_result_t *r, double t)
     }
 }
 
-/* Voltage reconstruction against the bridge (issue 8 item 4): the drive's
+/* Voltage reconstruction against the bridge (dead-time compensation): the drive's
  * alpha-beta voltage of the period that just ended (volt_calc, after this
  * ISR) minus the plant's period-average voltage of that same period, split
  * along and across the period-mean current, averaged over the steady state
@@ -227,7 +227,7 @@ static int trace_header(FILE *f)
                "K1,K2,K3,K4,"
                /* appended (tools/batch_ls.py): the RLS regression, pu, method §2 */
                "rls_on,y1,y2,i_mf,u_mf,i_tf,u_tf,wr_f,"
-               /* appended (issue 8): the plant's Rr, the drive's tracking and
+               /* appended (adaptive sequence): the plant's Rr, the drive's tracking and
                 * adaptation telemetry */
                "Rr_true_ohm,Rr_track_ohm,track_valid,pass,Rs_dc_ohm,Tr_track_s\n");
 }

@@ -29,10 +29,10 @@
 
 /* SCEN_SOAK: after the identification, repeated speed reversals
  * (+-target every 4 s) and load steps (+50 % of the rated load for 1 s,
- * 2 s after each reversal): the long-run test of issue 6.
+ * 2 s after each reversal): the long-run soak test.
  * SCEN_DRIFT: after the identification, the rotor resistance rises as the
  * rotor warms while the load changes ([drift] keys, drift.h): the test of
- * the drive's Rr tracking (issue 8 item 3). */
+ * the drive's Rr tracking (drift tracking). */
 typedef enum {
     SCEN_START = 0, SCEN_REVERSAL, SCEN_LOAD_STEPS, SCEN_SOAK, SCEN_DRIFT
 } sim_scenario_t;
@@ -119,14 +119,14 @@ typedef struct {
     double fault_time_s[SIM_MAX_FAULTS];
     double t_injected_s[SIM_MAX_FAULTS];   /* when each --fault was applied (-1: never) */
     double t_state_s[SIM_STATES];   /* the sequence's first entry into each id_state_t (-1) */
-    /* protection figures (issue 6) */
+    /* protection figures */
     double t_fault_visible_s;       /* first sample an injected fault reached the ADC/QEP
                                        (-1: none) */
     uint32_t pwm_periods_with_fault;/* periods the bridge switched with a fault latched
                                        (after the ISR): must be 0 */
     double t_first_published_s;     /* -1: never */
     sim_params_t published_first;   /* the published set when it first appeared */
-    sim_params_t published_end;     /* the published set at the end of the run (issue 8: with
+    sim_params_t published_end;     /* the published set at the end of the run (the adaptive sequence: with
                                        tracking, Rs standstill, Rr and Tr tracked) */
     sim_params_t published_end_error_pct;   /* against the truth at the start of RUN */
     uint16_t params_tracked;        /* the end set carries the tracked values */
@@ -170,12 +170,12 @@ typedef struct {
     double live_min_pct, live_max_pct; /* live estimates (valid ones, after
                                        publication) relative to truth, worst */
     double max_settled_speed_err_rpm; /* soak: |ref - speed| just before each reversal */
-    /* voltage reconstruction (issue 8 item 4), means over SETTLE and RUN:
+    /* voltage reconstruction (dead-time compensation), means over SETTLE and RUN:
      * drive's voltage minus the bridge's, along / across the current */
     double v_err_along_i_V, v_err_across_i_V;
     double i_mag_steady_A;          /* mean current-vector magnitude (peak phase) */
     uint32_t n_v_err;               /* samples averaged */
-    /* adaptation (issue 8), telemetry at the end */
+    /* adaptation (the adaptive sequence), telemetry at the end */
     uint16_t final_pass;            /* identification pass under way or last done */
     double Rs_dc_ohm;               /* standstill Rs; 0: none measured */
     uint16_t adapt_timeouts;        /* waits for the background's model that ran out (the

@@ -169,7 +169,7 @@ static void tracker_reset(drive_t *d)
  * confidence from the data (-1, not available, not judged): its error is
  * the dead-time compensation's at DC, which its own signals do not show,
  * and the RLS's Rs, the only second measurement, is the worse one in this
- * sequence (README "Beyond the paper": the observer's frame biases K1, K3;
+ * sequence (docs/method.md "Beyond the paper": the observer's frame biases K1, K3;
  * measured from a nameplate 30 % off, 1.1 kW: the RLS's Rs 4-5 % from the
  * standstill one, 2.3 % its bound, the standstill Rs -0.17 %; 15 kW: the
  * RLS's -38 %, bound 35 %, the standstill -0.1 %).  DRIVE_PUB_PENDING while it waits; a tracker
@@ -204,7 +204,7 @@ static uint16_t judge_fused(drive_t *d)
 }
 
 /* With the tracker valid (RUN, track_rr), the published set takes the
- * estimates that are well conditioned for each parameter (issue 8): Rs
+ * estimates that are well conditioned for each parameter (the fused set): Rs
  * from the standstill test (independent of the frame), Rr and Tr from the
  * tracker (the slip in the observer's frame: an angle error delta moves it
  * by ~2 delta, against ~w_r Tr delta for the RLS's K3, w_r Tr = 81 on the

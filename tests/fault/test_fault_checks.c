@@ -1,5 +1,5 @@
 /*
- * The plausibility checks of issue 6 as units (encoder, current feedback,
+ * The protections' plausibility checks as units (encoder, current feedback,
  * theta guard, protection priority and restart condition), and the margin
  * of the current check on healthy closed-loop runs.
  */
@@ -216,7 +216,7 @@ static void test_theta_guard(void **state)
     assert_int_equal(g.good, 0u);
 }
 
-/* theta_guard_set_required (issue 8, fused mode: only K2 and K4 judged).
+/* theta_guard_set_required (the adaptive sequence's fused mode: only K2 and K4 judged).
  * A theta with K1 of the wrong sign and K3 negative (K2, K4 plausible) is
  * rejected with all four required, taken once the mask is K2|K4 (0xA),
  * including its implausible K1, K3 as they are; K2 or K4 out of band is

@@ -1,5 +1,5 @@
 /*
- * Fault injection (issue 6 items 1 and 3): each fault injected into the
+ * Fault injection (protections and fault handling): each fault injected into the
  * simulated power stage, once during the identification (before anything is
  * published) and once after the publication, against the unchanged firmware
  * ISR.  For each: the right fault code; the safe state (PWM off at the end,

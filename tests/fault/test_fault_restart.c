@@ -1,5 +1,5 @@
 /*
- * Restart after a fault (issue 6 item 1): only by an explicit command
+ * Restart after a fault (fault handling): only by an explicit command
  * (DRIVE_CMD_RESET_FAULT), and only once the cause has gone; then a new
  * start runs the drive again.
  */

@@ -97,7 +97,7 @@ static void make_config(uint8_t variant, drive_config_t *c)
 {
     *c = g_board_config;
     if ((variant & 4u) != 0u) {
-        /* bit 2: the adaptive sequence of issue 8 on top of the variant
+        /* bit 2: the adaptive sequence on top of the variant
          * (observer, standstill tests, two passes, tracking); its
          * standstill test needs the 0.3 s magnetisation */
         c->control.orientation = DRIVE_ORIENT_FLUX_OBS;

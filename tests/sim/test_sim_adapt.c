@@ -1,5 +1,5 @@
 /*
- * Closed-loop tests of issue 8 (beyond the paper): identification from a
+ * Closed-loop tests of the adaptive sequence (beyond the paper): identification from a
  * wrong nameplate, and Rr drift tracking, on the simulated motors with the
  * realistic default inverter and sensors.
  *
@@ -20,7 +20,7 @@
  *    most 3 s, rotor flux q/d below 1 %.  Measured: 0.43 % at a lag of
  *    2.0 s (paper motor; 1.39 % with no lag), q/d 0.79 % (instantaneous),
  *    0.63 % (20 ms mean).
- *  - the paper's sequence stays as it was (issue 8 item 5): with the same
+ *  - the paper's sequence stays as it was: with the same
  *    wrong nameplate it is far off (the contrast is part of the test).
  */
 #include <math.h>

@@ -1,5 +1,5 @@
 /*
- * Closed-loop tests (issue 3 item 5, issue 4 item 6): the unchanged firmware
+ * Closed-loop tests (closed-loop control and identification accuracy): the unchanged firmware
  * ISR against the simulated paper motor with the default realistic inverter
  * (dead time 1 us, 0.3 V drop, bus ripple) and sensors (Hall gain/offset
  * errors and noise, ADC quantisation and noise, 1000-line encoder).
@@ -45,7 +45,7 @@ static int run_paper_motor(void **state)
     return 0;
 }
 
-/* Issue 4: every parameter within 2 % of truth (the paper reports up to 4.3 %),
+/* Identification accuracy: every parameter within 2 % of truth (the paper reports up to 4.3 %),
  * published: every confidence within the drive's 3 % (ident_conf.h). */
 static void test_identification_accuracy(void **state)
 {
@@ -67,7 +67,7 @@ static void test_identification_accuracy(void **state)
     assert_int_equal(g_res.settle_timeout, 0);
 }
 
-/* Issue 4: within 2 % of the final value at most 1 s after the acceleration starts. */
+/* Identification accuracy: within 2 % of the final value at most 1 s after the acceleration starts. */
 static void test_convergence_time(void **state)
 {
     (void)state;
@@ -75,14 +75,14 @@ static void test_convergence_time(void **state)
     assert_true(g_res.converge_s <= 1.0);
 }
 
-/* Issue 3: field orientation holds: rotor-flux q below 1 % of d with the right Tr. */
+/* Closed-loop control: field orientation holds: rotor-flux q below 1 % of d with the right Tr. */
 static void test_field_orientation(void **state)
 {
     (void)state;
     assert_true(g_res.max_flux_q_over_d < 0.01);
 }
 
-/* Issue 3: speed follows its ramp.  Bound 2 % of rated speed (28 r/min): the
+/* Closed-loop control: speed follows its ramp.  Bound 2 % of rated speed (28 r/min): the
  * speed loop (8 Hz) lags a 2000 r/min/s ramp by about ramp/(2 pi 8 Hz) ~ 40 r/min
  * without the integral action; with it the steady ramp error goes to zero,
  * what is left is the start transient (excluded: the first 0.2 s). */
@@ -94,7 +94,7 @@ static void test_speed_tracking(void **state)
                 0.005 * g_cfg.nameplate.rated_speed_rpm);
 }
 
-/* Issue 3: no current limit exceeded: the phase current stays below the
+/* Closed-loop control: no current limit exceeded: the phase current stays below the
  * magnitude the limits allow, sqrt(i_M^2 + i_T,max^2) plus 10 % for ripple and
  * the current-loop overshoot, and below the trip level. */
 static void test_current_limits(void **state)
@@ -109,8 +109,8 @@ static void test_current_limits(void **state)
     assert_int_equal(g_res.final_pwm_on, 1);
 }
 
-/* Issue 4: other motors, set up only through their own files.  Bound 3 %
- * per parameter (issue 4) on the RLS's extraction.  The paper's sequence is
+/* Other motors, set up only through their own files.  Bound 3 %
+ * per parameter on the RLS's extraction.  The paper's sequence is
  * biased on these motors by an error w_r Tr times larger in K3 (25 and 81),
  * and the data cannot bound Rr and Tr within 3 % (confidence of the refused
  * set, IQ_MATH: 1.1 kW Tr 3.4 %, 15 kW 4.6 %): the drive publishes nothing,
@@ -155,7 +155,7 @@ static void test_identification_1kw(void **state)
 
 /* a 15 kW 400 V machine on a 600 V bus: the hard case (omega_r Tr = 81 at
  * rated speed, so the resistive voltage is about 1 % of the stator
- * voltage; README "Accuracy") */
+ * voltage; docs/accuracy.md) */
 static void test_identification_15kw(void **state)
 {
     (void)state;

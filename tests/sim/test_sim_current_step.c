@@ -1,5 +1,5 @@
 /*
- * Current-loop step response in closed loop (issue 3 item 5): the i_M
+ * Current-loop step response in closed loop (closed-loop control): the i_M
  * reference steps from 0 to the magnetising current when the sequence enters
  * MAGNETIZE; the firmware's measured i_M is traced at 15 kHz.
  *

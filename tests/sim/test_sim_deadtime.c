@@ -1,6 +1,6 @@
 /*
  * Dead-time and device-drop compensation in the voltage reconstruction
- * (issue 8 item 4): the paper motor on its default realistic bridge (60 V,
+ * (dead-time compensation): the paper motor on its default realistic bridge (60 V,
  * 1 us dead time at 15 kHz, 0.3 V device drop, 0.1 A transition band), run
  * twice, with `[controller] dead_time_comp` 1 and 0.  The simulator compares
  * the drive's reconstructed voltage of every period with the bridge's and
@@ -102,7 +102,7 @@ static void test_compensation_removes_it(void **state)
 }
 
 /* What it does to the identification.  Compensated: Rs within 1 % (the
- * 2 % bound of issue 4 with margin; measured +0.04 %), published.
+ * 2 % accuracy bound with margin; measured +0.04 %), published.
  * Uncompensated: Rs takes the apparent resistance (4/pi) V_dt / |i| = 17.5 %
  * of Rs, and more (measured +20.0 %: the same error also pulls Rr down by
  * 10 %, which enters Rs = -K1/K2 - K3'/i_M): asserted between 0.9 and 1.4

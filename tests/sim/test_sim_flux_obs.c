@@ -1,5 +1,5 @@
 /*
- * Closed-loop tests of orientation 1 (issue 8 item 1): the drive oriented by
+ * Closed-loop tests of orientation 1 (orientation by the rotor-flux observer): the drive oriented by
  * the rotor-flux observer (flux_obs.h) instead of indirect field orientation,
  * on the simulated paper motor with the realistic default inverter and
  * sensors (as sim_closed_loop), the default start scenario (4.3 s simulated).

@@ -1,5 +1,5 @@
 /*
- * Soak (issue 6 item 4): the identification, then repeated speed reversals
+ * Soak (long-run robustness): the identification, then repeated speed reversals
  * (+-1400 r/min every 4 s) and load steps (+50 % of the rated load for 1 s,
  * 2 s after each reversal, at the settled speed) on the paper motor.  (A step
  * that coincides with the end of a reversal at rated speed reaches the

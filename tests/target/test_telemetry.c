@@ -71,7 +71,7 @@ static void test_frame_round_trip(void **state)
     assert_int_equal(s_t.seq, 1u);
 }
 
-/* $A (issue 8): the adaptation fields after their own header, the same
+/* $A (the adaptive sequence): the adaptation fields after their own header, the same
  * framing and checksum as $T; it counts in the same sequence. */
 static void test_adapt_frame(void **state)
 {

@@ -56,7 +56,7 @@ class Signals(C.Structure):
                 [("rls_updates", C.c_uint32)] +
                 [("live_" + n, C.c_double) for n in PARAM_NAMES] +
                 [(n, C.c_double) for n in PARAM_NAMES] +
-                # issue 8 (API version 2)
+                # the adaptive sequence (API version 2)
                 [(n, C.c_uint16) for n in ("pass_", "track_valid", "params_tracked")] +
                 [(n, C.c_double) for n in ("Rs_dc_ohm", "sigma_ls_dc_H", "Rr_track_ohm",
                                            "Tr_track_s")] +

@@ -1,9 +1,9 @@
 """The IQ_MATH and FLOAT_MATH builds of the same firmware agree on the same
-scenario (issue 3): motor_sim of build/host-iq and build/host-float on the
+scenario: motor_sim of build/host-iq and build/host-float on the
 paper motor's default identification run.
 
 Bounds: every identified parameter within 0.5 % of the other build's value
-(issue 4's bound for IQ vs FLOAT); the final speed within 0.1 % of rated; the
+(the accuracy bound for IQ vs FLOAT); the final speed within 0.1 % of rated; the
 same sequence of states (both publish, neither faults).  Measured: at most
 0.01 percentage points apart (tools/accuracy.py).
 """
