@@ -158,7 +158,8 @@ static void usage(FILE *f)
             "written); 3 the run completed but nothing was published: the drive refused its set,\n"
             "or the run ended before its verdict (report.json \"publish_reason\": not_converged,\n"
             "low_excitation, high_residual, low_confidence, implausible, fault, timeout,\n"
-            "stopped, or pending).  --help and --keys exit 0.\n");
+            "stopped, or pending); a --serial session ends with 0 (the PC tool reads the\n"
+            "verdict).  --help and --keys exit 0.\n");
 }
 
 /* The options followed by a value.  Checked before any value is used, so
@@ -647,7 +648,9 @@ int main(int argc, char **argv)
             printf("wrote %s and %s\n", trace_path, report_path);
         }
     }
-    if (!res.identified) {
+    /* (a --serial session is the PC tool's: it reads the verdict over the
+     * link, and a clean end of the session is a success) */
+    if (!res.identified && serial == NULL) {
         if (!opt.quiet) {
             fprintf(stderr, "motor_sim: nothing published: %s\n",
                     drive_pub_reason_str(res.publish_reason));

@@ -33,9 +33,12 @@ def test_identified_is_the_published_set_with_tracking(tmp_path):
     assert abs(rep["last_extraction_error_pct"]["Rr_ohm"]) > 1.0
     assert rep["last_extraction_valid"] is True
     # the published set carries a confidence per parameter, each within the drive's 3 %
+    # (but the standstill Rs, which the RLS does not judge)
     assert rep["publish_reason"] == "published"
     for k in KEYS:
         c = rep["confidence_pct"][k]
+        if k == "Rs_ohm" and c is None:
+            continue   # the fused set's Rs is the standstill test's: not judged by the RLS
         assert c is not None and 0.0 <= c <= 3.0, (k, c)
     # the printed table: "published" is the published row, "RLS (paper)" the RLS's
     rows = {}
