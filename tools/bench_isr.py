@@ -534,6 +534,32 @@ def summary(res):
             "total_cycles": int(round(max(v["mean"] for v in st.values())))}
 
 
+def print_markdown(configs, results, sums):
+    """The tables of the benchmarks document: per state the mean and the
+    worst single ISR of each sequence, and the worst ISR of every slot."""
+    names = [n for n, _ in configs]
+    print("| state | " + " | ".join(f"{n}: mean | {n}: worst" for n in names) + " |")
+    print("|---|" + "---:|---:|" * len(names))
+    for state in STATES:
+        if not any(state in results[n]["states"] for n in names):
+            continue
+        cells = []
+        for n in names:
+            v = results[n]["states"].get(state)
+            cells += ([f"{v['mean']:.0f}", f"{v['worst']:.0f}"] if v else ["-", "-"])
+        print(f"| {state} | " + " | ".join(cells) + " |")
+    print("| **worst single ISR** | " + " | ".join(
+        f" | **{sums[n]['worst_isr_cycles']}**" for n in names).strip() + " |")
+    print()
+    slots = results[names[0]]["slots"]
+    print("| worst ISR per slot | " + " | ".join(str(k) for k in range(slots)) + " |")
+    print("|---|" + "---:|" * slots)
+    for n in names:
+        worst = [max(v["classes"][k]["worst"] for v in results[n]["states"].values()
+                     if k in v["classes"]) for k in range(slots)]
+        print(f"| {n} | " + " | ".join(f"{w:.0f}" for w in worst) + " |")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default=str(ROOT / "build" / "host-iq"),
@@ -551,6 +577,8 @@ def main(argv=None):
                     help="with --hot: of this state's worst ISR instead (e.g. CALIBRATE)")
     ap.add_argument("--slots", action="store_true", help="also list the worst ISR of every slot")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
+    ap.add_argument("--markdown", action="store_true",
+                    help="print the per-state (mean, worst) and per-slot tables in Markdown")
     ap.add_argument("--json", action="store_true",
                     help='print {"total_cycles", "budget_cycles", "worst_isr_cycles", '
                          '"states", "sequences", ...}')
@@ -578,6 +606,9 @@ def main(argv=None):
            "fixed_cycles": int(round(next(iter(results.values()))["fixed"]))}
     if a.json:
         print(json.dumps(out, indent=1))
+        return 0
+    if a.markdown:
+        print_markdown(configs, results, sums)
         return 0
     for (name, cfg), r in zip(configs, results.values()):
         print(f"{name} ({cfg}): cycles per ISR (C28x, 150 MHz), slots of the schedule: "
