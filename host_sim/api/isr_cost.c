@@ -112,7 +112,7 @@ static uint8_t sample_kind(uint32_t pos, uint32_t n, uint32_t uniform)
         return 1u;
     }
     for (j = 0u; j < uniform; j++) {
-        if (pos == (uint32_t)(((uint64_t)(2u * j + 1u) * n) / (2u * uniform))) {
+        if (pos == (uint32_t)(((uint64_t)(2u * j + 1u) * n) / ((uint64_t)2u * uniform))) {
             return 2u;
         }
     }
@@ -175,13 +175,13 @@ int main(int argc, char **argv)
     kind = calloc(n_isr, 1u);
     if (state_at == NULL || kind == NULL) {
         fprintf(stderr, "isr_cost: out of memory\n");
-        return 1;
+        goto fail;
     }
 
     /* pass 1: the timeline */
     if (run_start(&run, &cfg) != 0) {
         fprintf(stderr, "isr_cost: configuration refused\n");
-        return 1;
+        goto fail;
     }
     for (k = 0u; k < n_isr; k++) {
         uint16_t st = (uint16_t)run.drive.seq.state;
@@ -211,10 +211,10 @@ int main(int argc, char **argv)
     /* pass 2: the samples */
     if (mkdir(out, 0777) != 0 && errno != EEXIST) {
         fprintf(stderr, "isr_cost: cannot create %s\n", out);
-        return 1;
+        goto fail;
     }
     if (run_start(&run, &cfg) != 0) {
-        return 1;
+        goto fail;
     }
     printf("{\"isrs\": %u, \"slots\": %u, \"log_slot\": %u, \"iqmath_names\": [",
            (unsigned)n_isr, (unsigned)DRIVE_SLOTS, (unsigned)DRIVE_LOG_SLOT);
@@ -263,4 +263,9 @@ int main(int argc, char **argv)
     (void)unsetenv("GCOV_PREFIX");
     fflush(stdout);
     _Exit(0);
+
+fail:   /* every error after the allocations */
+    free(state_at);
+    free(kind);
+    return 1;
 }

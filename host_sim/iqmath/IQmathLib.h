@@ -562,7 +562,9 @@ static inline int16_t iqm_norm32(int32_t x)
     if ((u & 0xF0000000u) == 0u) { n = (int16_t)(n + 4); u <<= 4; }
     if ((u & 0xC0000000u) == 0u) { n = (int16_t)(n + 2); u <<= 2; }
     if ((u & 0x80000000u) == 0u) { n = (int16_t)(n + 1); }
-    return (int16_t)(n - 1);
+    /* u < 2^31 (the sign bit is never set in ~x or x >= 0), so n >= 1; the
+     * clamp says so to the static analysis */
+    return (int16_t)((n > 0) ? n - 1 : 0);
 }
 #define iq_norm32(X) IQM_CALL(IQMATH_FN_NORM32, iqm_norm32((int32_t)(X)))
 

@@ -278,14 +278,13 @@ static void task_filters_c(drive_t *d)
 
     ident_regressor_filter_c(&d->reg);
     if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
-        if (d->fobs_hold != 0u) {
-            rls_on = 0u;   /* the frame is held on the encoder angle */
-        } else if (d->frame_ifo == 0u && _IQabs(d->fobs.ws_f) < d->k.rls_ws_min) {
-            /* below ~10 w_c the current model (the believed Tr) steers the
-             * angle: learn only where it does not (flux_obs.h) */
+        /* not while the frame is held on the encoder angle, nor below ~10
+         * w_c, where the current model (the believed Tr) steers the angle:
+         * learn only where it does not (flux_obs.h); the observer's frame
+         * above its crossover, or RUN on ifo, learns */
+        if (d->fobs_hold != 0u ||
+            (d->frame_ifo == 0u && _IQabs(d->fobs.ws_f) < d->k.rls_ws_min)) {
             rls_on = 0u;
-        } else {
-            /* the observer's frame above its crossover, or RUN on ifo */
         }
     }
     rls_push(d, rls_on);

@@ -280,7 +280,7 @@ static inline int16_t rls_clamp(int16_t x, int16_t lo, int16_t hi)
 #if MATH_TYPE == IQ_MATH
     return (int16_t)_IQsat((int32_t)x, (int32_t)hi, (int32_t)lo);
 #else
-    return (x < lo) ? lo : ((x > hi) ? hi : x);
+    return (int16_t)((x < lo) ? lo : ((x > hi) ? hi : x));
 #endif
 }
 
@@ -312,7 +312,7 @@ static void rls_theta_set(rls_t *r, int16_t i, float v)
 static void rls_ref1(rls_t *r, int16_t i)
 {
     int16_t dl = (int16_t)(r->pe_ref - r->Pe[i]);
-    r->dl[i] = (dl > 31) ? 31 : dl;
+    r->dl[i] = (int16_t)((dl > 31) ? 31 : dl);
     r->d[i] = (dl > 30) ? _IQ30(0.0) : rls_shr(_IQ30(1.0), dl, 0);
 }
 
@@ -321,7 +321,7 @@ static void rls_refs(rls_t *r)
 {
     int16_t m = r->Pe[0], i;
     for (i = 1; i < RLS_N; i++) {
-        m = (r->Pe[i] > m) ? r->Pe[i] : m;
+        m = (int16_t)((r->Pe[i] > m) ? r->Pe[i] : m);
     }
     r->pe_ref = m;
     for (i = 0; i < RLS_N; i++) {
@@ -426,7 +426,9 @@ static void rls_rescale(rls_t *r, int16_t i)
     int16_t s;
     p[ix[i]] = _IQ30(0.0);                   /* out of the range test below */
     if (d > _IQ30(0.0)) {
-        s = (int16_t)((rls_norm(d, 30) - 1) >> 1);
+        /* >= 1 for d < 2^28 (the caller's case); the clamp keeps every
+         * shift below defined for any d (rare path) */
+        s = rls_clamp((int16_t)((rls_norm(d, 30) - 1) >> 1), 0, 15);
         m = rls_shr(_IQ30(1.0), s, 0);
         if (rls_out4(p[ix[0]], p[ix[1]], p[ix[2]], p[ix[3]], m, rls_hi(m)) == 0u) {
             p[ix[0]] = rls_shl(p[ix[0]], s, 0);
@@ -614,6 +616,7 @@ static _iq rls_row_update(rls_t *r, const _iq phi_in[RLS_N], _iq y)
     v2 = _IQ27mpy(ph[2], dd[2]);
     v3 = _IQ27mpy(ph[3], dd[3]);
     s = (int16_t)(rls_norm(rls_mag4(v0, v1, v2, v3), 27) - 2);   /* >= 0: OR < 2^29 */
+    s = (int16_t)((s < 0) ? 0 : s);   /* (the bound above; one compare keeps the shift defined) */
     sc = rls_shl(RLS_ONE_RAW, s, -3);
     v0 *= sc;                        /* exact: max |v| 2^s < 2^29 */
     v1 *= sc;
