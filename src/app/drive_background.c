@@ -135,7 +135,9 @@ static void publish(drive_telemetry_t *t, const param_extract_t *p, uint16_t rea
  * task: a sample torn by an ISR in between is skipped. */
 static void sample_tracker(drive_t *d)
 {
-    const tr_track_t *t = &d->track;
+    /* volatile: the ISR may update the tracker between these reads (the
+     * second read of y_f must be a read, not the compiler's copy) */
+    const volatile tr_track_t *t = &d->track;
     _iq y, phi, th;
     if (t->n_updates == d->trk_updates || t->held != 0u) {
         return;

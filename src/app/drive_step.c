@@ -14,12 +14,11 @@
  *   5. regression in  the period's voltage rotated into M-T at its middle,
  *                     the products w_s i, summed over the slow period
  *                     (ident_regressor_accumulate: the anti-alias mean)
- *   6. slow task      one of drive_slow.c's, by slot:
- *        SPEED    speed ramp + PI, identification sequence, adaptation,
- *                 1/(Tr i_mr) of the slip, telemetry and snapshots
- *        FILTERS  the regression's seven Butterworth filters (method §5)
- *        RLS_ROW1 the RLS's forgetting step and row 1 (method §3)
- *        RLS_ROW2 row 2, then the estimator guard
+ *   6. slow task      one of drive_slow.c's eight, by slot (drive_slow.c
+ *                     lists them: speed loop, the regression's filters over
+ *                     three slots and the rows queued for the background's
+ *                     RLS, the sequence and adaptation, the observer over
+ *                     two, the model-based protections)
  *   7. current loops  d/q PIs with decoupling, current plausibility check
  *   8. orientation    i_mr and the slip angle (indirect; the frame angle of
  *                     the next sample is the encoder angle plus the slip)
@@ -34,16 +33,15 @@
  *     voltage reconstruction and the per-sample regression inputs (the
  *     voltage of a period exists only in that period: it is rotated at its
  *     own mid-period angle and summed, never sampled).
- *   - at f_pwm / 4 (3.75 kHz): the speed loop (bandwidth a few Hz), the
- *     sequence (times of 0.1-1 s), the regression filters (10 Hz band:
- *     the 4-sample mean before them is the anti-alias stage, its nulls at
- *     the multiples of 3.75 kHz that would fold onto that band) and the RLS
- *     (both rows once per slow period, on the filtered signals: consecutive
- *     15 kHz samples of a 10 Hz signal add no information; measured, the
- *     decimated RLS is as accurate as the 15 kHz one once P(0) is large
- *     enough that the prior does not pull the weakly excited directions,
- *     drive_init.c).
- *
+ *   - at f_pwm / DRIVE_SLOTS (1.875 kHz): the speed loop (bandwidth a few
+ *     Hz), the sequence (times of 0.1-1 s), the regression filters (10 Hz
+ *     band: the 8-sample mean before them is the anti-alias stage, its
+ *     nulls at the multiples of 1.875 kHz that would fold onto that band),
+ *     the observer (its crossover 3 Hz), the checks with ms time constants.
+ *   - in the background, on the ISR's queue of filtered rows: the RLS and
+ *     its guard (drive_rls_bg.c: every sample once and in order; consecutive
+ *     15 kHz samples of a 10 Hz signal add no information).
+
  * Orientation (drive_control_t.orientation, fixed at drive_init):
  *   0 IFO       as above (the paper's; steps 4 and 8 run the ifo module).
  *   1 observer  step 4 sums the Clarke currents and the voltage of the
@@ -282,7 +280,7 @@ static inline void modulate(drive_t *d, hal_pwm_compare_t *out)
 }
 
 /* The body of drive_step, inline in drive_isr (no call per period). */
-static inline void step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
+static inline void isr_body(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
                         hal_pwm_compare_t *out)
 {
     uint16_t pwm_on;
@@ -338,7 +336,7 @@ static inline void step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_co
 void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
                 hal_pwm_compare_t *out)
 {
-    step(d, adc, qep_count, out);
+    isr_body(d, adc, qep_count, out);
 }
 
 uint16_t drive_isr(drive_t *d)
@@ -348,7 +346,7 @@ uint16_t drive_isr(drive_t *d)
 
     hal_adc_read(&adc);
     d->prot.hw_trip = hal_pwm_tripped();
-    step(d, &adc, hal_qep_read_count(), &cmp);
+    isr_body(d, &adc, hal_qep_read_count(), &cmp);
     hal_pwm_write(&cmp);
     if (d->telemetry.pwm_on != 0u) {
         hal_pwm_enable();

@@ -213,9 +213,10 @@ static inline _iq rls_round(_iq y)
 
 static inline uint32_t rls_out_of_range(const _iq30 p[RLS_NP], const _iq tx[RLS_N])
 {
-    return (uint32_t)((rls_out4(p[P01], p[P02], p[P03], p[P12], 1.0f, 0u) != 0u)
-                      | (rls_out4(p[P13], p[P23], 0.0f, 0.0f, 1.0f, 0u) != 0u)
-                      | (rls_out4(tx[0], tx[1], tx[2], tx[3], 16.0f, 0u) != 0u));
+    /* (each test as a 0/1 integer, OR-ed without a branch) */
+    return (uint32_t)(rls_out4(p[P01], p[P02], p[P03], p[P12], 1.0f, 0u) != 0u) |
+           (uint32_t)(rls_out4(p[P13], p[P23], 0.0f, 0.0f, 1.0f, 0u) != 0u) |
+           (uint32_t)(rls_out4(tx[0], tx[1], tx[2], tx[3], 16.0f, 0u) != 0u);
 }
 
 static inline uint32_t rls_below_band(const _iq30 p[RLS_NP])

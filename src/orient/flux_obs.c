@@ -1,5 +1,6 @@
 /* Closed-loop rotor-flux observer (voltage model + current model).  See flux_obs.h. */
 #include "flux_obs.h"
+#include "exp_series.h"
 
 #include "angle.h"
 #include "iq_rmpy.h"
@@ -59,15 +60,6 @@ static void zero_params(flux_obs_t *o)
     o->dth_max = _IQ(0.0);
 }
 
-/* 1 - exp(-x) by its series to x^5/120, Horner (float; x <= 0.1) */
-static float one_minus_exp_neg(float x)
-{
-    float t = 1.0f - x * 0.2f;
-    t = 1.0f - x * 0.25f * t;
-    t = 1.0f - x * (1.0f / 3.0f) * t;
-    t = 1.0f - x * 0.5f * t;
-    return x * t;
-}
 
 flux_obs_status_t flux_obs_design_rs(flux_obs_model_t *m, float rs_pu)
 {

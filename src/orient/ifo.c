@@ -1,5 +1,6 @@
 /* Indirect field orientation (current model).  See ifo.h. */
 #include "ifo.h"
+#include "exp_series.h"
 
 #include "angle.h"
 #include "iq_rmpy.h"
@@ -54,15 +55,6 @@ ifo_status_t ifo_init(ifo_t *f, float Tr_s, const base_values_t *b, float imr_mi
     }
 }
 
-/* 1 - exp(-x) by its series to x^5/120, Horner (float; x <= 0.1) */
-static float one_minus_exp_neg(float x)
-{
-    float t = 1.0f - x * 0.2f;
-    t = 1.0f - x * 0.25f * t;
-    t = 1.0f - x * (1.0f / 3.0f) * t;
-    t = 1.0f - x * 0.5f * t;
-    return x * t;
-}
 
 ifo_status_t ifo_design_tr(ifo_tr_t *t, float ts_pu, float tr_pu, float imr_min_pu)
 {
