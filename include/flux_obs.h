@@ -246,6 +246,18 @@ flux_obs_status_t flux_obs_design_tr(flux_obs_model_t *m, float ts_pu, float tr_
 flux_obs_status_t flux_obs_design(flux_obs_model_t *m, float ts_pu, float rs_pu, float lm_pu,
                                   float lr_pu, float ls_pu, float tr_pu);
 
+/** The model the observer runs, as a set (seven word copies). */
+static inline void flux_obs_get_model(const flux_obs_t *o, flux_obs_model_t *m)
+{
+    m->rs = o->rs;
+    m->lm = o->lm;
+    m->sigma_ls = o->sigma_ls;
+    m->lr_lm = o->lr_lm;
+    m->lm_lr = o->lm_lr;
+    m->tr = o->tr;
+    m->kf = o->kf;
+}
+
 /** Copy a model set in (ISR: seven word copies, no arithmetic). */
 static inline void flux_obs_apply_model(flux_obs_t *o, const flux_obs_model_t *m)
 {

@@ -127,13 +127,7 @@ static void init_background(drive_t *d, const drive_config_t *c, float Ts)
     g->cur[DRIVE_P_LS] = _IQ(m->Ls_H / b->L_base_H);
     g->cur[DRIVE_P_TR] = d->fobs.tr;
     g->lr = g->cur[DRIVE_P_LR];
-    s->fobs.rs = d->fobs.rs;
-    s->fobs.lm = d->fobs.lm;
-    s->fobs.sigma_ls = d->fobs.sigma_ls;
-    s->fobs.lr_lm = d->fobs.lr_lm;
-    s->fobs.lm_lr = d->fobs.lm_lr;
-    s->fobs.tr = d->fobs.tr;
-    s->fobs.kf = d->fobs.kf;
+    flux_obs_get_model(&d->fobs, &s->fobs);
     s->ifo.tr = d->ifo.tr;
     s->ifo.inv_tr = d->ifo.inv_tr;
     s->ifo.kf = d->ifo.kf;

@@ -265,13 +265,8 @@ flux_obs_status_t flux_obs_set_rs_dc(flux_obs_t *o, _iq rs_pu, _iq u_alpha, _iq 
     flux_obs_status_t st;
 
     /* the model in use with the new Rs */
+    flux_obs_get_model(o, &m);
     m.rs = rs_pu;
-    m.lm = o->lm;
-    m.sigma_ls = o->sigma_ls;
-    m.lr_lm = o->lr_lm;
-    m.lm_lr = o->lm_lr;
-    m.tr = o->tr;
-    m.kf = o->kf;
     st = flux_obs_seat_dc(o, &m, o->psi_cm_alpha, o->psi_cm_beta, u_alpha, u_beta, i_alpha,
                           i_beta, &s);
     if (st == FLUX_OBS_OK) {
