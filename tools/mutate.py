@@ -72,13 +72,13 @@ M = Mutant
 MUTANTS = [
     # ---- the known survivors of the earlier suite ---------------------------
     M("publish_ignores_valid", "src/app/drive_background.c",
-      "    if (p->valid == 0u) {\n        if (t->publish_rejects < 0xFFFFu) {",
-      "    if (p->valid == 0xFFFFu) {\n        if (t->publish_rejects < 0xFFFFu) {",
-      "the published-set gate: an implausible extraction (a +100 % sensor gain error) "
-      "would be published (all zeros)"),
+      "    if (end->valid == 0u) {\n        return DRIVE_PUB_IMPLAUSIBLE;",
+      "    if (end->valid == 0xFFFFu) {\n        return DRIVE_PUB_IMPLAUSIBLE;",
+      "the published-set gate (judge_rls): an implausible extraction (a +100 % sensor gain "
+      "error) would not be refused as implausible and could be published"),
     M("overcurrent_phase_c_removed", "include/protect.h",
-      "                         (uint16_t)(_IQabs(p->ic) > p->i_trip) |\n",
-      "",
+      "protect_over(p, p->ic) | (uint16_t)(p->vdc > p->vdc_max);",
+      "(uint16_t)(p->vdc > p->vdc_max);",
       "phase c (computed from a and b) is the only phase that sees a fault current "
       "between a and b returning through c"),
     M("current_check_tau_4ms", "src/app/drive_init.c",
@@ -91,14 +91,14 @@ MUTANTS = [
     M("tracker_guard_1pct", "src/app/drive_adapt.h",
       "#define TRACK_PHI_MIN_OF_RATED 0.1f", "#define TRACK_PHI_MIN_OF_RATED 0.01f",
       "the Rr tracker's wind-up guard: at 1 % it learns from noise at no load"),
-    M("pass_rate_limit_x4", "src/app/drive_adapt.c",
+    M("pass_rate_limit_x4", "src/app/drive_adapt_bg.c",
       "    _iq lo = _IQmpy(ref, _IQ(0.5));\n    _iq hi = (ref < _IQ(60.0)) ? ref + ref : _IQ(120.0);",
       "    _iq lo = _IQmpy(ref, _IQ(0.25));\n    _iq hi = (ref < _IQ(30.0)) ? ref * 4 : _IQ(120.0);",
       "the model handed from pass to pass moves at most a factor 2 (a bad pass cannot "
       "throw the observer off)"),
     # ---- protections ---------------------------------------------------------
     M("overvoltage_threshold_raised", "include/protect.h",
-      "(uint16_t)(p->vdc > p->vdc_max) | uv;", "(uint16_t)(p->vdc > p->vdc_max + _IQ(0.5)) | uv;",
+      "| (uint16_t)(p->vdc > p->vdc_max);", "| (uint16_t)(p->vdc > p->vdc_max + _IQ(0.5));",
       "the bus overvoltage trip 0.5 pu (17 V) too high"),
     M("undervoltage_only_at_clear", "include/protect.h",
       "const uint16_t uv = (uint16_t)((p->pwm_on | strict) != 0u) &",
@@ -216,14 +216,15 @@ MUTANTS = [
       "the observer's voltage-model correction integrates the wrong way"),
     # ---- voltage reconstruction ------------------------------------------------
     M("deadtime_comp_sign_a", "include/volt_calc.h",
-      "        pa -= volt_calc_leg_error(v, v->ia, v->dia, v->da, v_dt_half, verr);",
-      "        pa += volt_calc_leg_error(v, v->ia, v->dia, v->da, v_dt_half, verr);",
+      "        pa -= volt_calc_leg_error(v, v->ia, dia_h, v->da, volt_calc_leg_e(v->da, e_sw, e_cl));",
+      "        pa += volt_calc_leg_error(v, v->ia, dia_h, v->da, volt_calc_leg_e(v->da, e_sw, e_cl));",
       "phase a's dead-time voltage added instead of subtracted"),
     # ---- identification ---------------------------------------------------------
     M("settle_speed_test_inverted", "src/app/id_sequence.c",
-      "uint16_t steady = (uint16_t)(s->speed_err < s->speed_tol &&",
-      "uint16_t steady = (uint16_t)(s->speed_err > s->speed_tol &&",
-      "steady state recognised while the speed is off"),
+      "        if (s->speed_err >= s->speed_tol) {\n            s->t_steady = 0u;",
+      "        if (s->speed_err < s->speed_tol) {\n            s->t_steady = 0u;",
+      "steady state recognised while the speed is off (the hold window counts the samples "
+      "with the speed error at or above its tolerance)"),
     M("settle_timeout_ignored", "src/app/id_sequence.c",
       "        } else if (s->t_state >= s->settle_max_samples) {",
       "        } else if (s->t_state >= s->settle_max_samples + s->settle_max_samples) {",

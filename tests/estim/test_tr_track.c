@@ -446,6 +446,38 @@ static void test_clamps(void **state)
     assert_true(t.sat_count == 0xFFFFFFFFu);
 }
 
+/* The covariance floor P >= 1e-6: it binds when the forgetting RLS's steady
+ * state (1 - lambda) / phi^2 falls below it.  Accepted but extreme: 15 kHz,
+ * an update every sample, memory 20 s (1 - lambda = 3.3e-6, 56 LSB), phi at
+ * its clamp 2 (psi x i = 2.5): the steady state ~14 LSB, below the floor's
+ * 16.  P must stop at the floor (the drive's rig, 1 kHz and 0.5 s, keeps P
+ * near 5e-4, far above it). */
+static void test_p_floor(void **state)
+{
+    tr_track_t t;
+    uint32_t k;
+    const double wsl = TH_NOM * 2.5 / I_M;
+    (void)state;
+
+    assert_int_equal(tr_track_init(&t, TS_S, 1u, LPF_HZ, 20.0f, 1.0f, TH_MIN, TH_MAX,
+                                   (float)TH_NOM),
+                     TR_TRACK_OK);
+    t.enable = 1u;
+    /* IQ_MATH: _IQdiv's truncation takes P down ~1 LSB per update (the
+     * floor within ~300 samples); FLOAT_MATH: 1/P approaches phi^2 / (1 -
+     * lambda) with a time constant of 1 / (1 - lambda) = 3e5 updates */
+    for (k = 1u; k <= 2000000u && (t.n_updates < 1000u || t.p != _IQ(1.0e-6)); k++) {
+        feed(&t, NULL, wsl, 1.0, 0.0, I_M, 2.5);
+        assert_true(t.p >= _IQ(1.0e-6) && t.p <= _IQ(TR_TRACK_P_MAX));
+    }
+    print_message("floor: P %.3g after %u updates\n", iq_to_d(t.p), (unsigned)t.n_updates);
+    assert_true(t.p == _IQ(1.0e-6));   /* the floor reached */
+    for (k = 1u; k <= 1000u; k++) {
+        feed(&t, NULL, wsl, 1.0, 0.0, I_M, 2.5);
+        assert_true(t.p == _IQ(1.0e-6));   /* and held */
+    }
+}
+
 /* Constants: kf, lambda, P(0), the range, against their formulas in
  * double (IQ: _IQ truncates, < 1 LSB, after a float evaluation, relative
  * 1.2e-7: bound 1 LSB + 2e-7 relative). */
@@ -538,6 +570,7 @@ int main(void)
         cmocka_unit_test(test_ramp),
         cmocka_unit_test(test_windup_guard),
         cmocka_unit_test(test_clamps),
+        cmocka_unit_test(test_p_floor),
         cmocka_unit_test(test_constants),
         cmocka_unit_test(test_init_errors),
     };
