@@ -18,20 +18,13 @@
 
 #include <cmocka.h>
 
-#include "drive_types.h"
-#include "hal_host.h"
-#include "plant.h"
-#include "sim_config.h"
+#include "drive_rig.h"
 
 #define PAPER MC_CONFIG_DIR "/paper_motor.ini"
 
 typedef struct {
-    drive_t drive;
-    plant_t plant;
-    hal_host_port_t port;
-    hal_pwm_compare_t active;
+    drive_rig_t rig;           /* the drive, plant and host HAL (drive_rig.h) */
     rls_t ref;                 /* the reference RLS */
-    uint32_t k;                /* ISRs */
     uint32_t updates;          /* samples the reference took */
 } loop_t;
 
@@ -40,14 +33,11 @@ static loop_t g_loop;
 /* One ISR; then the reference takes the same rows the ISR formed. */
 static void isr(loop_t *l)
 {
-    drive_t *d = &l->drive;
+    drive_t *d = &l->rig.drive;
     const uint16_t slot = d->slot;   /* the slot this ISR runs */
-    plant_sample(&l->plant, &l->port);
-    l->port.trip_input = 0u;
+    drive_rig_sample(&l->rig);
     drive_isr(d);
-    plant_period(&l->plant, &l->active, l->port.outputs_enabled);
-    l->active = l->port.cmp;
-    l->k++;
+    drive_rig_period(&l->rig);
     if (slot == DRIVE_SLOT_SEQUENCE && d->seq.rls_restart != 0u) {
         l->ref = d->rls_start;   /* a new pass (the adaptive sequence only) */
     }
@@ -68,43 +58,30 @@ static void isr(loop_t *l)
 
 static int setup(void **state)
 {
-    sim_config_t cfg;
-    drive_config_t dc;
-    char err[SIM_CONFIG_ERR_LEN];
     loop_t *l = &g_loop;
     (void)state;
     memset(l, 0, sizeof *l);
-    if (sim_config_load(PAPER, &cfg, err, sizeof err) != 0) {
+    if (drive_rig_start(&l->rig, PAPER) != 0) {
         return -1;
     }
-    sim_config_to_drive(&cfg, &dc);
-    if (drive_init(&l->drive, &dc) != DRIVE_CFG_OK ||
-        plant_init(&l->plant, &cfg, l->drive.t1pr, err, sizeof err) != 0) {
-        return -1;
-    }
-    hal_host_port_init(&l->port, l->drive.t1pr);
-    hal_host_bind(&l->port);
-    l->active = l->port.cmp;
-    drive_command(&l->drive, DRIVE_CMD_START_IDENT);
-    drive_background(&l->drive);
-    l->ref = l->drive.rls_start;
+    l->ref = l->rig.drive.rls_start;
     return 0;
 }
 
 static void test_every_sample_once_in_order(void **state)
 {
     loop_t *l = &g_loop;
-    drive_t *d = &l->drive;
+    drive_t *d = &l->rig.drive;
     uint32_t next_bg = 15u, lcg = 12345u;
     uint16_t i;
     (void)state;
-    while (l->k < 45000u) {   /* 3 s */
+    while (l->rig.k < 45000u) {   /* 3 s */
         isr(l);
-        if (l->k >= next_bg) {
+        if (l->rig.k >= next_bg) {
             drive_background(d);
             /* 1 .. LEN-2 slow periods until the next call */
             lcg = lcg * 1103515245u + 12345u;
-            next_bg = l->k + DRIVE_SLOTS * (1u + (lcg >> 16) % (DRIVE_RLSQ_LEN - 2u));
+            next_bg = l->rig.k + DRIVE_SLOTS * (1u + (lcg >> 16) % (DRIVE_RLSQ_LEN - 2u));
         }
     }
     drive_background(d);
@@ -127,14 +104,14 @@ static void test_every_sample_once_in_order(void **state)
 static void test_full_queue_counts_and_keeps_events(void **state)
 {
     loop_t *l = &g_loop;
-    drive_t *d = &l->drive;
+    drive_t *d = &l->rig.drive;
     uint32_t pushes0, pushes;
     uint16_t fill;
     (void)state;
     /* into the acceleration, background at 1 kHz */
-    while (d->seq.state != ID_ACCELERATE && l->k < 30000u) {
+    while (d->seq.state != ID_ACCELERATE && l->rig.k < 30000u) {
         isr(l);
-        if ((l->k % 15u) == 0u) {
+        if ((l->rig.k % 15u) == 0u) {
             drive_background(d);
         }
     }

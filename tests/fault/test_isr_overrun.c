@@ -18,60 +18,34 @@
 
 #include <cmocka.h>
 
-#include "drive_types.h"
-#include "hal_host.h"
+#include "drive_rig.h"
 #include "isr_monitor.h"
-#include "plant.h"
-#include "sim_config.h"
 
 #define PAPER MC_CONFIG_DIR "/paper_motor.ini"
 
-typedef struct {
-    drive_t drive;
-    plant_t plant;
-    hal_host_port_t port;
-    hal_pwm_compare_t active;
-    uint32_t k;
-} loop_t;
+typedef drive_rig_t loop_t;
 
 static loop_t g_loop;
 
 /* one ISR with the given overrun flag; the background at 1 kHz */
 static void isr(loop_t *l, uint16_t overrun)
 {
-    plant_sample(&l->plant, &l->port);
-    l->port.trip_input = 0u;
+    drive_rig_sample(l);
     l->port.overrun = overrun;
     drive_isr(&l->drive);
     if ((l->k % 15u) == 0u) {
         drive_background(&l->drive);
     }
-    plant_period(&l->plant, &l->active, l->port.outputs_enabled);
-    l->active = l->port.cmp;
-    l->k++;
+    drive_rig_period(l);
 }
 
 static int setup(void **state)
 {
-    sim_config_t cfg;
-    drive_config_t dc;
-    char err[SIM_CONFIG_ERR_LEN];
     loop_t *l = &g_loop;
     (void)state;
-    memset(l, 0, sizeof *l);
-    if (sim_config_load(PAPER, &cfg, err, sizeof err) != 0) {
+    if (drive_rig_start(l, PAPER) != 0) {
         return -1;
     }
-    sim_config_to_drive(&cfg, &dc);
-    if (drive_init(&l->drive, &dc) != DRIVE_CFG_OK ||
-        plant_init(&l->plant, &cfg, l->drive.t1pr, err, sizeof err) != 0) {
-        return -1;
-    }
-    hal_host_port_init(&l->port, l->drive.t1pr);
-    hal_host_bind(&l->port);
-    l->active = l->port.cmp;
-    drive_command(&l->drive, DRIVE_CMD_START_IDENT);
-    drive_background(&l->drive);
     /* to the acceleration (within 2 s), the bridge switching */
     while (l->drive.seq.state != ID_ACCELERATE && l->k < 30000u) {
         isr(l, 0u);
