@@ -23,6 +23,18 @@ static uint32_t tlm_q24(_iq v)
 #endif
 }
 
+/* Tr and Tr_track (Q20 pu time: large motors exceed Q24's 128 pu) go on
+ * the wire in Q20: as the _iq whose Q24 word is Tr's Q20 word, Tr / 16 (the
+ * raw integer as it is in IQ_MATH; the float divided by 16 exactly). */
+static _iq tlm_tr(_iq20 tr)
+{
+#if MATH_TYPE == IQ_MATH
+    return (_iq)tr;
+#else
+    return tr * 0.0625f;
+#endif
+}
+
 static uint16_t put_hex(uint16_t *f, uint16_t n, uint32_t v, uint16_t digits)
 {
     uint16_t i;
@@ -87,7 +99,7 @@ uint16_t telemetry_send(telemetry_t *t, const drive_telemetry_t *s, uint16_t isr
     const uint16_t u[6] = {t->seq, s->state, s->fault, s->pwm_on, s->params_valid, isr_load};
     const _iq q[TLM_Q24_FIELDS] = {
         s->speed, s->speed_ref, s->i_m, s->i_t, s->vdc,
-        s->Rs, s->Rr, s->Lm, s->Lr, s->psi_r, s->Tr
+        s->Rs, s->Rr, s->Lm, s->Lr, s->psi_r, tlm_tr(s->Tr)
     };
     return send_frame(t, (uint16_t)'T', u, 6u, q, TLM_Q24_FIELDS);
 }
@@ -95,7 +107,8 @@ uint16_t telemetry_send(telemetry_t *t, const drive_telemetry_t *s, uint16_t isr
 uint16_t telemetry_send_adapt(telemetry_t *t, const drive_telemetry_t *s)
 {
     const uint16_t u[4] = {t->seq, s->pass, s->track_valid, s->params_tracked};
-    const _iq q[TLM_ADAPT_Q24_FIELDS] = {s->Rs_dc, s->sigma_ls_dc, s->Rr_track, s->Tr_track};
+    const _iq q[TLM_ADAPT_Q24_FIELDS] = {s->Rs_dc, s->sigma_ls_dc, s->Rr_track,
+                                           tlm_tr(s->Tr_track)};
     return send_frame(t, (uint16_t)'A', u, 4u, q, TLM_ADAPT_Q24_FIELDS);
 }
 

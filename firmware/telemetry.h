@@ -12,7 +12,8 @@
  *   seq .. load   4 hex digits (uint16: frame counter, id_state_t, fault
  *                 code, 0/1, 0/1, ISR load in T1 ticks)
  *   speed .. Tr   8 hex digits: the per-unit value in Q24, two's complement
- *                 (value = (int32)hex / 2^24; bases in base_values.h)
+ *                 (value = (int32)hex / 2^24; bases in base_values.h);
+ *                 Tr in Q20 (value = (int32)hex / 2^20: up to 2048 pu time)
  *   CK            2 hex digits: XOR of every character between '$' and '*'
  *
  *   $A,<seq>,<pass>,<track_valid>,<tracked>,<Rs_dc>,<sigma_ls_dc>,<Rr_track>,
@@ -20,7 +21,8 @@
  *
  *   seq .. tracked  4 hex digits (frame counter, identification pass, 0/1
  *                   tracker valid, 0/1 the published set is the fused one)
- *   Rs_dc .. Tr_track  8 hex digits, Q24 pu as above (0: not measured)
+ *   Rs_dc .. Tr_track  8 hex digits, Q24 pu as above, Tr_track Q20 as Tr
+ *                   (0: not measured)
  *
  *   $S,<seq>,<overruns>,<load>,<dropped>,<rx_errors>*<CK>\r\n   (after each $A)
  *

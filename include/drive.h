@@ -54,7 +54,7 @@ const char *drive_pub_reason_str(uint16_t reason);
 
 #define DRIVE_CONF_NP 6u   /* confidences: Rs, Rr, Lm, Lr, psi_r, Tr (ident_conf.h) */
 
-/** A snapshot for telemetry and data logging (per unit, Q GLOBAL_Q). */
+/** A snapshot for telemetry and data logging (per unit, Q GLOBAL_Q; Tr Q20). */
 typedef struct {
     uint16_t state;          /* identification / drive state (id_state_t) */
     uint16_t fault;          /* latched fault code, 0 = none */
@@ -64,9 +64,10 @@ typedef struct {
     _iq speed_ref;           /* pu */
     _iq i_m, i_t;            /* M/T currents, pu of I_base */
     _iq vdc;                 /* DC bus, pu of V_base */
-    _iq Rs, Rr, Lm, Lr, psi_r, Tr;  /* published parameters, pu (Tr in pu time); only a
-                                       plausible set is published, an implausible one
-                                       leaves the last good set (and params_valid) as is */
+    _iq Rs, Rr, Lm, Lr, psi_r;  /* published parameters, pu; only a plausible set is
+                                   published, an implausible one leaves the last good
+                                   set (and params_valid) as is */
+    _iq20 Tr;                /* published Tr, Q20 pu time (up to 2048: large motors) */
     uint32_t rls_sat_count;  /* RLS saturation events (rls_t.sat_count), never wraps */
     uint32_t theta_rejects;  /* RLS samples whose theta the guard rejected (theta_guard.h) */
     uint16_t publish_rejects;/* identifications whose set was refused (publish_reason), not published */
@@ -75,7 +76,8 @@ typedef struct {
     uint16_t track_valid;    /* 1 while Rr_track / Tr_track follow the motor (RUN, tracking on) */
     _iq Rs_dc;               /* Rs measured at standstill (end of magnetisation), pu; 0: none */
     _iq sigma_ls_dc;         /* sigma Ls measured at standstill, pu of L_base; 0: none */
-    _iq Rr_track, Tr_track;  /* tracked rotor resistance (pu of Z_base) and Tr (pu time) */
+    _iq Rr_track;            /* tracked rotor resistance, pu of Z_base */
+    _iq20 Tr_track;          /* tracked Tr, Q20 pu time */
     uint16_t isr_overruns;   /* control ISRs that ran past their period (isr_monitor.h), saturating */
     uint16_t params_tracked; /* 1: the published Rs is the standstill one and Rr, Tr the tracked
                                 ones (each background pass while track_valid); Lm, Lr, psi_r

@@ -198,7 +198,9 @@ typedef struct {
     _iq blend_step;           /* Q24 fraction per SEQUENCE tick: the blend lasts DRIVE_ADAPT_BLEND_S */
     uint16_t blend_ticks;     /* ticks of a whole blend */
     _iq tr_rate;              /* largest relative change of the applied Tr per tracker update */
-    /* the model the ISR runs (the last set it applied) and its constants */
+    /* the model the ISR runs (the last set it applied) and its constants;
+     * in cur, posted, from and to each parameter in Q24 pu except
+     * [DRIVE_P_TR], Q20 pu time (as ifo_tr_t.tr: large motors' Tr > 128) */
     _iq cur[DRIVE_ADAPT_NP];
     drive_model_set_t cur_set;
     _iq posted[DRIVE_ADAPT_NP];   /* the model of the set in the mailbox */
@@ -212,7 +214,8 @@ typedef struct {
     _iq theta0;               /* ... from this 1/Tr */
     _iq lr;                   /* Lr of the last identification (Rr_track = Lr / Tr) */
     /* a pass's extraction (drive_adapt_post) */
-    _iq m_rs, m_lm, m_lr, m_ls, m_tr;
+    _iq m_rs, m_lm, m_lr, m_ls;
+    _iq20 m_tr;               /* Q20, pu time (param_extract_t.Tr) */
     uint16_t m_valid;         /* 0: the extraction was implausible (keep the old model) */
     uint16_t m_full;          /* 1: all parameters; 0: the magnetic part only (lm, lr, ls) */
     uint16_t m_ready;

@@ -98,9 +98,10 @@
 #define FLUX_OBS_LM_MAX 16.0f
 #define FLUX_OBS_SIGMA_LS_MAX 4.0f
 #define FLUX_OBS_LR_LM_MAX 4.0f
-/** Tr range: at least 10 samples (kf series, as ifo), at most 120 pu (Q24 holds < 128). */
+/** Tr range: at least 10 samples (kf series, as ifo), at most 1000 pu
+ *  (Tr is held in Q20, range 2048 pu: ifo.h's IFO_TR_MAX_PU, the same bound). */
 #define FLUX_OBS_TR_MIN_SAMPLES 10.0f
-#define FLUX_OBS_TR_MAX_PU 120.0f
+#define FLUX_OBS_TR_MAX_PU 1000.0f
 /** State bounds (pu): psi_s (and the error e), and the correction states
  *  z, y.  At DC z = 3 y and u_c = w_c y: |u_c| <= 10 w_c (0.6 pu at 3 Hz),
  *  far above the offsets it has to cancel. */
@@ -126,7 +127,7 @@ typedef enum {
     FLUX_OBS_ERR_BASE,    /* bases NULL or not initialised, or f_base Ts not in (1/2000, 1/128) */
     FLUX_OBS_ERR_RS,      /* Rs not in [0, 4] pu */
     FLUX_OBS_ERR_L,       /* not 0 < Lm < Lr, Lm < Ls, Lm <= 16, Lr/Lm <= 4, sigma Ls in (0, 4] */
-    FLUX_OBS_ERR_TR,      /* Tr not in [10 Ts, 120] pu */
+    FLUX_OBS_ERR_TR,      /* Tr not in [10 Ts, FLUX_OBS_TR_MAX_PU] pu */
     FLUX_OBS_ERR_WC,      /* w_c not in (0, 1] pu, or w_c Ts > 0.05 */
     FLUX_OBS_ERR_WS_LPF   /* ws low-pass corner f not > 0 or 2 pi f Ts > 1 */
 } flux_obs_status_t;
@@ -146,7 +147,7 @@ typedef struct {
     _iq sigma_ls;           /* Q24, sigma Ls = Ls - Lm^2/Lr, pu of L_base */
     _iq lr_lm;              /* Q24, Lr / Lm (> 1) */
     _iq lm_lr;              /* Q24, Lm / Lr (< 1) */
-    _iq tr;                 /* Q24, Tr, pu time */
+    _iq20 tr;               /* Q20 (large motors' Tr exceeds Q24's 128), Tr, pu time */
     _iq kf;                 /* Q24, 1 - exp(-Ts/Tr) */
     uint16_t n;             /* samples per step (flux_obs_init): the step's period is n Ts */
     _iq ts;                 /* Q24, n Ts, pu time (kept for flux_obs_set_tr) */
@@ -185,7 +186,7 @@ typedef struct {
     _iq sigma_ls;           /* sigma Ls = Ls - Lm^2/Lr, pu of L_base, (0, 4] */
     _iq lr_lm;              /* Lr / Lm, (1, 4] */
     _iq lm_lr;              /* Lm / Lr, [0.25, 1) */
-    _iq tr;                 /* Tr, pu time, [10 Ts, 120] */
+    _iq20 tr;               /* Q20: Tr, pu time, [10 Ts, FLUX_OBS_TR_MAX_PU] */
     _iq kf;                 /* 1 - exp(-Ts/Tr), (0, 0.1] */
 } flux_obs_model_t;
 
@@ -235,7 +236,8 @@ void flux_obs_reset(flux_obs_t *o);
  * each converted to Q24 by _IQ (truncation, < 1 LSB, plus the float's
  * rounding: relative 6e-8 of the value).  Ranges as the setters': Rs in
  * [0, 4]; 0 < Lm <= 16, Lm < Lr <= 4 Lm, Lm < Ls <= 32, sigma Ls in
- * (0, 4]; Tr in [10 Ts, 120] (NaN fails every check).  Each group (Rs; the
+ * (0, 4]; Tr in [10 Ts, FLUX_OBS_TR_MAX_PU], to Q20 by _IQ20 (NaN fails
+ * every check).  Each group (Rs; the
  * inductances; Tr) is written only when its own check passes, so a refused
  * group keeps what @p m held (as a refusing setter keeps its old value).
  * flux_obs_design: all three, in that order; returns the first refusal.
@@ -328,11 +330,11 @@ flux_obs_status_t flux_obs_set_rs_dc(flux_obs_t *o, _iq rs_pu, _iq u_alpha, _iq 
                                      _iq i_alpha, _iq i_beta);
 
 /**
- * Tr in pu time.  As ifo_set_tr: Ts/Tr by _IQdiv, kf by its Taylor series
- * to x^5/120 (x = Ts/Tr <= 0.1: error < 1.4e-9).  Rejects (old value kept)
- * outside [10 Ts, 120].
+ * Tr in pu time, Q20.  As ifo_set_tr: Ts/Tr by _IQ20div (Q24 / Q20 ->
+ * Q24), kf by its Taylor series to x^5/120 (x = Ts/Tr <= 0.1: error
+ * < 1.4e-9).  Rejects (old value kept) outside [10 Ts, FLUX_OBS_TR_MAX_PU].
  */
-flux_obs_status_t flux_obs_set_tr(flux_obs_t *o, _iq tr_pu);
+flux_obs_status_t flux_obs_set_tr(flux_obs_t *o, _iq20 tr_pu);
 
 /**
  * Lm, Lr, Ls in pu: Lr/Lm and Lm/Lr by _IQdiv (< 1 LSB), sigma Ls = Ls -

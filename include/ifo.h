@@ -50,8 +50,13 @@
 
 /** Tr must be at least this many samples (keeps kf's series exact to 1e-9). */
 #define IFO_TR_MIN_SAMPLES 10.0f
-/** Largest accepted Tr, pu time (Q24 headroom). */
-#define IFO_TR_MAX_PU 120.0f
+/** Largest accepted Tr, pu time: Tr is held in Q20 (range 2048 pu, LSB
+ *  9.5e-7 pu: 2e-7 of the smallest Tr, 10 Ts), so up to 1000 pu
+ *  (3.2 s at 50 Hz, 2.7 s at 60 Hz; the largest motors of tens of kW have
+ *  Tr of 0.3 to 1 s) with a factor of 2 for the products (Tr imr_min <= 1000,
+ *  the adaptation's factor-2 step).  Beyond it kf = 1 - exp(-Ts/Tr) (Q24)
+ *  would also lose resolution: Ts/Tr < 5e-5 at the usual 0.05 pu Ts. */
+#define IFO_TR_MAX_PU 1000.0f
 /** |i_T| is at most the sensor full scale, well below this (pu); the slip
  *  bound I_T_MAX / (Tr imr_min) is checked against IFO_SLIP_MAX at init. */
 #define IFO_I_T_MAX 2.0f
@@ -60,7 +65,7 @@
 typedef enum {
     IFO_OK = 0,
     IFO_ERR_BASE,         /* bases NULL or not initialised, or f_base Ts not in (1/2000, 1/128) */
-    IFO_ERR_TR,           /* Tr not in [10 Ts, 120 t_base] */
+    IFO_ERR_TR,           /* Tr not in [10 Ts, IFO_TR_MAX_PU t_base] */
     IFO_ERR_IMR_MIN       /* imr_min not in (0, 1], or 2 / (Tr imr_min) > 64 */
 } ifo_status_t;
 
@@ -70,8 +75,9 @@ typedef struct {
     _iq i_t;            /* Q24, T-axis stator current, pu of I_base */
     _iq wr;             /* Q24, rotor electrical speed, pu of w_base */
     /* parameters */
-    _iq tr;             /* Q24, Tr in pu time (Tr_s * w_base) */
-    _iq inv_tr;         /* Q24, 1 / tr */
+    _iq20 tr;           /* Q20 (not Q24: large motors' Tr exceeds 128 pu), Tr in pu time
+                           (Tr_s * w_base), [10 Ts, IFO_TR_MAX_PU] */
+    _iq inv_tr;         /* Q24, 1 / tr: small for a large Tr, 1.7e-5 relative LSB at 1000 pu */
     _iq kf;             /* Q24, 1 - exp(-Ts/Tr) */
     _iq ts;             /* Q24, Ts in pu time */
     _iq30 k_theta;      /* Q30, f_base Ts: revolutions per sample at 1 pu speed */
@@ -92,11 +98,11 @@ typedef struct {
     _iq k_slip;         /* Q24: 1 / (Tr imr), 0 while imr < imr_min; |.| <= 32 */
 } ifo_t;
 
-/** The constants that depend on Tr (Q24, each one aligned 32-bit word). */
+/** The constants that depend on Tr (each one aligned 32-bit word). */
 typedef struct {
-    _iq tr;             /* Tr, pu time, [10 Ts, 120] */
-    _iq inv_tr;         /* 1 / Tr, [1/120, 1/(10 Ts)] */
-    _iq kf;             /* 1 - exp(-Ts/Tr), (0, 0.1] */
+    _iq20 tr;           /* Q20: Tr, pu time, [10 Ts, IFO_TR_MAX_PU] */
+    _iq inv_tr;         /* Q24: 1 / Tr, [1/IFO_TR_MAX_PU, 1/(10 Ts)] */
+    _iq kf;             /* Q24: 1 - exp(-Ts/Tr), (0, 0.1] */
 } ifo_tr_t;
 
 /**
@@ -106,20 +112,21 @@ typedef struct {
 ifo_status_t ifo_init(ifo_t *f, float Tr_s, const base_values_t *b, float imr_min_pu);
 
 /**
- * Change Tr (pu time, e.g. from the identification).  No float: 1/Tr and
- * Ts/Tr by _IQdiv, kf = 1 - exp(-x) by its Taylor series to x^5/120
- * (x = Ts/Tr <= 0.1: truncation error < x^6/720 = 1.4e-9, below 1 LSB).
- * Rejects (and keeps the old Tr) if Tr < 10 Ts, Tr > 120 or if the slip
- * bound 2 / (Tr imr_min) would exceed 64 pu.
+ * Change Tr (pu time, Q20, e.g. from the identification).  No float: 1/Tr
+ * and Ts/Tr by _IQ20div (Q24 / Q20 -> Q24, truncated, < 1 LSB), kf =
+ * 1 - exp(-x) by its Taylor series to x^5/120 (x = Ts/Tr <= 0.1: truncation
+ * error < x^6/720 = 1.4e-9, below 1 LSB).  Rejects (and keeps the old Tr)
+ * if Tr < 10 Ts, Tr > IFO_TR_MAX_PU or if the slip bound 2 / (Tr imr_min)
+ * would exceed 64 pu.
  */
-ifo_status_t ifo_set_tr(ifo_t *f, _iq tr_pu);
+ifo_status_t ifo_set_tr(ifo_t *f, _iq20 tr_pu);
 
 /**
  * The Tr constants from pu floats (float: not in the ISR), as ifo_init
  * computes them: Tr, 1/Tr, kf = 1 - exp(-x), x = Ts/Tr, by its series to
- * x^5/120 (error < 1.4e-9 at x <= 0.1), each to Q24 by _IQ (truncation,
- * < 1 LSB, plus the float's relative 6e-8).  The bounds of ifo_set_tr:
- * Tr in [10 Ts, 120] (IFO_ERR_TR) and 2 / (Tr imr_min) <= 64 with
+ * x^5/120 (error < 1.4e-9 at x <= 0.1), Tr to Q20 by _IQ20, 1/Tr and kf
+ * to Q24 by _IQ (truncation, < 1 LSB, plus the float's relative 6e-8).  The
+ * bounds of ifo_set_tr: Tr in [10 Ts, IFO_TR_MAX_PU] (IFO_ERR_TR) and 2 / (Tr imr_min) <= 64 with
  * @p imr_min_pu the guard ifo_init was given (IFO_ERR_IMR_MIN); a refused
  * Tr leaves @p t as it was.
  */

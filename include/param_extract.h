@@ -17,8 +17,11 @@
  * range gives a status and valid = 0 (the outputs then hold what could be
  * computed, for diagnosis only).
  *
- * Scaling and overflow of param_extract_step: Q24 throughout; divisions by
- * _IQdiv (< 1 LSB, truncating) only after checking |num| < 127 |den|;
+ * Scaling and overflow of param_extract_step: Q24 throughout except Tr and
+ * its range, Q20 (Tr_pu = Tr w_base reaches ~300 on motors of tens of kW:
+ * Q20 holds < 2048, LSB 9.5e-7, 2e-7 of a small motor's 5 pu); divisions
+ * by _IQdiv (< 1 LSB, truncating) only after checking |num| < 127 |den|
+ * (Tr: _IQ20div after |num| < 2047 |den|);
  * products by _IQrsmpy (rounded, saturating) and a product >= 127 pu is
  * reported as PARAM_ERR_OVERFLOW; sqrt by _IQsqrt (<= 0.5 LSB).  Not in the
  * ISR (runs in the background once the RLS has converged).
@@ -61,7 +64,8 @@ typedef enum {
 typedef enum {
     PARAM_INIT_OK = 0,
     PARAM_INIT_ERR_BASES,   /* bases not initialised (Z, L, psi, t base not > 0) */
-    PARAM_INIT_ERR_RANGE,   /* a range with min < 0, min >= max, or max >= 127 pu */
+    PARAM_INIT_ERR_RANGE,   /* a range with min < 0, min >= max, or max >= 127 pu
+                               (Tr: 2047 pu) */
     PARAM_INIT_ERR_IM       /* i_m_min_A not > 0 or >= 127 pu */
 } param_init_status_t;
 
@@ -70,11 +74,13 @@ typedef struct {
     _iq theta[RLS_N];   /* Q24 pu: K1, K2, theta3, K4 (rls_t.theta) */
     uint16_t form;      /* rls_form_t that produced theta3 */
     _iq i_m;            /* Q24 pu: steady M current */
-    /* parameters (pu, Q24) */
-    _iq Rs_lim[2], Rr_lim[2], Lm_lim[2], Lr_lim[2], psi_lim[2], Tr_lim[2];
+    /* parameters (pu, Q24; Tr_lim Q20, pu time) */
+    _iq Rs_lim[2], Rr_lim[2], Lm_lim[2], Lr_lim[2], psi_lim[2];
+    _iq20 Tr_lim[2];
     _iq i_m_min;
-    /* outputs (pu, Q24; Tr in pu time) */
-    _iq Rs, Rr, Lm, Lr, psi_r, Tr;
+    /* outputs (pu, Q24) */
+    _iq Rs, Rr, Lm, Lr, psi_r;
+    _iq20 Tr;           /* Q20 (range 2048), pu time */
     _iq K3p;            /* Q24: K3' used */
     uint16_t status;    /* param_status_t */
     uint16_t valid;     /* 1 only if status == PARAM_OK */

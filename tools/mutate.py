@@ -271,9 +271,9 @@ MUTANTS = [
       "#define TARGET_MIN_OF_RATED 0.2f", "#define TARGET_MIN_OF_RATED 0.1f",
       "a target speed below what the RLS's excitation needs accepted"),
     M("tr_limit_off", "src/app/drive_limits.c",
-      "        ok = (int16_t)(tr_pu <= IFO_TR_MAX_PU);",
-      "        ok = (int16_t)(tr_pu <= 2.0f * IFO_TR_MAX_PU);",
-      "a believed Tr beyond the Q24 time base accepted by the table"),
+      "        const float tr_max = IFO_TR_MAX_PU;",
+      "        const float tr_max = 2.0f * IFO_TR_MAX_PU;",
+      "a believed Tr beyond what ifo and the observer accept (Q20 time base) accepted by the table"),
 ]
 
 

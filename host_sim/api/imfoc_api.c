@@ -282,6 +282,7 @@ int32_t imfoc_step_phys(imfoc_t *h, const imfoc_phys_in_t *in, imfoc_out_t *out)
 static double f(_iq x) { return (double)_IQtoF(x); }
 
 /* Rs, Rr, Lm, Lr, psi_r, Tr (pu, in that order) into the six SI fields given */
+/* q: Rs, Rr, Lm, Lr, psi_r in Q24 and Tr in Q20 (param_extract.h) */
 static void params_si(const imfoc_t *h, const _iq q[6], double *Rs, double *Rr, double *Lm,
                       double *Lr, double *psi, double *Tr)
 {
@@ -290,7 +291,7 @@ static void params_si(const imfoc_t *h, const _iq q[6], double *Rs, double *Rr, 
     *Lm = f(q[2]) * h->info.L_base_H;
     *Lr = f(q[3]) * h->info.L_base_H;
     *psi = f(q[4]) * h->info.psi_base_Wb;
-    *Tr = f(q[5]) * h->info.t_base_s;
+    *Tr = (double)_IQ20toF(q[5]) * h->info.t_base_s;
 }
 
 static void extract_si(const imfoc_t *h, const param_extract_t *p, double *Rs, double *Rr,
@@ -366,7 +367,7 @@ int32_t imfoc_get_signals(const imfoc_t *h, imfoc_signals_t *s)
     s->Rs_dc_ohm = f(d->telemetry.Rs_dc) * d->base.Z_base_ohm;
     s->sigma_ls_dc_H = f(d->telemetry.sigma_ls_dc) * d->base.L_base_H;
     s->Rr_track_ohm = f(d->telemetry.Rr_track) * d->base.Z_base_ohm;
-    s->Tr_track_s = f(d->telemetry.Tr_track) * d->base.t_base_s;
+    s->Tr_track_s = (double)_IQ20toF(d->telemetry.Tr_track) * d->base.t_base_s;   /* Q20 */
     s->extract_valid = d->pex.valid;
     extract_si(h, &d->pex, &s->extract_Rs_ohm, &s->extract_Rr_ohm, &s->extract_Lm_H,
                &s->extract_Lr_H, &s->extract_psi_r_Wb, &s->extract_Tr_s);

@@ -44,7 +44,7 @@ static void to_si(const base_values_t *b, const param_extract_t *p, sim_params_t
     o->Lm_H = (double)_IQtoF(p->Lm) * b->L_base_H;
     o->Lr_H = (double)_IQtoF(p->Lr) * b->L_base_H;
     o->psi_r_Wb = (double)_IQtoF(p->psi_r) * b->psi_base_Wb;
-    o->Tr_s = (double)_IQtoF(p->Tr) * b->t_base_s;
+    o->Tr_s = (double)_IQ20toF(p->Tr) * b->t_base_s;   /* Q20 */
 }
 
 static double pct(double est, double truth) { return 100.0 * (est - truth) / truth; }
@@ -83,7 +83,7 @@ static void published_si(const base_values_t *b, const drive_telemetry_t *t, sim
     o->Lm_H = (double)_IQtoF(t->Lm) * b->L_base_H;
     o->Lr_H = (double)_IQtoF(t->Lr) * b->L_base_H;
     o->psi_r_Wb = (double)_IQtoF(t->psi_r) * b->psi_base_Wb;
-    o->Tr_s = (double)_IQtoF(t->Tr) * b->t_base_s;
+    o->Tr_s = (double)_IQ20toF(t->Tr) * b->t_base_s;   /* Q20 */
 }
 
 static void extreme(double v, double *lo, double *hi)
@@ -239,7 +239,7 @@ static int trace_row_adaptation(FILE *f, const drive_t *d, const plant_t *p)
     double z = d->base.Z_base_ohm;
     return fprintf(f, ",%.6g,%.6g,%u,%u,%.6g,%.6g\n", p->motor.p.Rr_ohm, (double)_IQtoF(t->Rr_track) * z,
             t->track_valid, t->pass, (double)_IQtoF(t->Rs_dc) * z,
-            (double)_IQtoF(t->Tr_track) * d->base.t_base_s);
+            (double)_IQ20toF(t->Tr_track) * d->base.t_base_s);
 }
 
 /* Simulated time when none is given: calibration, magnetisation, the ramp

@@ -95,7 +95,7 @@ tr_track_status_t drive_adapt_track_init(tr_track_t *t, const drive_config_t *c,
     /* the tracker runs in the slow task (drive_slow.c): its period is Ts_slow */
     return tr_track_init(t, Ts * (float)DRIVE_SLOTS, DRIVE_ADAPT_TRACK_DECIM, TRACK_LPF_HZ,
                          c->ident.track_memory_s, TRACK_PHI_MIN_OF_RATED * psi_pu * it_pu,
-                         0.25f / tr_pu, 4.0f / tr_pu, 1.0f / tr_pu);
+                         fmaxf(0.25f / tr_pu, 1.0f / IFO_TR_MAX_PU), 4.0f / tr_pu, 1.0f / tr_pu);
 }
 
 /* The background's starting point: the believed model as drive_init gave

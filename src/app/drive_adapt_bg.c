@@ -43,11 +43,12 @@
 
 #include <math.h>
 
-/* Limit x to [ref / 2, 2 ref] (ref > 0): the rate limit per pass. */
-static _iq within_factor_2(_iq x, _iq ref)
+/* Limit x to [ref / 2, 2 ref] (ref > 0): the rate limit per pass; the
+ * upper end at most top (same Q as x and ref: 2 ref stays in range). */
+static _iq within_factor_2(_iq x, _iq ref, _iq top)
 {
-    _iq lo = _IQmpy(ref, _IQ(0.5));
-    _iq hi = (ref < _IQ(60.0)) ? ref + ref : _IQ(120.0);
+    _iq lo = _IQmpy(ref, _IQ(0.5));   /* any Q times Q24 0.5: the same Q */
+    _iq hi = (ref < top - ref) ? ref + ref : top;
     if (x < lo) {
         return lo;
     }
@@ -67,9 +68,9 @@ static void design(const drive_adapt_bg_t *g, const _iq v[DRIVE_ADAPT_NP], drive
         s->lm2_lr = _IQ(lm * lm / lr);            /* < Lm < 16 */
         s->inv_lm = _IQ(fminf(1.0f / lm, 16.0f));
     }
-    (void)flux_obs_design_tr(&s->fobs, g->obs_ts_pu, _IQtoF(v[DRIVE_P_TR]));
+    (void)flux_obs_design_tr(&s->fobs, g->obs_ts_pu, _IQ20toF(v[DRIVE_P_TR]));   /* Q20 */
     /* ifo runs on the observer's Tr */
-    (void)ifo_design_tr(&s->ifo, g->ts_pu, _IQtoF(s->fobs.tr), g->imr_min_pu);
+    (void)ifo_design_tr(&s->ifo, g->ts_pu, _IQ20toF(s->fobs.tr), g->imr_min_pu);
     /* kp = w_c sigma Ls <= 100, ki = w_c Ts Rs <= 1: else refused */
     (void)pi_design_gains(&s->cur, g->kp_per_sls * _IQtoF(s->fobs.sigma_ls),
                           g->ki_per_rs * _IQtoF(s->fobs.rs));
@@ -179,7 +180,7 @@ static void standstill(drive_t *d)
         if (z.valid != 0u) {
             /* keep the believed Lm, Lr: Ls = sigma Ls + Lm^2/Lr (< 8 + 16) */
             _iq ls = z.sigma_ls + _IQmpy(g->cur_set.fobs.lm, g->cur_set.fobs.lm_lr);
-            v[DRIVE_P_LS] = within_factor_2(ls, v[DRIVE_P_LS]);
+            v[DRIVE_P_LS] = within_factor_2(ls, v[DRIVE_P_LS], _IQ(120.0));
             d->telemetry.sigma_ls_dc = z.sigma_ls;
         }
     }
@@ -243,7 +244,9 @@ static void take_mail(drive_t *d)
                                        _IQdiv(g->to[DRIVE_P_LM], g->to[DRIVE_P_LR]));
         }
         for (i = 0u; i < DRIVE_ADAPT_NP; i++) {
-            g->to[i] = within_factor_2(g->to[i], g->cur[i]);
+            /* Q24 parameters below 120 pu, Tr (Q20) below IFO_TR_MAX_PU */
+            g->to[i] = within_factor_2(g->to[i], g->cur[i],
+                                       (i == DRIVE_P_TR) ? _IQ20(IFO_TR_MAX_PU) : _IQ(120.0));
             g->from[i] = g->cur[i];
         }
         g->lr = g->to[DRIVE_P_LR];
@@ -253,8 +256,9 @@ static void take_mail(drive_t *d)
         g->blend_pass = pass;
         g->blend_track = (uint16_t)(st == (uint16_t)ID_RUN && a->track_rr != 0u);
         if (g->blend_track != 0u) {
-            /* 1/Tr of the last pass: 1 / Tr_pu with Tr_pu >= 10 Ts */
-            g->theta0 = _IQdiv(_IQ(1.0), (g->m_full != 0u) ? g->m_tr : g->to[DRIVE_P_TR]);
+            /* 1/Tr of the last pass: 1 / Tr_pu with Tr_pu >= 10 Ts;
+             * Q24 / Q20 -> Q24 (_IQ20div shifts by 20) */
+            g->theta0 = _IQ20div(_IQ(1.0), (g->m_full != 0u) ? g->m_tr : g->to[DRIVE_P_TR]);
         }
     } else if (st == (uint16_t)ID_REFINE) {
         post_ready(d, st, pass);   /* nothing usable: the next pass runs on the old model */
@@ -316,7 +320,7 @@ static void track(drive_t *d)
     const _iq theta = d->track.theta;
     drive_model_set_t s;
     _iq v[DRIVE_ADAPT_NP];
-    _iq tr;
+    _iq20 tr;
     uint32_t k;
     uint16_t i;
 
@@ -328,8 +332,9 @@ static void track(drive_t *d)
     if (n == g->n_seen) {
         return;
     }
-    /* theta in [theta_min, theta_max] > 0: 1/theta < 128 */
-    tr = _IQdiv(_IQ(1.0), theta);
+    /* theta in [theta_min, theta_max], theta_min >= 1/IFO_TR_MAX_PU
+     * (drive_adapt_track_init): 1/theta <= 1000 pu; Q24 / Q24 -> Q20 */
+    tr = _IQ20div(_IQ(1.0), theta);
     t->Tr_track = tr;
     t->Rr_track = _IQmpy(g->lr, theta);   /* Rr = Lr / Tr; < 128 */
     /* valid once the estimate has had 1 s of updates */
@@ -344,7 +349,7 @@ static void track(drive_t *d)
      * updates since the last set, counted from a restart's 0) */
     k = (n > g->n_seen) ? n - g->n_seen : n;
     while (k > 0u && v[DRIVE_P_TR] != tr) {
-        _iq step = _IQmpy(v[DRIVE_P_TR], g->tr_rate);
+        _iq20 step = _IQmpy(v[DRIVE_P_TR], g->tr_rate);   /* Q20 * Q24 -> Q20 */
         if (tr > v[DRIVE_P_TR] + step) {
             v[DRIVE_P_TR] += step;
         } else if (tr < v[DRIVE_P_TR] - step) {

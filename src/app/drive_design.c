@@ -106,8 +106,9 @@ void drive_design_param_limits(param_limits_t *lim, const drive_config_t *c,
     lim->Lr_H[0] = 0.25f * m->Lr_H;      lim->Lr_H[1] = 4.0f * m->Lr_H;
     lim->psi_Wb[0] = 0.25f * psi;        lim->psi_Wb[1] = 4.0f * psi;
     lim->Tr_s[0] = 0.25f * Tr;           lim->Tr_s[1] = 4.0f * Tr;
-    /* Q24 holds < 128 pu: keep every upper limit representable */
-    lim->Tr_s[1] = fminf(lim->Tr_s[1], 120.0f * b->t_base_s);
+    /* Q24 holds < 128 pu: keep every upper limit representable; Tr is
+     * Q20 (param_extract.h), bounded by what ifo and the observer accept */
+    lim->Tr_s[1] = fminf(lim->Tr_s[1], IFO_TR_MAX_PU * b->t_base_s);
     lim->Lm_H[1] = fminf(lim->Lm_H[1], 120.0f * b->L_base_H);
     lim->Lr_H[1] = fminf(lim->Lr_H[1], 120.0f * b->L_base_H);
     lim->Rs_ohm[1] = fminf(lim->Rs_ohm[1], 120.0f * b->Z_base_ohm);

@@ -399,20 +399,26 @@ static int16_t check_orientation(const drive_limit_t *l, const limit_ctx_t *x,
     case DRIVE_LD_IMR:
         return verdict((int16_t)(imr > 0.0f && imr <= 1.0f), f, c->motor.magnetizing_current_A,
                        0.0f, b->I_base_A / DRIVE_IMR_MIN_OF_IM, LO_OPEN);
-    case DRIVE_LD_TR:
-        /* the float test first: _IQ() of more than 128 pu overflows */
-        ok = (int16_t)(tr_pu <= IFO_TR_MAX_PU);
+    case DRIVE_LD_TR: {
+        /* the limit once, for the tests and the message */
+        const float tr_max = IFO_TR_MAX_PU;
+        /* the float test first: _IQ20() of 2048 pu or more overflows; then
+         * ifo_set_tr's own test on the Q20 Tr (10 Ts < 0.5 pu: Q24 -> Q20) */
+        ok = (int16_t)(tr_pu <= tr_max);
         if (ok != 0) {
-            ok = (int16_t)(_IQ(tr_pu) >= _IQmpy(_IQ(b->Ts_pu), _IQ(IFO_TR_MIN_SAMPLES)) &&
-                           _IQ(tr_pu) <= _IQ(IFO_TR_MAX_PU));
+            ok = (int16_t)(_IQ20(tr_pu) >= _IQtoIQ20(_IQmpy(_IQ(b->Ts_pu), _IQ(IFO_TR_MIN_SAMPLES))) &&
+                           _IQ20(tr_pu) <= _IQ20(tr_max));
         }
-        return verdict(ok,
-                       f, x->g.tr, IFO_TR_MIN_SAMPLES * b->Ts_s, IFO_TR_MAX_PU * b->t_base_s, 0u);
+        return verdict(ok, f, x->g.tr, IFO_TR_MIN_SAMPLES * b->Ts_s, tr_max * b->t_base_s, 0u);
+    }
     case DRIVE_LD_FTS:
         return verdict((int16_t)(fts < 1.0f / 128.0f && fts > 1.0f / 2000.0f), f, 1.0f / fts, l->lo,
                        l->hi, l->open);
     case DRIVE_LD_SLIP:
-        return verdict((int16_t)(_IQmpy(_IQ(tr_pu), _IQ(imr)) >= _IQ(IFO_I_T_MAX / IFO_SLIP_MAX)),
+        /* Q20 * Q24 -> Q20 as ifo_set_tr; a Tr beyond the Q20 range (refused
+         * by DRIVE_LD_TR) is not converted: its slip bound holds */
+        return verdict((int16_t)(tr_pu > IFO_TR_MAX_PU ||
+                                 _IQmpy(_IQ20(tr_pu), _IQ(imr)) >= _IQ20(IFO_I_T_MAX / IFO_SLIP_MAX)),
                        f, tr_pu * imr, IFO_I_T_MAX / IFO_SLIP_MAX, NO_UPPER, HI_OPEN);
     default:
         return 0;

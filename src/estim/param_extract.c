@@ -6,25 +6,40 @@
 #include <string.h>
 
 #define PE_Q24_MAX 127.0f   /* largest pu value accepted (Q24 holds < 128) */
+#define PE_Q20_MAX 2047.0f  /* largest Tr accepted, pu time (Q20 holds < 2048) */
 
-static _iq pe_q24(float v)
+/* v (|v| below the Q's range) to Q q, rounded to nearest; the float as is */
+static _iq pe_qn(float v, float two_q)
 {
 #if MATH_TYPE == IQ_MATH
-    return _IQ(roundf(v * 16777216.0f) / 16777216.0f);
+    return (_iq)(int32_t)roundf(v * two_q);
 #else
+    (void)two_q;
     return v;
 #endif
 }
 
-static int16_t pe_range(_iq out[2], const float si[2], float base)
+static _iq pe_q24(float v)
+{
+    return pe_qn(v, 16777216.0f);
+}
+
+/* An SI range in pu, in Q (2^q = two_q, largest value max): 1 if it is not
+ * 0 <= lo < hi < max. */
+static int16_t pe_range_q(_iq out[2], const float si[2], float base, float max, float two_q)
 {
     float lo = si[0] / base, hi = si[1] / base;
-    if (!(lo >= 0.0f) || !(hi > lo) || !(hi < PE_Q24_MAX)) {
+    if (!(lo >= 0.0f) || !(hi > lo) || !(hi < max)) {
         return 1;
     }
-    out[0] = pe_q24(lo);
-    out[1] = pe_q24(hi);
+    out[0] = pe_qn(lo, two_q);
+    out[1] = pe_qn(hi, two_q);
     return 0;
+}
+
+static int16_t pe_range(_iq out[2], const float si[2], float base)
+{
+    return pe_range_q(out, si, base, PE_Q24_MAX, 16777216.0f);
 }
 
 param_init_status_t param_extract_init(param_extract_t *p, const base_values_t *b,
@@ -41,7 +56,7 @@ param_init_status_t param_extract_init(param_extract_t *p, const base_values_t *
         || pe_range(p->Lm_lim, lim->Lm_H, b->L_base_H) != 0
         || pe_range(p->Lr_lim, lim->Lr_H, b->L_base_H) != 0
         || pe_range(p->psi_lim, lim->psi_Wb, b->psi_base_Wb) != 0
-        || pe_range(p->Tr_lim, lim->Tr_s, b->t_base_s) != 0) {
+        || pe_range_q(p->Tr_lim, lim->Tr_s, b->t_base_s, PE_Q20_MAX, 1048576.0f) != 0) {
         memset(p, 0, sizeof *p);
         return PARAM_INIT_ERR_RANGE;
     }
@@ -69,6 +84,21 @@ static _iq pe_div(_iq num, _iq den, param_status_t code, param_status_t *st)
     return _IQdiv(num, den);
 }
 
+/* num/den in Q20 (Q24 / Q24 -> Q20 by _IQ20div, truncated, < 1 LSB), or
+ * status `code` if |num| >= 2047 |den| (quotient beyond Q20, including
+ * den = 0): for Tr, which exceeds Q24's 128 pu on large motors. */
+static _iq20 pe_div20(_iq num, _iq den, param_status_t code, param_status_t *st)
+{
+    if (*st != PARAM_OK) {
+        return _IQ20(0.0);
+    }
+    if (_IQabs(den) <= _IQmpy(_IQabs(num), _IQ(1.0 / 2047.0))) {   /* Q24*Q24 -> Q24 */
+        *st = code;
+        return _IQ20(0.0);
+    }
+    return _IQ20div(num, den);
+}
+
 /* a*b rounded and saturated; a result of 127 pu or more is an overflow. */
 static _iq pe_mul(_iq a, _iq b, param_status_t *st)
 {
@@ -93,7 +123,7 @@ void param_extract_step(param_extract_t *p)
     _iq inv_k2, a, k2im;
 
     p->Rs = _IQ(0.0); p->Rr = _IQ(0.0); p->Lm = _IQ(0.0);
-    p->Lr = _IQ(0.0); p->psi_r = _IQ(0.0); p->Tr = _IQ(0.0); p->K3p = _IQ(0.0);
+    p->Lr = _IQ(0.0); p->psi_r = _IQ(0.0); p->Tr = _IQ20(0.0); p->K3p = _IQ(0.0);
 
     if (p->i_m < p->i_m_min) {
         st = PARAM_ERR_IM;
@@ -125,7 +155,8 @@ void param_extract_step(param_extract_t *p)
             _iq k3im = pe_div(p->K3p, p->i_m, PARAM_ERR_DIV, &st);
             p->Rs = -k1k2 - k3im;           /* each < 127 in magnitude */
         }
-        p->Tr = pe_div(-K4, pe_mul(K2, p->K3p, &st), PARAM_ERR_DIV, &st);
+        /* Q24 / Q24 -> Q20: Tr_pu reaches ~300 on motors of tens of kW */
+        p->Tr = pe_div20(-K4, pe_mul(K2, p->K3p, &st), PARAM_ERR_DIV, &st);
     }
     pe_check(p->Rs, p->Rs_lim, PARAM_ERR_RS, &st);
     pe_check(p->Rr, p->Rr_lim, PARAM_ERR_RR, &st);
@@ -144,7 +175,7 @@ void param_extract_magnetic(param_extract_t *p)
     _iq inv_k2, a;
 
     p->Rs = _IQ(0.0); p->Rr = _IQ(0.0); p->Lm = _IQ(0.0);
-    p->Lr = _IQ(0.0); p->psi_r = _IQ(0.0); p->Tr = _IQ(0.0); p->K3p = _IQ(0.0);
+    p->Lr = _IQ(0.0); p->psi_r = _IQ(0.0); p->Tr = _IQ20(0.0); p->K3p = _IQ(0.0);
     if (p->i_m < p->i_m_min) {
         st = PARAM_ERR_IM;
     }

@@ -53,7 +53,8 @@ void flux_obs_reset(flux_obs_t *o)
 static void zero_params(flux_obs_t *o)
 {
     o->rs = o->lm = o->sigma_ls = o->lr_lm = o->lm_lr = _IQ(0.0);
-    o->tr = o->kf = o->ts = _IQ(0.0);
+    o->tr = _IQ20(0.0);
+    o->kf = o->ts = _IQ(0.0);
     o->ts30 = _IQ30(0.0);
     o->wc = o->g = o->kf_ws = o->inv_wc = _IQ(0.0);
     o->inv_k_theta = _IQ20(0.0);
@@ -93,12 +94,12 @@ flux_obs_status_t flux_obs_design_l(flux_obs_model_t *m, float lm_pu, float lr_p
 
 flux_obs_status_t flux_obs_design_tr(flux_obs_model_t *m, float ts_pu, float tr_pu)
 {
-    /* Tr >= 10 Ts, i.e. x = Ts/Tr <= 0.1; Tr <= 120 (Q24 holds < 128) */
+    /* Tr >= 10 Ts, i.e. x = Ts/Tr <= 0.1; Tr <= FLUX_OBS_TR_MAX_PU (Q20 holds < 2048) */
     if (!(ts_pu > 0.0f) || !(tr_pu >= FLUX_OBS_TR_MIN_SAMPLES * ts_pu) ||
         !(tr_pu <= FLUX_OBS_TR_MAX_PU)) {
         return FLUX_OBS_ERR_TR;
     }
-    m->tr = _IQ(tr_pu);
+    m->tr = _IQ20(tr_pu);
     m->kf = _IQ(one_minus_exp_neg(ts_pu / tr_pu));
     return FLUX_OBS_OK;
 }
@@ -181,7 +182,7 @@ flux_obs_status_t flux_obs_set_step(flux_obs_t *o, const base_values_t *b, uint1
     wc_pu = wc_Hz / b->f_base_Hz;
     x_ws = 6.2831853f * ws_lpf_Hz * b->Ts_s * (float)n;
     if (!(wc_pu * T_pu <= FLUX_OBS_G_MAX) || !(x_ws > 0.0f && x_ws <= 1.0f) ||
-        !(o->tr >= _IQ(FLUX_OBS_TR_MIN_SAMPLES * T_pu))) {
+        !(o->tr >= _IQ20(FLUX_OBS_TR_MIN_SAMPLES * T_pu))) {
         return FLUX_OBS_ERR_BASE;
     }
     o->n = n;
@@ -198,7 +199,7 @@ flux_obs_status_t flux_obs_set_step(flux_obs_t *o, const base_values_t *b, uint1
      * on the Q24 Tr: a set made for this Tr carries the same kf) */
     {
         flux_obs_model_t m;
-        const flux_obs_status_t st = flux_obs_design_tr(&m, T_pu, _IQtoF(o->tr));
+        const flux_obs_status_t st = flux_obs_design_tr(&m, T_pu, _IQ20toF(o->tr));
         if (st == FLUX_OBS_OK) {
             o->kf = m.kf;
         }
@@ -276,17 +277,19 @@ flux_obs_status_t flux_obs_set_rs_dc(flux_obs_t *o, _iq rs_pu, _iq u_alpha, _iq 
     return st;
 }
 
-flux_obs_status_t flux_obs_set_tr(flux_obs_t *o, _iq tr_pu)
+flux_obs_status_t flux_obs_set_tr(flux_obs_t *o, _iq20 tr_pu)
 {
     _iq x;
     _iq t;
 
-    /* Tr >= 10 Ts, i.e. x = Ts/Tr <= 0.1; Tr <= 100 (Q24 headroom) */
-    if (!(o->ts > _IQ(0.0)) || !(tr_pu >= _IQmpy(o->ts, _IQ(FLUX_OBS_TR_MIN_SAMPLES))) ||
-        !(tr_pu <= _IQ(FLUX_OBS_TR_MAX_PU))) {
+    /* Tr >= 10 Ts, i.e. x = Ts/Tr <= 0.1 (10 n Ts < 4 pu: Q24 -> Q20 to 1 LSB);
+     * Tr <= FLUX_OBS_TR_MAX_PU (Q20 headroom) */
+    if (!(o->ts > _IQ(0.0)) ||
+        !(tr_pu >= _IQtoIQ20(_IQmpy(o->ts, _IQ(FLUX_OBS_TR_MIN_SAMPLES)))) ||
+        !(tr_pu <= _IQ20(FLUX_OBS_TR_MAX_PU))) {
         return FLUX_OBS_ERR_TR;
     }
-    x = _IQdiv(o->ts, tr_pu);   /* Q24 / Q24 -> Q24, in (0, 0.1] */
+    x = _IQ20div(o->ts, tr_pu);   /* Q24 / Q20 -> Q24 (shift by 20), in (0, 0.1] */
     /* 1 - exp(-x) = x (1 - x/2 (1 - x/3 (1 - x/4 (1 - x/5)))), Horner;
      * every factor is in (0.9, 1]: no overflow, truncation < 1 LSB each */
     t = _IQ(1.0) - _IQmpy(x, _IQ(0.2));

@@ -12,7 +12,7 @@ ifo_status_t ifo_init(ifo_t *f, float Tr_s, const base_values_t *b, float imr_mi
     f->i_m = _IQ(0.0);
     f->i_t = _IQ(0.0);
     f->wr = _IQ(0.0);
-    f->tr = _IQ(0.0);
+    f->tr = _IQ20(0.0);
     f->inv_tr = _IQ(0.0);
     f->kf = _IQ(0.0);
     f->ts = _IQ(0.0);
@@ -58,7 +58,7 @@ ifo_status_t ifo_init(ifo_t *f, float Tr_s, const base_values_t *b, float imr_mi
 
 ifo_status_t ifo_design_tr(ifo_tr_t *t, float ts_pu, float tr_pu, float imr_min_pu)
 {
-    /* Tr >= 10 Ts (x = Ts/Tr <= 0.1), Tr <= 120 (Q24 headroom); NaN fails */
+    /* Tr >= 10 Ts (x = Ts/Tr <= 0.1), Tr <= IFO_TR_MAX_PU (Q20 headroom); NaN fails */
     if (!(ts_pu > 0.0f) || !(tr_pu >= IFO_TR_MIN_SAMPLES * ts_pu) || !(tr_pu <= IFO_TR_MAX_PU)) {
         return IFO_ERR_TR;
     }
@@ -66,27 +66,29 @@ ifo_status_t ifo_design_tr(ifo_tr_t *t, float ts_pu, float tr_pu, float imr_min_
     if (!(tr_pu * imr_min_pu >= IFO_I_T_MAX / IFO_SLIP_MAX)) {
         return IFO_ERR_IMR_MIN;
     }
-    t->tr = _IQ(tr_pu);
+    t->tr = _IQ20(tr_pu);            /* <= 1000 < 2048 */
     t->inv_tr = _IQ(1.0f / tr_pu);   /* <= 1/(10 Ts) < 128 */
     t->kf = _IQ(one_minus_exp_neg(ts_pu / tr_pu));
     return IFO_OK;
 }
 
-ifo_status_t ifo_set_tr(ifo_t *f, _iq tr_pu)
+ifo_status_t ifo_set_tr(ifo_t *f, _iq20 tr_pu)
 {
     _iq x;
     _iq t;
 
-    /* Tr >= 10 Ts, i.e. x = Ts/Tr <= 0.1; Tr <= 100 (Q24 headroom) */
-    if (!(tr_pu >= _IQmpy(f->ts, _IQ(IFO_TR_MIN_SAMPLES))) || !(tr_pu <= _IQ(IFO_TR_MAX_PU))) {
+    /* Tr >= 10 Ts, i.e. x = Ts/Tr <= 0.1 (10 Ts < 0.5 pu: Q24 -> Q20 exact
+     * to 1 LSB); Tr <= IFO_TR_MAX_PU (Q20 headroom) */
+    if (!(tr_pu >= _IQtoIQ20(_IQmpy(f->ts, _IQ(IFO_TR_MIN_SAMPLES)))) ||
+        !(tr_pu <= _IQ20(IFO_TR_MAX_PU))) {
         return IFO_ERR_TR;
     }
     /* slip bound: I_T_MAX / (Tr imr_min) <= SLIP_MAX  <=>  Tr imr_min >= 2/64.
-     * Q24*Q24 -> Q24: Tr <= 100, imr_min <= 1, no overflow */
-    if (!(_IQmpy(tr_pu, f->imr_min) >= _IQ(IFO_I_T_MAX / IFO_SLIP_MAX))) {
+     * Q20*Q24 -> Q20 (_IQmpy shifts by 24): Tr <= 1000, imr_min <= 1, no overflow */
+    if (!(_IQmpy(tr_pu, f->imr_min) >= _IQ20(IFO_I_T_MAX / IFO_SLIP_MAX))) {
         return IFO_ERR_IMR_MIN;
     }
-    x = _IQdiv(f->ts, tr_pu);   /* Q24 / Q24 -> Q24, in (0, 0.1] */
+    x = _IQ20div(f->ts, tr_pu);   /* Q24 / Q20 -> Q24 (shift by 20), in (0, 0.1] */
     /* 1 - exp(-x) = x (1 - x/2 (1 - x/3 (1 - x/4 (1 - x/5)))), Horner;
      * every factor is in (0.9, 1]: no overflow, truncation < 1 LSB each */
     t = _IQ(1.0) - _IQmpy(x, _IQ(0.2));
@@ -94,7 +96,7 @@ ifo_status_t ifo_set_tr(ifo_t *f, _iq tr_pu)
     t = _IQ(1.0) - _IQmpy(_IQmpy(x, _IQ(0.33333333)), t);
     t = _IQ(1.0) - _IQmpy(_IQmpy(x, _IQ(0.5)), t);
     f->kf = _IQmpy(x, t);
-    f->inv_tr = _IQdiv(_IQ(1.0), tr_pu);   /* in [0.01, 1/(10 Ts_pu)] */
+    f->inv_tr = _IQ20div(_IQ(1.0), tr_pu);   /* Q24 / Q20 -> Q24, in [0.001, 1/(10 Ts_pu)] */
     f->tr = tr_pu;
     return IFO_OK;
 }

@@ -39,12 +39,17 @@
 #include "drive_types.h"
 #include "sim_config.h"
 
+/* Tr (cur/to/posted[DRIVE_P_TR], fobs.tr, ifo.tr, Tr_track) is Q20: to_d20, LSB20 */
 #if MATH_TYPE == IQ_MATH
 static double to_d(_iq x) { return ldexp((double)x, -GLOBAL_Q); }
+static double to_d20(_iq20 x) { return ldexp((double)x, -20); }
 #define LSB (1.0 / 16777216.0)
+#define LSB20 (1.0 / 1048576.0)
 #else
 static double to_d(_iq x) { return (double)x; }
+static double to_d20(_iq20 x) { return (double)x; }
 #define LSB 0.0
+#define LSB20 0.0
 #endif
 
 static sim_config_t g_cfg;
@@ -183,7 +188,7 @@ static void test_set_equals_init(void **state)
     assert_true(lr != 0.0f && si_for(rs, b->Z_base_ohm) != 0.0f &&
                 si_for(lm, b->L_base_H) != 0.0f && si_for(tr, b->t_base_s) != 0.0f);
     d->adapt.track_rr = 0u;   /* the pass's Tr is taken (not the tracker's) */
-    mail(d, _IQ(rs), _IQ(lm), _IQ(lr), _IQ(tr));
+    mail(d, _IQ(rs), _IQ(lm), _IQ(lr), _IQ20(tr));
     ticks = run_until_ready(d, 1000u);
     background(d);   /* reads the answer to the last set */
     print_message("blend: %u ISR ticks (blend_ticks %u)\n", (unsigned)ticks,
@@ -218,7 +223,7 @@ static void test_set_equals_init(void **state)
     assert_true(fabs(to_d(d->k.lm2_lr) - (double)lm * (double)lm / (double)lr) <=
                 LSB + 2e-7 * (double)lm);
     /* the background's record of the model in use */
-    assert_true(d->adapt_bg.cur[DRIVE_P_RS] == _IQ(rs) && d->adapt_bg.cur[DRIVE_P_TR] == _IQ(tr));
+    assert_true(d->adapt_bg.cur[DRIVE_P_RS] == _IQ(rs) && d->adapt_bg.cur[DRIVE_P_TR] == _IQ20(tr));
     assert_int_equal(d->adapt_bg.blending, 0u);
     assert_int_equal(d->adapt.blending, 0u);
 }
@@ -298,8 +303,8 @@ static int consistent(const drive_t *d)
     pi_gains_t pg;
     ifo_tr_t it;
     flux_obs_model_t om;   /* the observer's kf is for its own step, n Ts */
-    (void)ifo_design_tr(&it, g->ts_pu, _IQtoF(d->fobs.tr), g->imr_min_pu);
-    (void)flux_obs_design_tr(&om, g->obs_ts_pu, _IQtoF(d->fobs.tr));
+    (void)ifo_design_tr(&it, g->ts_pu, _IQ20toF(d->fobs.tr), g->imr_min_pu);
+    (void)flux_obs_design_tr(&om, g->obs_ts_pu, _IQ20toF(d->fobs.tr));
     (void)pi_design_gains(&pg, g->kp_per_sls * _IQtoF(d->fobs.sigma_ls),
                           g->ki_per_rs * _IQtoF(d->fobs.rs));
     return d->ifo.tr == it.tr && d->ifo.inv_tr == it.inv_tr && d->ifo.kf == it.kf &&
@@ -544,19 +549,20 @@ static void test_stale_dropped(void **state)
  * learning only after the last.  Then tracker updates (written by hand:
  * the tracker's own RLS is estim_tr_track's; with no flux it holds):
  *  - one update towards a Tr 30 % higher: the applied Tr moves by exactly
- *    one step, Tr + Tr tr_rate (Q24: the product truncated), and this
+ *    one step, Tr + Tr tr_rate (Tr Q20: the product truncated), and this
  *    first tracked set hands the frame to ifo (run_ifo; ifo's angle the
  *    observer's);
  *  - 10 updates at once: 10 steps, against the closed form Tr (1 +
- *    rate)^10 in double within 10 LSB (one truncation per step);
+ *    rate)^10 in double within 10 LSB20 (one truncation per step);
  *  - a target within one step: reached exactly;
- *  - telemetry: Tr_track = 1/theta within 1 LSB + 1e-7 relative, Rr_track
+ *  - telemetry: Tr_track (Q20) = 1/theta within 1 LSB20 + 1e-7 relative, Rr_track
  *    = Lr theta, track_valid from 1000 updates on. */
 static void test_tracking(void **state)
 {
     drive_t *d = &g_d;
     drive_adapt_bg_t *g = &d->adapt_bg;
-    _iq tr0, tr1, target, theta;
+    _iq20 tr0, tr1, target;   /* Q20 */
+    _iq theta;
     double rate, want;
     uint32_t k;
     (void)state;
@@ -569,8 +575,8 @@ static void test_tracking(void **state)
     isr(d);
     assert_int_equal(d->adapt.track_armed, 1u);
     assert_int_equal(d->adapt.blending, 1u);
-    assert_true(fabs(to_d(d->track.theta) - 1.0 / (0.9 * to_d(g->cur[DRIVE_P_TR]))) <=
-                1e-3 / to_d(g->cur[DRIVE_P_TR]));
+    assert_true(fabs(to_d(d->track.theta) - 1.0 / (0.9 * to_d20(g->cur[DRIVE_P_TR]))) <=
+                1e-3 / to_d20(g->cur[DRIVE_P_TR]));
     for (k = 0u; k < 400u && g->blending != 0u; k++) {
         background(d);
         isr(d);
@@ -584,7 +590,7 @@ static void test_tracking(void **state)
     /* one update towards Tr x 1.3 */
     tr0 = g->cur[DRIVE_P_TR];
     target = _IQmpy(tr0, _IQ(1.3));
-    theta = _IQdiv(_IQ(1.0), target);
+    theta = _IQ20div(_IQ(1.0), target);   /* Q24 / Q20 -> Q24 */
     d->track.theta = theta;
     d->track.n_updates = 1u;
     background(d);
@@ -593,14 +599,14 @@ static void test_tracking(void **state)
     d->fobs.psi_mag = _IQmpy(d->fobs.lm, _IQ(0.33));
     isr(d);
     tr1 = tr0 + _IQmpy(tr0, g->tr_rate);
-    assert_true(d->fobs.tr == _IQ(_IQtoF(tr1)));
+    assert_true(d->fobs.tr == _IQ20(_IQ20toF(tr1)));
     assert_true(d->ifo.tr == d->fobs.tr);
     assert_int_equal(d->run_ifo, 1u);
     assert_int_equal(d->frame_ifo, 1u);
     assert_true(d->ifo.theta == _IQ(0.37));
     assert_true(fabs(to_d(d->ifo.imr) - 0.33) <= 1e-4);
-    assert_true(fabs(to_d(d->telemetry.Tr_track) - 1.0 / to_d(theta)) <=
-                LSB + 1e-7 * to_d(d->telemetry.Tr_track));
+    assert_true(fabs(to_d20(d->telemetry.Tr_track) - 1.0 / to_d(theta)) <=
+                LSB20 + 1e-7 * to_d20(d->telemetry.Tr_track));
     assert_true(fabs(to_d(d->telemetry.Rr_track) - to_d(g->lr) * to_d(theta)) <= LSB + 1e-7);
     assert_int_equal(d->telemetry.track_valid, 0u);
 
@@ -611,19 +617,19 @@ static void test_tracking(void **state)
     assert_int_equal(d->adapt_box.set.flags, 0u);   /* ifo has the frame already */
     isr(d);
     rate = to_d(g->tr_rate);
-    want = to_d(tr1) * pow(1.0 + rate, 10.0);
-    print_message("tracking: 10 updates, Tr %.7f want %.7f (%.2f LSB)\n",
-                  to_d(g->posted[DRIVE_P_TR]), want,
-                  LSB > 0.0 ? (to_d(g->posted[DRIVE_P_TR]) - want) / LSB : 0.0);
-    assert_true(fabs(to_d(g->posted[DRIVE_P_TR]) - want) <= 10.0 * LSB + 1e-6 * want);
+    want = to_d20(tr1) * pow(1.0 + rate, 10.0);
+    print_message("tracking: 10 updates, Tr %.7f want %.7f (%.2f LSB20)\n",
+                  to_d20(g->posted[DRIVE_P_TR]), want,
+                  LSB20 > 0.0 ? (to_d20(g->posted[DRIVE_P_TR]) - want) / LSB20 : 0.0);
+    assert_true(fabs(to_d20(g->posted[DRIVE_P_TR]) - want) <= 10.0 * LSB20 + 1e-6 * want);
 
     /* within one step: exactly the target */
     background(d);
-    theta = _IQdiv(_IQ(1.0), g->cur[DRIVE_P_TR] + _IQmpy(g->cur[DRIVE_P_TR], _IQ(1e-5)));
+    theta = _IQ20div(_IQ(1.0), g->cur[DRIVE_P_TR] + _IQmpy(g->cur[DRIVE_P_TR], _IQ(1e-5)));
     d->track.theta = theta;
     d->track.n_updates = 1000u;
     background(d);
-    assert_true(g->posted[DRIVE_P_TR] == _IQdiv(_IQ(1.0), theta));
+    assert_true(g->posted[DRIVE_P_TR] == _IQ20div(_IQ(1.0), theta));   /* Q24 / Q24 -> Q20 */
     assert_int_equal(d->telemetry.track_valid, 1u);
     isr(d);
 

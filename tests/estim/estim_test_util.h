@@ -21,6 +21,7 @@ static inline _iq d_to_iq(double v) { return d_to_qn(v, GLOBAL_Q); }
 
 /** One LSB of Q24 in pu. */
 #define LSB24 (1.0 / 16777216.0)
+#define LSB20 (1.0 / 1048576.0)   /* Tr (param_extract.h) */
 
 /* xorshift64*, deterministic */
 typedef struct { uint64_t s; } test_rng_t;

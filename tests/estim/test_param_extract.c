@@ -87,10 +87,12 @@ static void check_reference(int paper)
     Tr = -K4 / (K2 * K3p);
     print_message("%s: Rs %.7f/%.7f Rr %.7f/%.7f Lm %.7f/%.7f Lr %.7f/%.7f psi %.7f/%.7f Tr %.6f/%.6f pu\n",
                   paper ? "paper" : "const", iq_to_d(p->Rs), Rs, iq_to_d(p->Rr), Rr, iq_to_d(p->Lm), Lm,
-                  iq_to_d(p->Lr), Lr, iq_to_d(p->psi_r), psi, iq_to_d(p->Tr), Tr);
+                  iq_to_d(p->Lr), Lr, iq_to_d(p->psi_r), psi, qn_to_d(p->Tr, 20), Tr);
 #define NEAR(x, ref) assert_true(fabs(iq_to_d(x) - (ref)) <= 8.0 * LSB24 + 2e-6 * fabs(ref))
-    NEAR(p->Rs, Rs); NEAR(p->Rr, Rr); NEAR(p->Lm, Lm); NEAR(p->Lr, Lr); NEAR(p->psi_r, psi); NEAR(p->Tr, Tr);
+    NEAR(p->Rs, Rs); NEAR(p->Rr, Rr); NEAR(p->Lm, Lm); NEAR(p->Lr, Lr); NEAR(p->psi_r, psi);
 #undef NEAR
+    /* Tr is Q20: its truncation (< 1 LSB20) on top */
+    assert_true(fabs(qn_to_d(p->Tr, 20) - Tr) <= LSB20 + 8.0 * LSB24 + 2e-6 * Tr);
     /* (2) the method's reference values, SI */
 #define REL(x, base, ref, tol) assert_true(fabs(iq_to_d(x) * (double)(base) / (ref) - 1.0) <= (tol))
     REL(p->Rs, fx.b.Z_base_ohm, 1.031, 1e-3);
@@ -98,8 +100,8 @@ static void check_reference(int paper)
     REL(p->Lm, fx.b.L_base_H, 0.0064, 5e-3);
     REL(p->Lr, fx.b.L_base_H, 0.0092, 1e-3);
     REL(p->psi_r, fx.b.psi_base_Wb, 0.042, 5e-3);
-    REL(p->Tr, 1.0 / wb, 0.01978, 1e-3);
 #undef REL
+    assert_true(fabs(qn_to_d(p->Tr, 20) / wb / 0.01978 - 1.0) <= 1e-3);
 }
 
 static void test_reference_paper_form(void **state)
@@ -198,6 +200,69 @@ static void test_rejections(void **state)
     assert_int_equal(p->valid, 1);
 }
 
+/* A large motor's Tr (tens of kW: Tr 0.3 to 1 s, ~100 to 300 pu, beyond
+ * Q24's 128): pu model Rs 0.02, Rr 0.01, Lm 3.0, Ls = Lr 3.1, i_M 0.3, so
+ * Tr = Lr/Rr = 310 pu; its K values from method §4 (K2 = 1/(sigma Ls),
+ * a = Lm^2/Lr, K4 = -a K2 i_M, K3' = Lm^2 Rr i_M / Lr^2, K1 = -K2 (Rs +
+ * K3'/i_M)), both forms.  Tr against the formula in double on the quantised
+ * inputs: 1 LSB20 (the Q20 quotient's truncation) + 3e-5 relative (the
+ * constant form's K3' = theta3/K2 = 0.0028 pu truncated to Q24: < 1 LSB24,
+ * 2.1e-5; K2 K3' = 0.014 pu rounded to 0.5 LSB24: 2.1e-6; the paper form
+ * measures 2e-8);
+ * and against the model's 310 within 0.01 % (the K values' quantisation).
+ * A Tr above the range is PARAM_ERR_TR, a quotient beyond Q20 PARAM_ERR_DIV. */
+static void test_large_tr(void **state)
+{
+    const double rs = 0.02, rr = 0.01, lm = 3.0, lr = 3.1, im = 0.3;
+    const double a = lm * lm / lr, k2 = 1.0 / (lr - a);
+    const double k3p = lm * lm * rr * im / (lr * lr);
+    param_limits_t l = fx.lim;
+    param_extract_t q;
+    int paper;
+    (void)state;
+
+    l.Rs_ohm[0] = 0.001f; l.Rr_ohm[0] = 0.001f;
+    l.Tr_s[0] = 0.1f; l.Tr_s[1] = 3.0f;       /* 31 to 942 pu */
+    for (paper = 0; paper <= 1; paper++) {
+        double K2, K3p, K4, Tr;
+        assert_int_equal(param_extract_init(&q, &fx.b, &l), PARAM_INIT_OK);
+        q.theta[0] = d_to_iq(-k2 * (rs + k3p / im));
+        q.theta[1] = d_to_iq(k2);
+        q.theta[2] = paper ? d_to_iq(k3p) : d_to_iq(k2 * k3p);
+        q.theta[3] = d_to_iq(-a * k2 * im);
+        q.form = paper ? (uint16_t)RLS_FORM_PAPER : (uint16_t)RLS_FORM_CONST;
+        q.i_m = d_to_iq(im);
+        param_extract_step(&q);
+        assert_int_equal(q.status, PARAM_OK);
+        K2 = iq_to_d(q.theta[1]); K4 = iq_to_d(q.theta[3]);
+        K3p = paper ? iq_to_d(q.theta[2]) : iq_to_d(q.theta[2]) / K2;
+        Tr = -K4 / (K2 * K3p);
+        print_message("%s: Tr %.6f / %.6f pu (model 310)\n", paper ? "paper" : "const",
+                      qn_to_d(q.Tr, 20), Tr);
+        assert_true(fabs(qn_to_d(q.Tr, 20) - Tr) <= LSB20 + 3e-5 * Tr);
+        assert_true(fabs(qn_to_d(q.Tr, 20) / 310.0 - 1.0) <= 1e-4);
+        assert_true(fabs(iq_to_d(q.Rr) / rr - 1.0) <= 1e-3);
+    }
+    /* Tr 310 pu above a range ending at 0.5 s = 157 pu */
+    l.Tr_s[1] = 0.5f;
+    assert_int_equal(param_extract_init(&q, &fx.b, &l), PARAM_INIT_OK);
+    q.theta[0] = d_to_iq(-k2 * (rs + k3p / im));
+    q.theta[1] = d_to_iq(k2);
+    q.theta[2] = d_to_iq(k3p);
+    q.theta[3] = d_to_iq(-a * k2 * im);
+    q.form = (uint16_t)RLS_FORM_PAPER;
+    q.i_m = d_to_iq(im);
+    param_extract_step(&q);
+    assert_int_equal(q.status, PARAM_ERR_TR);
+    assert_int_equal(q.valid, 0);
+    /* K3' 1/1000 of it: Tr 310000 pu, beyond Q20 (the division's status
+     * comes before any range check) */
+    q.theta[2] = d_to_iq(k3p / 1000.0);
+    param_extract_step(&q);
+    assert_int_equal(q.status, PARAM_ERR_DIV);
+    assert_int_equal(q.valid, 0);
+}
+
 static void test_init_rejects(void **state)
 {
     param_extract_t q;
@@ -211,7 +276,11 @@ static void test_init_rejects(void **state)
     l.Lm_H[0] = 0.06f;                        /* min > max */
     assert_int_equal(param_extract_init(&q, &fx.b, &l), PARAM_INIT_ERR_RANGE);
     l = fx.lim;
-    l.Tr_s[1] = 1.0f;                         /* 314 pu: not representable in Q24 */
+    l.Tr_s[1] = 1.0f;                         /* 314 pu: Q20 (a 55 kW motor's 0.93 s is 292) */
+    assert_int_equal(param_extract_init(&q, &fx.b, &l), PARAM_INIT_OK);
+    assert_true(fabs(qn_to_d(q.Tr_lim[1], 20) - 1.0 * (double)fx.b.w_base_rad_s) <=
+                LSB20 + 1e-7 * 314.2);
+    l.Tr_s[1] = 7.0f;                         /* 2199 pu: not representable in Q20 */
     assert_int_equal(param_extract_init(&q, &fx.b, &l), PARAM_INIT_ERR_RANGE);
     l = fx.lim;
     l.i_m_min_A = 0.0f;
@@ -250,7 +319,7 @@ static void test_magnetic(void **state)
 #define SAME(x) assert_true(fabs(iq_to_d(q.x) - iq_to_d(p->x)) <= LSB24)
         SAME(Lm); SAME(Lr); SAME(psi_r);
 #undef SAME
-        assert_true(q.Rs == _IQ(0.0) && q.Rr == _IQ(0.0) && q.Tr == _IQ(0.0) && q.K3p == _IQ(0.0));
+        assert_true(q.Rs == _IQ(0.0) && q.Rr == _IQ(0.0) && q.Tr == _IQ20(0.0) && q.K3p == _IQ(0.0));
         K2 = iq_to_d(q.theta[1]); K4 = iq_to_d(q.theta[3]); im = iq_to_d(q.i_m);
         a = -K4 / (K2 * im);
         Lr = 1.0 / K2 + a;
@@ -330,6 +399,7 @@ int main(void)
         cmocka_unit_test(test_reference_const_form),
         cmocka_unit_test(test_rejections),
         cmocka_unit_test(test_init_rejects),
+        cmocka_unit_test(test_large_tr),
         cmocka_unit_test(test_magnetic),
     };
     return cmocka_run_group_tests(tests, setup, NULL);

@@ -28,8 +28,10 @@
 
 #if MATH_TYPE == IQ_MATH
 static double to_d(_iq x) { return ldexp((double)x, -GLOBAL_Q); }
+static double to_d20(_iq20 x) { return ldexp((double)x, -20); }   /* Tr is Q20 */
 #else
 static double to_d(_iq x) { return (double)x; }
+static double to_d20(_iq20 x) { return (double)x; }
 #endif
 #define PI 3.14159265358979323846
 #define DEG (180.0 / PI)
@@ -577,7 +579,7 @@ static void test_set_tr_online(void **state)
     obs_init(&o, 1.0, 1.3);
     r = run_steady(&o, &p, N_STEADY, M_STEADY, 0.0);
     assert_true(r.err_mean > 2.0);
-    assert_int_equal(flux_obs_set_tr(&o, _IQ(g_m.tr)), FLUX_OBS_OK);
+    assert_int_equal(flux_obs_set_tr(&o, _IQ20(g_m.tr)), FLUX_OBS_OK);
     /* run_steady restarts its clock at t = 0: the inputs jump in phase,
      * which the observer has to ride through as well */
     r = run_steady(&o, &p, N_STEADY, M_STEADY, 0.0);
@@ -592,7 +594,8 @@ static void test_setters(void **state)
 {
     const double lsb = ldexp(1.0, -24);
     flux_obs_t o, ref;
-    _iq tr;
+    _iq20 tr;
+    uint32_t i;
     (void)state;
 
     obs_init(&ref, 1.0, 1.0);
@@ -602,20 +605,33 @@ static void test_setters(void **state)
     assert_true(fabs(to_d(o.lr_lm) - g_m.lr / g_m.lm) <= 4.0 * lsb + 1e-6);
     assert_true(fabs(to_d(o.lm_lr) - g_m.lm / g_m.lr) <= 4.0 * lsb + 1e-6);
     assert_true(fabs(to_d(o.sigma_ls) - g_m.sls) <= 8.0 * lsb + 1e-6);
-    tr = _IQ(g_m.tr);
+    /* large motors' Tr (hundreds of pu, Q20) as the paper motor's 6.2 pu */
+    {
+        static const double tr_list[] = {150.0, 292.4, 999.0};
+        for (i = 0u; i < sizeof tr_list / sizeof tr_list[0]; i++) {
+            tr = _IQ20(tr_list[i]);
+            assert_int_equal(flux_obs_set_tr(&o, tr), FLUX_OBS_OK);
+            assert_true(o.tr == tr);
+            assert_true(fabs(to_d(o.kf) - (1.0 - exp(-to_d(o.ts) / to_d20(tr)))) <=
+                        (1.0 / to_d20(tr) + 4.0) * lsb + 1e-9);
+        }
+    }
+    tr = _IQ20(g_m.tr);
     assert_int_equal(flux_obs_set_tr(&o, tr), FLUX_OBS_OK);
-    assert_true(fabs(to_d(o.kf) - (1.0 - exp(-to_d(o.ts) / to_d(tr)))) <=
-                (1.0 / to_d(tr) + 4.0) * lsb + 1e-9);
-    assert_true(fabs(to_d(o.kf) - to_d(ref.kf)) <= (1.0 / to_d(tr) + 4.0) * lsb + 1e-9);
+    assert_true(fabs(to_d(o.kf) - (1.0 - exp(-to_d(o.ts) / to_d20(tr)))) <=
+                (1.0 / to_d20(tr) + 4.0) * lsb + 1e-9);
+    /* against the init's float kf: plus the Q20 Tr's truncation, kf 16 / Tr LSB */
+    assert_true(fabs(to_d(o.kf) - to_d(ref.kf)) <=
+                (1.0 / to_d20(tr) + 4.0 + 16.0 * to_d(o.kf) / to_d20(tr)) * lsb + 1e-9);
 
     /* rejected: the old values stay */
     ref = o;
     assert_int_equal(flux_obs_set_rs(&o, _IQ(-0.01)), FLUX_OBS_ERR_RS);
     assert_int_equal(flux_obs_set_rs(&o, _IQ(4.5)), FLUX_OBS_ERR_RS);
     assert_true(o.rs == ref.rs);
-    assert_int_equal(flux_obs_set_tr(&o, _IQmpy(o.ts, _IQ(5.0))), FLUX_OBS_ERR_TR);
-    assert_int_equal(flux_obs_set_tr(&o, _IQ(121.0)), FLUX_OBS_ERR_TR);
-    assert_int_equal(flux_obs_set_tr(&o, _IQ(-1.0)), FLUX_OBS_ERR_TR);
+    assert_int_equal(flux_obs_set_tr(&o, _IQtoIQ20(_IQmpy(o.ts, _IQ(5.0)))), FLUX_OBS_ERR_TR);
+    assert_int_equal(flux_obs_set_tr(&o, _IQ20(FLUX_OBS_TR_MAX_PU) + _IQ20(1.0)), FLUX_OBS_ERR_TR);
+    assert_int_equal(flux_obs_set_tr(&o, _IQ20(-1.0)), FLUX_OBS_ERR_TR);
     assert_true(o.kf == ref.kf && o.tr == ref.tr);
     assert_int_equal(flux_obs_set_inductances(&o, _IQ(1.0), _IQ(0.9), _IQ(1.1)), FLUX_OBS_ERR_L);
     assert_int_equal(flux_obs_set_inductances(&o, _IQ(1.0), _IQ(1.1), _IQ(1.0)), FLUX_OBS_ERR_L);
@@ -640,7 +656,7 @@ static void test_init_errors(void **state)
         {RS_OHM, LS_H, 5.0f * LM_H, LM_H, TR_S, WC_HZ, WS_LPF_HZ, FLUX_OBS_ERR_L},
         {RS_OHM, LS_H, LR_H, 0.0f, TR_S, WC_HZ, WS_LPF_HZ, FLUX_OBS_ERR_L},
         {RS_OHM, LS_H, LR_H, LM_H, 1e-4f, WC_HZ, WS_LPF_HZ, FLUX_OBS_ERR_TR},    /* < 10 Ts */
-        {RS_OHM, LS_H, LR_H, LM_H, 1.0f, WC_HZ, WS_LPF_HZ, FLUX_OBS_ERR_TR},     /* > 120 pu */
+        {RS_OHM, LS_H, LR_H, LM_H, 3.5f, WC_HZ, WS_LPF_HZ, FLUX_OBS_ERR_TR},     /* > 1000 pu */
         {RS_OHM, LS_H, LR_H, LM_H, TR_S, 0.0f, WS_LPF_HZ, FLUX_OBS_ERR_WC},
         {RS_OHM, LS_H, LR_H, LM_H, TR_S, 60.0f, WS_LPF_HZ, FLUX_OBS_ERR_WC},     /* > f_base */
         {RS_OHM, LS_H, LR_H, LM_H, TR_S, WC_HZ, 0.0f, FLUX_OBS_ERR_WS_LPF},
@@ -878,7 +894,7 @@ static void test_design(void **state)
 
     assert_true(fabs(to_d(m.rs) - g_m.rs) <= lsb + 1e-7 * g_m.rs);
     assert_true(fabs(to_d(m.lm) - g_m.lm) <= lsb + 1e-7 * g_m.lm);
-    assert_true(fabs(to_d(m.tr) - g_m.tr) <= lsb + 1e-7 * g_m.tr);
+    assert_true(fabs(to_d20(m.tr) - g_m.tr) <= 16.0 * lsb + 1e-7 * g_m.tr);   /* Q20 */
     assert_true(fabs(to_d(m.lr_lm) - g_m.lr / g_m.lm) <= lsb + 2e-7 * g_m.lr / g_m.lm);
     assert_true(fabs(to_d(m.lm_lr) - g_m.lm / g_m.lr) <= lsb + 2e-7);
     print_message("design: sigma Ls %.2f LSB, kf %.2f LSB from double\n",
@@ -895,6 +911,13 @@ static void test_design(void **state)
     assert_true(fabs(to_d(fx.lm_lr) - to_d(m.lm_lr)) <= 6.0 * lsb);
     assert_true(fabs(to_d(fx.sigma_ls) - to_d(m.sigma_ls)) <= 18.0 * lsb);
     assert_true(fabs(to_d(fx.kf) - to_d(m.kf)) <= (1.0 / g_m.tr + 6.0) * lsb);
+    /* a large motor's Tr (292 pu: 0.93 s at 50 Hz) against double */
+    assert_int_equal(flux_obs_design_tr(&m, g_b.Ts_pu, 292.4f), FLUX_OBS_OK);
+    assert_true(fabs(to_d20(m.tr) - 292.4) <= 16.0 * lsb + 1e-7 * 292.4);
+    assert_true(fabs(to_d(m.kf) - (1.0 - exp(-(double)g_b.Ts_pu / 292.4))) <= lsb + 3e-7 * to_d(m.kf));
+    assert_int_equal(flux_obs_set_tr(&fx, m.tr), FLUX_OBS_OK);
+    assert_true(fabs(to_d(fx.kf) - to_d(m.kf)) <= (1.0 / 292.4 + 6.0) * lsb);
+    assert_int_equal(flux_obs_design_tr(&m, g_b.Ts_pu, tr), FLUX_OBS_OK);
 
     /* refusals: each group keeps its members */
     keep = m;
@@ -907,7 +930,7 @@ static void test_design(void **state)
     assert_int_equal(flux_obs_design_l(&m, 1.0f, 1.1f, 6.0f), FLUX_OBS_ERR_L);    /* sigma Ls > 4 */
     assert_int_equal(flux_obs_design_l(&m, NAN, 1.1f, 1.2f), FLUX_OBS_ERR_L);
     assert_int_equal(flux_obs_design_tr(&m, g_b.Ts_pu, 5.0f * g_b.Ts_pu), FLUX_OBS_ERR_TR);
-    assert_int_equal(flux_obs_design_tr(&m, g_b.Ts_pu, 121.0f), FLUX_OBS_ERR_TR);
+    assert_int_equal(flux_obs_design_tr(&m, g_b.Ts_pu, 1001.0f), FLUX_OBS_ERR_TR);
     assert_int_equal(flux_obs_design_tr(&m, g_b.Ts_pu, NAN), FLUX_OBS_ERR_TR);
     assert_memory_equal(&m, &keep, sizeof m);
     /* a refused group does not stop the others being written alone */

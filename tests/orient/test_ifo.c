@@ -18,10 +18,13 @@
 
 #if MATH_TYPE == IQ_MATH
 static double to_d(_iq x) { return ldexp((double)x, -GLOBAL_Q); }
+static double to_d20(_iq20 x) { return ldexp((double)x, -20); }
 #else
 static double to_d(_iq x) { return (double)x; }
+static double to_d20(_iq20 x) { return (double)x; }
 #endif
 #define LSB 5.9604644775390625e-8   /* 2^-24 */
+#define LSB20 9.5367431640625e-7    /* 2^-20: Tr is Q20 */
 #define PI 3.14159265358979323846
 
 #define TS_S (1.0f / 15000.0f)
@@ -42,7 +45,9 @@ static double tr_pu_ref(void)
     return (double)TR_S / (double)g_b.t_base_s;
 }
 
-/* kf against 1 - exp(-Ts/Tr) for Tr from 10 Ts to 100 pu.  Error budget
+/* kf against 1 - exp(-Ts/Tr) for Tr from 10 Ts to 999 pu (Tr in Q20: the
+ * small motors' few pu and the large ones' hundreds; the reference takes
+ * the Q20 Tr the module got).  Error budget
  * (IQ): Ts truncated to Q24 (< 1 LSB) divided by Tr: < 1/Tr LSB; the
  * division truncates (< 1 LSB); Horner steps (each < 1 LSB, multiplied by
  * x <= 0.1); the last product (< 1 LSB); series remainder < x^6/720 <
@@ -50,7 +55,8 @@ static double tr_pu_ref(void)
  * values < 1, relative 6e-8 each: within the same bound. */
 static void test_kf_series(void **state)
 {
-    static const double tr_list[] = {0.2094395102 * 1.0001, 0.5, 1.0, 6.2141, 20.0, 99.0};
+    static const double tr_list[] = {0.2094395102 * 1.0001, 0.5, 1.0, 6.2141, 20.0, 99.0,
+                                     150.0, 292.4, 999.0};
     ifo_t f;
     uint32_t i;
     (void)state;
@@ -58,8 +64,8 @@ static void test_kf_series(void **state)
     /* imr_min 0.2 so that the slip bound admits Tr down to 10 Ts */
     assert_int_equal(ifo_init(&f, TR_S, &g_b, 0.2f), IFO_OK);
     for (i = 0u; i < sizeof tr_list / sizeof tr_list[0]; i++) {
-        _iq tr = _IQ(tr_list[i]);
-        double trd = to_d(tr);
+        _iq20 tr = _IQ20(tr_list[i]);
+        double trd = to_d20(tr);
         double want = 1.0 - exp(-(double)g_b.Ts_pu / trd);
         assert_int_equal(ifo_set_tr(&f, tr), IFO_OK);
         if (!(fabs(to_d(f.kf) - want) <= (1.0 / trd + 4.0) * LSB)) {
@@ -346,22 +352,27 @@ static void test_init_errors(void **state)
     assert_int_equal(ifo_init(&f, 5.0f * TS_S, &g_b, 0.05f), IFO_ERR_TR);
     assert_int_equal(ifo_init(&f, 0.0f, &g_b, 0.05f), IFO_ERR_TR);
     assert_int_equal(ifo_init(&f, NAN, &g_b, 0.05f), IFO_ERR_TR);
-    /* 0.5 s = 157 pu > 100 */
-    assert_int_equal(ifo_init(&f, 0.5f, &g_b, 0.05f), IFO_ERR_TR);
+    /* 0.5 s = 157 pu and 3 s = 942 pu: accepted (Q20); 3.2 s = 1005 pu > 1000 */
+    assert_int_equal(ifo_init(&f, 0.5f, &g_b, 0.05f), IFO_OK);
+    assert_int_equal(ifo_init(&f, 3.0f, &g_b, 0.05f), IFO_OK);
+    assert_true(fabs(to_d20(f.tr) - 3.0 / (double)g_b.t_base_s) <= LSB20 + 1e-7 * 942.5);
+    assert_int_equal(ifo_init(&f, 3.2f, &g_b, 0.05f), IFO_ERR_TR);
     /* slip bound: 2 / (6.21 * 0.004) = 80 > 64 */
     assert_int_equal(ifo_init(&f, TR_S, &g_b, 0.004f), IFO_ERR_IMR_MIN);
 
     /* online change: a rejected Tr keeps the old constants */
     assert_int_equal(ifo_init(&f, TR_S, &g_b, 0.05f), IFO_OK);
     {
-        _iq kf = f.kf, inv = f.inv_tr, tr = f.tr;
-        assert_int_equal(ifo_set_tr(&f, _IQ(0.1)), IFO_ERR_TR);      /* < 10 Ts */
-        assert_int_equal(ifo_set_tr(&f, _IQ(121.0)), IFO_ERR_TR);
-        assert_int_equal(ifo_set_tr(&f, _IQ(-6.0)), IFO_ERR_TR);
+        _iq kf = f.kf, inv = f.inv_tr;
+        _iq20 tr = f.tr;
+        assert_int_equal(ifo_set_tr(&f, _IQ20(0.1)), IFO_ERR_TR);      /* < 10 Ts */
+        assert_int_equal(ifo_set_tr(&f, _IQ20(IFO_TR_MAX_PU) + _IQ20(1.0)), IFO_ERR_TR);
+        assert_int_equal(ifo_set_tr(&f, _IQ20(2047.0)), IFO_ERR_TR);
+        assert_int_equal(ifo_set_tr(&f, _IQ20(-6.0)), IFO_ERR_TR);
         assert_true(f.kf == kf && f.inv_tr == inv && f.tr == tr);
         /* Tr +10 %: kf and 1/Tr move accordingly */
-        assert_int_equal(ifo_set_tr(&f, _IQ(6.2141 * 1.1)), IFO_OK);
-        assert_true(fabs(to_d(f.inv_tr) - 1.0 / to_d(f.tr)) <= 1.5 * LSB);
+        assert_int_equal(ifo_set_tr(&f, _IQ20(6.2141 * 1.1)), IFO_OK);
+        assert_true(fabs(to_d(f.inv_tr) - 1.0 / to_d20(f.tr)) <= 1.5 * LSB);
         assert_true(to_d(f.kf) < to_d(kf));
     }
 }
@@ -372,12 +383,14 @@ static void test_init_errors(void **state)
  * 1 LSB + 1e-7 relative (_IQ truncation, float rounding of the pu value),
  * 1/Tr within 1 LSB + 1.2e-7 relative (one more float rounding), kf =
  * 1 - exp(-Ts/Tr) within 1 LSB + 3e-7 relative (series 1.4e-9, a few
- * float roundings), over Tr from 10 Ts to 100 pu; against ifo_set_tr (the
- * fixed-point path) the sum of both budgets.  Refusals (Tr < 10 Ts,
- * > 120, NaN; the slip bound) leave the set as it was. */
+ * float roundings), over Tr from 10 Ts to 999 pu (Tr in Q20: its LSB is
+ * 2^-20); against ifo_set_tr (the fixed-point path) the sum of both
+ * budgets.  Refusals (Tr < 10 Ts, > IFO_TR_MAX_PU, NaN; the slip bound)
+ * leave the set as it was. */
 static void test_design_tr(void **state)
 {
-    static const double tr_list[] = {0.2094395102 * 1.0001, 0.5, 1.0, 6.2141, 20.0, 99.0};
+    static const double tr_list[] = {0.2094395102 * 1.0001, 0.5, 1.0, 6.2141, 20.0, 99.0,
+                                     150.0, 292.4, 999.0};
     ifo_t f, g;
     ifo_tr_t t, keep;
     uint32_t i;
@@ -391,7 +404,7 @@ static void test_design_tr(void **state)
         const double trd = tr_list[i];
         const double want = 1.0 - exp(-(double)g_b.Ts_pu / trd);
         assert_int_equal(ifo_design_tr(&t, g_b.Ts_pu, (float)trd, 0.2f), IFO_OK);
-        assert_true(fabs(to_d(t.tr) - trd) <= LSB + 1e-7 * trd);
+        assert_true(fabs(to_d20(t.tr) - trd) <= LSB20 + 1e-7 * trd);
         assert_true(fabs(to_d(t.inv_tr) - 1.0 / trd) <= LSB + 1.2e-7 / trd);
         if (!(fabs(to_d(t.kf) - want) <= LSB + 3e-7 * want)) {
             print_error("Tr=%.4f kf %.10f want %.10f err %.2f LSB\n", trd, to_d(t.kf), want,
@@ -399,8 +412,14 @@ static void test_design_tr(void **state)
             fail();
         }
         assert_int_equal(ifo_set_tr(&g, t.tr), IFO_OK);
-        assert_true(fabs(to_d(g.kf) - to_d(t.kf)) <= (1.0 / trd + 6.0) * LSB);
-        assert_true(fabs(to_d(g.inv_tr) - to_d(t.inv_tr)) <= 3.0 * LSB + 1.2e-7 / trd);
+        /* plus the Q20 Tr's truncation (< 1 LSB20 = 16 LSB of Q24, relative
+         * 16 LSB / Tr): kf moves by kf 16 / Tr LSB (7.6 at 10 Ts), 1/Tr by
+         * 16 / Tr^2 LSB (0.8 at the paper motor's 6.2 pu, 365 at 10 Ts =
+         * 0.21 pu: 4.5e-6 relative, still far below 0.01 %) */
+        assert_true(fabs(to_d(g.kf) - to_d(t.kf)) <=
+                    (1.0 / trd + 6.0 + 16.0 * to_d(t.kf) / trd) * LSB);
+        assert_true(fabs(to_d(g.inv_tr) - to_d(t.inv_tr)) <=
+                    (3.0 + 16.0 / (trd * trd)) * LSB + 1.2e-7 / trd);
     }
     /* apply copies the three words */
     ifo_apply_tr(&f, &t);
@@ -408,7 +427,8 @@ static void test_design_tr(void **state)
 
     keep = t;
     assert_int_equal(ifo_design_tr(&t, g_b.Ts_pu, 5.0f * g_b.Ts_pu, 0.2f), IFO_ERR_TR);
-    assert_int_equal(ifo_design_tr(&t, g_b.Ts_pu, 121.0f, 0.2f), IFO_ERR_TR);
+    assert_int_equal(ifo_design_tr(&t, g_b.Ts_pu, 1001.0f, 0.2f), IFO_ERR_TR);
+    assert_int_equal(ifo_design_tr(&t, g_b.Ts_pu, 3000.0f, 0.2f), IFO_ERR_TR);
     assert_int_equal(ifo_design_tr(&t, g_b.Ts_pu, NAN, 0.2f), IFO_ERR_TR);
     assert_int_equal(ifo_design_tr(&t, g_b.Ts_pu, -6.0f, 0.2f), IFO_ERR_TR);
     /* slip bound 2 / (Tr imr_min) <= 64: 6.21 x 0.004 = 0.025 < 1/32 */

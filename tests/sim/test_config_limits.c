@@ -282,8 +282,8 @@ static void test_derived_limits(void **state)
     const double sls_leaky = SIGMA_LS(0.0064, 0.0264, 0.0092);   /* Lls 20 mH */
     const double ssz_s = 2.0 * (21.0 * 75.0 + 300.0) * TS;        /* 200 Hz test, 20 ms pause */
     const derived_case_t cases[] = {
-        CASE("believed Tr (Q24 time base)", "nameplate.Rr_ohm",
-             0.0092 / (120.0 / (2.0 * PI_ * 50.0)), 0, "Tr", {"plant.Rr_ohm", 0.465}),
+        CASE("believed Tr (Q20 time base)", "nameplate.Rr_ohm",
+             0.0092 / (1000.0 / (2.0 * PI_ * 50.0)), 0, "Tr", {"plant.Rr_ohm", 0.465}),
         CASE("stator leakage", "nameplate.Lls_H", 1e-6, 0, "nameplate.Lls_H",
              {"plant.Lls_H", 0.0028}),
         CASE("rotor leakage", "nameplate.Llr_H", 1e-6, 0, "nameplate.Llr_H",
@@ -427,7 +427,7 @@ static void test_examples(void **state)
     char err[SIM_CONFIG_ERR_LEN];
     drive_limit_fail_t f;
     edit_t lines = {"board.encoder_lines", 16384.0};
-    edit_t tr[2] = {{"nameplate.Rr_ohm", 0.02}, {"plant.Rr_ohm", 0.465}};
+    edit_t tr[2] = {{"nameplate.Rr_ohm", 0.002}, {"plant.Rr_ohm", 0.465}};
     (void)state;
     assert_int_not_equal(load_with(&lines, 1, err, sizeof err), 0);
     assert_non_null(strstr(err, "key 'board.encoder_lines' = 16384 lines is outside [16, 8192]"));
@@ -435,12 +435,13 @@ static void test_examples(void **state)
     assert_string_equal(f.key, "board.encoder_lines");
     assert_true(f.value == 16384.0f && f.hi == 8192.0f);
 
-    /* believed Tr = 9.2 mH / 0.02 ohm = 0.46 s > 120 / (2 pi 50) = 0.382 s */
+    /* believed Tr = 9.2 mH / 0.002 ohm = 4.6 s > 1000 / (2 pi 50) = 3.18 s
+     * (Tr is Q20: 1000 pu; 0.46 s, once refused by Q24's 120 pu, passes) */
     assert_int_not_equal(load_with(tr, 2, err, sizeof err), 0);
-    assert_non_null(strstr(err, "Tr = 0.46 s is outside [0.000666667, 0.381972] s"));
+    assert_non_null(strstr(err, "Tr = 4.6 s is outside [0.000666667, 3.1831] s"));
     assert_int_equal(drive_with(tr, 2, &f), DRIVE_CFG_ORIENTATION);
     assert_string_equal(f.key, "Tr");
-    assert_true(fabs((double)f.hi - 120.0 / (2.0 * PI_ * 50.0)) < 1e-6);
+    assert_true(fabs((double)f.hi - 1000.0 / (2.0 * PI_ * 50.0)) < 1e-5);
 }
 
 int main(void)

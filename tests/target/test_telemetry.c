@@ -48,7 +48,7 @@ static void test_frame_round_trip(void **state)
     d.speed = _IQ(0.5);    d.speed_ref = _IQ(-0.25); d.i_m = _IQ(0.328125);
     d.i_t = _IQ(-1.5);     d.vdc = _IQ(1.75);        d.Rs = _IQ(0.0625);
     d.Rr = _IQ(0.03125);   d.Lm = _IQ(1.25);         d.Lr = _IQ(1.5);
-    d.psi_r = _IQ(-0.125); d.Tr = _IQ(100.0);
+    d.psi_r = _IQ(-0.125); d.Tr = _IQ20(1000.0);   /* Q20: a large motor's Tr fits */
     assert_int_equal(telemetry_send(&s_t, &d, 4321u), 1);
     len = drain(&s_t, buf, sizeof buf);
     assert_int_equal(len, strlen(buf));
@@ -65,7 +65,7 @@ static void test_frame_round_trip(void **state)
     assert_int_equal((int32_t)q[2], 5505024);      /* 0.328125 * 2^24 */
     assert_int_equal((int32_t)q[3], -25165824);
     assert_int_equal((int32_t)q[4], 29360128);
-    assert_int_equal((int32_t)q[10], 1677721600);  /* 100 * 2^24 */
+    assert_int_equal((int32_t)q[10], 1048576000);  /* Tr in Q20 on the wire: 1000 * 2^20 */
     assert_int_equal(ck, nmea_ck(buf));
     assert_int_equal(buf[strlen(buf) - 2], '\r');
     assert_int_equal(s_t.seq, 1u);
@@ -86,7 +86,7 @@ static void test_adapt_frame(void **state)
     memset(&d, 0, sizeof d);
     d.pass = 2u; d.track_valid = 1u; d.params_tracked = 1u;
     d.Rs_dc = _IQ(0.59375); d.sigma_ls_dc = _IQ(0.859375);
-    d.Rr_track = _IQ(0.25); d.Tr_track = _IQ(6.25);
+    d.Rr_track = _IQ(0.25); d.Tr_track = _IQ20(300.25);
     assert_int_equal(telemetry_send(&s_t, &d, 0u), 1);
     (void)drain(&s_t, buf, sizeof buf);
     assert_int_equal(telemetry_send_adapt(&s_t, &d), 1);
@@ -102,7 +102,7 @@ static void test_adapt_frame(void **state)
     assert_int_equal((int32_t)q[0], 9961472);     /* 0.59375 * 2^24 */
     assert_int_equal((int32_t)q[1], 14417920);    /* 0.859375 * 2^24 */
     assert_int_equal((int32_t)q[2], 4194304);
-    assert_int_equal((int32_t)q[3], 104857600);   /* 6.25 * 2^24 */
+    assert_int_equal((int32_t)q[3], 314834944);   /* Tr_track in Q20: 300.25 * 2^20 */
     assert_int_equal(ck, nmea_ck(buf));
     assert_int_equal(s_t.seq, 2u);
 }

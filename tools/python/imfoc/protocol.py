@@ -13,7 +13,8 @@ set judged, a fraction (0.01 = 1 %; negative: not available), then the regressio
 relative residual and its amplification (include/ident_conf.h).
 
 The first fields of each type are 4 hex digits (uint16), the rest 8 hex digits: a per-unit
-value in Q24 two's complement (value = int32 / 2^24).  CK: XOR of the characters between
+value in Q24 two's complement (value = int32 / 2^24), except Tr and Tr_track in Q20
+(value = int32 / 2^20: a large motor's Tr exceeds 128 pu).  CK: XOR of the characters between
 '$' and '*', 2 hex digits.  PC -> drive: $C,<c>*<CK>\\r\\n with c = S start, X stop, R reset
 a fault, D arm the data-log trigger.
 
@@ -46,6 +47,8 @@ LAYOUT = {
     "S": (("seq", "isr_overruns", "load", "tx_dropped", "rx_errors"), ()),
     "Q": (("seq", "reason"), CONF_FIELDS + ("residual", "amplification")),
 }
+# the 32-bit fields in Q20 (Tr, pu time, up to 2048), every other one Q24
+Q20_FIELDS = frozenset(("Tr", "Tr_track"))
 COMMANDS = {"start": "S", "stop": "X", "reset": "R", "dlog-arm": "D"}
 FRAME_MAX = 160        # firmware/telemetry.c TLM_FRAME_MAX: no frame is longer
 LOAD_PERIOD_TICKS = 10000   # $T load: T1 ticks of one PWM period (2 T1PR at 15 kHz)
@@ -76,6 +79,11 @@ def q24(word):
     if word >= 1 << 31:
         word -= 1 << 32
     return word / 16777216.0
+
+
+def q20(word):
+    """A Q20 8-hex-digit field (Tr) as its per-unit value: int32 / 2^20."""
+    return q24(word) * 16.0
 
 
 _HEX = frozenset("0123456789ABCDEFabcdef")
@@ -207,7 +215,7 @@ class FrameDecoder:
                 rawf[n] = _hex(v, 4)
             for n, v in zip(names32, vals[len(names16):]):
                 rawf[n] = _hex(v, 8)
-                pu[n] = q24(rawf[n])
+                pu[n] = q20(rawf[n]) if n in Q20_FIELDS else q24(rawf[n])
         except ValueError:
             self._framing("malformed")
             return None

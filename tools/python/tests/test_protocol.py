@@ -15,8 +15,9 @@ ROOT = Path(__file__).resolve().parents[3]
 
 # A $T frame as firmware/telemetry.c sent it (motor_sim --serial, paper motor, RUN with the
 # published set) and the $A frame after it: checksums made by the firmware's C code.
+# Tr (the last field) is Q20 on the wire: 0x00645A9A / 2^20 = 6.272 pu
 T_FRAME = (b"$T,003A,0005,0000,0001,0001,0000,00EEEF7E,00EEEEEF,005335AB,0043765D,01BA3B61,"
-           b"009880C3,00442375,012970D5,01AB5F75,00619942,0645A9A0*07\r\n")
+           b"009880C3,00442375,012970D5,01AB5F75,00619942,00645A9A*07\r\n")
 A_FRAME = b"$A,003B,0001,0000,0000,00000000,00000000,00000000,00000000*31\r\n"
 
 
@@ -54,11 +55,11 @@ def test_firmware_frames_decode_field_by_field():
     assert t.type == "T" and a.type == "A"
     assert (t["seq"], t["state"], t["fault"], t["pwm_on"], t["valid"], t["load"]) == \
         (0x3A, 5, 0, 1, 1, 0)
-    # 0x00EEEF7E = 15658878, 0x01BA3B61 = 28982113, 0x009880C3 = 9994435, 0x0645A9A0 = 105228704
+    # 0x00EEEF7E = 15658878, 0x01BA3B61 = 28982113, 0x009880C3 = 9994435, 0x00645A9A = 6576794 (Q20)
     assert t.pu["speed"] == 15658878 / 2 ** 24
     assert t.pu["vdc"] == 28982113 / 2 ** 24
     assert t.pu["Rs"] == 9994435 / 2 ** 24
-    assert t.pu["Tr"] == 105228704 / 2 ** 24
+    assert t.pu["Tr"] == 6576794 / 2 ** 20
     assert (a["seq"], a["pass"], a["track_valid"], a["tracked"]) == (0x3B, 1, 0, 0)
     assert a.pu["Rs_dc"] == 0.0
     # SI with the paper motor's bases: Z = (60 V / sqrt 3) / 20 A, n = 60 * 50 / 2 r/min,
@@ -67,7 +68,7 @@ def test_firmware_frames_decode_field_by_field():
     assert b.si("Rs", t.pu["Rs"])[1] == pytest.approx(9994435 / 2 ** 24 * 60 / math.sqrt(3) / 20,
                                                       rel=1e-12)
     assert b.si("speed", t.pu["speed"]) == ("speed_rpm", pytest.approx(15658878 / 2 ** 24 * 1500))
-    assert b.si("Tr", t.pu["Tr"])[1] == pytest.approx(105228704 / 2 ** 24 / (100 * math.pi))
+    assert b.si("Tr", t.pu["Tr"])[1] == pytest.approx(6576794 / 2 ** 20 / (100 * math.pi))
     assert b.si("vdc", t.pu["vdc"])[1] == pytest.approx(28982113 / 2 ** 24 * 60 / math.sqrt(3))   # 59.84 V
 
 
