@@ -80,9 +80,11 @@ where a published figure is used):
    magnetising current I_0 (peak), ramp rated speed per second, magnetise
    max(0.3 s, 6 Tr), the RLS filter at 10 Hz with 10 Euler passes.
 
-The firmware holds Tr in Q24 per unit (< 128): drive_init refuses
-Tr > 120 / w_base (0.38 s at 50 Hz).  `fw_ok` says whether the motor fits;
-large IE3 motors (small slip) do not, so the CI subset keeps below it.
+The firmware holds Tr in Q20 per unit (< 2048): drive_init refuses
+Tr > 1000 / w_base (3.2 s at 50 Hz, 2.7 s at 60 Hz; IFO_TR_MAX_PU).  `fw_ok`
+says whether the motor fits; every motor of the grid does (the largest, 55 kW
+2-pole, Tr 0.93 s = 292 pu).  Before, Tr was Q24 (limit 120 pu, 0.38 s at
+50 Hz), which refused 14 motors of the grid: the CI subset keeps below that.
 """
 from __future__ import annotations
 
@@ -212,8 +214,8 @@ class Motor:
 
     @property
     def fw_ok(self):
-        """within the firmware's Q24 design limit Tr <= 120 / w_base"""
-        return self.Tr * 2.0 * math.pi * self.f_Hz <= 120.0
+        """within the firmware's design limit Tr <= 1000 / w_base (Tr in Q20)"""
+        return self.Tr * 2.0 * math.pi * self.f_Hz <= 1000.0
 
 
 def _name(P_kW, poles, f_Hz, V, sigma):
@@ -571,7 +573,7 @@ def main(argv=None):
                 print(f"{m.name:34s} {m.P_kW:5g} {m.poles:2d} {m.f_Hz:3.0f} {m.V:4.0f} "
                       f"{m.sigma:5.3f} {m.ie:3s} {100 * m.eta:5.1f} {m.pf:4.2f} {m.I_N:6.2f} "
                       f"{m.n_N:6.0f} {m.i_m:6.2f} {m.Tr:6.3f} {m.wrTr:6.1f} {m.vdc:5.0f} "
-                      f"{m.hall_fs:4.0f} {'ok' if m.fw_ok else 'Tr>Q24'}")
+                      f"{m.hall_fs:4.0f} {'ok' if m.fw_ok else 'Tr>max'}")
         return 0
     out = Path(a.dir)
     out.mkdir(parents=True, exist_ok=True)
