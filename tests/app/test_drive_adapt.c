@@ -662,6 +662,82 @@ static void test_waits_configured(void **state)
     assert_int_equal(d->seq.wait_magnetize, 0u);
 }
 
+/* A large motor's Tr (tens of kW: 0.3-1 s, beyond Q24's 128 pu; Tr is
+ * Q20 in the adaptation, drive_adapt_bg.c): the believed Rr / 25 makes
+ * Tr 25 x that of this INI's nameplate, 202 pu (0.64 s).
+ *  - drive_init accepts it; the background's Tr in use is the observer's;
+ *  - a pass's Tr x 1.8 (364 pu, beyond the 120 pu the factor-2 limit once
+ *    capped) is blended to: the observer and ifo end on its design
+ *    (flux_obs_design_tr, ifo_design_tr of the Q20 value), Tr within
+ *    1 LSB20 + 1e-7 relative of it;
+ *  - a pass's Tr x 3 (1091 pu) is limited to twice the Tr in use (727);
+ *  - the tracker's 1/Tr = 1/400 gives Tr_track = 400 pu within 1 LSB20 +
+ *    1e-7 relative, and the Tr in use moves towards it by one step. */
+static void test_large_tr(void **state)
+{
+    drive_t *d = &g_d;
+    drive_adapt_bg_t *g = &d->adapt_bg;
+    const drive_config_t keep = g_dc;
+    double tr0, want;
+    _iq20 tr_in_use;
+    uint32_t k;
+    ifo_tr_t it;
+    flux_obs_model_t om;
+    (void)state;
+
+    g_dc.motor.Rr_ohm = keep.motor.Rr_ohm / 25.0f;
+    fresh(d, ID_REFINE, 1u);
+    tr0 = (double)g_dc.motor.Lr_H / (double)g_dc.motor.Rr_ohm / (double)d->base.t_base_s;
+    print_message("large Tr: %.3f pu (Q20 %.6f)\n", tr0, to_d20(d->fobs.tr));
+    assert_true(tr0 > 128.0 && 3.0 * 1.8 * tr0 < 2047.0);
+    assert_true(fabs(to_d20(d->fobs.tr) - tr0) <= LSB20 + 1e-7 * tr0);
+    assert_true(d->ifo.tr == d->fobs.tr && g->cur[DRIVE_P_TR] == d->fobs.tr);
+
+    /* a pass's Tr x 1.8, taken (not the tracker's) */
+    d->adapt.track_rr = 0u;
+    mail(d, d->fobs.rs, d->fobs.lm, g->cur[DRIVE_P_LR], _IQ20(1.8 * tr0));
+    (void)run_until_ready(d, 1000u);
+    background(d);
+    want = to_d20(_IQ20(1.8 * tr0));
+    print_message("large Tr x 1.8: %.4f pu, want %.4f\n", to_d20(d->fobs.tr), want);
+    assert_true(g->cur[DRIVE_P_TR] == _IQ20(1.8 * tr0));
+    assert_true(fabs(to_d20(d->fobs.tr) - want) <= LSB20 + 1e-7 * want);
+    (void)ifo_design_tr(&it, g->ts_pu, _IQ20toF(d->fobs.tr), g->imr_min_pu);
+    (void)flux_obs_design_tr(&om, g->obs_ts_pu, _IQ20toF(d->fobs.tr));
+    assert_true(d->ifo.tr == it.tr && d->ifo.inv_tr == it.inv_tr && d->ifo.kf == it.kf);
+    assert_true(d->fobs.tr == om.tr && d->fobs.kf == om.kf);
+
+    /* x 3 of the Tr in use: limited to x 2 */
+    tr_in_use = g->cur[DRIVE_P_TR];
+    fresh(d, ID_REFINE, 1u);
+    d->adapt.track_rr = 0u;
+    g->cur[DRIVE_P_TR] = tr_in_use;   /* the record the limit is taken from */
+    mail(d, d->fobs.rs, d->fobs.lm, g->cur[DRIVE_P_LR], _IQ20(3.0 * to_d20(tr_in_use)));
+    background(d);
+    assert_true(g->to[DRIVE_P_TR] == tr_in_use + tr_in_use);
+
+    /* tracking: theta = 1/400 pu */
+    fresh(d, ID_RUN, 2u);
+    assert_int_equal(d->adapt.track_rr, 1u);
+    mail(d, d->fobs.rs, d->fobs.lm, g->cur[DRIVE_P_LR], d->fobs.tr);
+    for (k = 0u; k < 400u && (g->blending != 0u || g->pending != 0u || k == 0u); k++) {
+        background(d);
+        isr(d);
+    }
+    background(d);
+    assert_int_equal(g->blending, 0u);
+    tr_in_use = g->cur[DRIVE_P_TR];
+    d->track.theta = _IQ(1.0 / 400.0);
+    d->track.n_updates = 1u;
+    background(d);
+    want = 1.0 / to_d(_IQ(1.0 / 400.0));
+    print_message("large Tr tracked: Tr_track %.5f pu, want %.5f\n",
+                  to_d20(d->telemetry.Tr_track), want);
+    assert_true(fabs(to_d20(d->telemetry.Tr_track) - want) <= LSB20 + 1e-7 * want);
+    assert_true(g->posted[DRIVE_P_TR] == tr_in_use + _IQmpy(tr_in_use, g->tr_rate));
+    g_dc = keep;
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -671,6 +747,7 @@ int main(void)
         cmocka_unit_test(test_standstill),
         cmocka_unit_test(test_stale_dropped),
         cmocka_unit_test(test_tracking),
+        cmocka_unit_test(test_large_tr),
         cmocka_unit_test(test_waits_configured),
     };
     return cmocka_run_group_tests(tests, load, NULL);
