@@ -109,9 +109,9 @@ static const key_spec_t k_keys[] = {
     D(ident, track_rr, OPT, 0, DRIVE, "1: Rr/Tr tracked in RUN (orientation 1)"),
     D(ident, track_memory_s, OPT, 1.0, DRIVE, "the tracker's forgetting time constant"),
     /* ---- the simulated world ---- */
-    K(plant, Rs_ohm, OPT, 0, "nameplate.Rs_ohm", 1e-4, 100, 0, "ohm", SIM,
+    K(plant, Rs_ohm, OPT, 0, "nameplate.Rs_ohm", 1e-4, 1000, 0, "ohm", SIM,
       "true stator resistance"),
-    K(plant, Rr_ohm, OPT, 0, "nameplate.Rr_ohm", 1e-4, 100, 0, "ohm", SIM, "true rotor resistance"),
+    K(plant, Rr_ohm, OPT, 0, "nameplate.Rr_ohm", 1e-4, 1000, 0, "ohm", SIM, "true rotor resistance"),
     K(plant, Lm_H, OPT, 0, "nameplate.Lm_H", 1e-5, 10, 0, "H", SIM, "true magnetising inductance"),
     K(plant, Lls_H, OPT, 0, "nameplate.Lls_H", 1e-6, 1, 0, "H", SIM, "true stator leakage"),
     K(plant, Llr_H, OPT, 0, "nameplate.Llr_H", 1e-6, 1, 0, "H", SIM, "true rotor leakage"),

@@ -87,8 +87,10 @@ static const drive_limit_t k_limits[] = {
     FIELD_F("nameplate.rated_freq_Hz", motor.rated_freq_Hz, "Hz", DRIVE_CFG_BASES, 1.0f,
             1000.0f),
     FIELD_U("nameplate.pole_pairs", motor.pole_pairs, "-", DRIVE_CFG_BASES, 1.0f, 32.0f),
-    FIELD_F("nameplate.Rs_ohm", motor.Rs_ohm, "ohm", DRIVE_CFG_MOTOR, 1.0e-4f, 100.0f),
-    FIELD_F("nameplate.Rr_ohm", motor.Rr_ohm, "ohm", DRIVE_CFG_MOTOR, 1.0e-4f, 100.0f),
+    /* up to 1000 ohm: small motors at 575-690 V (0.2 kW: Rr 104 ohm); their
+     * per-unit values are checked by the derived limits below */
+    FIELD_F("nameplate.Rs_ohm", motor.Rs_ohm, "ohm", DRIVE_CFG_MOTOR, 1.0e-4f, 1000.0f),
+    FIELD_F("nameplate.Rr_ohm", motor.Rr_ohm, "ohm", DRIVE_CFG_MOTOR, 1.0e-4f, 1000.0f),
     FIELD_F("nameplate.Lm_H", motor.Lm_H, "H", DRIVE_CFG_MOTOR, 1.0e-5f, 10.0f),
     FIELD_F("nameplate.rated_speed_rpm", motor.rated_speed_rpm, "r/min", DRIVE_CFG_MOTOR, 1.0f,
             1.0e5f),

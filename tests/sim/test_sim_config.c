@@ -181,9 +181,9 @@ static void test_negative_resistance(void **state)
 {
     (void)state;
     expect_error("Rs_ohm", "Rs_ohm = -1.0",
-                 "key 'nameplate.Rs_ohm' = -1 ohm is outside [0.0001, 100]");
+                 "key 'nameplate.Rs_ohm' = -1 ohm is outside [0.0001, 1000]");
     expect_error(NULL, "[plant]\nRs_ohm = -1.0",
-                 "key 'plant.Rs_ohm' = -1 ohm is outside [0.0001, 100]");
+                 "key 'plant.Rs_ohm' = -1 ohm is outside [0.0001, 1000]");
 }
 
 static void test_zero_pole_pairs(void **state)
