@@ -70,33 +70,35 @@ param_init_status_t param_extract_init(param_extract_t *p, const base_values_t *
     return PARAM_INIT_OK;
 }
 
-/* num/den, or status `code` if |num| >= 127 |den| (quotient beyond Q24,
- * including den = 0).  |num| < 128, so |num|/127 cannot overflow. */
-static _iq pe_div(_iq num, _iq den, param_status_t code, param_status_t *st)
+/* Whether num/den fits a quotient range of 1/inv_max (Q24): 0, with status
+ * `code`, if |num| >= |den| / inv_max (including den = 0), or if an earlier
+ * step failed.  |num| < 128, so |num| inv_max cannot overflow. */
+static int16_t pe_div_ok(_iq num, _iq den, _iq inv_max, param_status_t code, param_status_t *st)
 {
     if (*st != PARAM_OK) {
-        return _IQ(0.0);
+        return 0;
     }
-    if (_IQabs(den) <= _IQmpy(_IQabs(num), _IQ(1.0 / 127.0))) {   /* Q24*Q24 -> Q24 */
+    if (_IQabs(den) <= _IQmpy(_IQabs(num), inv_max)) {   /* Q24*Q24 -> Q24 */
         *st = code;
-        return _IQ(0.0);
+        return 0;
     }
-    return _IQdiv(num, den);
+    return 1;
 }
 
-/* num/den in Q20 (Q24 / Q24 -> Q20 by _IQ20div, truncated, < 1 LSB), or
- * status `code` if |num| >= 2047 |den| (quotient beyond Q20, including
- * den = 0): for Tr, which exceeds Q24's 128 pu on large motors. */
+/* num/den in Q24 (_IQdiv, truncated, < 1 LSB) if |num| < 127 |den|, else 0
+ * and status `code`. */
+static _iq pe_div(_iq num, _iq den, param_status_t code, param_status_t *st)
+{
+    return (pe_div_ok(num, den, _IQ(1.0 / 127.0), code, st) != 0) ? _IQdiv(num, den) : _IQ(0.0);
+}
+
+/* num/den in Q20 (Q24 / Q24 -> Q20 by _IQ20div, truncated, < 1 LSB) if
+ * |num| < 2047 |den|, else 0 and status `code`: for Tr, which exceeds Q24's
+ * 128 pu on large motors. */
 static _iq20 pe_div20(_iq num, _iq den, param_status_t code, param_status_t *st)
 {
-    if (*st != PARAM_OK) {
-        return _IQ20(0.0);
-    }
-    if (_IQabs(den) <= _IQmpy(_IQabs(num), _IQ(1.0 / 2047.0))) {   /* Q24*Q24 -> Q24 */
-        *st = code;
-        return _IQ20(0.0);
-    }
-    return _IQ20div(num, den);
+    return (pe_div_ok(num, den, _IQ(1.0 / 2047.0), code, st) != 0) ? _IQ20div(num, den)
+                                                                   : _IQ20(0.0);
 }
 
 /* a*b rounded and saturated; a result of 127 pu or more is an overflow. */
