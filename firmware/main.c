@@ -35,6 +35,9 @@
 static drive_t g_drive;
 #pragma DATA_SECTION(g_dlog, "dlog")
 static datalog_t g_dlog;
+/* The background's own state is in M0/M1 with the stack (`bgdata`): L0/L1,
+ * which runs the ISR path, keeps its data part for the state the ISR uses. */
+#pragma DATA_SECTION(g_bg, "bgdata")
 static bg_loop_t g_bg;   /* telemetry rings, frame timer, button edge */
 
 /* data log: every 2nd sample (7.5 kS/s, 34 ms of history), trigger when i_T

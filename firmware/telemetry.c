@@ -51,6 +51,21 @@ static uint16_t tx_free(const telemetry_t *t)
     return (uint16_t)((t->tail + TLM_TX_SIZE - t->head - 1u) % TLM_TX_SIZE);
 }
 
+/* character i of the TX ring (0 <= i < TLM_TX_SIZE), packed two per word */
+static void tx_put(telemetry_t *t, uint16_t i, uint16_t c)
+{
+    uint16_t *w = &t->tx[i >> 1];
+    c &= 0x00FFu;   /* ASCII: the high byte of a 16-bit char is always 0 here */
+    *w = ((i & 1u) == 0u) ? (uint16_t)((*w & 0xFF00u) | c)
+                          : (uint16_t)((*w & 0x00FFu) | (uint16_t)(c << 8));
+}
+
+static uint16_t tx_get(const telemetry_t *t, uint16_t i)
+{
+    const uint16_t w = t->tx[i >> 1];
+    return ((i & 1u) == 0u) ? (uint16_t)(w & 0x00FFu) : (uint16_t)(w >> 8);
+}
+
 void telemetry_init(telemetry_t *t)
 {
     memset(t, 0, sizeof *t);
@@ -87,7 +102,7 @@ static uint16_t send_frame(telemetry_t *t, uint16_t type, const uint16_t *u, uin
         return 0u;
     }
     for (i = 0u; i < n; i++) {
-        t->tx[t->head] = f[i];
+        tx_put(t, t->head, f[i]);
         t->head = (uint16_t)((t->head + 1u) % TLM_TX_SIZE);
     }
     t->seq++;
@@ -132,7 +147,7 @@ uint16_t telemetry_tx_pop(telemetry_t *t, uint16_t *c)
     if (t->tail == t->head) {
         return 0u;
     }
-    *c = t->tx[t->tail];
+    *c = tx_get(t, t->tail);
     t->tail = (uint16_t)((t->tail + 1u) % TLM_TX_SIZE);
     return 1u;
 }

@@ -57,7 +57,11 @@
 #include <stdint.h>
 #include "drive.h"
 
-#define TLM_TX_SIZE   768u    /* > 2 bursts of $T (136), $A (63), $S (32), $Q (89 characters) */
+#define TLM_TX_SIZE   768u    /* characters: > 2 bursts of $T (136), $A (63), $S (32), $Q (89) */
+#define TLM_TX_WORDS  384u    /* two 8-bit characters per 16-bit word */
+#if TLM_TX_WORDS * 2u != TLM_TX_SIZE
+#error "the TX ring packs two characters per word"
+#endif
 #define TLM_RX_SIZE   16u
 #define TLM_Q24_FIELDS 11u
 #define TLM_ADAPT_Q24_FIELDS 4u
@@ -77,7 +81,10 @@ typedef struct {
     uint16_t dropped;   /* frames dropped for lack of room */
     uint16_t rx_errors; /* command frames rejected */
     /* state */
-    uint16_t tx[TLM_TX_SIZE];  /* one character per word (16-bit char on C28x) */
+    /* character i of the ring in word i/2, its low byte if i is even, its high
+     * byte if odd: the frames are ASCII, and a char is a 16-bit word on the
+     * C28x, so one character per word would take 768 words of .ebss */
+    uint16_t tx[TLM_TX_WORDS];
     uint16_t head, tail;       /* ring: write at head, read at tail */
     uint16_t rx[TLM_RX_SIZE];
     uint16_t rx_len;           /* 0 while waiting for '$' */

@@ -66,7 +66,7 @@
 MEMORY
 {
 PAGE 0 :   /* program */
-   RAML0L1    : origin = 0x008000, length = 0x001180   /* L0 + first 384 words of L1: ramfuncs RUN */
+   RAML0L1    : origin = 0x008000, length = 0x001380   /* L0 + first 896 words of L1: ramfuncs RUN */
    RAMH0      : origin = 0x3F8000, length = 0x001A00   /* first 6.5K of H0: ramfuncs_slow RUN */
    OTP        : origin = 0x3D7800, length = 0x000400   /* 1K OTP, not used */
    FLASHJ     : origin = 0x3D8000, length = 0x002000
@@ -87,7 +87,7 @@ PAGE 0 :   /* program */
 
 PAGE 1 :   /* data */
    RAMM0M1    : origin = 0x000000, length = 0x000800   /* M0 + M1 SARAM */
-   RAML0L1_DATA : origin = 0x009180, length = 0x000E80 /* rest of L1: .ebss */
+   RAML0L1_DATA : origin = 0x009380, length = 0x000C80 /* rest of L1: .ebss */
    RAMH0_DATA : origin = 0x3F9A00, length = 0x000600   /* last 1.5K of H0: dlog */
 }
 
@@ -127,6 +127,7 @@ SECTIONS
    .reset           : > RESET,      PAGE = 0, TYPE = DSECT   /* boot ROM supplies it */
 
    .stack           : > RAMM0M1,    PAGE = 1
+   bgdata           : > RAMM0M1,    PAGE = 1   /* the background's state (main.c) */
    .ebss            : > RAML0L1_DATA, PAGE = 1
    dlog             : > RAMH0_DATA, PAGE = 1
    .esysmem         : > RAMM0M1,    PAGE = 1

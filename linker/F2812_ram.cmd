@@ -36,7 +36,7 @@ MEMORY
 {
 PAGE 0 :
    BEGINH0    : origin = 0x3F8000, length = 0x000002   /* boot-to-H0 entry */
-   RAML0L1    : origin = 0x008000, length = 0x001180   /* L0 + first 384 words of L1: ramfuncs */
+   RAML0L1    : origin = 0x008000, length = 0x001380   /* L0 + first 896 words of L1: ramfuncs */
    RAMH0      : origin = 0x3F8002, length = 0x0019FE   /* H0 after BEGINH0 up to 0x3F99FF: ramfuncs_slow */
    XRAM6      : origin = 0x100000, length = 0x010000   /* external SRAM, XINTF zone 6 */
    CSM_PWL    : origin = 0x3F7FF8, length = 0x000008   /* CsmPwlFile (F2812_headers.cmd) */
@@ -45,7 +45,7 @@ PAGE 0 :
 
 PAGE 1 :
    RAMM0M1    : origin = 0x000000, length = 0x000800   /* M0 + M1 SARAM */
-   RAML0L1_DATA : origin = 0x009180, length = 0x000E80 /* rest of L1: .ebss */
+   RAML0L1_DATA : origin = 0x009380, length = 0x000C80 /* rest of L1: .ebss */
    RAMH0_DATA : origin = 0x3F9A00, length = 0x000600   /* last 1.5K of H0: dlog */
 }
 
@@ -82,6 +82,7 @@ SECTIONS
    .reset           : > RESET,      PAGE = 0, TYPE = DSECT
 
    .stack           : > RAMM0M1,    PAGE = 1
+   bgdata           : > RAMM0M1,    PAGE = 1   /* the background's state (main.c) */
    .ebss            : > RAML0L1_DATA, PAGE = 1
    dlog             : > RAMH0_DATA, PAGE = 1
    .esysmem         : > RAMM0M1,    PAGE = 1

@@ -4,21 +4,28 @@ and the placement of the control ISR's call graph in RAM (`ramfuncs`, `ramfuncs_
 
 TI's cl2000 cannot be installed here, so the code is compiled for Thumb-2
 (Debian's gcc-arm-none-eabi, -mthumb -mcpu=cortex-m3) and its bytes are
-converted to C28x 16-bit words by an assumed factor (below).  An estimate that
-errs high, not a measurement: the cl2000 link's .map file is the measurement.
+converted to C28x 16-bit words by an assumed factor (below).  An estimate,
+not a measurement: the cl2000 link's .map file is the measurement.
 
 What is compiled: every file of src/ and the firmware's portable and HAL files
 (firmware/*.c; the register-level ones against the TI-register shim of
 tests/target/ti_shim, as the target_fw_syntax_* tests compile them), with
 MATH_TYPE=IQ_MATH, GLOBAL_Q=24 and the host IQmath header standing in for TI's
-IQmathLib.h; the host IQmath's library functions (host_sim/iqmath/*.c) stand in
-for TI's IQmath.lib (hand-written C28x assembly, surely smaller: errs high);
+IQmathLib.h in its IQMATH_TI_CALLS mode: every operation that TI's
+IQmathLib.h makes a library call is a call to TI's entry of that Q
+(ti_IQ24div ...), so the call sites are sized as on the target and the call
+graph names the IQmath functions reached, each counted at the size of its
+code in TI's own IQmath_coff.lib (TI_IQMATH_WORDS: a measurement of TI's
+library, tools/target/iqmath_lib_sizes.py, not a stand-in);
 with board_config.c when given (--board-config).  code_start.asm and TI's
 DSP281x_GlobalVariableDefs.c (register frames only, no code) are not counted.
 
 Two compiles, both -ffunction-sections -fdata-sections -fcallgraph-info=su:
-  * the SIZE compile, -O2 (the firmware build's cl2000 level; gcc -Os would be
-    about a quarter smaller, so -O2 errs high) with gcc's automatic inlining
+  * the SIZE compile, -Os: the stand-in of the firmware build's cl2000
+    `-O2 --opt_for_speed=2` (full optimisation, code size favoured at a low
+    risk to speed, SPRU514 "Controlling code size versus speed"; chosen so
+    that the ISR path fits the on-chip SARAM: with gcc -O2 the ISR path is
+    about 24 % larger, 11 087 words instead of 8 900), with gcc's automatic inlining
     of functions not declared `inline` turned off (-fno-inline-functions,
     -fno-inline-small-functions, -fno-inline-functions-called-once) and no
     IPA cloning: cl2000 inlines automatically only from -O3 (SPRU514,
@@ -129,19 +136,37 @@ RAMFUNCS_NOT_ISR = {
 # about 24 words), as tools/bench_isr.py counts them
 ISR_CONTEXT_WORDS = 14 + 24
 SOFT_FLOAT = re.compile(r"^__aeabi_[fd]|^__(add|sub|mul|div)[sd]f3$|^__float|^__fix")
+# TI's IQmath library functions (the host IQmathLib.h's IQMATH_TI_CALLS mode
+# names each call ti_IQ<N><op>), in C28x words: the size of the `IQmath`
+# code section of each object of TI's IQmath_coff.lib (C2000Ware core SDK,
+# libraries/math/IQmath/c28/lib; read from the COFF section headers by
+# tools/target/iqmath_lib_sizes.py), the largest over N = 1..30 (they differ
+# by at most 5 words).  A measurement of TI's code, not a stand-in; the
+# seed tables they read (IQmathTables) are in the F2812's boot ROM.
+TI_IQMATH_CALL = re.compile(r"^ti_IQ(\d+)(\w+)$")
+TI_IQMATH_WORDS = {
+    "rmpy": 14, "rsmpy": 22, "mpyI32int": 17, "mpyI32frac": 20, "int": 9, "frac": 11,
+    "div": 71, "sqrt": 66, "isqrt": 71, "mag": 96, "sin": 50, "cos": 48, "sinPU": 42,
+    "cosPU": 40, "atan2": 127, "atan2PU": 140, "toF": 20,
+}
+# stack of one IQmath call below its caller's frame: the return address
+# (LCR pushes RPC, 2 words, SPRU430) and at most 2 saved words (TI's
+# routines keep their work in ACC, P, XT and XAR4-7, which the caller saves)
+TI_IQMATH_STACK_WORDS = 4
 
 
 def sources(board_config=None):
     src = sorted((ROOT / "src").rglob("*.c"))
     fw = sorted((ROOT / "firmware").glob("*.c"))
-    iq = [ROOT / "host_sim/iqmath/iqmath_div_sqrt.c", ROOT / "host_sim/iqmath/iqmath_trig.c"]
     extra = [Path(board_config).resolve()] if board_config else []
-    return src + fw + iq + extra
+    return src + fw + extra
 
 
 def cflags():
     return ARCH + ["-std=c99", "-ffunction-sections", "-fdata-sections",
                    "-fcallgraph-info=su", "-DMATH_TYPE=IQ_MATH", "-DGLOBAL_Q=24",
+                   # TI's IQmath library calls as calls (host IQmathLib.h)
+                   "-DIQMATH_TI_CALLS",
                    "-Wno-unknown-pragmas",
                    # C28x inline assembly (flash.c's RPT || NOP) means nothing here
                    "-D__asm(x)=",
@@ -287,6 +312,19 @@ def rel(path):
 
 def is_iqmath(f):
     return rel(f["file"]).startswith("host_sim/iqmath/")
+
+
+def ti_iqmath(ext):
+    """{TI name (_IQ24div): C28x words} of the IQmath library calls among the
+    external names `ext` (ti_IQ<N><op> in the compile, IQMATH_TI_CALLS)."""
+    out = {}
+    for e in sorted(ext):
+        m = TI_IQMATH_CALL.match(e)
+        if m:
+            if m.group(2) not in TI_IQMATH_WORDS:
+                raise SystemExit(f"bench_size: no size for TI's IQmath {e[3:]} (TI_IQMATH_WORDS)")
+            out[e[2:]] = TI_IQMATH_WORDS[m.group(2)]
+    return out
 
 
 def words(nbytes, factor):
@@ -568,25 +606,35 @@ def report(args, srcs, g):
     fast, slow = isr_sets(g)
     isr = fast | slow
     _all, isr_ext = g.reach(g.roots(ISR_ROOTS), stop=is_iqmath)
-    # the IQmath stand-in's own helpers count (TI's IQmath code is in RAM too,
-    # in the one output section that gathers *(IQmath)); their run-time calls
-    # (64-bit division) are the stand-in's, not the target's
+    # the host IQmathLib.h's inline helpers (TI's intrinsics: _IQmpy, _IQsat,
+    # _IQabs ...) that the compiler left as functions count where IQmath goes
     iq = g.reach([t for t in isr if is_iqmath(g.func[t])])[0]
     if not any(g.func[t]["name"] == "drive_isr" for t in isr):
         raise SystemExit("bench_size: drive_isr is not reachable from isr_control")
     soft_float = sorted(e for e in isr_ext if SOFT_FLOAT.search(e))
+    # whole image: every function reachable from main and the interrupt entries
+    fw_text = "".join(s.read_text() for s in srcs if "firmware" in s.parts)
+    entries = ["main"] + sorted(set(re.findall(r"interrupt\s+void\s+(\w+)", fw_text)))
+    image, image_ext = g.reach(g.roots(entries))
+    # TI's IQmath functions: the linker takes every one the image calls into
+    # the IQmath section, which is placed whole (ISR path or not)
+    ti_iq = ti_iqmath(image_ext)
     pr = pragma_ramfuncs()
     rows = []
     for t in isr | iq:
         f = g.func[t]
-        kind = "IQmath stand-in" if is_iqmath(f) else rel(f["file"]).split("/")[0]
+        kind = "IQmath inline (host)" if is_iqmath(f) else rel(f["file"]).split("/")[0]
         if is_iqmath(f):
             sec = plan["iqmath_in"]
         else:
             sec = FAST_SECTION if t in fast else SLOW_SECTION
         rows.append({"function": f["name"], "file": rel(f["file"]), "kind": kind,
                      "section": sec, "thumb_bytes": f["bytes"], "words": words(f["bytes"], factor)})
-    rows.sort(key=lambda r: (-r["thumb_bytes"], r["function"]))
+    for name, w in ti_iq.items():
+        rows.append({"function": name, "file": "IQmath_coff.lib (TI)",
+                     "kind": "TI IQmath" + ("" if "ti" + name in isr_ext else ", not ISR path"),
+                     "section": plan["iqmath_in"], "thumb_bytes": 0, "words": w})
+    rows.sort(key=lambda r: (-r["words"], r["function"]))
     # ramfuncs: the fast set + the other firmware functions placed there by pragma
     extra = [t for t, f in g.func.items() if f["name"] in RAMFUNCS_NOT_ISR
              and rel(f["file"]) == pr.get(f["name"])]
@@ -594,20 +642,19 @@ def report(args, srcs, g):
     extra_bytes = sum(g.func[t]["bytes"] for t in extra)
     sec_bytes = {s: sum(r["thumb_bytes"] for r in rows if r["section"] == s)
                  for s in (FAST_SECTION, SLOW_SECTION)}
-    ramfuncs_words = words(sec_bytes[FAST_SECTION] + extra_bytes, factor)
-    slow_words = words(sec_bytes[SLOW_SECTION], factor)
+    sec_ti = {s: sum(w for w in ti_iq.values()) if plan["iqmath_in"] == s else 0
+              for s in (FAST_SECTION, SLOW_SECTION)}
+    ramfuncs_words = words(sec_bytes[FAST_SECTION] + extra_bytes, factor) + sec_ti[FAST_SECTION]
+    slow_words = words(sec_bytes[SLOW_SECTION], factor) + sec_ti[SLOW_SECTION]
     run = plan["place"][FAST_SECTION]
     run_slow = plan["place"][SLOW_SECTION]
     # with RUN = A | B the linker puts the section in ONE of the ranges
     cap = max(plan["ranges"][r] for r in run)
     cap_slow = max(plan["ranges"][r] for r in run_slow)
 
-    # whole image: every function reachable from main and the interrupt entries
-    fw_text = "".join(s.read_text() for s in srcs if "firmware" in s.parts)
-    entries = ["main"] + sorted(set(re.findall(r"interrupt\s+void\s+(\w+)", fw_text)))
-    image, image_ext = g.reach(g.roots(entries))
     rts = runtime_sizes(image_ext)
     code_bytes = sum(g.func[t]["bytes"] for t in image) + sum(rts.values())
+    ti_words = sum(ti_iq.values())
     const_words = 0
     for tu, secs in g.sections.items():
         for s, b in secs.items():
@@ -637,6 +684,8 @@ def report(args, srcs, g):
     put(".ebss", ebss_words)
     for s, w in other_ram.items():
         put(s, w)
+    # the stack's reservation (--stack_size) occupies its range whatever it uses
+    blocks.setdefault(plan["place"][".stack"][0], {})[".stack"] = stack_size()
     block_rows = {k: {"contents": v, "used_words": sum(v.values()),
                       "capacity_words": plan["ranges"][k],
                       "fraction": round(sum(v.values()) / plan["ranges"][k], 3)}
@@ -654,7 +703,9 @@ def report(args, srcs, g):
     # stack: the background's deepest chain + the deeper ISR's + its context
     bg_bytes = g.deepest(g.roots(["main"])[0])
     isr_bytes_stack = max(g.deepest(t, stop=is_iqmath) for t in g.roots(entries[1:]))
-    stack_words = words(bg_bytes, factor) + words(isr_bytes_stack, factor) + ISR_CONTEXT_WORDS
+    # (an IQmath call below either chain: TI_IQMATH_STACK_WORDS each, errs high)
+    stack_words = (words(bg_bytes, factor) + words(isr_bytes_stack, factor) + ISR_CONTEXT_WORDS
+                   + (2 * TI_IQMATH_STACK_WORDS if ti_iq else 0))
     stack_block = plan["place"][".stack"][0]
     stack_cap = min(plan["ranges"][stack_block], stack_size())
 
@@ -674,17 +725,20 @@ def report(args, srcs, g):
                          all(b["used_words"] <= 0.70 * b["capacity_words"]
                              for b in block_rows.values())),
         "iqmath_section_in": plan["iqmath_in"],
-        "isr_path_functions": len(rows),
-        "isr_path_words": words(isr_bytes, factor),
-        "isr_path_fast_functions": sum(1 for r in rows if r["section"] == FAST_SECTION),
-        "isr_path_slow_functions": sum(1 for r in rows if r["section"] == SLOW_SECTION),
-        "isr_path_iqmath_standin_words": sum(r["words"] for r in rows
-                                             if r["kind"] == "IQmath stand-in"),
+        "isr_path_functions": sum(1 for r in rows if r["kind"] != "TI IQmath, not ISR path"),
+        "isr_path_words": words(isr_bytes, factor) + sum(
+            r["words"] for r in rows if r["kind"] == "TI IQmath"),
+        "isr_path_fast_functions": sum(1 for r in rows if r["section"] == FAST_SECTION
+                                       and r["kind"] != "TI IQmath, not ISR path"),
+        "isr_path_slow_functions": sum(1 for r in rows if r["section"] == SLOW_SECTION
+                                       and r["kind"] != "TI IQmath, not ISR path"),
+        "isr_path_iqmath_words": sum(r["words"] for r in rows if r["kind"] == "TI IQmath"),
+        "iqmath_section_words": ti_words,
         "ramfuncs_not_isr": sorted(g.func[t]["name"] for t in extra),
         "isr_path_external_calls": sorted(isr_ext),
         "isr_path_soft_float": soft_float,
-        "flash_words": words(code_bytes, factor) + const_words,
-        "flash_code_words": words(code_bytes, factor),
+        "flash_words": words(code_bytes, factor) + ti_words + const_words,
+        "flash_code_words": words(code_bytes, factor) + ti_words,
         "flash_const_words": const_words,
         "flash_capacity_words": sum(v for k, v in plan["ranges"].items()
                                     if re.fullmatch(r"FLASH[A-J]", k)),
@@ -761,7 +815,8 @@ def print_table(r):
           f"({100 * r['ramfuncs_slow_fraction']:.0f} %), RUN {r['ramfuncs_slow_run']}")
     print(f"  ISR path: {r['isr_path_functions']} functions ({r['isr_path_fast_functions']} fast, "
           f"{r['isr_path_slow_functions']} slow), {r['isr_path_words']} words "
-          f"(IQmath stand-in {r['isr_path_iqmath_standin_words']}); "
+          f"(TI IQmath {r['isr_path_iqmath_words']}; the IQmath section, every IQmath "
+          f"function the image calls, {r['iqmath_section_words']}); "
           f"run-time calls {r['isr_path_external_calls']}")
     print(f"  flash image: {r['flash_words']} words (code {r['flash_code_words']}, "
           f"constants {r['flash_const_words']}; run-time library stand-in "

@@ -427,6 +427,56 @@ int32_t iqm_atan2pu(int32_t a, int32_t b, int q);
 
 #include "iqmath_qn_fixed.h"
 
+#if defined(IQMATH_TI_CALLS)
+/* ---- tools/bench_size.py's compiles only: never linked, never run --------
+ * What TI's IQmathLib.h makes a call into IQmath.lib (SPRC990: every
+ * operation but _IQmpy, _IQsat, _IQabs, _IQNtoIQ and the conversions of
+ * constants, which are intrinsics or macros) becomes here a call to TI's
+ * entry of that Q, _IQ<q><op>, named ti_IQ<q><op> (the _IQ names are this
+ * header's macros), declared and never defined: the size
+ * compile then sizes the call sites as the target has them, and the call
+ * graph names the functions of TI's library that the ISR reaches, each
+ * sized from TI's own library (bench_size.py TI_IQMATH_WORDS).  _IQmag has
+ * no Q of its own here (iqm_mag): it is named ti_IQ<GLOBAL_Q>mag, which has
+ * the size of every _IQNmag. */
+#define IQM_TI_(q, op) ti_IQ##q##op
+#define IQM_TI(q, op) IQM_TI_(q, op)
+#define IQM_TI_DECL(q) \
+    int32_t IQM_TI(q, rmpy)(int32_t, int32_t);   int32_t IQM_TI(q, rsmpy)(int32_t, int32_t); \
+    int32_t IQM_TI(q, mpyI32int)(int32_t, int32_t); \
+    int32_t IQM_TI(q, mpyI32frac)(int32_t, int32_t); \
+    int32_t IQM_TI(q, int)(int32_t);             int32_t IQM_TI(q, frac)(int32_t); \
+    int32_t IQM_TI(q, div)(int32_t, int32_t);    int32_t IQM_TI(q, sqrt)(int32_t); \
+    int32_t IQM_TI(q, isqrt)(int32_t);           int32_t IQM_TI(q, mag)(int32_t, int32_t); \
+    int32_t IQM_TI(q, sin)(int32_t);             int32_t IQM_TI(q, cos)(int32_t); \
+    int32_t IQM_TI(q, sinPU)(int32_t);           int32_t IQM_TI(q, cosPU)(int32_t); \
+    int32_t IQM_TI(q, atan2)(int32_t, int32_t);  int32_t IQM_TI(q, atan2PU)(int32_t, int32_t); \
+    float IQM_TI(q, toF)(int32_t);
+IQM_TI_DECL(1)  IQM_TI_DECL(2)  IQM_TI_DECL(3)  IQM_TI_DECL(4)  IQM_TI_DECL(5)
+IQM_TI_DECL(6)  IQM_TI_DECL(7)  IQM_TI_DECL(8)  IQM_TI_DECL(9)  IQM_TI_DECL(10)
+IQM_TI_DECL(11) IQM_TI_DECL(12) IQM_TI_DECL(13) IQM_TI_DECL(14) IQM_TI_DECL(15)
+IQM_TI_DECL(16) IQM_TI_DECL(17) IQM_TI_DECL(18) IQM_TI_DECL(19) IQM_TI_DECL(20)
+IQM_TI_DECL(21) IQM_TI_DECL(22) IQM_TI_DECL(23) IQM_TI_DECL(24) IQM_TI_DECL(25)
+IQM_TI_DECL(26) IQM_TI_DECL(27) IQM_TI_DECL(28) IQM_TI_DECL(29) IQM_TI_DECL(30)
+#define iqm_rmpy(a, b, q)       IQM_TI(q, rmpy)((a), (b))
+#define iqm_rsmpy(a, b, q)      IQM_TI(q, rsmpy)((a), (b))
+#define iqm_mpyI32int(a, b, q)  IQM_TI(q, mpyI32int)((a), (b))
+#define iqm_mpyI32frac(a, b, q) IQM_TI(q, mpyI32frac)((a), (b))
+#define iqm_int(a, q)           IQM_TI(q, int)(a)
+#define iqm_frac(a, q)          IQM_TI(q, frac)(a)
+#define iqm_div(a, b, q)        IQM_TI(q, div)((a), (b))
+#define iqm_sqrt(a, q)          IQM_TI(q, sqrt)(a)
+#define iqm_isqrt(a, q)         IQM_TI(q, isqrt)(a)
+#define iqm_mag(a, b)           IQM_TI(GLOBAL_Q, mag)((a), (b))
+#define iqm_sin(a, q)           IQM_TI(q, sin)(a)
+#define iqm_cos(a, q)           IQM_TI(q, cos)(a)
+#define iqm_sinpu(a, q)         IQM_TI(q, sinPU)(a)
+#define iqm_cospu(a, q)         IQM_TI(q, cosPU)(a)
+#define iqm_atan2(a, b, q)      IQM_TI(q, atan2)((a), (b))
+#define iqm_atan2pu(a, b, q)    IQM_TI(q, atan2PU)((a), (b))
+#define iqm_qtof(a, q)          IQM_TI(q, toF)(a)
+#endif /* IQMATH_TI_CALLS */
+
 #else /* MATH_TYPE == FLOAT_MATH */
 /* ======================================================================== */
 /* FLOAT_MATH: every operation is the float expression (SPRC087 §7)          */

@@ -197,6 +197,30 @@ static void test_ring_full_drops_whole_frames(void **state)
     assert_int_equal(buf[544], '$');
 }
 
+/* The ring packs two characters per word: 63-character $A frames start at
+ * odd and even positions in turn and wrap over the ring's end at every
+ * parity; each comes out exactly as the first one did. */
+static void test_packed_ring_wraps_at_any_position(void **state)
+{
+    drive_telemetry_t d;
+    char first[100], buf[100];
+    uint16_t i, odd_starts = 0u;
+    (void)state;
+    telemetry_init(&s_t);
+    memset(&d, 0, sizeof d);
+    d.pass = 2u; d.track_valid = 1u; d.Rs_dc = _IQ(0.0625); d.Tr_track = _IQ(-3.5);
+    assert_int_equal(telemetry_send_adapt(&s_t, &d), 1);
+    assert_int_equal(drain(&s_t, first, sizeof first), 63u);   /* 2 + 4*5 + 4*9 + 5 */
+    for (i = 1u; i < 3u * TLM_TX_SIZE / 63u; i++) {
+        odd_starts = (uint16_t)(odd_starts + (s_t.head & 1u));
+        s_t.seq = 0u;   /* the same frame every time */
+        assert_int_equal(telemetry_send_adapt(&s_t, &d), 1);
+        assert_int_equal(drain(&s_t, buf, sizeof buf), 63u);
+        assert_string_equal(buf, first);
+    }
+    assert_true(odd_starts >= 10u);   /* half of the 35 frames started at an odd position */
+}
+
 static tlm_cmd_t feed(const char *s)
 {
     tlm_cmd_t last = TLM_CMD_NONE;
@@ -242,6 +266,7 @@ int main(void)
         cmocka_unit_test(test_status_frame),
         cmocka_unit_test(test_quality_frame),
         cmocka_unit_test(test_ring_full_drops_whole_frames),
+        cmocka_unit_test(test_packed_ring_wraps_at_any_position),
         cmocka_unit_test(test_commands),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

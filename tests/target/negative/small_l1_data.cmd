@@ -66,6 +66,7 @@ SECTIONS
    .reset           : > RESET,      PAGE = 0, TYPE = DSECT   /* boot ROM supplies it */
 
    .stack           : > RAMM0M1,    PAGE = 1
+   bgdata           : > RAMM0M1,    PAGE = 1
    .ebss            : > RAML0L1_DATA, PAGE = 1
    dlog             : > RAMH0_DATA, PAGE = 1
    .esysmem         : > RAMM0M1,    PAGE = 1
