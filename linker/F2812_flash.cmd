@@ -106,18 +106,20 @@ SECTIONS
                       LOAD_END(_RamfuncsLoadEnd),
                       RUN_START(_RamfuncsRunStart),
                       PAGE = 0
-   /* the slow set (reached only through drive_slow_task) and TI's IQmath
-    * (called from both sets) run from H0, zero wait states as L0/L1 */
+   /* the slow set (reached only through drive_slow_task) and the TI IQmath
+    * functions the ISR calls (members of IQmath_coff.lib named at the end of
+    * F2812_isr_slow.cmd) run from H0, zero wait states as L0/L1 */
    ramfuncs_slow    : {
                          *(ramfuncs_slow)
 #include "F2812_isr_slow.cmd"
-                         *(IQmath)
                       }
                       LOAD = FLASHC, RUN = RAMH0,
                       LOAD_START(_RamfuncsSlowLoadStart),
                       LOAD_END(_RamfuncsSlowLoadEnd),
                       RUN_START(_RamfuncsSlowRunStart),
                       PAGE = 0
+   /* TI's IQmath functions off the ISR path (the background's) */
+   IQmath           : >> FLASHJ | FLASHI | FLASHH | FLASHG,  PAGE = 0
    .text            : >> FLASHJ | FLASHI | FLASHH | FLASHG,  PAGE = 0
    .cinit           : > FLASHE,     PAGE = 0
    .pinit           : > FLASHE,     PAGE = 0

@@ -86,3 +86,16 @@
 *(.text:_tr_track_restart)
 *(.text:_tr_track_step)
 *(.text:_window_mean)
+/*
+ * TI's IQmath functions the ISR reaches: the members of C2000Ware's
+ * IQmath_coff.lib that hold them (one function per member, IQ<N><op>.obj).
+ * Every other IQmath function the image calls stays out of RAM (output
+ * section IQmath).  Linked against the stand-alone IQmath.lib (SPRC087)
+ * instead, the firmware build defines IQMATH_WHOLE_IN_RAM and the whole
+ * IQmath section comes here.
+ */
+#ifndef IQMATH_WHOLE_IN_RAM
+-l IQmath_coff.lib<IQ24atan2PU.obj IQ24cosPU.obj IQ24div.obj IQ24frac.obj IQ24mag.obj IQ24rmpy.obj IQ24sinPU.obj> (IQmath)
+#else
+*(IQmath)
+#endif

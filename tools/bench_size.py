@@ -351,10 +351,16 @@ def linker_plan(path):
     for need in ("ramfuncs", "ramfuncs_slow"):
         if need not in place:
             raise SystemExit(f"bench_size: {path} places no {need}")
-    # the output section that gathers TI's IQmath code (ramfuncs or ramfuncs_slow)
-    iq = [n for n, c in contents.items() if re.search(r"\*\(\s*IQmath\s*\)", c)]
+    # TI's IQmath functions the ISR reaches come with the slow set's include
+    # (IQMATH_MEMBERS); the rest of the IQmath section goes to an output
+    # section of its own (flash, or external RAM in the RAM image)
+    iq = [n for n, c in contents.items() if SLOW_INCLUDE_NAME in c]
     if len(iq) != 1:
-        raise SystemExit(f"bench_size: {path}: *(IQmath) must be in one output section, not {iq}")
+        raise SystemExit(f"bench_size: {path}: one output section must #include "
+                         f"{SLOW_INCLUDE_NAME}, not {iq}")
+    if "IQmath" not in place:
+        raise SystemExit(f"bench_size: {path} places no IQmath output section (the IQmath "
+                         "functions off the ISR path)")
     return {"ranges": lengths, "place": place, "file": rel(path), "iqmath_in": iq[0],
             "text_in": place.get(".text", [])}
 
@@ -438,6 +444,10 @@ def ebss(graph, srcs, layout):
 # --- the linker includes of the ISR path -------------------------------------
 PRAGMA = re.compile(r'#pragma\s+CODE_SECTION\s*\(\s*(\w+)\s*,\s*"(\w+)"\s*\)')
 FAST_SECTION, SLOW_SECTION = "ramfuncs", "ramfuncs_slow"
+SLOW_INCLUDE_NAME = "F2812_isr_slow.cmd"
+# the library whose members hold TI's IQmath functions (C2000Ware's; the
+# firmware build links it by that name, firmware/CMakeLists.txt)
+IQMATH_LIB = "IQmath_coff.lib"
 
 
 def pragma_sections():
@@ -487,9 +497,12 @@ def src_names(graph, titles):
 def isr_cmd_texts(graph, abi="coffabi"):
     """(fast include, slow include): the input sections of every source
     function the control ISR reaches, except the firmware's own (placed by
-    #pragma) and the IQmath stand-in (TI's IQmath section, placed whole).  A
-    name reached both ways is in the fast file only."""
+    #pragma) and the host IQmath's inline helpers; the slow include ends
+    with the members of TI's IQmath library that hold the IQmath functions
+    the ISR reaches (IQMATH_MEMBERS).  A name reached both ways is in the
+    fast file only."""
     fast, slow = isr_sets(graph)
+    _seen, ext = graph.reach(graph.roots(ISR_ROOTS), stop=is_iqmath)
     prefix = "_" if abi == "coffabi" else ""
     fast_names = sorted(src_names(graph, fast))
     slow_names = sorted(src_names(graph, slow) - set(fast_names))
@@ -537,8 +550,30 @@ def isr_cmd_texts(graph, abi="coffabi"):
     ] + common + [
         f" * {len(slow_names)} functions.",
         " */",
-    ] + [f"*(.text:{prefix}{n})" for n in slow_names]
+    ] + [f"*(.text:{prefix}{n})" for n in slow_names] + iqmath_members_text(ti_iqmath(ext))
     return "\n".join(fast_lines) + "\n", "\n".join(slow_lines) + "\n"
+
+
+def iqmath_members_text(ti_iq):
+    """The lines of the slow include that take TI's IQmath functions of the
+    ISR path into ramfuncs_slow: members of IQMATH_LIB (SPRU513 "Specifying
+    library or archive members as input to output sections")."""
+    members = " ".join(f"{n[1:]}.obj" for n in sorted(ti_iq))
+    return [
+        "/*",
+        " * TI's IQmath functions the ISR reaches: the members of C2000Ware's",
+        f" * {IQMATH_LIB} that hold them (one function per member, IQ<N><op>.obj).",
+        " * Every other IQmath function the image calls stays out of RAM (output",
+        " * section IQmath).  Linked against the stand-alone IQmath.lib (SPRC087)",
+        " * instead, the firmware build defines IQMATH_WHOLE_IN_RAM and the whole",
+        " * IQmath section comes here.",
+        " */",
+        "#ifndef IQMATH_WHOLE_IN_RAM",
+        f"-l {IQMATH_LIB}<{members}> (IQmath)",
+        "#else",
+        "*(IQmath)",
+        "#endif",
+    ]
 
 
 def pragma_problems(graph):
@@ -596,6 +631,13 @@ def measure(args, kind):
         raise SystemExit(f"bench_size: {CC} not found (Debian: gcc-arm-none-eabi, "
                          "libnewlib-arm-none-eabi; tools/install_deps.sh installs them)")
     srcs = sources(args.board_config if kind == "size" else None)
+    # IQMATH_TI_CALLS names every _IQNmag ti_IQ24mag (iqm_mag has no Q): right
+    # only while the core calls no other N's mag, which live in other members
+    other_mag = sorted({m for f in srcs for m in re.findall(r"_IQ(\d+)mag\s*\(", f.read_text())
+                        if m != "24"})
+    if other_mag:
+        raise SystemExit(f"bench_size: _IQ{other_mag[0]}mag is used: IQMATH_TI_CALLS would name "
+                         "it _IQ24mag (host_sim/iqmath/IQmathLib.h)")
     flags = SIZE_FLAGS if kind == "size" else GRAPH_FLAGS
     return srcs, Graph(compile_all(srcs, Path(args.build) / kind, flags))
 
@@ -616,9 +658,10 @@ def report(args, srcs, g):
     fw_text = "".join(s.read_text() for s in srcs if "firmware" in s.parts)
     entries = ["main"] + sorted(set(re.findall(r"interrupt\s+void\s+(\w+)", fw_text)))
     image, image_ext = g.reach(g.roots(entries))
-    # TI's IQmath functions: the linker takes every one the image calls into
-    # the IQmath section, which is placed whole (ISR path or not)
-    ti_iq = ti_iqmath(image_ext)
+    # TI's IQmath functions: those the ISR reaches run from RAM (members of
+    # the library named in the slow include), the others from flash
+    ti_iq = ti_iqmath(isr_ext)
+    ti_all = ti_iqmath(image_ext)
     pr = pragma_ramfuncs()
     rows = []
     for t in isr | iq:
@@ -631,8 +674,7 @@ def report(args, srcs, g):
         rows.append({"function": f["name"], "file": rel(f["file"]), "kind": kind,
                      "section": sec, "thumb_bytes": f["bytes"], "words": words(f["bytes"], factor)})
     for name, w in ti_iq.items():
-        rows.append({"function": name, "file": "IQmath_coff.lib (TI)",
-                     "kind": "TI IQmath" + ("" if "ti" + name in isr_ext else ", not ISR path"),
+        rows.append({"function": name, "file": f"{IQMATH_LIB} (TI)", "kind": "TI IQmath",
                      "section": plan["iqmath_in"], "thumb_bytes": 0, "words": w})
     rows.sort(key=lambda r: (-r["words"], r["function"]))
     # ramfuncs: the fast set + the other firmware functions placed there by pragma
@@ -654,7 +696,7 @@ def report(args, srcs, g):
 
     rts = runtime_sizes(image_ext)
     code_bytes = sum(g.func[t]["bytes"] for t in image) + sum(rts.values())
-    ti_words = sum(ti_iq.values())
+    ti_words = sum(ti_all.values())
     const_words = 0
     for tu, secs in g.sections.items():
         for s, b in secs.items():
@@ -725,15 +767,13 @@ def report(args, srcs, g):
                          all(b["used_words"] <= 0.70 * b["capacity_words"]
                              for b in block_rows.values())),
         "iqmath_section_in": plan["iqmath_in"],
-        "isr_path_functions": sum(1 for r in rows if r["kind"] != "TI IQmath, not ISR path"),
+        "isr_path_functions": len(rows),
         "isr_path_words": words(isr_bytes, factor) + sum(
             r["words"] for r in rows if r["kind"] == "TI IQmath"),
-        "isr_path_fast_functions": sum(1 for r in rows if r["section"] == FAST_SECTION
-                                       and r["kind"] != "TI IQmath, not ISR path"),
-        "isr_path_slow_functions": sum(1 for r in rows if r["section"] == SLOW_SECTION
-                                       and r["kind"] != "TI IQmath, not ISR path"),
+        "isr_path_fast_functions": sum(1 for r in rows if r["section"] == FAST_SECTION),
+        "isr_path_slow_functions": sum(1 for r in rows if r["section"] == SLOW_SECTION),
         "isr_path_iqmath_words": sum(r["words"] for r in rows if r["kind"] == "TI IQmath"),
-        "iqmath_section_words": ti_words,
+        "iqmath_image_words": ti_words,
         "ramfuncs_not_isr": sorted(g.func[t]["name"] for t in extra),
         "isr_path_external_calls": sorted(isr_ext),
         "isr_path_soft_float": soft_float,
@@ -815,8 +855,8 @@ def print_table(r):
           f"({100 * r['ramfuncs_slow_fraction']:.0f} %), RUN {r['ramfuncs_slow_run']}")
     print(f"  ISR path: {r['isr_path_functions']} functions ({r['isr_path_fast_functions']} fast, "
           f"{r['isr_path_slow_functions']} slow), {r['isr_path_words']} words "
-          f"(TI IQmath {r['isr_path_iqmath_words']}; the IQmath section, every IQmath "
-          f"function the image calls, {r['iqmath_section_words']}); "
+          f"(TI IQmath {r['isr_path_iqmath_words']} of the {r['iqmath_image_words']} "
+          f"the image calls); "
           f"run-time calls {r['isr_path_external_calls']}")
     print(f"  flash image: {r['flash_words']} words (code {r['flash_code_words']}, "
           f"constants {r['flash_const_words']}; run-time library stand-in "

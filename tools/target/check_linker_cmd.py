@@ -137,7 +137,19 @@ RAM_CODE = {
     "ramfuncs_slow": ("ramfuncs_slow", ISR_SLOW_INCLUDE,
                       ("_RamfuncsSlowLoadStart", "_RamfuncsSlowLoadEnd", "_RamfuncsSlowRunStart")),
 }
-INPUT_SPEC = re.compile(r"^\*\(\.text:\w+\)$")
+INPUT_SPEC = re.compile(r"^\*\(\.text:\w+\)$"
+                        # TI's IQmath functions of the ISR path: members of the library
+                        r"|^-l \w+\.lib<[\w. ]+> \(IQmath\)$|^\*\(IQmath\)$"
+                        r"|^#ifndef IQMATH_WHOLE_IN_RAM$|^#else$|^#endif$")
+IQMATH_MEMBERS = re.compile(r"^-l \w+\.lib<[\w. ]+> \(IQmath\)$", re.M)
+
+
+def include_text(name, inc, included=None):
+    """The text of `#include "inc"` of command file `name`, or None."""
+    if included is not None and inc in included:
+        return included[inc]
+    path = os.path.join(os.path.dirname(name), inc)
+    return open(path).read() if os.path.exists(path) else None
 
 
 def check_includes(name, text, included=None):
@@ -145,14 +157,10 @@ def check_includes(name, text, included=None):
     included file name to its text (default: read it next to `name`)."""
     errors = []
     for inc in re.findall(r'^\s*#include\s+"([^"]+)"', text, re.M):
-        if included is not None and inc in included:
-            body = included[inc]
-        else:
-            path = os.path.join(os.path.dirname(name), inc)
-            if not os.path.exists(path):
-                errors.append("%s: #include \"%s\": no such file next to it" % (name, inc))
-                continue
-            body = open(path).read()
+        body = include_text(name, inc, included)
+        if body is None:
+            errors.append("%s: #include \"%s\": no such file next to it" % (name, inc))
+            continue
         for line in strip_comments(body).split("\n"):
             if line.strip() and not INPUT_SPEC.match(line.strip()):
                 errors.append("%s: %s: not an input section specification: %s"
@@ -225,8 +233,13 @@ def check(files, included=None):
                                ('#include "%s"' % inc, "the ISR path's src/ functions")):
                 if need not in flat:
                     errors.append("%s: %s does not gather %s (%s)" % (f, out, what, need))
-            if "*(IQmath)" in flat:
+            inc_text = include_text(f, inc, included) or ""
+            if "*(IQmath)" in flat or "(IQmath)" in strip_comments(inc_text):
                 iq_in.append(out)
+            if IQMATH_MEMBERS.search(strip_comments(inc_text)) and not re.search(
+                    r"(?m)^\s*IQmath\s*:", s):
+                errors.append("%s: %s takes TI's IQmath members of the ISR path; the other "
+                              "IQmath functions need an output section IQmath" % (f, out))
             if not ld or not rn:
                 errors.append("%s: %s needs LOAD and RUN" % (f, out))
             else:
@@ -238,8 +251,9 @@ def check(files, included=None):
                 if load and ld.group(1) != rn.group(1) and not (0x3D8000 <= load[3] <= 0x3F7FFF):
                     errors.append("%s: %s must LOAD from flash" % (f, out))
         if has_code and len(iq_in) != 1:
-            errors.append("%s: TI's IQmath code (*(IQmath)) must be gathered by exactly one "
-                          "of ramfuncs, ramfuncs_slow, not %s" % (f, iq_in or "none"))
+            errors.append("%s: TI's IQmath code of the ISR path (*(IQmath) or the library's "
+                          "members) must be gathered by exactly one of ramfuncs, ramfuncs_slow, "
+                          "not %s" % (f, iq_in or "none"))
         cs = re.search(r"\bcodestart\s*:\s*>\s*(\w+)", s)
         if cs and cs.group(1) not in ("BEGIN", "BEGINH0"):
             errors.append("%s: codestart must go to BEGIN (0x3F7FF6) or BEGINH0" % f)
@@ -299,6 +313,23 @@ SECTIONS {
     if check([("good", good)], inc):
         print("self-test: the good snippet was rejected:", check([("good", good)], inc))
         return 1
+    # the ISR path's IQmath by library members (the generated slow include),
+    # the rest in an IQmath output section
+    members = good.replace("*(IQmath) }", "}").replace(
+        "   .stack", "   IQmath : > FLASHD, PAGE = 0\n   .stack")
+    inc_m = dict(inc)
+    inc_m["F2812_isr_slow.cmd"] = (inc["F2812_isr_slow.cmd"] + "#ifndef IQMATH_WHOLE_IN_RAM\n"
+                                   "-l IQmath_coff.lib<IQ24div.obj IQ24sinPU.obj> (IQmath)\n"
+                                   "#else\n*(IQmath)\n#endif\n")
+    if check([("members", members)], inc_m):
+        print("self-test: the members snippet was rejected:", check([("members", members)], inc_m))
+        return 1
+    for what, text in (("members, rest unplaced", members.replace("   IQmath : > FLASHD, PAGE = 0\n", "")),
+                       ("members and *(IQmath)", members.replace("*(ramfuncs)\n", "*(ramfuncs) *(IQmath)\n"))):
+        e = check([(what, text)], inc_m)
+        print("%-24s %s" % (what, "rejected: " + e[0] if e else "NOT REJECTED"))
+        if not e:
+            return 1
     failed = 0
     for what, text in bad.items():
         e = check([(what, text)], inc)

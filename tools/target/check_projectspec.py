@@ -85,7 +85,7 @@ def cmake_options(cm, tc):
             continue                  # CCS adds the compiler's own lib folder
         lo.append(o.replace("--search_path=${ROOT}/linker", "-i${IMFOC_ROOT}/linker"))
     iq = "IQmath_coff.lib" if "IQmath_coff.lib" in cm else "IQmath.lib"
-    lo += [f"--library=${{C2000_IQMATH_ROOT}}/lib/{iq}", "--library=rts2800_ml.lib"]
+    lo += [f"--library={iq}", "--library=rts2800_ml.lib"]
     return comp, lo
 
 

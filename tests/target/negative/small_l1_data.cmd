@@ -50,13 +50,13 @@ SECTIONS
    ramfuncs_slow    : {
                          *(ramfuncs_slow)
 #include "F2812_isr_slow.cmd"
-                         *(IQmath)
                       }
                       LOAD = FLASHC, RUN = RAMH0,
                       LOAD_START(_RamfuncsSlowLoadStart),
                       LOAD_END(_RamfuncsSlowLoadEnd),
                       RUN_START(_RamfuncsSlowRunStart),
                       PAGE = 0
+   IQmath           : >> FLASHJ | FLASHI | FLASHH | FLASHG,  PAGE = 0
    .text            : >> FLASHJ | FLASHI | FLASHH | FLASHG,  PAGE = 0
    .cinit           : > FLASHE,     PAGE = 0
    .pinit           : > FLASHE,     PAGE = 0
