@@ -881,9 +881,29 @@ def print_table(r):
               f"{row['thumb_bytes']:8d} {row['words']:6d}")
 
 
+RANGE_ROLE = {"RAML0L1": "L0+L1 code", "RAML0L1_DATA": "L0+L1 data", "RAMH0": "H0 code",
+              "RAMH0_DATA": "H0 data", "RAMM0M1": "M0+M1"}
+
+
+def print_markdown(r):
+    """The RAM ranges of the linker file as a markdown table (docs/board.md)."""
+    print(f"| RAM range ({r['linker_cmd']}) | holds | words | of | % |")
+    print("|---|---|---:|---:|---:|")
+    for rng, b in r["blocks"].items():
+        parts = ", ".join(f"`{s}` {w}" for s, w in b["contents"].items())
+        print(f"| {RANGE_ROLE.get(rng, rng)} `{rng}` | {parts} | {b['used_words']} | "
+              f"{b['capacity_words']} | {100 * b['fraction']:.0f} |")
+    on_chip = sum(b["capacity_words"] for k, b in r["blocks"].items() if k in RANGE_ROLE)
+    used = sum(b["used_words"] for k, b in r["blocks"].items() if k in RANGE_ROLE)
+    print(f"| **on chip** | ISR path {r['isr_path_words']} (TI IQmath {r['isr_path_iqmath_words']}), "
+          f"stack used {r['stack_words']} of its {r['stack_capacity_words']} | **{used}** | "
+          f"{on_chip} | **{100 * used / on_chip:.0f}** |")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--json", action="store_true")
+    ap.add_argument("--markdown", action="store_true", help="the RAM ranges as a markdown table")
     ap.add_argument("--build", default=str(ROOT / "build" / "bench_size"),
                     help="folder for the stand-in objects (default build/bench_size)")
     ap.add_argument("--linker-cmd", default=str(ROOT / "linker" / "F2812_flash.cmd"))
@@ -941,6 +961,8 @@ def main(argv=None):
     r = report(a, srcs, size_g)
     if a.json:
         print(json.dumps(r, indent=1))
+    elif a.markdown:
+        print_markdown(r)
     else:
         print_table(r)
     if a.check:
