@@ -131,6 +131,8 @@ typedef struct {
     float e_pole_V;        /* E: one pole's saturated error (vdc td/Ts + v_drop) */
     float band_A;          /* b: the transition's half-width */
     float vdc_V;           /* the bus during the test (mean) */
+    uint16_t n_band;       /* voltage levels b was taken from (of 6: a level whose current
+                              has the wrong sign or whose error is saturated says nothing) */
     float i_A[VI_CURVE_LEVELS];      /* the table: each level's current */
     float u_err_V[VI_CURVE_LEVELS];  /* and its error voltage u - Rs i (alpha axis, (1)) */
 } vi_fit_t;

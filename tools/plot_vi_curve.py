@@ -71,7 +71,8 @@ def main():
         name = Path(ini).stem
         e, b, et, bt = v["e_pole_V"], v["band_A"], v["true_e_pole_V"], v["true_band_A"]
         print(f"{name}: {v['status']}; E {e:.4f} V (true {et:.4f}, {100 * (e / et - 1):+.2f} %), "
-              f"b {b:.4f} A (true {bt:.4f}, {100 * (b / bt - 1):+.2f} %), "
+              f"b {b:.4f} A (true {bt:.4f}, {100 * (b / bt - 1):+.2f} %, from {v['n_band']} of 6 "
+              f"voltage levels), "
               f"Rs {v['rs_ohm']:.4f} ohm, vdc {v['vdc_V']:.2f} V")
         print(f"  {'I / A':>9} {'measured / V':>13} {'true / V':>9} {'error':>8}")
         for i, u, ut in v["table"]:

@@ -261,6 +261,7 @@ void vi_curve_fit(const vi_curve_t *v, float I_base_A, float V_base_V, vi_fit_t 
             }
         }
     }
+    f->n_band = nb;
     f->band_A = (nb > 0u) ? b_sum / (float)nb : 0.0f;
     if (nb == 0u || !(f->band_A > 0.0f) || !isfinite(f->band_A) ||
         !(2.0f * f->band_A < v->i1 * I_base_A)) {

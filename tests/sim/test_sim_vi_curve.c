@@ -95,6 +95,8 @@ static void check_motor(const char *ini, int whole_table)
     assert_true(e_true > 0.0);
     assert_true(fabs((double)f->e_pole_V / e_true - 1.0) < TOL);
     assert_true(fabs((double)f->band_A / cfg.inverter.dead_time_band_A - 1.0) < TOL);
+    /* every voltage level on the paper and 1.1 kW bridges; the 0.9 levels on the 15 kW */
+    assert_int_equal(f->n_band, whole_table ? 6u : 2u);
     for (l = 0u; l < VI_CURVE_LEVELS; l++) {
         const double i = (double)f->i_A[l];
         const double u_true = true_err_V(&cfg, i);
