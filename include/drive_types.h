@@ -38,6 +38,7 @@
 #include "theta_guard.h"
 #include "standstill_z.h"
 #include "tr_track.h"
+#include "vi_curve.h"
 #include "volt_calc.h"
 
 /** The multi-rate schedule of the ISR (drive_step.c): every ISR runs the
@@ -294,6 +295,17 @@ struct drive {
     theta_guard_t guard;        /* last good theta: what the snapshots carry */
     isr_monitor_t ovr;          /* ISR overruns -> FAULT_ISR_OVERRUN */
     drive_safety_t safety;      /* model-based plausibility (drive_safety.c) */
+    /* the bridge's voltage error at standstill, the compensation's curve
+     * (drive_vi.c) */
+    vi_curve_t vic;             /* ISR, SEQUENCE slot: the test (CALIBRATE) */
+    uint16_t vic_status;        /* background: the fit's verdict (vi_fit_status_t; the table
+                                   itself is recomputed from vic by whoever reports it) */
+    volt_calc_curve_t vic_curve;/* background -> ISR: the curve for volt_calc */
+    volatile uint16_t vic_post; /* background -> ISR: DRIVE_VI_* (drive_vi.h) */
+    uint16_t vic_fitted;        /* background: the fit of this test is done */
+    uint32_t vic_wait;          /* ISR: slow samples waited for the background's answer */
+    uint32_t vic_wait_max;      /* the longest wait; then the test is refused */
+    float vic_dt_frac;          /* the board's td / Ts (background) */
 
     /* PWM pipeline: duties computed at sample k apply during period k+1 and
      * are reconstructed into voltages at sample k+2 (hal_pwm.h timing). */

@@ -5,7 +5,11 @@
  *
  *   IDLE -> CALIBRATE (current offsets, PWM off; then, with sensor_test, the
  *                      sensors' pulse test: the bridge switches, no
- *                      current reference, until the drive says test_done)
+ *                      current reference, until the drive says test_done;
+ *                      then, with vi_test and until vi_done, the bridge's
+ *                      voltage error against the current at standstill
+ *                      (vi_curve.h: the dead-time compensation's curve,
+ *                      measured once per drive_init))
  *        -> MAGNETIZE (i_M to its reference, zero speed, >= 5 Tr)
  *        -> ACCELERATE (speed ramp to the target; RLS on: the transient that
  *                       excites the regression, method §2 "Excitation")
@@ -71,6 +75,8 @@ typedef struct {
     uint16_t adapt_ready;     /* REFINE (and the end of MAGNETIZE with wait_magnetize): the drive
                                  has applied the model the state waits for */
     uint16_t test_done;       /* CALIBRATE: the sensor test passed (sensor_test.h) */
+    uint16_t vi_done;         /* CALIBRATE: the voltage-error curve is measured and applied
+                                 (vi_curve.h), or the drive gave up on it */
     _iq i_mf;                 /* i_M filtered (the regression's Butterworth), pu, Q24 */
     _iq i_tf;                 /* i_T filtered, pu, Q24 */
     /* parameters (id_sequence_init) */
@@ -89,12 +95,15 @@ typedef struct {
     uint16_t wait_magnetize;  /* 1: MAGNETIZE ends only with adapt_ready (id_sequence_set_wait) */
     uint32_t wait_max_samples;/* longest wait for adapt_ready (0: no limit) */
     uint16_t sensor_test;     /* 1: CALIBRATE ends with the sensor test (0 after init) */
+    uint16_t vi_test;         /* 1: then with the voltage-error test (0 after init) */
     /* outputs */
     id_state_t state;
     uint16_t pwm_on;          /* the bridge should switch */
     uint16_t calibrating;     /* the drive runs the offset calibration */
     uint16_t sensor_testing;  /* the drive runs the sensor test (CALIBRATE, after the
                                  calibration; pwm_on is 1, im_cmd 0) */
+    uint16_t vi_testing;      /* the drive runs the voltage-error test (CALIBRATE, after the
+                                 sensor test; pwm_on is 1, im_cmd 0) */
     uint16_t speed_loop_on;   /* speed PI drives i_T; else i_T ref = 0 */
     uint16_t rls_on;          /* the RLS may update */
     uint16_t extract_now;     /* one-sample pulse: take the steady i_M, extract */

@@ -30,8 +30,11 @@ typedef enum {
                                   row (isr_monitor.h) */
     FAULT_SENSOR_TEST = 11,    /* the current sensors failed their pulse test before the
                                   magnetisation (sensor_test.h) */
-    FAULT_STALL = 12           /* encoder frozen with torque current while the standstill
+    FAULT_STALL = 12,          /* encoder frozen with torque current while the standstill
                                   model holds: a locked rotor (stall_check.h) */
+    FAULT_VI_CURVE = 13        /* the bridge's voltage-error test at standstill failed:
+                                  a current level not reached or the curve implausible
+                                  (vi_curve.h) */
 } fault_code_t;
 
 typedef struct {

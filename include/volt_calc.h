@@ -95,6 +95,38 @@ typedef struct {
     _iq vbeta;         /* stator voltage, beta, pu, Q24 */
 } volt_calc_t;
 
+/** The bridge's error as the compensation uses it: what the standstill
+ *  measurement (vi_curve.h) decides, designed in float (background) and
+ *  copied in by the ISR (volt_calc_apply_curve), all in one sample. */
+typedef struct {
+    _iq dt_frac;       /* td / Ts, Q24 */
+    _iq dt_half;       /* td / (2 Ts), Q24 */
+    _iq v_drop;        /* pu, Q24 */
+    _iq v_drop_half;   /* pu, Q24 */
+    _iq i_thresh;      /* pu, Q24 */
+    _iq16 inv_i_thresh;/* Q16 */
+} volt_calc_curve_t;
+
+/**
+ * The constants of a dead-time fraction, drop and linear zone (float: not
+ * in the ISR), with volt_calc_init's checks; @p k is left as it was on an
+ * error.
+ */
+volt_calc_status_t volt_calc_curve_design(volt_calc_curve_t *k, float dt_frac, float drop_pu,
+                                          float i_thresh_pu);
+
+/** Copy a designed curve in and turn the compensation on (ISR: six words). */
+static inline void volt_calc_apply_curve(volt_calc_t *v, const volt_calc_curve_t *k)
+{
+    v->dt_frac = k->dt_frac;
+    v->dt_half = k->dt_half;
+    v->v_drop = k->v_drop;
+    v->v_drop_half = k->v_drop_half;
+    v->i_thresh = k->i_thresh;
+    v->inv_i_thresh = k->inv_i_thresh;
+    v->comp_enable = 1u;
+}
+
 /**
  * Compute the constants from SI times and pu drop/threshold and clear the
  * rest.  dead_time_s: programmed dead band; Ts_s: PWM period; drop_pu:

@@ -20,7 +20,7 @@
  * the same name in two files is matched in both (a few words more in RAM).
  * The firmware's own ISR functions are in `ramfuncs` by #pragma CODE_SECTION
  * (checked by the same test); TI's IQmath functions by the IQmath section.
- * 67 functions.
+ * 69 functions.
  */
 *(.text:_angle_diff_pu)
 *(.text:_angle_sincos)
@@ -41,6 +41,8 @@
 *(.text:_drive_safety_modulate)
 *(.text:_drive_safety_test_period)
 *(.text:_drive_slow_task)
+*(.text:_drive_test_voltage)
+*(.text:_drive_vi_modulate)
 *(.text:_encoder_check_jump)
 *(.text:_ident_in)
 *(.text:_ident_regressor_accumulate)

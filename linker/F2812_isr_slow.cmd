@@ -16,7 +16,7 @@
  * name).  Symbol names: COFF ABI prefixes C names with '_', EABI does not
  * (SPRU514 "COFF ABI vs EABI").  This file: --abi=coffabi.  A static function of
  * the same name in two files is matched in both (a few words more in RAM).
- * 68 functions.
+ * 72 functions.
  */
 *(.text:_bw_filter_step)
 *(.text:_bw_filter_update)
@@ -34,6 +34,7 @@
 *(.text:_drive_safety_slow)
 *(.text:_drive_safety_stall)
 *(.text:_drive_set_run_ifo)
+*(.text:_drive_vi_slow)
 *(.text:_encoder_check_frozen)
 *(.text:_enter)
 *(.text:_estim_asr32)
@@ -85,6 +86,9 @@
 *(.text:_telemetry)
 *(.text:_tr_track_restart)
 *(.text:_tr_track_step)
+*(.text:_vi_curve_step)
+*(.text:_volt_calc_apply_curve)
+*(.text:_window_add)
 *(.text:_window_mean)
 /*
  * TI's IQmath functions the ISR reaches: the members of C2000Ware's

@@ -114,6 +114,35 @@ static void json_adaptation(jw_t *w, const sim_result_t *r)
                      !(r->drift_rr_true_end_ohm < 0.0));
 }
 
+/* "vi_curve": the bridge's voltage-error test (vi_curve.h): the fit, the
+ * true E and band, and the table with the true error (vi_curve_model_V) at
+ * each measured current */
+static void json_vi_curve(jw_t *w, const sim_result_t *r)
+{
+    const vi_fit_t *v = &r->vi;
+    unsigned i;
+    fprintf(w->f, "  \"vi_curve\": {\"status\": \"%s\", \"rs_ohm\": ", vi_fit_str(v->status));
+    jw_num(w, "%.6g", "vi_curve", "rs_ohm", v->rs_ohm);
+    fputs(", \"e_pole_V\": ", w->f);
+    jw_num(w, "%.6g", "vi_curve", "e_pole_V", v->e_pole_V);
+    fputs(", \"band_A\": ", w->f);
+    jw_num(w, "%.6g", "vi_curve", "band_A", v->band_A);
+    fputs(", \"vdc_V\": ", w->f);
+    jw_num(w, "%.6g", "vi_curve", "vdc_V", v->vdc_V);
+    fprintf(w->f, ", \"n_band\": %u", (unsigned)v->n_band);
+    fprintf(w->f, ", \"true_e_pole_V\": %.6g, \"true_band_A\": %.6g, \"table\": [",
+            r->vi_true_e_pole_V, r->vi_true_band_A);
+    for (i = 0; i < VI_CURVE_LEVELS; i++) {
+        fprintf(w->f, "%s[", i ? ", " : "");
+        jw_num(w, "%.6g", "vi_curve", "i_A", v->i_A[i]);
+        fputs(", ", w->f);
+        jw_num(w, "%.6g", "vi_curve", "u_err_V", v->u_err_V[i]);
+        fprintf(w->f, ", %.6g]", (double)vi_curve_model_V((float)r->vi_true_e_pole_V,
+                                                           (float)r->vi_true_band_A, v->i_A[i]));
+    }
+    fputs("]},\n", w->f);
+}
+
 static const char *const k_param_keys[6] = {"Rs_ohm", "Rr_ohm", "Lm_H", "Lr_H", "psi_r_Wb",
                                              "Tr_s"};
 
@@ -166,7 +195,7 @@ static const char *fault_name(uint16_t code)
                                         "bus_undervoltage", "encoder", "current_offset",
                                         "adc_rail", "hw_trip", "config",
                                         "current_sensor", "isr_overrun", "sensor_test",
-                                        "stall"};
+                                        "stall", "vi_curve"};
     return (code < sizeof names / sizeof names[0]) ? names[code] : "unknown";
 }
 
@@ -279,6 +308,7 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
     jw_field(&w, "v_err_across_i_V", r->v_err_across_i_V);
     jw_field(&w, "i_mag_steady_A", r->i_mag_steady_A);
     json_adaptation(&w, r);
+    json_vi_curve(&w, r);
     fprintf(f, "  \"faults\": [");
     for (i = 0; i < r->n_faults_seen; i++) {
         char which[24];

@@ -108,6 +108,9 @@ static const key_spec_t k_keys[] = {
     D(ident, standstill, OPT, 0, DRIVE, "1: Rs and sigma Ls at standstill (orientation 1)"),
     D(ident, track_rr, OPT, 0, DRIVE, "1: Rr/Tr tracked in RUN (orientation 1)"),
     D(ident, track_memory_s, OPT, 1.0, DRIVE, "the tracker's forgetting time constant"),
+    D(ident, vi_test, OPT, 0, DRIVE,
+      "1: the bridge's voltage error measured at standstill, the compensation on it "
+      "(controller.dead_time_band_A unused)"),
     /* ---- the simulated world ---- */
     K(plant, Rs_ohm, OPT, 0, "nameplate.Rs_ohm", 1e-4, 1000, 0, "ohm", SIM,
       "true stator resistance"),

@@ -65,6 +65,7 @@ typedef struct {
     double standstill;       /* 1: Rs and sigma Ls measured at standstill */
     double track_rr;         /* 1: Rr tracked in RUN */
     double track_memory_s;   /* the tracker's forgetting time constant */
+    double vi_test;          /* 1: the bridge's voltage error measured at standstill */
 } sim_ident_t;
 
 /** [plant] (sim): the true motor, each parameter the nameplate's unless given. */

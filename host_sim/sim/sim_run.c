@@ -10,6 +10,7 @@
 #include "drift.h"
 #include "drive_limits.h"
 #include "drive_types.h"
+#include "vi_curve.h"
 #include "hal_host.h"
 #include "sim_limits.h"
 
@@ -242,7 +243,20 @@ static int trace_row_adaptation(FILE *f, const drive_t *d, const plant_t *p)
             (double)_IQ20toF(t->Tr_track) * d->base.t_base_s);
 }
 
-/* Simulated time when none is given: calibration, magnetisation, the ramp
+/* The bridge's voltage-error test in CALIBRATE (vi_curve.h; with the
+ * compensation only), on the believed Tr, and the background's fit. */
+static double vi_test_s(const sim_config_t *c)
+{
+    const sim_nameplate_t *n = &c->nameplate;
+    if (c->controller.dead_time_comp == 0.0 || c->ident.vi_test == 0.0) {
+        return 0.0;
+    }
+    return (double)vi_curve_duration_s((float)((double)DRIVE_SLOTS / c->board.pwm_freq_Hz),
+                                       (float)((n->Lm_H + n->Llr_H) / n->Rr_ohm)) + 0.1;
+}
+
+/* Simulated time when none is given: calibration (with the bridge's
+ * voltage-error test), magnetisation, the ramp
  * and the longest SETTLE (3 s), once per pass (a later pass slows down and
  * accelerates again), then what the scenario does after the identification.
  * The drift scenario ends earlier, when its window is over (sim_run). */
@@ -250,7 +264,7 @@ static double default_duration_s(const sim_config_t *c, sim_scenario_t s)
 {
     double ident = 0.1 + c->ident.magnetize_s +
                    c->ident.target_speed_rpm / c->controller.speed_ramp_rpm_s + 3.2;
-    double d = ident * c->ident.passes;
+    double d = ident * c->ident.passes + vi_test_s(c);
     if (c->ident.track_rr != 0.0) {
         /* the fused set: the tracker valid 1 s into RUN, then its fit judged */
         d += 2.0;
@@ -725,6 +739,12 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     conf_figures(&drive, res);
     res->Rs_dc_ohm = (double)_IQtoF(drive.telemetry.Rs_dc) * b->Z_base_ohm;
     res->adapt_timeouts = drive.seq.adapt_timeouts;
+    vi_curve_fit(&drive.vic, b->I_base_A, b->V_base_V, &res->vi);
+    if (res->vi.status == VI_FIT_OK) {
+        res->vi.status = (vi_fit_status_t)drive.vic_status;   /* the drive's own checks */
+    }
+    res->vi_true_e_pole_V = plant.inv.p.vdc_V * plant.inv.td_frac + plant.inv.v_drop_V;
+    res->vi_true_band_A = plant.inv.p.i_band_A;
     drift_figures(&drift, res);
     if (res->identified) {
         sim_params_t *e = &res->published_end_error_pct;

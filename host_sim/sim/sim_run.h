@@ -12,6 +12,7 @@
 #include "drive.h"
 #include "plant.h"
 #include "sim_config.h"
+#include "vi_curve.h"
 
 #define SIM_MAX_FAULTS 8
 
@@ -175,6 +176,11 @@ typedef struct {
     double v_err_along_i_V, v_err_across_i_V;
     double i_mag_steady_A;          /* mean current-vector magnitude (peak phase) */
     uint32_t n_v_err;               /* samples averaged */
+    /* the bridge's voltage-error test at standstill (vi_curve.h): the
+     * drive's fit, and the simulated bridge's true E and band (the
+     * plant's dead time, source bus, drop, transition) */
+    vi_fit_t vi;
+    double vi_true_e_pole_V, vi_true_band_A;
     /* adaptation (the adaptive sequence), telemetry at the end */
     uint16_t final_pass;            /* identification pass under way or last done */
     double Rs_dc_ohm;               /* standstill Rs; 0: none measured */

@@ -12,6 +12,7 @@
 #include "drive_design.h"
 #include "drive_internal.h"
 #include "drive_safety.h"
+#include "drive_vi.h"
 
 /* the telemetry's confidences are ident_conf's parameters, in its order */
 typedef char drive_conf_np_matches[(DRIVE_CONF_NP == IDENT_NP &&
@@ -435,6 +436,7 @@ void drive_background(drive_t *d)
         capture_mid(d, &d->live_snap);
         d->live_snap.ready = 0u;
     }
+    drive_vi_background(d);      /* the bridge's curve, once measured (drive_vi.c) */
     drive_adapt_background(d);   /* the adaptation's models and constants (drive_adapt_bg.c) */
     fused_verdict(d);
     publish_tracked(d);

@@ -18,6 +18,7 @@
 #include "drive_internal.h"
 #include "drive_limits.h"
 #include "drive_safety.h"
+#include "drive_vi.h"
 
 #include <math.h>
 #include <string.h>
@@ -225,10 +226,13 @@ int16_t drive_init(drive_t *d, const drive_config_t *c)
         return DRIVE_CFG_ORIENTATION;
     }
     d->config_status = DRIVE_CFG_VOLTAGE_MODEL;
+    /* with ident.vi_test the compensation stays off until the bridge's
+     * curve is measured (drive_vi.c), and the linear zone here is unused */
     if (volt_calc_init(&d->volt, c->board.dead_time_s, Ts,
                        c->board.device_drop_V / d->base.V_base_V,
-                       c->board.dead_time_band_A / d->base.I_base_A,
-                       c->board.dead_time_comp) != 0) {
+                       (c->ident.vi_test != 0u) ? VOLT_CALC_ITH_MAX_PU
+                                                : c->board.dead_time_band_A / d->base.I_base_A,
+                       (c->ident.vi_test != 0u) ? 0u : c->board.dead_time_comp) != 0) {
         return DRIVE_CFG_VOLTAGE_MODEL;
     }
     d->config_status = DRIVE_CFG_IDENT;
@@ -274,6 +278,10 @@ int16_t drive_init(drive_t *d, const drive_config_t *c)
     }
     if (drive_safety_init(d, c) != 0) {
         return DRIVE_CFG_PROTECTION;
+    }
+    if (drive_vi_init(d, c, g.Ts_slow, g.sls, g.tr) != 0) {
+        d->config_status = DRIVE_CFG_VOLTAGE_MODEL;
+        return DRIVE_CFG_VOLTAGE_MODEL;
     }
     isr_monitor_init(&d->ovr);
     clarke_init(&d->clarke);

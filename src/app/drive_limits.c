@@ -129,6 +129,7 @@ static const drive_limit_t k_limits[] = {
     FIELD_F("ident.forgetting", ident.forgetting, "-", DRIVE_CFG_IDENT, 0.9f, 1.0f),
     FIELD_U("ident.passes", ident.passes, "-", DRIVE_CFG_IDENT, 1.0f, (float)ID_PASSES_MAX),
     FIELD_U("ident.standstill", ident.standstill, "0/1", DRIVE_CFG_IDENT, 0.0f, 1.0f),
+    FIELD_U("ident.vi_test", ident.vi_test, "0/1", DRIVE_CFG_VOLTAGE_MODEL, 0.0f, 1.0f),
     FIELD_U("ident.track_rr", ident.track_rr, "0/1", DRIVE_CFG_IDENT, 0.0f, 1.0f),
     FIELD_F("ident.track_memory_s", ident.track_memory_s, "s", DRIVE_CFG_IDENT, 0.2f, 20.0f),
     FIELD_F("ident.magnetize_s", ident.magnetize_time_s, "s", DRIVE_CFG_SEQUENCE, 0.001f, 100.0f),
@@ -518,6 +519,14 @@ static int16_t check_voltage_model(const drive_limit_t *l, const limit_ctx_t *x,
         return verdict((int16_t)(v < DRIVE_LIMITS_LINEAR_OF_VDC * bd->vdc_nominal_V), f, v, 0.0f,
                        DRIVE_LIMITS_LINEAR_OF_VDC * bd->vdc_nominal_V, HI_OPEN);
     case DRIVE_LD_BAND:
+        if (x->c->ident.vi_test != 0u) {
+            /* the zone is measured (drive_vi.c) and checked when it is
+             * (volt_calc_curve_design); vi_curve_init holds a current level
+             * 6 Tr in a 16-bit count of slow samples */
+            v = 65535.0f * x->g.Ts_slow / 6.0f;
+            return verdict((int16_t)(bd->dead_time_comp == 0u || x->g.tr <= v), f, x->g.tr,
+                           0.0f, v, LO_OPEN);
+        }
         v = bd->dead_time_band_A / b->I_base_A;
         return verdict((int16_t)(v >= VOLT_CALC_ITH_MIN_PU && v <= VOLT_CALC_ITH_MAX_PU), f,
                        bd->dead_time_band_A, VOLT_CALC_ITH_MIN_PU * b->I_base_A,

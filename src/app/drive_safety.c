@@ -22,6 +22,7 @@
  * at its definition.
  */
 #include "drive_safety.h"
+#include "drive_vi.h"
 
 #include "drive_design.h"
 
@@ -180,16 +181,11 @@ uint16_t drive_safety_test_period(drive_t *d, hal_pwm_compare_t *out, uint16_t p
         return 0u;
     }
     if (d->seq.sensor_testing != 0u) {
-        /* the test's voltage, not the current loops' (held at zero: no
-         * wind-up against the pulses) */
-        pi_reset(&d->pi_id);
-        pi_reset(&d->pi_iq);
-        d->svgen.ualpha = t->u_alpha;
-        d->svgen.ubeta = t->u_beta;
-        svgen_step(&d->svgen);
-        out->cmpr[0] = d->svgen.cmpr[0];
-        out->cmpr[1] = d->svgen.cmpr[1];
-        out->cmpr[2] = d->svgen.cmpr[2];
+        drive_test_voltage(d, out, t->u_alpha, t->u_beta);
+    } else if (d->seq.vi_testing != 0u) {
+        drive_vi_modulate(d, out);   /* the bridge's voltage-error test (drive_vi.c) */
+    } else {
+        /* the current loops' */
     }
     return pwm_on;
 }
@@ -231,7 +227,10 @@ void drive_safety_slow(drive_t *d)
 
     s->psi_e = psi_e;   /* for the locked-rotor decision (drive_safety_stall) */
 
-    m->active = (uint16_t)(d->on_next != 0u && d->on_last != 0u);
+    /* not during the bridge's voltage-error test: its voltage carries the
+     * uncompensated dead time, which the model would take for a sensor's
+     * error (the test checks its currents itself) */
+    m->active = (uint16_t)(d->on_next != 0u && d->on_last != 0u && d->seq.vi_testing == 0u);
     /* the encoder's count over the window (stall_check.h) */
     stall_check_window_step(&s->stall, d->qep.count, d->on_next);
     if (s->stall.enc_fault != 0u) {

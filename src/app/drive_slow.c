@@ -42,6 +42,7 @@
 #include "angle.h"
 #include "drive_adapt.h"
 #include "drive_safety.h"
+#include "drive_vi.h"
 
 static void sequence(drive_t *d)
 {
@@ -51,6 +52,7 @@ static void sequence(drive_t *d)
     s->speed_err = _IQabs(d->speed_ramp.out - d->qep.speed);
     s->i_mf = d->reg.i_mf;
     s->i_tf = d->reg.i_tf;
+    drive_vi_slow(d);   /* the bridge's voltage-error test in CALIBRATE (drive_vi.c) */
     id_sequence_step(s);
     if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS && s->state == ID_MAGNETIZE &&
         s->t_state == 0u) {
@@ -122,7 +124,10 @@ static void check_current(drive_t *d)
     d->cur_chk.i_m = d->park.ds;
     d->cur_chk.i_t_ref = d->pi_iq.ref;
     d->cur_chk.i_t = d->park.qs;
-    d->cur_chk.active = d->on_next;   /* re-armed (filter zeroed) while the bridge is off */
+    /* re-armed (filter zeroed) while the bridge is off, and during the
+     * bridge's voltage-error test, whose alpha current has no M-T reference
+     * (the test checks each of its current levels itself: FAULT_VI_CURVE) */
+    d->cur_chk.active = (uint16_t)(d->on_next != 0u && d->seq.vi_testing == 0u);
     current_check_step(&d->cur_chk);
     d->prot.current_fault = d->cur_chk.fault;
     if (d->cur_chk.fault != 0u) {

@@ -121,7 +121,8 @@ void id_sequence_step(id_sequence_t *s)
         }
         break;
     case ID_CALIBRATE:
-        if (s->cal_done != 0u && (s->sensor_test == 0u || s->test_done != 0u)) {
+        if (s->cal_done != 0u && (s->sensor_test == 0u || s->test_done != 0u) &&
+            (s->vi_test == 0u || s->vi_done != 0u)) {
             enter(s, ID_MAGNETIZE);
         }
         break;
@@ -195,10 +196,16 @@ void id_sequence_step(id_sequence_t *s)
     /* outputs as a function of the (new) state */
     s->sensor_testing = (uint16_t)((uint16_t)(s->state == ID_CALIBRATE) &
                                    (uint16_t)(s->cal_done != 0u) &
-                                   (uint16_t)(s->sensor_test != 0u));
+                                   (uint16_t)(s->sensor_test != 0u) &
+                                   (uint16_t)(s->test_done == 0u));
+    s->vi_testing = (uint16_t)((uint16_t)(s->state == ID_CALIBRATE) &
+                               (uint16_t)(s->cal_done != 0u) &
+                               (uint16_t)(s->sensor_test == 0u || s->test_done != 0u) &
+                               (uint16_t)(s->vi_test != 0u) & (uint16_t)(s->vi_done == 0u));
     s->pwm_on = (uint16_t)(s->state == ID_MAGNETIZE || s->state == ID_ACCELERATE ||
                            s->state == ID_SETTLE || s->state == ID_RUN ||
-                           s->state == ID_REFINE || s->sensor_testing != 0u);
+                           s->state == ID_REFINE || s->sensor_testing != 0u ||
+                           s->vi_testing != 0u);
     s->calibrating = (uint16_t)(s->state == ID_CALIBRATE && s->cal_done == 0u);
     s->speed_loop_on = (uint16_t)(s->state == ID_ACCELERATE || s->state == ID_SETTLE ||
                                   s->state == ID_RUN || s->state == ID_REFINE);

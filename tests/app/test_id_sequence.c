@@ -74,20 +74,25 @@ static void step(id_sequence_t *s, pulses_t *p)
 
 /* Outputs of each state (header): PWM in MAGNETIZE..RUN and REFINE, and
  * in CALIBRATE while the sensor test runs (after the calibration, with the
- * test enabled, until test_done); the speed loop in ACCELERATE, SETTLE,
+ * test enabled, until test_done) and then the voltage-error test (with it
+ * enabled, until vi_done); the speed loop in ACCELERATE, SETTLE,
  * RUN, REFINE; i_M ref with the PWM but not in the sensor test; speed
  * target (REFINE: refine_speed) with the speed loop. */
 static void check_outputs(const id_sequence_t *s)
 {
     const id_state_t st = s->state;
     const uint16_t test = (uint16_t)(st == ID_CALIBRATE && s->cal_done != 0u &&
-                                     s->sensor_test != 0u);
+                                     s->sensor_test != 0u && s->test_done == 0u);
+    const uint16_t vi = (uint16_t)(st == ID_CALIBRATE && s->cal_done != 0u &&
+                                   (s->sensor_test == 0u || s->test_done != 0u) &&
+                                   s->vi_test != 0u && s->vi_done == 0u);
     const uint16_t pwm = (uint16_t)(st == ID_MAGNETIZE || st == ID_ACCELERATE ||
                                     st == ID_SETTLE || st == ID_RUN || st == ID_REFINE ||
-                                    test != 0u);
+                                    test != 0u || vi != 0u);
     const uint16_t spd = (uint16_t)(st == ID_ACCELERATE || st == ID_SETTLE || st == ID_RUN ||
                                     st == ID_REFINE);
     assert_int_equal(s->sensor_testing, test);
+    assert_int_equal(s->vi_testing, vi);
     assert_int_equal(s->pwm_on, pwm);
     assert_int_equal(s->speed_loop_on, spd);
     assert_int_equal(s->calibrating, (uint16_t)(st == ID_CALIBRATE && s->cal_done == 0u));
@@ -684,10 +689,64 @@ static void test_sensor_test_in_calibrate(void **state)
     check_outputs(&s);
 }
 
+/* The bridge's voltage-error test after the sensor test (vi_test = 1): the
+ * sensor test first (sensor_testing, not vi_testing), then, once test_done,
+ * the voltage-error test with the bridge switching and no current
+ * reference until the drive says vi_done; then MAGNETIZE.  A measured
+ * curve stays measured (vi_done is the drive's, once per drive_init): a
+ * new start goes from the sensor test straight to MAGNETIZE. */
+static void test_vi_test_in_calibrate(void **state)
+{
+    id_sequence_t s;
+    pulses_t p;
+    uint32_t k;
+    (void)state;
+    memset(&p, 0, sizeof p);
+    seq_init(&s);
+    assert_int_equal(s.vi_test, 0u);   /* off after init */
+    s.sensor_test = 1u;
+    s.vi_test = 1u;
+    id_sequence_start(&s);
+    step(&s, &p);
+    s.cal_done = 1u;
+    step(&s, &p);
+    assert_int_equal(s.sensor_testing, 1u);
+    assert_int_equal(s.vi_testing, 0u);
+    check_outputs(&s);
+    s.test_done = 1u;
+    for (k = 0u; k < 40u; k++) {
+        step(&s, &p);
+        assert_int_equal(s.state, ID_CALIBRATE);
+        assert_int_equal(s.sensor_testing, 0u);
+        assert_int_equal(s.vi_testing, 1u);
+        assert_int_equal(s.pwm_on, 1u);
+        assert_true(s.im_cmd == _IQ(0.0));
+        assert_int_equal(s.speed_loop_on, 0u);
+        check_outputs(&s);
+    }
+    s.vi_done = 1u;
+    step(&s, &p);
+    assert_int_equal(s.state, ID_MAGNETIZE);
+    assert_int_equal(s.vi_testing, 0u);
+    check_outputs(&s);
+    id_sequence_stop(&s);
+    step(&s, &p);
+    s.test_done = 0u;
+    id_sequence_start(&s);
+    step(&s, &p);
+    step(&s, &p);
+    assert_int_equal(s.sensor_testing, 1u);
+    s.test_done = 1u;
+    step(&s, &p);
+    assert_int_equal(s.state, ID_MAGNETIZE);
+    check_outputs(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sensor_test_in_calibrate),
+        cmocka_unit_test(test_vi_test_in_calibrate),
         cmocka_unit_test(test_three_passes),
         cmocka_unit_test(test_one_pass),
         cmocka_unit_test(test_settle_timeout),

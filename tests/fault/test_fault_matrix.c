@@ -42,7 +42,7 @@
 #include "sim_config.h"
 #include "sim_run.h"
 
-#define N_FAULT_CODES 13u
+#define N_FAULT_CODES 14u
 
 typedef struct {
     const char *name;       /* motor_sim --fault name */
@@ -154,7 +154,7 @@ static const char *code_name(unsigned c)
     static const char *const n[N_FAULT_CODES] = {
         "none", "overcurrent", "bus_overvoltage", "bus_undervoltage", "encoder",
         "current_offset", "adc_rail", "hw_trip", "config", "current_sensor", "isr_overrun",
-        "sensor_test", "stall"};
+        "sensor_test", "stall", "vi_curve"};
     return (c < N_FAULT_CODES) ? n[c] : "?";
 }
 

@@ -31,7 +31,7 @@ STATES = ("IDLE", "CALIBRATE", "MAGNETIZE", "ACCELERATE", "SETTLE", "RUN", "FAUL
 # include/protect.h fault_code_t, in enum order (likewise)
 FAULTS = ("none", "overcurrent", "bus_overvoltage", "bus_undervoltage", "encoder",
           "current_offset", "adc_rail", "hw_trip", "config", "current_sensor", "isr_overrun",
-          "sensor_test", "stall")
+          "sensor_test", "stall", "vi_curve")
 
 # include/drive.h drive_pub_reason_t, in enum order (likewise)
 REASONS = ("pending", "published", "not_converged", "low_excitation", "high_residual",

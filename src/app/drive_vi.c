@@ -1,0 +1,176 @@
+/**
+ * The bridge's voltage error at standstill (vi_curve.h), measured in
+ * CALIBRATE after the sensor test, once per drive_init, and used by the
+ * voltage reconstruction and the dead-time feed-forward (volt_calc.h) in
+ * place of a hand-set linear zone (method §6 "Dead time").
+ *
+ * Who does what:
+ *   - ISR, slot SEQUENCE (drive_vi_slow): the test's step (a PI step on
+ *     i_alpha or a held voltage, the window sums: vi_curve_step), and once
+ *     the background has answered, the curve copied into volt_calc (six
+ *     words) and seq.vi_done; a failed test, a refused curve or no answer
+ *     within DRIVE_VI_WAIT_S latch FAULT_VI_CURVE (the drive never runs
+ *     on a curve it did not measure);
+ *   - ISR, every period of the test (drive_vi_modulate): the test's alpha
+ *     voltage to the modulator, as the sensor test does;
+ *   - background (drive_vi_background): the schedule (each level's window
+ *     means and check, the next level: vi_curve_next), the fit (float), the
+ *     plausibility against the board's dead time and drop, the curve's
+ *     constants; the test's restart while the sequence is idle or
+ *     calibrating.
+ * Until the curve is applied the compensation is off: the test itself
+ * needs the uncompensated voltage (u_ref = vdc d), and nothing runs on the
+ * voltage model before MAGNETIZE.
+ *
+ * With [controller] dead_time_comp = 0 there is no test and no
+ * compensation.
+ */
+#include "drive_vi.h"
+
+#include "drive_design.h"
+
+#include <math.h>
+
+#define DRIVE_VI_BW_HZ 50.0f     /* the current levels' loop: a tenth of the current loops'
+                                    usual bandwidth, at the slow rate (1.875 kHz: 37 samples
+                                    per time constant); its levels are held 3 Tr anyway */
+#define DRIVE_VI_I1_OF_IM 0.25f  /* i1 = 0.25 i_M (2 i1 = 0.5 i_M): far beyond a transition
+                                    of tenths of an ampere, and a flux small enough to leave
+                                    within the rest */
+#define DRIVE_VI_WAIT_S 1.0f     /* longest wait for the background's fit */
+#define DRIVE_VI_E_FACTOR 2.0f   /* the measured E within this factor of the board's
+                                    vdc td/Ts + v_drop: else the board's dead time or the
+                                    test is wrong, refused */
+
+int16_t drive_vi_init(drive_t *d, const drive_config_t *c, float Ts_slow, float sls_H,
+                      float tr_s)
+{
+    const base_values_t *b = &d->base;
+    const float f_slow = 1.0f / Ts_slow;
+    const float wc = DRIVE_TWO_PI_F * fminf(DRIVE_VI_BW_HZ, 0.05f * f_slow);
+    /* the PI's zero on the stator pole, as the current loops (drive_init.c) */
+    const float kp = wc * sls_H / b->Z_base_ohm;
+    const float ki = wc * Ts_slow * c->motor.Rs_ohm / b->Z_base_ohm;
+    /* within half the linear modulation range vdc / sqrt(3) */
+    const float u_max = 0.5f * c->board.vdc_nominal_V / 1.7320508f / b->V_base_V;
+
+    d->vic_post = DRIVE_VI_NONE;
+    d->vic_fitted = 0u;
+    d->vic_wait = 0u;
+    d->vic_wait_max = (uint32_t)(DRIVE_VI_WAIT_S / Ts_slow + 0.5f);
+    d->vic_dt_frac = c->board.dead_time_s * f_slow * (float)DRIVE_SLOTS;
+    if (c->board.dead_time_comp == 0u || c->ident.vi_test == 0u) {
+        return 0;   /* no compensation, or on the set band (drive_init.c) */
+    }
+    if (vi_curve_init(&d->vic, Ts_slow, DRIVE_VI_I1_OF_IM * c->motor.magnetizing_current_A /
+                      b->I_base_A, tr_s, kp, ki, u_max) != VI_CURVE_OK) {
+        return 1;
+    }
+    d->seq.vi_test = 1u;
+    return 0;
+}
+
+void drive_vi_slow(drive_t *d)
+{
+    vi_curve_t *v = &d->vic;
+
+    if (d->seq.vi_test == 0u || d->seq.vi_done != 0u) {
+        return;
+    }
+    v->run = d->seq.vi_testing;
+    v->i_alpha = d->clarke.alpha;
+    v->u_alpha = d->volt.valpha;
+    v->vdc = d->bus.vdc;
+    vi_curve_step(v);
+    if (v->done == 0u || d->seq.vi_testing == 0u) {
+        return;
+    }
+    if (v->fail == 0u && d->vic_post == DRIVE_VI_CURVE) {
+        volt_calc_apply_curve(&d->volt, &d->vic_curve);
+        d->seq.vi_done = 1u;
+    } else if (v->fail != 0u || d->vic_post == DRIVE_VI_REFUSED ||
+               ++d->vic_wait >= d->vic_wait_max) {
+        protect_latch(&d->prot, FAULT_VI_CURVE);
+    } else {
+        /* waiting for the background, at zero voltage */
+    }
+}
+
+void drive_test_voltage(drive_t *d, hal_pwm_compare_t *out, _iq u_alpha, _iq u_beta)
+{
+    /* the test's voltage, not the current loops' (held at zero: no wind-up
+     * against the test) */
+    pi_reset(&d->pi_id);
+    pi_reset(&d->pi_iq);
+    d->svgen.ualpha = u_alpha;
+    d->svgen.ubeta = u_beta;
+    svgen_step(&d->svgen);
+    out->cmpr[0] = d->svgen.cmpr[0];
+    out->cmpr[1] = d->svgen.cmpr[1];
+    out->cmpr[2] = d->svgen.cmpr[2];
+}
+
+void drive_vi_modulate(drive_t *d, hal_pwm_compare_t *out)
+{
+    /* along alpha only: poles b and c carry the same duty and current */
+    drive_test_voltage(d, out, d->vic.u_cmd, _IQ(0.0));
+}
+
+void drive_vi_background(drive_t *d)
+{
+    const base_values_t *b = &d->base;
+    vi_fit_t fit;
+    vi_fit_t *f = &fit;
+    float vdc_pu, e_pu, e_board, dt, drop;
+
+    if (d->seq.vi_test == 0u || d->seq.vi_done != 0u) {
+        return;
+    }
+    if (d->seq.state == ID_IDLE || d->seq.calibrating != 0u) {
+        /* stopped, or a failure's fault reset: the next start measures
+         * afresh (the ISR runs the test only after the calibration) */
+        if (d->vic_fitted != 0u || d->vic.level != 0u || d->vic.n != 0u || d->vic.t != 0u) {
+            vi_curve_restart(&d->vic);
+            d->vic_post = DRIVE_VI_NONE;
+            d->vic_wait = 0u;
+            d->vic_fitted = 0u;
+        }
+        return;
+    }
+    (void)vi_curve_next(&d->vic);   /* the schedule: each level's window, the next */
+    if (d->vic.done == 0u || d->vic_fitted != 0u) {
+        return;
+    }
+    d->vic_fitted = 1u;
+    vi_curve_fit(&d->vic, b->I_base_A, b->V_base_V, f);
+    d->vic_status = (uint16_t)f->status;
+    if (f->status != VI_FIT_OK) {
+        d->vic_post = DRIVE_VI_REFUSED;
+        return;
+    }
+    /* the error measured at the test's bus: the part that scales with the
+     * bus is the board's dead time, the rest the devices' drop (a measured
+     * error below the dead time's alone: all of it scales with the bus) */
+    vdc_pu = f->vdc_V / b->V_base_V;
+    e_pu = f->e_pole_V / b->V_base_V;
+    e_board = vdc_pu * d->vic_dt_frac + _IQtoF(d->volt.v_drop);
+    if (!(vdc_pu > 0.0f) || !(e_pu <= DRIVE_VI_E_FACTOR * e_board) ||
+        !(e_pu * DRIVE_VI_E_FACTOR >= e_board)) {
+        d->vic_status = (uint16_t)VI_FIT_ERROR;
+        d->vic_post = DRIVE_VI_REFUSED;
+        return;
+    }
+    dt = d->vic_dt_frac;
+    drop = e_pu - vdc_pu * dt;
+    if (drop < 0.0f) {
+        dt = e_pu / vdc_pu;
+        drop = 0.0f;
+    }
+    if (volt_calc_curve_design(&d->vic_curve, dt, drop, f->band_A / b->I_base_A) !=
+        VOLT_CALC_OK) {
+        d->vic_status = (uint16_t)VI_FIT_BAND;
+        d->vic_post = DRIVE_VI_REFUSED;
+        return;
+    }
+    d->vic_post = DRIVE_VI_CURVE;   /* last: the curve is complete */
+}
