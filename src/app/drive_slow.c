@@ -28,7 +28,13 @@
  *   7 SAFETY      the model-based protections' slow step (drive_safety.c:
  *                 the currents against the model over the window, the
  *                 encoder's count step, the publish guard's tick; the
- *                 locked-rotor decision stays with the frozen test, slot 3)
+ *                 locked-rotor decision stays with the frozen test, slot 3;
+ *                 the model check's sequence tests, which alternate two
+ *                 halves from window to window, run on its residual in the
+ *                 next window's slots 0 and 2, the two lighter ones of the
+ *                 slots that run with both orientations: the heaviest part
+ *                 of the schedule, 1300 cycles in one ISR, is then spread
+ *                 over three)
  * The firmware's data log runs in the ISR of slot 2 (DRIVE_LOG_SLOT), the
  * lightest: its cost adds there.
  *
@@ -142,6 +148,7 @@ static void task_checks(drive_t *d)
 
 static void task_speed(drive_t *d)
 {
+    drive_safety_seq(d, 0u);   /* the model check's positive sequence (drive_safety.h) */
     /* the encoder's speeds right before the speed loop uses them (every
      * sample of delay in its feedback costs phase at a reversal) */
     qep_speed_update(&d->qep);
@@ -302,6 +309,7 @@ void drive_slow_task(drive_t *d, uint16_t slot)
         break;
     case DRIVE_SLOT_FILTERS_B:
         ident_regressor_filter_b(&d->reg);
+        drive_safety_seq(d, 1u);   /* the model check's other sequence tests */
         break;
     case DRIVE_SLOT_FILTERS_C:
         task_filters_c(d);
