@@ -78,7 +78,8 @@
  * errs high): accumulate 58 cycles per period; the step with the drive's
  * glue (drive_safety.c) ~840 cycles at standstill, ~1050 at speed (the
  * sequence tests' two halves alternate; the bench's sum of maxima over
- * both: 1310).
+ * both: 1310).  The drive runs the step in three ISRs: the residual in one
+ * (~870), each half in its own (~210 and ~520).
  *
  * Scaling and overflow (Q24 pu throughout): each period's voltage is
  * saturated to +-4 pu before it is summed (the bridge cannot exceed

@@ -60,8 +60,9 @@ typedef enum {
     DRIVE_SLOT_SAFETY       /* the model-based protections' slow step (drive_safety.c:
                                the model check's residual, its halves in 0 and 2) */
 } drive_slot_t;
-/** The firmware's data log runs in the ISR after this slot's, the lightest
- *  of the schedule (drive_log_due; tools/bench_isr.py adds its cost there). */
+/** The firmware's data log runs in the ISR after this slot's, one of the
+ *  lightest of the schedule (drive_log_due; tools/bench_isr.py adds its cost
+ *  there). */
 #define DRIVE_LOG_SLOT DRIVE_SLOT_FILTERS_B
 
 /** Gains and constants derived once by drive_init (pu, Q24). */

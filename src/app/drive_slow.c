@@ -35,8 +35,10 @@
  *                 slots that run with both orientations: the heaviest part
  *                 of the schedule, 1300 cycles in one ISR, is then spread
  *                 over three)
- * The firmware's data log runs in the ISR of slot 2 (DRIVE_LOG_SLOT), the
- * lightest: its cost adds there.
+ * The firmware's data log runs in the ISR of slot 2 (DRIVE_LOG_SLOT), chosen
+ * as the lightest and still one of the lighter ones with the model check's
+ * half 1 (the observer's 5 and 6 are lighter only with IFO): its cost adds
+ * there.
  *
  * The sequence sees the filtered di/dt of this period and judges the RLS's
  * enable for the next one.  The 10 Hz regression band and the speed loop's
