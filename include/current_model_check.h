@@ -78,7 +78,8 @@
  * errs high): accumulate 58 cycles per period; the step with the drive's
  * glue (drive_safety.c) ~840 cycles at standstill, ~1050 at speed (the
  * sequence tests' two halves alternate; the bench's sum of maxima over
- * both: 1310).
+ * both: 1310).  The drive runs the step in three ISRs: the residual in one
+ * (~870), each half in its own (~210 and ~520).
  *
  * Scaling and overflow (Q24 pu throughout): each period's voltage is
  * saturated to +-4 pu before it is summed (the bridge cannot exceed
@@ -165,7 +166,9 @@ typedef struct {
     uint16_t n_off;           /* periods of the window with the bridge off */
     uint16_t primed;          /* the previous sample below is valid */
     uint16_t at_speed;        /* slow steps with |w_s| > ws_min, saturating at seq_settle */
-    uint16_t phase;           /* the sequence tests' half of this call (0, 1) */
+    uint16_t phase;           /* the sequence tests' half of the next window (0, 1) */
+    uint16_t seq_due;         /* 1: the residual ran at speed, its half is still to run */
+    _iq thr;                  /* Q24 pu flux: the last residual's MISMATCH level (< 6) */
     _iq i_alpha_prev, i_beta_prev, psi_alpha_prev, psi_beta_prev;
 } current_model_check_t;
 
@@ -194,8 +197,23 @@ static inline void current_model_check_accumulate(current_model_check_t *c, _iq 
     c->n_off |= (uint16_t)(on ^ 1u);
 }
 
-/** Every slow step, after the window's accumulate calls (inputs set). */
+/** Every slow step, after the window's accumulate calls (inputs set):
+ *  current_model_check_residual and then its half of the sequence tests. */
 void current_model_check_step(current_model_check_t *c);
+
+/** The same in two parts, for a caller that spreads them over two ISRs
+ *  (the drive's multi-rate schedule, drive_safety.c): the residual and its
+ *  MISMATCH test over the window (the inputs set, after the window's
+ *  accumulate calls), ... */
+void current_model_check_residual(current_model_check_t *c);
+
+/** ... and, before the next residual, the sequence tests' half `phase`
+ *  (0: the positive sequence's low-pass; 1: the negative sequence, the DC
+ *  and their tests) on that residual: it runs only when the residual was at
+ *  speed and `phase` is the half due in this window (the halves alternate
+ *  from window to window), otherwise returns at once.  A caller that calls
+ *  both halves, each in its own ISR, has each ISR carry one half at most. */
+void current_model_check_half(current_model_check_t *c, uint16_t phase);
 
 /** Clear the fault and the state (the drive's fault reset). */
 void current_model_check_reset(current_model_check_t *c);

@@ -128,9 +128,9 @@ uint16_t drive_isr(drive_t *d);
  *  GLOBAL_Q) as the ISR last left them: for the firmware's data log, read
  *  without copying the whole telemetry snapshot. */
 void drive_get_log_signals(const drive_t *d, _iq sig[4]);
-/** 1 right after the ISR of DRIVE_LOG_SLOT, the schedule's lightest slow
- *  slot: the firmware's data log runs then, so that its cost adds to the
- *  lightest ISR (data at f_pwm / DRIVE_SLOTS, before the log's own
+/** 1 right after the ISR of DRIVE_LOG_SLOT, one of the schedule's lightest
+ *  slow slots: the firmware's data log runs then, so that its cost adds to one of the
+ *  lightest ISRs (data at f_pwm / DRIVE_SLOTS, before the log's own
  *  prescaler). */
 uint16_t drive_log_due(const drive_t *d);
 /** The same without the HAL. */

@@ -49,17 +49,21 @@
 #define DRIVE_SLOTS_LOG2 3u
 #define DRIVE_SLOTS (1u << DRIVE_SLOTS_LOG2)
 typedef enum {
-    DRIVE_SLOT_SPEED = 0,   /* speed ramp + PI, the fast path's slow constants */
+    DRIVE_SLOT_SPEED = 0,   /* speed ramp + PI, the fast path's slow constants; the
+                               model check's positive sequence (half 0) */
     DRIVE_SLOT_FILTERS_A,   /* the regression's window means, the i_M, i_T filters */
-    DRIVE_SLOT_FILTERS_B,   /* the u_M, u_T, w_s i_T filters */
+    DRIVE_SLOT_FILTERS_B,   /* the u_M, u_T, w_s i_T filters; the model check's
+                               negative sequence and DC (half 1) */
     DRIVE_SLOT_FILTERS_C,   /* the w_s i_M, w_r filters, the rows to the RLS; the checks */
     DRIVE_SLOT_SEQUENCE,    /* identification sequence, adaptation, telemetry, snapshot events */
     DRIVE_SLOT_OBSERVER_A,  /* the rotor-flux observer's models (orientation 1) */
     DRIVE_SLOT_OBSERVER_B,  /* its rotor flux, angle and speed */
-    DRIVE_SLOT_SAFETY       /* the model-based protections' slow step (drive_safety.c) */
+    DRIVE_SLOT_SAFETY       /* the model-based protections' slow step (drive_safety.c:
+                               the model check's residual, its halves in 0 and 2) */
 } drive_slot_t;
-/** The firmware's data log runs in the ISR after this slot's, the lightest
- *  of the schedule (drive_log_due; tools/bench_isr.py adds its cost there). */
+/** The firmware's data log runs in the ISR after this slot's, one of the
+ *  lightest of the schedule (drive_log_due; tools/bench_isr.py adds its cost
+ *  there). */
 #define DRIVE_LOG_SLOT DRIVE_SLOT_FILTERS_B
 
 /** Gains and constants derived once by drive_init (pu, Q24). */
@@ -225,7 +229,7 @@ typedef struct {
 } drive_adapt_bg_t;
 
 /** The protections that do not trust one sensor (drive_safety.c): the
- *  model-based current plausibility (SPEED slot), the sensors' pulse test
+ *  model-based current plausibility (SAFETY slot), the sensors' pulse test
  *  before the magnetisation, the rotor checks (count step every period,
  *  locked rotor at the encoder's frozen trip), and what they need of the
  *  drive's constants (pu, Q24). */

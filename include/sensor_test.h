@@ -44,10 +44,10 @@
  * after the last half-pulse's voltage was asked for.
  *
  * Cost on the C28x (tools/bench_isr.py): while the test runs (3 (2N + Z)
- * periods, 2.4-4.4 ms on the three motors) ~1180 cycles an ISR more than
- * an idle CALIBRATE, the test's step and a second SVPWM included (the
- * modulation path then runs as in MAGNETIZE); idle: one compare.  The
- * evaluation (8 multiplies) once per vector.
+ * periods, 2.4-4.4 ms on the three motors) the test's step and the SVPWM
+ * of its voltage; the current loops' modulation, which it replaces, is not
+ * computed then (drive_step.c), so an ISR runs one SVPWM as in MAGNETIZE;
+ * idle: one compare.  The evaluation (8 multiplies) once per vector.
  *
  * Scaling and overflow: currents Q24 pu saturated to +-4 before any
  * difference (|S| <= 16, Clarke components <= 16 x 1.2), constants below 2;

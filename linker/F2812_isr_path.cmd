@@ -20,7 +20,7 @@
  * the same name in two files is matched in both (a few words more in RAM).
  * The firmware's own ISR functions are in `ramfuncs` by #pragma CODE_SECTION
  * (checked by the same test); TI's IQmath functions by the IQmath section.
- * 69 functions.
+ * 70 functions.
  */
 *(.text:_angle_diff_pu)
 *(.text:_angle_sincos)
@@ -30,6 +30,7 @@
 *(.text:_calibrate)
 *(.text:_clarke_step)
 *(.text:_control)
+*(.text:_control_refs)
 *(.text:_current_model_check_accumulate)
 *(.text:_dc_bus_measure)
 *(.text:_drive_adapt_fast)

@@ -16,7 +16,7 @@
  * name).  Symbol names: COFF ABI prefixes C names with '_', EABI does not
  * (SPRU514 "COFF ABI vs EABI").  This file: --abi=coffabi.  A static function of
  * the same name in two files is matched in both (a few words more in RAM).
- * 72 functions.
+ * 75 functions.
  */
 *(.text:_bw_filter_step)
 *(.text:_bw_filter_update)
@@ -27,10 +27,13 @@
 *(.text:_correct_axis)
 *(.text:_current_check_abs_err)
 *(.text:_current_check_step)
-*(.text:_current_model_check_step)
+*(.text:_current_model_check_half)
+*(.text:_current_model_check_residual)
 *(.text:_drive_adapt_slow)
 *(.text:_drive_adapt_track)
 *(.text:_drive_ifo_frame)
+*(.text:_drive_safety_latch_cmc)
+*(.text:_drive_safety_seq)
 *(.text:_drive_safety_slow)
 *(.text:_drive_safety_stall)
 *(.text:_drive_set_run_ifo)

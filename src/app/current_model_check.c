@@ -45,6 +45,7 @@ static void clear_state(current_model_check_t *c)
     c->primed = 0u;
     c->at_speed = 0u;
     c->phase = 0u;
+    c->seq_due = 0u;
 }
 
 void current_model_check_reset(current_model_check_t *c)
@@ -72,13 +73,17 @@ static _iq low_pass(_iq x, _iq target, _iq k)
     return x + _IQmpy(k, target - x);
 }
 
-/* The sequence tests, split over two calls so that no call carries both
+/* The sequence tests, split over two windows so that no call carries both
  * halves (current_model_check.h: cost): phase 0 follows the positive
- * sequence, phase 1 takes it off and judges the rest. */
-static void sequences(current_model_check_t *c, _iq r_a, _iq r_b, _iq thr, _iq i_a, _iq i_b,
-                      _iq rs, _iq sls)
+ * sequence, phase 1 takes it off and judges the rest.  On the last
+ * residual's window: r, the level thr, the currents, Rs, sigma Ls and the
+ * angle as current_model_check_residual left them. */
+static void sequences(current_model_check_t *c)
 {
     const _iq cs = c->cos_t, sn = c->sin_t;
+    const _iq r_a = c->r_alpha, r_b = c->r_beta, thr = c->thr;
+    const _iq i_a = c->i_alpha_prev, i_b = c->i_beta_prev;
+    const _iq rs = c->rs, sls = c->sigma_ls;
     if (c->phase == 0u) {
         /* the positive sequence (a model error: the fundamental): r e^{-j theta}
          * low-passed; taken off below, so that the other low-passes do not
@@ -139,7 +144,7 @@ static void sequences(current_model_check_t *c, _iq r_a, _iq r_b, _iq thr, _iq i
     }
 }
 
-void current_model_check_step(current_model_check_t *c)
+void current_model_check_residual(current_model_check_t *c)
 {
     /* the Clarke currents are within 2.2 pu (the phase sensors' range,
      * phase_current.h), Rs and sigma Ls within [0, 4] pu (their sources:
@@ -179,6 +184,7 @@ void current_model_check_step(current_model_check_t *c)
          * within [0, 2] by the caller's contract): thr < 4 + 2, thr_all < 8,
          * its square < 64 */
         thr = _IQmpy(sls, c->r_max) + c->r_allow;
+        c->thr = thr;
         thr_all = thr + c->r_allow_emf;
         if (c->r2 > _IQmpy(thr_all, thr_all)) {
             c->fault = 1u;
@@ -187,10 +193,7 @@ void current_model_check_step(current_model_check_t *c)
         /* the sequence components, while the frame turns fast enough for
          * the low-passes to separate DC, w_e and 2 w_e */
         if (_IQabs(c->ws) > c->ws_min) {
-            sequences(c, r_a, r_b, thr, i_a, i_b, rs, sls);
-            if (c->at_speed < c->seq_settle) {
-                c->at_speed++;
-            }
+            c->seq_due = 1u;   /* current_model_check_half, phase c->phase */
         } else {
             /* too slow: DC, w_e and 2 w_e too close; start again at speed */
             c->pos_d = c->pos_q = _IQ(0.0);
@@ -199,10 +202,29 @@ void current_model_check_step(current_model_check_t *c)
             c->neg2 = c->dc2 = c->q2 = _IQ(0.0);
             c->at_speed = 0u;
             c->phase = 0u;
+            c->seq_due = 0u;
         }
     }
     c->i_alpha_prev = i_a;
     c->i_beta_prev = i_b;
     c->psi_alpha_prev = p_a;
     c->psi_beta_prev = p_b;
+}
+
+void current_model_check_half(current_model_check_t *c, uint16_t phase)
+{
+    if ((uint16_t)(c->seq_due & (uint16_t)(c->phase == phase)) == 0u) {
+        return;
+    }
+    c->seq_due = 0u;
+    sequences(c);
+    if (c->at_speed < c->seq_settle) {
+        c->at_speed++;
+    }
+}
+
+void current_model_check_step(current_model_check_t *c)
+{
+    current_model_check_residual(c);
+    current_model_check_half(c, c->phase);
 }

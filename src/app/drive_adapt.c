@@ -239,21 +239,6 @@ static void standstill(drive_t *d)
     }
 }
 
-void drive_adapt_fast(drive_t *d)
-{
-    standstill_z_t *z = &d->ssz;
-
-    if (z->running == 0u) {
-        d->im_inject = _IQ(0.0);
-        return;
-    }
-    /* the sequence's i_M reference plus the injection (drive_step.c) */
-    z->u_m = d->reg.u_m;
-    z->i_m = d->park.ds;
-    standstill_z_step(z);
-    d->im_inject = z->i_add;
-}
-
 /* A posted model set, made for this state and pass, copied in at once:
  * the observer's model, ifo's Tr, both current PIs' gains, the decoupling
  * (14 words), the re-seat when flagged (14 more); then what the flags ask.

@@ -47,8 +47,22 @@ tr_track_status_t drive_adapt_track_init(tr_track_t *t, const drive_config_t *c,
                                          const base_values_t *b, float Ts);
 
 /** ISR, every period: the standstill lock-in on i_M (its injection into
- *  d->im_inject) during the magnetisation. */
-void drive_adapt_fast(drive_t *d);
+ *  d->im_inject) during the magnetisation.  Inline: outside its few
+ *  hundred ms it is one test and a store, cheaper than a call. */
+static inline void drive_adapt_fast(drive_t *d)
+{
+    standstill_z_t *z = &d->ssz;
+
+    if (z->running == 0u) {
+        d->im_inject = _IQ(0.0);
+        return;
+    }
+    /* the sequence's i_M reference plus the injection (drive_step.c) */
+    z->u_m = d->reg.u_m;
+    z->i_m = d->park.ds;
+    standstill_z_step(z);
+    d->im_inject = z->i_add;
+}
 
 /** ISR, slot SEQUENCE after the sequence step: the standstill test's start
  *  and, at the end of the magnetisation, the capture of what its result

@@ -4,7 +4,8 @@
  * measurements say, so that a sensor that lies is caught by the
  * consequence it hides.
  *
- *  - current_model_check (current_model_check.h), slot SPEED: the measured
+ *  - current_model_check (current_model_check.h), slot SAFETY (its sequence
+ *    tests in the next window's slots SPEED and FILTERS_B): the measured
  *    current against the current the applied voltage should have produced
  *    (the motor model with the drive's parameters and rotor-flux model)
  *    -> FAULT_CURRENT_SENSOR.
@@ -257,12 +258,16 @@ void drive_safety_slow(drive_t *d)
         m->r_allow_emf = _IQsat(
             _IQmpy(_IQmpy(k_emf, _IQsat(_IQabs(d->ws_ctl), _IQ(2.0), _IQ(0.0))), psi), _IQ(2.0), 0);
     }
-    current_model_check_step(m);
-    if (m->fault != 0u) {
-        protect_latch(&d->prot, FAULT_CURRENT_SENSOR);
-    }
+    current_model_check_residual(m);   /* the sequence tests' halves: drive_safety_seq */
+    drive_safety_latch_cmc(d);
     d->seq.test_done = (uint16_t)(s->stest.state == SENSOR_TEST_PASSED);
     publish_guard_tick(&s->pguard, (uint16_t)d->prot.fault);
+}
+
+void drive_safety_seq(drive_t *d, uint16_t phase)
+{
+    current_model_check_half(&d->safety.cmc, phase);
+    drive_safety_latch_cmc(d);
 }
 
 void drive_safety_stall(drive_t *d)

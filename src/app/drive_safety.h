@@ -39,6 +39,21 @@ static inline uint16_t drive_safety_modulate(drive_t *d, hal_pwm_compare_t *out,
  *  publish guard's tick; latches their faults. */
 void drive_safety_slow(drive_t *d);
 
+/** ISR, two slots after SAFETY's (drive_slow.c), one per half: the model
+ *  check's sequence tests on SAFETY's last residual (each window runs one
+ *  half: current_model_check_half), a trip latched there.  Half a slow
+ *  period later than in SAFETY's own ISR: 0.5 ms against their detection
+ *  times of 12-64 ms (drive_safety.c). */
+void drive_safety_seq(drive_t *d, uint16_t phase);
+
+/** Latch the model check's trip (FAULT_CURRENT_SENSOR). */
+static inline void drive_safety_latch_cmc(drive_t *d)
+{
+    if (d->safety.cmc.fault != 0u) {
+        protect_latch(&d->prot, FAULT_CURRENT_SENSOR);
+    }
+}
+
 /** ISR, right after the encoder's frozen test (slot FILTERS_C, the same
  *  ISR: before protect() latches FAULT_ENCODER in the next one): at a
  *  frozen trip, the locked-rotor decision on the model check's last

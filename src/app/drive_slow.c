@@ -28,9 +28,17 @@
  *   7 SAFETY      the model-based protections' slow step (drive_safety.c:
  *                 the currents against the model over the window, the
  *                 encoder's count step, the publish guard's tick; the
- *                 locked-rotor decision stays with the frozen test, slot 3)
- * The firmware's data log runs in the ISR of slot 2 (DRIVE_LOG_SLOT), the
- * lightest: its cost adds there.
+ *                 locked-rotor decision stays with the frozen test, slot 3;
+ *                 the model check's sequence tests, which alternate two
+ *                 halves from window to window, run on its residual in the
+ *                 next window's slots 0 and 2, the two lighter ones of the
+ *                 slots that run with both orientations: the heaviest part
+ *                 of the schedule, 1300 cycles in one ISR, is then spread
+ *                 over three)
+ * The firmware's data log runs in the ISR of slot 2 (DRIVE_LOG_SLOT), chosen
+ * as the lightest and still one of the lighter ones with the model check's
+ * half 1 (the observer's 5 and 6 are lighter only with IFO): its cost adds
+ * there.
  *
  * The sequence sees the filtered di/dt of this period and judges the RLS's
  * enable for the next one.  The 10 Hz regression band and the speed loop's
@@ -147,6 +155,7 @@ static void task_checks(drive_t *d)
 
 static void task_speed(drive_t *d)
 {
+    drive_safety_seq(d, 0u);   /* the model check's positive sequence (drive_safety.h) */
     /* the encoder's speeds right before the speed loop uses them (every
      * sample of delay in its feedback costs phase at a reversal) */
     qep_speed_update(&d->qep);
@@ -307,6 +316,7 @@ void drive_slow_task(drive_t *d, uint16_t slot)
         break;
     case DRIVE_SLOT_FILTERS_B:
         ident_regressor_filter_b(&d->reg);
+        drive_safety_seq(d, 1u);   /* the model check's other sequence tests */
         break;
     case DRIVE_SLOT_FILTERS_C:
         task_filters_c(d);

@@ -99,9 +99,9 @@ static inline void protect(drive_t *d)
     d->prot.ic = d->cur.ic;
     d->prot.vdc = d->bus.vdc;
     d->prot.pwm_on = d->on_next;
-    d->prot.adc_rail = (uint16_t)((d->cur.rail != 0u || d->bus.rail != 0u) ? 1u : 0u);
+    d->prot.adc_rail = (uint16_t)((d->cur.rail | d->bus.rail) != 0u);   /* one test, no branch */
     /* encoder plausibility: the jump test on this sample's count step (the
-     * frozen test, 50 ms, in the SPEED slot) */
+     * frozen test, 50 ms, in the FILTERS_C slot) */
     d->enc_chk.active = d->on_next;
     encoder_check_jump(&d->enc_chk, d->qep.d1);
     d->prot.encoder_fault = d->enc_chk.fault;
@@ -214,6 +214,15 @@ static inline void identify_accumulate(drive_t *d)
     ident_regressor_accumulate(r);
 }
 
+/* The current loops' references: also while the sensor test holds the
+ * loops (the current check compares the currents with them, drive_slow.c). */
+static inline void control_refs(drive_t *d)
+{
+    d->pi_id.ref = d->seq.im_cmd + d->im_inject;
+    d->i_t_ref += d->i_t_step;   /* the speed loop's output, held first-order (drive_slow.c) */
+    d->pi_iq.ref = d->i_t_ref;
+}
+
 static inline void control(drive_t *d)
 {
     /* decoupling feed-forward (rotor-flux frame steady-state voltages):
@@ -227,11 +236,9 @@ static inline void control(drive_t *d)
     } else {
         emf_flux = _IQmpy(d->fobs.lm_lr, d->fobs.psi_mag);
     }
-    d->pi_id.ref = d->seq.im_cmd + d->im_inject;
+    control_refs(d);
     d->pi_id.fbk = d->park.ds;
     d->pi_id.ff = -_IQmpy(ws, _IQmpy(d->k.sigma_ls, d->park.qs));
-    d->i_t_ref += d->i_t_step;   /* the speed loop's output, held first-order (drive_slow.c) */
-    d->pi_iq.ref = d->i_t_ref;
     d->pi_iq.fbk = d->park.qs;
     d->pi_iq.ff = _IQmpy(ws, _IQmpy(d->k.sigma_ls, d->park.ds) + emf_flux);
     pi_step(&d->pi_id);
@@ -309,10 +316,17 @@ static inline void isr_body(drive_t *d, const hal_adc_sample_t *adc, uint16_t qe
     d->ws_ctl = drive_frame_speed(d);
 
     pwm_on = (uint16_t)(d->seq.pwm_on != 0u && d->prot.fault == FAULT_NONE);
-    if (pwm_on != 0u) {
+    if (pwm_on != 0u && d->seq.sensor_testing == 0u) {
         control(d);
         orient(d);
         modulate(d, out);
+    } else if (pwm_on != 0u) {
+        /* the sensor test's pulses (CALIBRATE): its voltage replaces the
+         * current loops' and their modulation (drive_safety_modulate holds
+         * the PIs at zero and runs the SVPWM on it), so neither is computed
+         * here: one modulation per ISR, not two */
+        control_refs(d);
+        orient(d);
     } else {
         pi_reset(&d->pi_id);
         pi_reset(&d->pi_iq);

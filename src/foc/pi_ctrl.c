@@ -57,13 +57,6 @@ pi_status_t pi_init(pi_ctrl_t *p, float kp, float ki, float out_min, float out_m
     return PI_OK;
 }
 
-void pi_reset(pi_ctrl_t *p)
-{
-    p->ui = _IQ(0.0);
-    p->out = _IQ(0.0);
-    p->sat = 0u;
-}
-
 pi_status_t pi_set_limits(pi_ctrl_t *p, _iq out_min, _iq out_max)
 {
     if (!(out_min >= _IQ(-PI_OUT_MAX_PU) && out_max <= _IQ(PI_OUT_MAX_PU)
