@@ -11,40 +11,37 @@
  * The C28x has one unified memory: PAGE 0 (program) and PAGE 1 (data) name
  * the same address space, so no range may appear on both pages.
  *
- * RAM budget, 16-bit words.  Estimates of tools/bench_size.py (Thumb-2
- * stand-in compiler x 1.2; CTests target_ram_fit_* check each range below at
- * 70 %).  Only the ISR path runs from RAM, split by the call graph in two
+ * RAM plan, 16-bit words.  The words each range holds are estimated by
+ * tools/bench_size.py (Thumb-2 stand-in compiler x 1.2, TI's IQmath at its
+ * library's sizes; `--markdown` prints the table that docs/board.md shows
+ * and checks); CTests target_ram_fit_* fail at 90 % of a range, the goal is
+ * 70 %.  Only the ISR path runs from RAM, split by the call graph in two
  * sets; all SARAM is zero-wait at 150 MHz (SPRS174), so which block an ISR
  * function runs from does not change its cycles.  L0+L1 and H0 are each
  * split in a program range (PAGE 0) and a data range (PAGE 1) that do not
- * overlap (one unified memory):
- *   L0+L1 8K  RAML0L1 0x8000, 4 480: ramfuncs RUN: the every-period set
+ * overlap (one unified memory); the boundaries balance the two parts:
+ *   L0+L1 8K  RAML0L1: ramfuncs RUN: the every-period set
  *             (F2812_isr_path.cmd: src/ functions the control ISR reaches
  *             without going through drive_slow_task, drive_slow_task
  *             itself included), the firmware's ISR and HAL functions
  *             (#pragma CODE_SECTION "ramfuncs"), flash_init (reprograms the
- *             wait states).  Estimated 3 083 (69 %).
- *             RAML0L1_DATA 0x9180, 3 712: .ebss (drive_t 1 956, telemetry
- *             rings, statics): 2 501 (67 %).
- *   H0 8K     RAMH0 0x3F8000, 6 656: ramfuncs_slow RUN: the set the ISR
- *             reaches only through drive_slow_task (F2812_isr_slow.cmd: the
- *             slot tasks: filters, observer, sequence, adaptation, tracker)
- *             and TI's IQmath code (section IQmath, called from both sets;
- *             TI's IQmath examples run it from RAM too: 2812_IQmath_lnk.cmd).
- *             Estimated 4 094 (62 %).
- *             RAMH0_DATA 0x3F9A00, 1 536: dlog (the data log, 16-bit
- *             samples, fixed address for the CCS graph window): 1 050 (68 %).
- *   M0+M1 2K  .stack (--stack_size=0x600 in firmware/CMakeLists.txt; the
+ *             wait states).
+ *             RAML0L1_DATA: .ebss (drive_t and the firmware's statics).
+ *   H0 8K     RAMH0: ramfuncs_slow RUN: the set the ISR reaches only
+ *             through drive_slow_task (F2812_isr_slow.cmd: the slot tasks:
+ *             filters, observer, sequence, adaptation, tracker) and the TI
+ *             IQmath functions the ISR calls (members of IQmath_coff.lib
+ *             named at the end of F2812_isr_slow.cmd; TI's IQmath examples
+ *             run IQmath from RAM too: 2812_IQmath_lnk.cmd); the IQmath
+ *             functions only the background calls stay in flash (IQmath).
+ *             RAMH0_DATA: dlog (the data log, 16-bit samples, fixed
+ *             address for the CCS graph window: 0x3F9B00).
+ *   M0+M1 2K  .stack (--stack_size=0x480 in firmware/CMakeLists.txt; the
  *             stack pointer is 16 bits, so the stack must be in the low 64K
- *             words: M0/M1 or L0/L1, SPRU430) estimated 612 (40 % of
- *             0x600: deepest background chain + deepest ISR chain + the
- *             interrupt context); .esysmem (no heap: --heap_size=0).
- * Headroom: L0+L1 holds 5 584 of 8 192 (68 %): about 150 words of code or
- * data growth before one of its two ranges passes 70 % (the boundary
- * 0x9180 can move between them); H0's program range about 560 more.  The
- * ISR path is 7 145 words today; at 8 000-8 500 (the pending branches) the
- * 70 % rule holds only if most of the growth is in the slow set, or if
- * .ebss or the stack reservation shrinks.
+ *             words: M0/M1 or L0/L1, SPRU430; the estimate is the deepest
+ *             background chain + the deepest ISR chain + the interrupt
+ *             context), bgdata (the background's state: telemetry rings,
+ *             frame timer; main.c) and .esysmem (no heap: --heap_size=0).
  * Code security (CSM): on the F281x the CSM protects the flash, the OTP and
  * the L0/L1 SARAM (TI SPRU078, "Code Security Module"; H0, M0, M1 are not
  * secure memory).  With a password programmed and the device locked, code
@@ -66,8 +63,8 @@
 MEMORY
 {
 PAGE 0 :   /* program */
-   RAML0L1    : origin = 0x008000, length = 0x001380   /* L0 + first 896 words of L1: ramfuncs RUN */
-   RAMH0      : origin = 0x3F8000, length = 0x001A00   /* first 6.5K of H0: ramfuncs_slow RUN */
+   RAML0L1    : origin = 0x008000, length = 0x001340   /* L0 + first 832 words of L1: ramfuncs RUN */
+   RAMH0      : origin = 0x3F8000, length = 0x001B00   /* first 6.75K of H0: ramfuncs_slow RUN */
    OTP        : origin = 0x3D7800, length = 0x000400   /* 1K OTP, not used */
    FLASHJ     : origin = 0x3D8000, length = 0x002000
    FLASHI     : origin = 0x3DA000, length = 0x002000
@@ -87,8 +84,8 @@ PAGE 0 :   /* program */
 
 PAGE 1 :   /* data */
    RAMM0M1    : origin = 0x000000, length = 0x000800   /* M0 + M1 SARAM */
-   RAML0L1_DATA : origin = 0x009380, length = 0x000C80 /* rest of L1: .ebss */
-   RAMH0_DATA : origin = 0x3F9A00, length = 0x000600   /* last 1.5K of H0: dlog */
+   RAML0L1_DATA : origin = 0x009340, length = 0x000CC0 /* rest of L1: .ebss */
+   RAMH0_DATA : origin = 0x3F9B00, length = 0x000500   /* last 1.25K of H0: dlog */
 }
 
 SECTIONS

@@ -4,28 +4,26 @@
  * #includes F2812_isr_path.cmd and F2812_isr_slow.cmd as F2812_flash.cmd does.
  * Memory map: SPRS174, as in F2812_flash.cmd (checked by the same CI test).
  *
- * What fits (16-bit words, estimates of tools/bench_size.py
- * --linker-cmd linker/F2812_ram.cmd, CTest target_ram_fit_ram_image): the
- * on-chip RAM is 18K (M0 1K, M1 1K, L0 4K, L1 4K, H0 8K); the firmware needs
- * about 31K: the ISR path 7 145 (every-period set 3 083, slow set + IQmath
- * 4 094), the other code and the constants about 22 400, .ebss 2 501, dlog
- * 1 050, stack 1 536.  So a RAM-only image of the whole firmware does NOT
- * fit the F2812's internal RAM.  This image therefore needs a board with
+ * What fits: the on-chip RAM is 18K (M0 1K, M1 1K, L0 4K, L1 4K, H0 8K); the
+ * firmware needs about 44K words (tools/bench_size.py --linker-cmd
+ * linker/F2812_ram.cmd, CTest target_ram_fit_ram_image): the ISR path, .ebss,
+ * the data log and the stack on chip as in F2812_flash.cmd, and about 28K of
+ * other code and constants.  So a RAM-only image of the whole firmware does
+ * NOT fit the F2812's internal RAM.  This image therefore needs a board with
  * external SRAM on XINTF zone 6 (0x100000, 64K words here, as the eZdsp
  * F2812 board has; the XINTF timing registers reset to their slowest
  * setting, SPRU067, so CCS can load there before any code ran), which takes
  * the code that runs at most once per telemetry frame (init, background,
- * telemetry, the float emulation) and the constants.  Everything the ISR
- * runs is on-chip in the same ranges as in the flash image
- * (F2812_flash.cmd gives the budget), loaded in place (LOAD = RUN:
- * flash_copy_ramfuncs copies each section onto itself, a no-op, so main.c
- * is the same for both images):
- *   L0+L1 8K   ramfuncs (RAML0L1, 4 480) and .ebss (RAML0L1_DATA, 3 712)
+ * telemetry, the float emulation, the IQmath functions off the ISR path) and
+ * the constants.  Everything the ISR runs is on-chip in the same ranges as
+ * in the flash image (F2812_flash.cmd describes them), loaded in place
+ * (LOAD = RUN: flash_copy_ramfuncs copies each section onto itself, a
+ * no-op, so main.c is the same for both images):
+ *   L0+L1 8K   ramfuncs (RAML0L1) and .ebss (RAML0L1_DATA)
  *   H0 8K      codestart (boot-to-H0 entry, 2 words), ramfuncs_slow
- *              (RAMH0, 6 654) and dlog (RAMH0_DATA, 1 536)
- *   M0+M1 2K   .stack (0x600) and .esysmem (no heap)
- *   XINTF 6    .text, .cinit, .pinit, .switch, .econst (about 22 400 of
- *              65 536)
+ *              (RAMH0) and dlog (RAMH0_DATA)
+ *   M0+M1 2K   .stack (0x480), bgdata and .esysmem (no heap)
+ *   XINTF 6    .text, IQmath, .cinit, .pinit, .switch, .econst
  * On a board without external RAM use the flash image.  How to load: CCS
  * "Load Program" of the FIRMWARE_IMAGE=ram build (the loader sets the PC to
  * _c_int00), or a reset in the boot ROM's "jump to H0 SARAM" mode (boot mode
@@ -36,8 +34,8 @@ MEMORY
 {
 PAGE 0 :
    BEGINH0    : origin = 0x3F8000, length = 0x000002   /* boot-to-H0 entry */
-   RAML0L1    : origin = 0x008000, length = 0x001380   /* L0 + first 896 words of L1: ramfuncs */
-   RAMH0      : origin = 0x3F8002, length = 0x0019FE   /* H0 after BEGINH0 up to 0x3F99FF: ramfuncs_slow */
+   RAML0L1    : origin = 0x008000, length = 0x001340   /* L0 + first 832 words of L1: ramfuncs */
+   RAMH0      : origin = 0x3F8002, length = 0x001AFE   /* H0 after BEGINH0 up to 0x3F9AFF: ramfuncs_slow */
    XRAM6      : origin = 0x100000, length = 0x010000   /* external SRAM, XINTF zone 6 */
    CSM_PWL    : origin = 0x3F7FF8, length = 0x000008   /* CsmPwlFile (F2812_headers.cmd) */
    IQTABLES   : origin = 0x3FF000, length = 0x000B50
@@ -45,8 +43,8 @@ PAGE 0 :
 
 PAGE 1 :
    RAMM0M1    : origin = 0x000000, length = 0x000800   /* M0 + M1 SARAM */
-   RAML0L1_DATA : origin = 0x009380, length = 0x000C80 /* rest of L1: .ebss */
-   RAMH0_DATA : origin = 0x3F9A00, length = 0x000600   /* last 1.5K of H0: dlog */
+   RAML0L1_DATA : origin = 0x009340, length = 0x000CC0 /* rest of L1: .ebss */
+   RAMH0_DATA : origin = 0x3F9B00, length = 0x000500   /* last 1.25K of H0: dlog */
 }
 
 SECTIONS

@@ -27,7 +27,7 @@ PAGE 0 :   /* program */
 PAGE 1 :   /* data */
    RAMM0M1    : origin = 0x000000, length = 0x000800   /* M0 + M1 SARAM */
    RAML0L1_DATA : origin = 0x009180, length = 0x000A00 /* cut to 2.5K */
-   RAMH0_DATA : origin = 0x3F9A00, length = 0x000600   /* last 1.5K of H0: dlog */
+   RAMH0_DATA : origin = 0x3F9B00, length = 0x000500   /* last 1.25K of H0: dlog */
 }
 
 SECTIONS
