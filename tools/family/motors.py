@@ -129,7 +129,7 @@ BRIDGE_BAND_A = 0.1
 # note 6) x alpha: 4-6 % of T_N on the 0.2 kW 4- to 8-pole motors, whose
 # torque current in the ramp (0.1-0.2 A against i_M 0.6-0.9 A) then left the
 # RLS's Lm, Lr still converging at the ramp's end (confidence 2.7-6.1 %,
-# refused); with 10 %: published within 0.36 %, confidence <= 1.5 %.
+# refused); with 10 %: published within 0.39 %, confidence <= 1.6 % (grid run, both builds).
 ACCEL_TORQUE_OF_T_N = 0.1
 
 
