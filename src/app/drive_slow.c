@@ -60,7 +60,10 @@ static void sequence(drive_t *d)
     s->speed_err = _IQabs(d->speed_ramp.out - d->qep.speed);
     s->i_mf = d->reg.i_mf;
     s->i_tf = d->reg.i_tf;
-    drive_vi_slow(d);   /* the bridge's voltage-error test in CALIBRATE (drive_vi.c) */
+    if (d->seq.vi_test != 0u) {
+        drive_vi_slow(d);   /* the bridge's voltage-error test in CALIBRATE (drive_vi.c);
+                               the test off (the default), not even the call */
+    }
     id_sequence_step(s);
     if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS && s->state == ID_MAGNETIZE &&
         s->t_state == 0u) {

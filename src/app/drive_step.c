@@ -316,15 +316,16 @@ static inline void isr_body(drive_t *d, const hal_adc_sample_t *adc, uint16_t qe
     d->ws_ctl = drive_frame_speed(d);
 
     pwm_on = (uint16_t)(d->seq.pwm_on != 0u && d->prot.fault == FAULT_NONE);
-    if (pwm_on != 0u && d->seq.sensor_testing == 0u) {
+    if (pwm_on != 0u && (d->seq.sensor_testing | d->seq.vi_testing) == 0u) {
         control(d);
         orient(d);
         modulate(d, out);
     } else if (pwm_on != 0u) {
-        /* the sensor test's pulses (CALIBRATE): its voltage replaces the
-         * current loops' and their modulation (drive_safety_modulate holds
-         * the PIs at zero and runs the SVPWM on it), so neither is computed
-         * here: one modulation per ISR, not two */
+        /* the sensor test's pulses or the bridge's voltage-error test
+         * (CALIBRATE): the test's voltage replaces the current loops' and
+         * their modulation (drive_safety_modulate holds the PIs at zero and
+         * runs the SVPWM on it), so neither is computed here: one modulation
+         * per ISR, not two */
         control_refs(d);
         orient(d);
     } else {
