@@ -55,15 +55,18 @@ static uint16_t tx_free(const telemetry_t *t)
 static void tx_put(telemetry_t *t, uint16_t i, uint16_t c)
 {
     uint16_t *w = &t->tx[i >> 1];
-    c &= 0x00FFu;   /* ASCII: the high byte of a 16-bit char is always 0 here */
-    *w = ((i & 1u) == 0u) ? (uint16_t)((*w & 0xFF00u) | c)
-                          : (uint16_t)((*w & 0x00FFu) | (uint16_t)(c << 8));
+    c = (uint16_t)(c & 0x00FFu);   /* ASCII: the high byte of a 16-bit char is always 0 here */
+    if ((i & 1u) == 0u) {
+        *w = (uint16_t)((*w & 0xFF00u) | c);
+    } else {
+        *w = (uint16_t)((*w & 0x00FFu) | (uint16_t)(c << 8));
+    }
 }
 
 static uint16_t tx_get(const telemetry_t *t, uint16_t i)
 {
     const uint16_t w = t->tx[i >> 1];
-    return ((i & 1u) == 0u) ? (uint16_t)(w & 0x00FFu) : (uint16_t)(w >> 8);
+    return (uint16_t)(((i & 1u) == 0u) ? (w & 0x00FFu) : (w >> 8));
 }
 
 void telemetry_init(telemetry_t *t)
