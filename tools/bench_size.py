@@ -48,8 +48,9 @@ It is split in two sets: FAST, every function reachable without going through
 the slow-task dispatch `drive_slow_task` (the dispatch itself included: it
 runs every period), placed in `ramfuncs` (linker/F2812_isr_path.cmd), and
 SLOW, reachable only through it (the slot tasks), placed in `ramfuncs_slow`
-(linker/F2812_isr_slow.cmd); a function reached both ways is fast.  TI's
-IQmath section counts in whichever of the two gathers `*(IQmath)`.
+(linker/F2812_isr_slow.cmd); a function reached both ways is fast.  The TI
+IQmath functions the ISR reaches count in the output section that #includes
+F2812_isr_slow.cmd (whose last lines name their library members).
 
 Conversion Thumb-2 bytes -> C28x words: WORDS_PER_HALFWORD (1.2) words per
 Thumb-2 halfword, i.e. 0.6 words per byte.  Why: both instruction sets mix 16-
@@ -263,8 +264,8 @@ class Graph:
 
     def reach(self, roots, stop=lambda f: False):
         """(functions reached, external names reached).  Below a function for
-        which stop() holds, the walk does not descend (the IQmath stand-in's
-        own helpers are not the target's)."""
+        which stop() holds, the walk does not descend (the host IQmathLib.h's
+        inline helpers call nothing the target has)."""
         seen, ext, todo = set(), set(), list(roots)
         while todo:
             t = todo.pop()
@@ -467,8 +468,8 @@ def pragma_ramfuncs():
 
 
 def isr_sets(graph):
-    """(fast, slow) titles of the ISR path, the IQmath stand-in's entries
-    included where they are reached: fast = reachable from the control ISR
+    """(fast, slow) titles of the ISR path, the host IQmathLib.h's inline
+    helpers included where they are reached: fast = reachable from the control ISR
     without going through the slow-task dispatch (the dispatch itself runs
     every period: fast), slow = reachable only through it."""
     roots = graph.roots(ISR_ROOTS)

@@ -41,7 +41,7 @@
  *   - in the background, on the ISR's queue of filtered rows: the RLS and
  *     its guard (drive_rls_bg.c: every sample once and in order; consecutive
  *     15 kHz samples of a 10 Hz signal add no information).
-
+ *
  * Orientation (drive_control_t.orientation, fixed at drive_init):
  *   0 IFO       as above (the paper's; steps 4 and 8 run the ifo module).
  *   1 observer  step 4 sums the Clarke currents and the voltage of the

@@ -61,7 +61,6 @@ static void zero_params(flux_obs_t *o)
     o->dth_max = _IQ(0.0);
 }
 
-
 flux_obs_status_t flux_obs_design_rs(flux_obs_model_t *m, float rs_pu)
 {
     if (!(rs_pu >= 0.0f && rs_pu <= FLUX_OBS_RS_MAX)) {
@@ -280,7 +279,6 @@ flux_obs_status_t flux_obs_set_rs_dc(flux_obs_t *o, _iq rs_pu, _iq u_alpha, _iq 
 flux_obs_status_t flux_obs_set_tr(flux_obs_t *o, _iq20 tr_pu)
 {
     _iq x;
-    _iq t;
 
     /* Tr >= 10 Ts, i.e. x = Ts/Tr <= 0.1 (10 n Ts < 4 pu: Q24 -> Q20 to 1 LSB);
      * Tr <= FLUX_OBS_TR_MAX_PU (Q20 headroom) */
@@ -290,13 +288,7 @@ flux_obs_status_t flux_obs_set_tr(flux_obs_t *o, _iq20 tr_pu)
         return FLUX_OBS_ERR_TR;
     }
     x = _IQ20div(o->ts, tr_pu);   /* Q24 / Q20 -> Q24 (shift by 20), in (0, 0.1] */
-    /* 1 - exp(-x) = x (1 - x/2 (1 - x/3 (1 - x/4 (1 - x/5)))), Horner;
-     * every factor is in (0.9, 1]: no overflow, truncation < 1 LSB each */
-    t = _IQ(1.0) - _IQmpy(x, _IQ(0.2));
-    t = _IQ(1.0) - _IQmpy(_IQmpy(x, _IQ(0.25)), t);
-    t = _IQ(1.0) - _IQmpy(_IQmpy(x, _IQ(0.33333333)), t);
-    t = _IQ(1.0) - _IQmpy(_IQmpy(x, _IQ(0.5)), t);
-    o->kf = _IQmpy(x, t);
+    o->kf = one_minus_exp_neg_iq(x);   /* 1 - exp(-x), Q24 (exp_series.h) */
     o->tr = tr_pu;
     return FLUX_OBS_OK;
 }

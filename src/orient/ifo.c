@@ -55,7 +55,6 @@ ifo_status_t ifo_init(ifo_t *f, float Tr_s, const base_values_t *b, float imr_mi
     }
 }
 
-
 ifo_status_t ifo_design_tr(ifo_tr_t *t, float ts_pu, float tr_pu, float imr_min_pu)
 {
     /* Tr >= 10 Ts (x = Ts/Tr <= 0.1), Tr <= IFO_TR_MAX_PU (Q20 headroom); NaN fails */
@@ -75,7 +74,6 @@ ifo_status_t ifo_design_tr(ifo_tr_t *t, float ts_pu, float tr_pu, float imr_min_
 ifo_status_t ifo_set_tr(ifo_t *f, _iq20 tr_pu)
 {
     _iq x;
-    _iq t;
 
     /* Tr >= 10 Ts, i.e. x = Ts/Tr <= 0.1 (10 Ts < 0.5 pu: Q24 -> Q20 exact
      * to 1 LSB); Tr <= IFO_TR_MAX_PU (Q20 headroom) */
@@ -89,13 +87,7 @@ ifo_status_t ifo_set_tr(ifo_t *f, _iq20 tr_pu)
         return IFO_ERR_IMR_MIN;
     }
     x = _IQ20div(f->ts, tr_pu);   /* Q24 / Q20 -> Q24 (shift by 20), in (0, 0.1] */
-    /* 1 - exp(-x) = x (1 - x/2 (1 - x/3 (1 - x/4 (1 - x/5)))), Horner;
-     * every factor is in (0.9, 1]: no overflow, truncation < 1 LSB each */
-    t = _IQ(1.0) - _IQmpy(x, _IQ(0.2));
-    t = _IQ(1.0) - _IQmpy(_IQmpy(x, _IQ(0.25)), t);
-    t = _IQ(1.0) - _IQmpy(_IQmpy(x, _IQ(0.33333333)), t);
-    t = _IQ(1.0) - _IQmpy(_IQmpy(x, _IQ(0.5)), t);
-    f->kf = _IQmpy(x, t);
+    f->kf = one_minus_exp_neg_iq(x);   /* 1 - exp(-x), Q24 (exp_series.h) */
     f->inv_tr = _IQ20div(_IQ(1.0), tr_pu);   /* Q24 / Q20 -> Q24, in [0.001, 1/(10 Ts_pu)] */
     f->tr = tr_pu;
     return IFO_OK;
