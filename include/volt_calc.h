@@ -137,31 +137,37 @@ static inline void volt_calc_apply_curve(volt_calc_t *v, const volt_calc_curve_t
 volt_calc_status_t volt_calc_init(volt_calc_t *v, float dead_time_s, float Ts_s,
                                   float drop_pu, float i_thresh_pu, uint16_t comp_enable);
 
-/* sgn(i) with a linear zone of half-width i_thresh: sat(i / i_thresh, +-1),
- * one saturation and one product, no branch (the cost is the same on every
- * leg and every sample: the worst ISR is what the deadline sees).  i is
- * limited to +-i_thresh first, so the Q24*Q16 -> Q24 product is within
- * [-1, 1] whatever |i| (1/i_thresh is rounded down: volt_calc_init); 1/i_thresh
- * is Q16, a zone down to 0.0005 pu (a large drive's dead-time transition of
- * a few tenths of an ampere).  At and beyond the zone's edge the result is
- * below 1 by at most i_thresh 2^8 + 1 LSB (the inverse's rounding and the
- * product's truncation): 6 LSB at 0.02 pu, far below what it multiplies
- * reaches (an error of e_half < 0.2 pu: < 2 LSB). */
-static inline _iq volt_calc_sgn(const volt_calc_t *v, _iq i)
+/* sgn(i) with a linear zone of half-width i_thresh is sat(i / i_thresh, +-1)
+ * = sat(i, +-i_thresh) / i_thresh: the current limited to the zone (one
+ * saturation, no branch, no product), scaled by 1/i_thresh (Q16: a zone
+ * down to 0.0005 pu, a large drive's dead-time transition of a few tenths
+ * of an ampere) only where the limited currents have been combined
+ * (volt_calc_leg_error: one Q24*Q16 -> Q24 product per leg instead of one
+ * per edge) or where it is used (volt_calc_feedforward).  The product of a limited
+ * current is within [-1, 1] whatever |i| (1/i_thresh is rounded down:
+ * volt_calc_init), and at and beyond the zone's edge below 1 by at most
+ * i_thresh 2^8 + 1 LSB (the inverse's rounding and the product's
+ * truncation): 6 LSB at 0.02 pu, far below what it multiplies reaches (an
+ * error of e_half < 0.2 pu: < 2 LSB).  th, nth: +-i_thresh (the caller
+ * loads them once per sample). */
+static inline _iq volt_calc_zone(_iq i, _iq th, _iq nth)
 {
-    return _IQmpyIQX(_IQsat(i, v->i_thresh, -v->i_thresh), GLOBAL_Q, v->inv_i_thresh, 16);
+    return _IQsat(i, th, nth);   /* |.| <= i_thresh <= 1 pu */
 }
 
 /* Mean pole-voltage error of one leg over the period (volt_calc_step):
  * (sgn(i_mid - h) + sgn(i_mid + h)) e_half, h = d di_half = (d/2) di, the
  * edges' currents; e_half = (vdc td/Ts + v_drop)/2 for a switching leg,
- * v_drop/2 for a clamped one.  Branch-free: 2 sgn, 2 products.  |h| <= 16,
- * |i_mid -+ h| <= 48 pu; the result |.| <= 5 pu. */
-static inline _iq volt_calc_leg_error(const volt_calc_t *v, _iq i_mid, _iq di_half, _iq d,
-                                      _iq e_half)
+ * v_drop/2 for a clamped one.  The two limited currents are summed first
+ * (exact: |.| <= 2 i_thresh) and scaled by 1/i_thresh once (Q24*Q16 ->
+ * Q24, |.| <= 2), then by e_half: 2 saturations and 3 products, no branch.
+ * |h| <= 16, |i_mid -+ h| <= 48 pu; the result |.| <= 5 pu. */
+static inline _iq volt_calc_leg_error(_iq th, _iq nth, _iq16 inv_th, _iq i_mid, _iq di_half,
+                                      _iq d, _iq e_half)
 {
     const _iq h = _IQmpy(d, di_half);   /* Q24*Q24 -> Q24 */
-    return _IQmpy(volt_calc_sgn(v, i_mid - h) + volt_calc_sgn(v, i_mid + h), e_half);
+    const _iq z = volt_calc_zone(i_mid - h, th, nth) + volt_calc_zone(i_mid + h, th, nth);
+    return _IQmpy(_IQmpyIQX(z, GLOBAL_Q, inv_th, 16), e_half);
 }
 
 /* e_half for a leg with duty d: the drop alone when the leg is clamped
@@ -183,20 +189,26 @@ static inline _iq volt_calc_leg_e(_iq d, _iq e_switching, _iq e_clamped)
  * Q30), both truncated to Q24.  Without compensation va, vb, vc and valpha
  * are within 3.05 LSB, vbeta within 2.2 LSB of the exact formula of the
  * same inputs (over the valid range).  The compensation adds to each pole
- * the truncations of vdc*td/Ts, of i/i_thresh (times verr) and of
- * sgn*verr: 2 + verr LSB more per pole, 4 + 2 verr LSB in va.  Overflow:
- * none in the valid range (every intermediate below 64 pu); sgn() is
- * saturated to [-1, 1].  Per sample: 3 products for the poles, 2 for the
- * half changes, 2 sgn's and 2 products for each leg's compensation, 2 for
- * the Clarke transform: the same on every sample.
+ * the truncations of vdc*td/Ts, of (the two edges' limited currents) /
+ * i_thresh (times verr) and of that times e_half: at most 2 + verr LSB
+ * more per pole, 4 + 2 verr LSB in va.  Overflow: none in the valid range
+ * (every intermediate below 64 pu); the signs are saturated to [-1, 1].
+ * Per sample: 3 products for the poles, 1 for the switching error, 2
+ * saturations and 3 products for each leg's compensation, 2 for the
+ * Clarke transform: the same on every sample.  Every input and parameter
+ * is read once (locals).
  */
 static inline void volt_calc_step(volt_calc_t *v)
 {
+    const _iq vdc = v->vdc;
+    const _iq da = v->da;
+    const _iq db = v->db;
+    const _iq dc = v->dc;
     /* Pole voltages: Q24*Q24 -> Q24, truncated, in [0, 16] */
-    _iq pa = _IQmpy(v->vdc, v->da);
-    _iq pb = _IQmpy(v->vdc, v->db);
-    _iq pc = _IQmpy(v->vdc, v->dc);
-    _iq cm;
+    _iq pa = _IQmpy(vdc, da);
+    _iq pb = _IQmpy(vdc, db);
+    _iq pc = _IQmpy(vdc, dc);
+    _iq cm, vb, vc;
 
     if (v->comp_enable != 0u) {
         /* Dead time: each of the two switching edges of a centre-aligned
@@ -205,33 +217,32 @@ static inline void volt_calc_step(volt_calc_t *v)
          * linear over the period, i_edge = i_mid -+ (d/2) di.  The device
          * drop follows the period-mean current.  Q24*Q24 -> Q24 products,
          * |vdc td/Ts| <= 4, |(d/2) di| <= 32, |i_edge| <= 64 pu. */
+        const _iq th = v->i_thresh;
+        const _iq nth = -th;
+        const _iq16 inv_th = v->inv_i_thresh;
+        const _iq ia = v->ia;
+        const _iq ib = v->ib;
         const _iq e_cl = v->v_drop_half;
-        const _iq e_sw = _IQmpy(v->vdc, v->dt_half) + e_cl;   /* (vdc td/Ts + v_drop)/2 */
-        const _iq dia_h = _IQmpy(v->dia, _IQ(0.5));           /* |.| <= 16 */
-        const _iq dib_h = _IQmpy(v->dib, _IQ(0.5));
-        pa -= volt_calc_leg_error(v, v->ia, dia_h, v->da, volt_calc_leg_e(v->da, e_sw, e_cl));
-        pb -= volt_calc_leg_error(v, v->ib, dib_h, v->db, volt_calc_leg_e(v->db, e_sw, e_cl));
-        pc -= volt_calc_leg_error(v, _IQ(0.0) - v->ia - v->ib, _IQ(0.0) - dia_h - dib_h, v->dc,
-                                  volt_calc_leg_e(v->dc, e_sw, e_cl));
+        const _iq e_sw = _IQmpy(vdc, v->dt_half) + e_cl;   /* (vdc td/Ts + v_drop)/2 */
+        const _iq dia_h = _IQdiv2(v->dia);                 /* |.| <= 16 */
+        const _iq dib_h = _IQdiv2(v->dib);
+        pa -= volt_calc_leg_error(th, nth, inv_th, ia, dia_h, da, volt_calc_leg_e(da, e_sw, e_cl));
+        pb -= volt_calc_leg_error(th, nth, inv_th, ib, dib_h, db, volt_calc_leg_e(db, e_sw, e_cl));
+        pc -= volt_calc_leg_error(th, nth, inv_th, _IQ(0.0) - ia - ib, _IQ(0.0) - dia_h - dib_h,
+                                  dc, volt_calc_leg_e(dc, e_sw, e_cl));
     }
 
     /* Common mode of the floating star: (pa + pb + pc)/3, sum <= 63.
      * Q24*Q30 -> Q24. */
     cm = _IQmpyIQX(pa + pb + pc, GLOBAL_Q, FOC_ONE_THIRD_Q30, 30);
+    vb = pb - cm;
+    vc = pc - cm;
     v->va = pa - cm;
-    v->vb = pb - cm;
-    v->vc = pc - cm;
-
+    v->vb = vb;
+    v->vc = vc;
     v->valpha = v->va;
     /* vbeta = (vb - vc)/sqrt(3), Q24*Q30 -> Q24; |vb - vc| = |pb - pc| <= 26 */
-    v->vbeta = _IQmpyIQX(v->vb - v->vc, GLOBAL_Q, FOC_ONE_BY_SQRT3_Q30, 30);
-}
-
-/* One phase's error for the feed-forward: sgn(i) verr (|.| <= 5 pu), one
- * product and the sgn's, no branch. */
-static inline _iq volt_calc_ff_phase(const volt_calc_t *v, _iq i, _iq verr)
-{
-    return _IQmpy(volt_calc_sgn(v, i), verr);
+    v->vbeta = _IQmpyIQX(vb - vc, GLOBAL_Q, FOC_ONE_BY_SQRT3_Q30, 30);
 }
 
 /**
@@ -239,23 +250,30 @@ static inline _iq volt_calc_ff_phase(const volt_calc_t *v, _iq i, _iq verr)
  * the bridge will lose in a period whose phase currents are ia, ib (and
  * -ia-ib), so that the reference plus this is what the duties must ask for.
  * Same sgn() and constants as the reconstruction; zero with comp_enable 0.
- * Scaling: |e_x| <= 5 pu, sums <= 15, Q24*Q30 -> Q24; no overflow for
- * vdc in [0, 16] pu.
+ * Each leg's error is sgn(i_x) verr: the limited current times 1/i_thresh
+ * (Q24*Q16 -> Q24, in [-1, 1]), times verr (Q24*Q24 -> Q24, |.| <= 5 pu),
+ * each truncated; the parameters are read once.  Scaling: |e_x| <= 5 pu,
+ * sums <= 15, Q24*Q30 -> Q24; no overflow for vdc in [0, 16] pu.
  */
 static inline void volt_calc_feedforward(const volt_calc_t *v, _iq vdc, _iq ia, _iq ib,
                                          _iq *dalpha, _iq *dbeta)
 {
-    _iq ea, eb, ec, cm, verr;
+    _iq th, nth, ea, eb, ec, cm, verr;
+    _iq16 inv_th;
     if (v->comp_enable == 0u) {
         *dalpha = _IQ(0.0);
         *dbeta = _IQ(0.0);
         return;
     }
+    th = v->i_thresh;
+    nth = -th;
+    inv_th = v->inv_i_thresh;
     /* the pole error of a leg carrying i_x: vdc td/Ts + v_drop, <= 5 pu */
     verr = _IQmpy(vdc, v->dt_frac) + v->v_drop;
-    ea = volt_calc_ff_phase(v, ia, verr);
-    eb = volt_calc_ff_phase(v, ib, verr);
-    ec = volt_calc_ff_phase(v, _IQ(0.0) - ia - ib, verr);
+    ea = _IQmpy(_IQmpyIQX(volt_calc_zone(ia, th, nth), GLOBAL_Q, inv_th, 16), verr);
+    eb = _IQmpy(_IQmpyIQX(volt_calc_zone(ib, th, nth), GLOBAL_Q, inv_th, 16), verr);
+    ec = _IQmpy(_IQmpyIQX(volt_calc_zone(_IQ(0.0) - ia - ib, th, nth), GLOBAL_Q, inv_th, 16),
+                verr);
     /* floating star: remove the common mode; Clarke (amplitude-invariant) */
     cm = _IQmpyIQX(ea + eb + ec, GLOBAL_Q, FOC_ONE_THIRD_Q30, 30);
     *dalpha = ea - cm;

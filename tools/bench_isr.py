@@ -63,6 +63,7 @@ ASSUMED_CYCLES = {
     "_IQatan2PU": 118, "_IQatan": 118,   # as _IQatan2
     "_IQint": 14, "_IQfrac": 17,         # library calls
     "_IQabs": 3,         # inline ABS on ACC: load, ABS, store
+    "_IQdiv2": 2,        # TI's macro (A)>>1: an SFR ACC,1 on the loaded value, as op32
     "_IQtoIQN": 2, "_IQtoQN": 2,         # inline shift of ACC
     "iq_norm32": 3,      # the __norm32 intrinsic: CSB ACC (1) + moving the count out (2)
 }

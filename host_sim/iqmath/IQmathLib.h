@@ -424,6 +424,9 @@ int32_t iqm_atan2pu(int32_t a, int32_t b, int q);
 #define _IQfrac(A)             IQM_CALL(IQMATH_FN_FRAC, iqm_frac((A), GLOBAL_Q))
 #define _IQsat(A, Pos, Neg)    IQM_CALL(IQMATH_FN_SAT, iqm_sat((A), (Pos), (Neg)))
 #define _IQabs(A)              IQM_CALL(IQMATH_FN_ABS, iqm_abs(A))
+/* A / 2 as TI's IQmathLib.h writes it: an arithmetic shift right, the
+ * floor of A/2 (bit for bit _IQmpy(A, _IQ(0.5))); inline, no call */
+#define _IQdiv2(A)             ((int32_t)(A) >> 1)
 
 #include "iqmath_qn_fixed.h"
 
@@ -584,6 +587,7 @@ static inline float iqf_mpyI32frac(float a, int32_t b)
 #define _IQfrac(A)             iqf_frac(A)
 #define _IQsat(A, Pos, Neg)    iqf_sat((A), (Pos), (Neg))
 #define _IQabs(A)              fabsf(A)
+#define _IQdiv2(A)             ((A) * 0.5f)
 
 #include "iqmath_qn_float.h"
 
