@@ -33,7 +33,7 @@ typedef struct {
 void clarke_init(clarke_t *c);
 
 /**
- * One sample.  Scaling: beta is the sum of two products of a Q24 input and
+ * beta of the phase currents as, bs (alpha is as itself).  Scaling: beta is the sum of two products of a Q24 input and
  * a Q30 constant (1/sqrt(3), 2/sqrt(3)), each truncated to Q24; so beta is
  * within 2 + (|as| + |bs|)/64 LSB of the exact value (two truncations, each
  * < 1 LSB, and the constants' quantisation, < 2^-30 each, times |x|): at
@@ -41,14 +41,20 @@ void clarke_init(clarke_t *c);
  * alpha is exact.  Overflow: none inside the valid range; outside it the
  * sum wraps (inputs are bounded by the ADC, so this cannot occur in use).
  */
-static inline void clarke_step(clarke_t *c)
+static inline _iq clarke_beta(_iq as, _iq bs)
 {
-    c->alpha = c->as;
     /* beta = (as + 2 bs)/sqrt(3), as two products so that no sum of inputs
      * is formed before scaling down (|as| + 2|bs| would exceed 128 for
      * inputs above 42.7 pu).  Q24*Q30 -> Q24 each, truncated. */
-    c->beta = _IQmpyIQX(c->as, GLOBAL_Q, FOC_ONE_BY_SQRT3_Q30, 30)
-            + _IQmpyIQX(c->bs, GLOBAL_Q, FOC_TWO_BY_SQRT3_Q30, 30);
+    return _IQmpyIQX(as, GLOBAL_Q, FOC_ONE_BY_SQRT3_Q30, 30)
+         + _IQmpyIQX(bs, GLOBAL_Q, FOC_TWO_BY_SQRT3_Q30, 30);
+}
+
+/** One sample of the struct: alpha = as (exact), beta = clarke_beta. */
+static inline void clarke_step(clarke_t *c)
+{
+    c->alpha = c->as;
+    c->beta = clarke_beta(c->as, c->bs);
 }
 
 #endif /* CLARKE_H */

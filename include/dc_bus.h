@@ -86,7 +86,7 @@ static inline void dc_bus_measure(dc_bus_t *d)
     /* (raw + 8) * 2^-16, the centre of the code (dc_bus.h): exact Q24 in
      * [0, 1.0002); Q24*Q24 -> Q24 (< 64) */
     d->vdc = _IQmpy(d->k_scale, _IQmpyI32(DC_BUS_RAW_TO_FRAC, (int32_t)d->vdc_raw + 8));
-    d->rail = (d->vdc_raw >= DC_BUS_RAIL_HIGH) ? 1u : 0u;
+    d->rail = (uint16_t)(d->vdc_raw >= DC_BUS_RAIL_HIGH);   /* 0/1, no branch */
 }
 
 /**

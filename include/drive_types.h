@@ -313,8 +313,8 @@ struct drive {
 
     /* PWM pipeline: duties computed at sample k apply during period k+1 and
      * are reconstructed into voltages at sample k+2 (hal_pwm.h timing). */
-    _iq duty_next[3];           /* computed at k-1, applied now */
-    _iq duty_last[3];           /* computed at k-2, applied in the period just ended */
+    _iq duty_next[3];           /* computed at k-1, applied now (those of k-2, applied in
+                                 * the period just ended: volt.da, .db, .dc) */
     uint16_t on_next, on_last;  /* bridge switching in those periods */
     _iq ia_prev, ib_prev;       /* phase currents of the previous sample, pu */
 
@@ -330,7 +330,7 @@ struct drive {
     /* multi-rate schedule and what the slow tasks hand to the fast path */
     uint16_t slot;              /* drive_slot_t of this ISR (0 .. DRIVE_SLOTS-1) */
     uint16_t frame_ifo;         /* this ISR's control frame is ifo's (drive_ifo_frame) */
-    _iq theta_k, theta_prev;    /* Q24 pu [0, 1): the frame angle of this and the last sample */
+    _iq theta_k;                /* Q24 pu [0, 1): the frame angle of this sample */
     _iq ws_k;                   /* Q24 pu: the frame's speed over the period that just ended */
     _iq ws_ctl;                 /* Q24 pu: the frame speed for decoupling and modulation */
     _iq i_t_ref;                /* Q24 pu: the torque-current reference of this period */

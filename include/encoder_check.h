@@ -77,7 +77,13 @@ encoder_check_status_t encoder_check_init(encoder_check_t *e, float Ts_s, float 
  *  one compare.  Counted in fault/cause as encoder_check_step's. */
 static inline void encoder_check_jump(encoder_check_t *e, int32_t d1)
 {
-    if (e->active != 0u && ((d1 < 0) ? -d1 : d1) > e->jump_max) {
+    /* |d1| > jump_max as one unsigned compare, no branch (as protect_over):
+     * d1 + jump_max outside [0, 2 jump_max]; |d1| <= 32768 and jump_max in
+     * [2, 16384] (encoder_check_init), so a negative sum wraps far above
+     * 2 jump_max <= 32768 and no sum reaches 2^32 */
+    const int32_t jm = e->jump_max;
+    const uint16_t jump = (uint16_t)(((uint32_t)d1 + (uint32_t)jm) > ((uint32_t)jm << 1));
+    if (((uint16_t)(e->active != 0u) & jump) != 0u) {
         e->fault = 1u;
         e->cause |= ENCODER_CHECK_JUMP;
     }

@@ -204,21 +204,34 @@ void ifo_step_slip(ifo_t *f);
  *    Tr >= 10 Ts, so between two updates (a few samples) the gain changes
  *    by at most a few Ts/Tr of (i_M - imr)/imr: nothing in steady state.
  *  - ifo_step_slip_fast() (every sample): imr += kf (i_m - imr), wslip =
- *    i_t k_slip, ws = wr + wslip, the slip angle as ifo_step_slip.
+ *    i_t k_slip, ws = wr + wslip, the slip angle as ifo_step_slip;
+ *    ifo_slip_fast() the same of i_m, i_t, wr given as arguments (the
+ *    ISR's, without copying them into the struct; i_m, i_t, wr are then
+ *    left as they were).
  * Scaling: k_slip = inv_tr / imr <= 1/(Tr imr_min) <= 32 (ifo_set_tr's
  * bound 2/(Tr imr_min) <= 64); |i_t| <= IFO_I_T_MAX = 2 keeps |wslip| <= 64
  * (i_t saturated there), ws and the angle as ifo_step_slip.
  */
 void ifo_update_slip_gain(ifo_t *f);
+static inline void ifo_slip_fast(ifo_t *f, _iq i_m, _iq i_t, _iq wr)
+{
+    const _iq imr = f->imr;
+    _iq wslip;
+    /* rotor flux lag, as ifo_update_flux (rounded, |i_m - imr| < 4 pu) */
+    f->imr = imr + iq_rmpy(f->kf, i_m - imr);
+    /* Q24*Q24 -> Q24: |i_t| <= 2, k_slip <= 32.  The limit acts: i_t is
+     * the measured current, up to the trip level (32 pu) in a fault */
+    wslip = _IQmpy(_IQsat(i_t, _IQ(IFO_I_T_MAX), _IQ(-IFO_I_T_MAX)), f->k_slip);
+    f->wslip = wslip;
+    f->ws = wr + wslip;
+    /* Q24 * Q30 -> Q24 (truncated), wrapped modulo one revolution */
+    f->theta_slip = ifo_wrap(f->theta_slip + _IQmpyIQX(wslip, GLOBAL_Q, f->k_theta, 30));
+}
+
+/** ifo_slip_fast of the struct's inputs i_m, i_t, wr. */
 static inline void ifo_step_slip_fast(ifo_t *f)
 {
-    /* rotor flux lag, as ifo_update_flux (rounded, |i_m - imr| < 4 pu) */
-    f->imr += iq_rmpy(f->kf, f->i_m - f->imr);
-    /* Q24*Q24 -> Q24: |i_t| <= 2, k_slip <= 32 */
-    f->wslip = _IQmpy(_IQsat(f->i_t, _IQ(IFO_I_T_MAX), _IQ(-IFO_I_T_MAX)), f->k_slip);
-    f->ws = f->wr + f->wslip;
-    /* Q24 * Q30 -> Q24 (truncated), wrapped modulo one revolution */
-    f->theta_slip = ifo_wrap(f->theta_slip + _IQmpyIQX(f->wslip, GLOBAL_Q, f->k_theta, 30));
+    ifo_slip_fast(f, f->i_m, f->i_t, f->wr);
 }
 
 /**

@@ -32,17 +32,25 @@ typedef struct {
 void ipark_init(ipark_t *p);
 
 /**
- * One sample.  Scaling: each output is the sum or difference of two
+ * One sample, of arguments into the caller's variables (no struct: the
+ * modulator rotates the current loops' outputs straight into its own
+ * inputs).  Scaling: each output is the sum or difference of two
  * Q24*Q24 -> Q24 truncated products, so it lies within [-2, +1] LSB of the
  * exact value computed from the same inputs (alpha: [-1, +1], a difference
  * of two floor()s; beta: [-2, 0]).  Overflow: none in the valid range;
  * outside it the sums wrap.
  */
-static inline void ipark_step(ipark_t *p)
+static inline void ipark_rotate(_iq ds, _iq qs, _iq sine, _iq cosine, _iq *alpha, _iq *beta)
 {
     /* Q24*Q24 -> Q24, truncated; each |product| <= 64, each sum <= 90.5 */
-    p->alpha = _IQmpy(p->ds, p->cosine) - _IQmpy(p->qs, p->sine);
-    p->beta = _IQmpy(p->ds, p->sine) + _IQmpy(p->qs, p->cosine);
+    *alpha = _IQmpy(ds, cosine) - _IQmpy(qs, sine);
+    *beta = _IQmpy(ds, sine) + _IQmpy(qs, cosine);
+}
+
+/** ipark_rotate of the struct's inputs into its outputs. */
+static inline void ipark_step(ipark_t *p)
+{
+    ipark_rotate(p->ds, p->qs, p->sine, p->cosine, &p->alpha, &p->beta);
 }
 
 #endif /* IPARK_H */

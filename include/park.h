@@ -33,16 +33,26 @@ typedef struct {
 void park_init(park_t *p);
 
 /**
- * One sample.  Scaling: each output is the sum of two Q24*Q24 -> Q24
+ * One sample of the currents alpha, beta given as arguments (the caller
+ * need not copy them into the struct first), at the struct's sine and
+ * cosine; writes ds, qs.  Scaling: each output is the sum of two Q24*Q24 -> Q24
  * products, each truncated (_IQmpy), so it lies within [-2, 0] LSB of the
  * exact value computed from the same inputs.  Overflow: none in the valid
  * range (each product <= 64, each sum <= 90.5); outside it the sums wrap.
  */
+static inline void park_rotate(park_t *p, _iq alpha, _iq beta)
+{
+    const _iq s = p->sine;
+    const _iq c = p->cosine;
+    /* Q24*Q24 -> Q24, truncated; each |product| <= 64, each sum <= 90.5 */
+    p->ds = _IQmpy(alpha, c) + _IQmpy(beta, s);
+    p->qs = _IQmpy(beta, c) - _IQmpy(alpha, s);
+}
+
+/** park_rotate of the struct's own alpha, beta. */
 static inline void park_step(park_t *p)
 {
-    /* Q24*Q24 -> Q24, truncated; each |product| <= 64, each sum <= 90.5 */
-    p->ds = _IQmpy(p->alpha, p->cosine) + _IQmpy(p->beta, p->sine);
-    p->qs = _IQmpy(p->beta, p->cosine) - _IQmpy(p->alpha, p->sine);
+    park_rotate(p, p->alpha, p->beta);
 }
 
 #endif /* PARK_H */

@@ -94,16 +94,15 @@ typedef struct {
 phase_current_status_t phase_current_init(phase_current_t *pc, float gain_a, float gain_b,
                                           int16_t polarity, float offset_window_fs);
 
+/* A reading at a rail (0, or RAIL_HIGH and above) as one unsigned compare
+ * per phase, no branch: raw - 1 wraps 0 to 0xFFFF, so raw - 1 >= RAIL_HIGH
+ * - 1 holds exactly for raw == 0 or raw >= RAIL_HIGH.  Phase A's bit is 1,
+ * B's is 2 (the compare's 0/1 shifted). */
 static inline uint16_t phase_current_rail_bits(uint16_t a_raw, uint16_t b_raw)
 {
-    uint16_t r = 0u;
-    if (a_raw == 0u || a_raw >= PHASE_CURRENT_RAIL_HIGH) {
-        r |= PHASE_CURRENT_PHASE_A;
-    }
-    if (b_raw == 0u || b_raw >= PHASE_CURRENT_RAIL_HIGH) {
-        r |= PHASE_CURRENT_PHASE_B;
-    }
-    return r;
+    const uint16_t a = (uint16_t)((uint16_t)(a_raw - 1u) >= (uint16_t)(PHASE_CURRENT_RAIL_HIGH - 1u));
+    const uint16_t b = (uint16_t)((uint16_t)(b_raw - 1u) >= (uint16_t)(PHASE_CURRENT_RAIL_HIGH - 1u));
+    return (uint16_t)(a | (uint16_t)(b << 1));
 }
 
 /**

@@ -145,6 +145,10 @@ pi_status_t pi_set_gains(pi_ctrl_t *p, _iq kp, _iq ki);
  */
 static inline void pi_step(pi_ctrl_t *p)
 {
+    /* the limits and the integrator, each read once */
+    const _iq out_max = p->out_max;
+    const _iq out_min = p->out_min;
+    const _iq ui0 = p->ui;
     /* |ref|, |fbk| <= 32, so |e| <= 64: no overflow */
     const _iq e = p->ref - p->fbk;
     /* Proportional path.  e is clamped to +-e_max = +-64/kp first so that
@@ -162,8 +166,8 @@ static inline void pi_step(pi_ctrl_t *p)
     /* Headroom of the integrator before the output reaches a limit:
      * |.| <= 16 + 64 + 16 = 96 */
     const _iq upff = up + p->ff;   /* |.| <= 64 + 16 */
-    const _iq ui_hi = p->out_max - upff;
-    const _iq ui_lo = p->out_min - upff;
+    const _iq ui_hi = out_max - upff;
+    const _iq ui_lo = out_min - upff;
     _iq v;
 
     /* Clamping anti-windup: an upward increment may take the integrator at
@@ -177,15 +181,15 @@ static inline void pi_step(pi_ctrl_t *p)
      * - three saturations, no branch.  An increment that points away from
      * the saturated limit is always taken, so the output leaves the limit
      * as soon as kp e + ui + ff allows. */
-    const _iq upper = _IQsat(ui_hi, p->out_max, p->ui);
-    const _iq lower = _IQsat(ui_lo, p->ui, p->out_min);
-    const _iq ui = _IQsat(p->ui + di, upper, lower);   /* |ui + di| <= 16 + 64 = 80 */
+    const _iq upper = _IQsat(ui_hi, out_max, ui0);
+    const _iq lower = _IQsat(ui_lo, ui0, out_min);
+    const _iq ui = _IQsat(ui0 + di, upper, lower);   /* |ui + di| <= 16 + 64 = 80 */
     p->ui = ui;
 
     v = upff + ui;   /* |.| <= 64 + 16 + 16 = 96 */
-    p->out = _IQsat(v, p->out_max, p->out_min);
+    p->out = _IQsat(v, out_max, out_min);
     /* at or beyond a limit: the integrator is then held in that direction */
-    p->sat = (uint16_t)((v >= p->out_max) | (v <= p->out_min));   /* no branch */
+    p->sat = (uint16_t)((v >= out_max) | (v <= out_min));   /* no branch */
 }
 
 #endif /* PI_CTRL_H */

@@ -131,7 +131,10 @@ static inline void protect_latch(protect_t *p, fault_code_t code)
  *  bus undervoltage, encoder, current feedback. */
 static inline void protect_step(protect_t *p)
 {
-    protect_latch(p, protect_check(p, 0u));
+    const fault_code_t code = protect_check(p, 0u);
+    if (code != FAULT_NONE) {   /* the healthy sample: one test */
+        protect_latch(p, code);
+    }
 }
 
 /** Clear the latch if the inputs of this sample are healthy; returns 1 if

@@ -130,14 +130,13 @@ qep_speed_status_t qep_speed_set_decim(qep_speed_t *q, uint16_t decim, const bas
                                        float speed_filter_Hz);
 
 /* a - b modulo 2^16, read as a signed number in [-32768, 32767].  Written
- * without the implementation-defined uint16 -> int16 conversion. */
+ * without the implementation-defined uint16 -> int16 conversion, and
+ * without a branch: flipping bit 15 of the unsigned difference maps
+ * [0, 32767] to [32768, 65535] and [32768, 65535] to [0, 32767]; less
+ * 32768 that is the two's complement reading (0 -> 0, 65535 -> -1). */
 static inline int32_t qep_diff(uint16_t a, uint16_t b)
 {
-    int32_t d = (int32_t)(uint16_t)(a - b);   /* [0, 65535] */
-    if (d >= 32768) {
-        d -= 65536;
-    }
-    return d;
+    return (int32_t)(uint16_t)((uint16_t)(a - b) ^ 0x8000u) - (int32_t)32768;
 }
 
 /* p modulo n into [0, n).  The common case (|step| < n) costs two compares;

@@ -108,9 +108,10 @@ static inline uint16_t svgen_compare(const svgen_t *s, _iq d)
  */
 static inline void svgen_step(svgen_t *s)
 {
-    _iq va, vb, vc, vmax, vmin, span, div, inv, mid;
+    const _iq vdc = s->vdc;
+    _iq va, vb, vc, vmax, vmin, span, inv, mid;
 
-    if (!(s->vdc >= s->vdc_min)) {
+    if (!(vdc >= s->vdc_min)) {
         /* Bus fault: zero line-to-line voltage rather than a division by a
          * vanishing bus. */
         s->da = _IQ(0.5);
@@ -119,40 +120,49 @@ static inline void svgen_step(svgen_t *s)
         s->overmod = 0u;
         s->vdc_fault = 1u;
     } else {
-        /* Phase references (inverse Clarke).  Q24*Q24 and Q24*Q30 -> Q24,
-         * truncated; |.| <= 16 + 27.7 = 43.7 for |u| <= 32.  An error of an
-         * LSB common to all three phases cancels in the zero sequence. */
-        const _iq half = _IQmpy(s->ualpha, _IQ(0.5));
+        /* Phase references (inverse Clarke).  Q24*Q30 -> Q24, truncated,
+         * and the exact-floor halving (_IQdiv2 = _IQmpy by 0.5 bit for
+         * bit); |.| <= 16 + 27.7 = 43.7 for |u| <= 32.  An error of an LSB
+         * common to all three phases cancels in the zero sequence. */
+        const _iq ualpha = s->ualpha;
+        const _iq half = _IQdiv2(ualpha);
         const _iq sb = _IQmpyIQX(s->ubeta, GLOBAL_Q, FOC_SQRT3_BY_TWO_Q30, 30);
-        va = s->ualpha;
+        va = ualpha;
         vb = sb - half;
         vc = _IQ(0.0) - sb - half;
 
-        vmax = (va > vb) ? va : vb;
-        vmax = (vc > vmax) ? vc : vmax;
-        vmin = (va < vb) ? va : vb;
-        vmin = (vc < vmin) ? vc : vmin;
+        /* largest and smallest of the three in at most three compares
+         * (vc above the larger of va, vb cannot be below the smaller) */
+        if (va > vb) {
+            vmax = va;
+            vmin = vb;
+        } else {
+            vmax = vb;
+            vmin = va;
+        }
+        if (vc > vmax) {
+            vmax = vc;
+        } else if (vc < vmin) {
+            vmin = vc;
+        } else {
+            /* vc between them */
+        }
         span = vmax - vmin;              /* >= 0, <= 87.4 */
         /* Mid-point of the references: -v0.  Q24, |.| <= 43.7 */
-        mid = _IQmpy(vmax + vmin, _IQ(0.5));
+        mid = _IQdiv2(vmax + vmin);
 
         /* Divisor max(vdc, span): the bus in the linear range, the span
-         * (scaling the vector onto the hexagon, angle kept) beyond it. */
-        if (span > s->vdc) {
-            div = span;
-            s->overmod = 1u;
-        } else {
-            div = s->vdc;
-            s->overmod = 0u;
-        }
+         * (scaling the vector onto the hexagon, angle kept) beyond it.
+         * 1/div, Q24, <= 1/0.05 = 20; 1/vdc only when vdc changed */
         s->vdc_fault = 0u;
-        /* 1/div, Q24, <= 1/0.05 = 20; 1/vdc only when vdc changed */
-        if (s->overmod != 0u) {
-            inv = _IQdiv(_IQ(1.0), div);
+        if (span > vdc) {
+            s->overmod = 1u;
+            inv = _IQdiv(_IQ(1.0), span);
         } else {
-            if (s->vdc != s->vdc_seen) {
-                s->inv_vdc = _IQdiv(_IQ(1.0), s->vdc);
-                s->vdc_seen = s->vdc;
+            s->overmod = 0u;
+            if (vdc != s->vdc_seen) {
+                s->inv_vdc = _IQdiv(_IQ(1.0), vdc);
+                s->vdc_seen = vdc;
             }
             inv = s->inv_vdc;
         }

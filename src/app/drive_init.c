@@ -288,7 +288,7 @@ int16_t drive_init(drive_t *d, const drive_config_t *c)
     park_init(&d->park);
     ipark_init(&d->ipark);
     d->duty_next[0] = d->duty_next[1] = d->duty_next[2] = _IQ(0.5);
-    d->duty_last[0] = d->duty_last[1] = d->duty_last[2] = _IQ(0.5);
+    d->volt.da = d->volt.db = d->volt.dc = _IQ(0.5);   /* the period before the first */
     d->config_status = DRIVE_CFG_OK;
     d->telemetry.fault = FAULT_NONE;
     return DRIVE_CFG_OK;

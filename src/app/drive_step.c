@@ -20,7 +20,8 @@
  *                     RLS, the sequence and adaptation, the observer over
  *                     two, the model-based protections)
  *   7. current loops  d/q PIs with decoupling, current plausibility check
- *   8. orientation    i_mr and the slip angle (indirect; the frame angle of
+ *   8. orientation    (with 7, under its test of the frame) i_mr and the
+ *                     slip angle (indirect; the frame angle of
  *                     the next sample is the encoder angle plus the slip)
  *   9. modulation     inverse Park at the middle of period k+1, dead-time
  *                     feed-forward, SVPWM
@@ -126,23 +127,25 @@ static inline void calibrate(drive_t *d)
     }
 }
 
-/* Voltage applied in the period that just ended (duties of sample k-2). */
+/* Voltage applied in the period that just ended: its duties (of sample
+ * k-2) are in d->volt already, put there by the PWM pipeline at the end of
+ * the last ISR. */
 static inline void voltage_model(drive_t *d)
 {
-    d->volt.da = d->duty_last[0];
-    d->volt.db = d->duty_last[1];
-    d->volt.dc = d->duty_last[2];
+    const _iq ia = d->cur.ia;
+    const _iq ib = d->cur.ib;
     d->volt.vdc = d->bus.vdc;
     /* the current in the middle of that period decides the dead-time sign:
-     * the mean of its two end samples (Q24 + Q24 in range: |i| <= 1 pu) */
-    d->volt.ia = _IQmpy(d->cur.ia + d->ia_prev, _IQ(0.5));
-    d->volt.ib = _IQmpy(d->cur.ib + d->ib_prev, _IQ(0.5));
+     * the mean of its two end samples (Q24 + Q24 in range: |i| <= 32 pu;
+     * the halving is the floor, as _IQmpy by 0.5) */
+    d->volt.ia = _IQdiv2(ia + d->ia_prev);
+    d->volt.ib = _IQdiv2(ib + d->ib_prev);
     /* and its change over the period places the current at each switching
      * edge (volt_calc.h); Q24 - Q24, |.| <= 2 pu */
-    d->volt.dia = d->cur.ia - d->ia_prev;
-    d->volt.dib = d->cur.ib - d->ib_prev;
-    d->ia_prev = d->cur.ia;
-    d->ib_prev = d->cur.ib;
+    d->volt.dia = ia - d->ia_prev;
+    d->volt.dib = ib - d->ib_prev;
+    d->ia_prev = ia;
+    d->ib_prev = ib;
     if (d->on_last != 0u) {
         volt_calc_step(&d->volt);
     } else {
@@ -154,11 +157,11 @@ static inline void voltage_model(drive_t *d)
 
 static inline void transform_currents(drive_t *d)
 {
-    d->clarke.as = d->cur.ia;
-    d->clarke.bs = d->cur.ib;
-    clarke_step(&d->clarke);
-    d->park.alpha = d->clarke.alpha;
-    d->park.beta = d->clarke.beta;
+    /* Clarke: alpha is i_a itself; kept in d->clarke for the slow tasks */
+    const _iq alpha = d->cur.ia;
+    const _iq beta = clarke_beta(alpha, d->cur.ib);
+    d->clarke.alpha = alpha;
+    d->clarke.beta = beta;
     if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
         /* the observer's window (its step: drive_slow.c, OBSERVER slot):
          * the voltage of the period that just ended (0 while the bridge was
@@ -166,33 +169,32 @@ static inline void transform_currents(drive_t *d)
          * stay inside Q24) and this sample's current */
         d->obs_su_alpha += _IQsat(d->volt.valpha, _IQ(FLUX_OBS_IN_MAX), _IQ(-FLUX_OBS_IN_MAX));
         d->obs_su_beta += _IQsat(d->volt.vbeta, _IQ(FLUX_OBS_IN_MAX), _IQ(-FLUX_OBS_IN_MAX));
-        d->obs_si_alpha += d->clarke.alpha;
-        d->obs_si_beta += d->clarke.beta;
+        d->obs_si_alpha += alpha;
+        d->obs_si_beta += beta;
     }
     d->ifo.theta_r = d->qep.theta_elec;
     if (d->frame_ifo != 0u) {
         /* frame angle theta_k = encoder angle + integrated slip (ifo.h) */
         ifo_frame_from_rotor(&d->ifo);
         d->theta_k = d->ifo.theta;
-        d->theta_prev = d->ifo.theta_prev;
         d->ws_k = d->ifo.ws_frame;
     } else {
         /* the observer's angle, carried between its steps on ws_f (it
          * ran at the last OBSERVER slot); or, held (magnetisation, no flux),
          * the encoder angle: the frame turns with the rotor */
-        d->theta_prev = d->theta_k;
+        const _iq theta_prev = d->theta_k;
         d->obs_theta = angle_wrap_unit(d->obs_theta + d->obs_dtheta);
         d->theta_k = (d->fobs_hold != 0u) ? d->qep.theta_elec : d->obs_theta;
         /* the frame's actual speed over the period (the regression's w_s):
          * the angle step, whatever moved it; Q24 * Q20 -> Q24, |step| < 0.5 */
-        d->ws_k = _IQmpyIQX(angle_diff_pu(d->theta_k, d->theta_prev), GLOBAL_Q,
+        d->ws_k = _IQmpyIQX(angle_diff_pu(d->theta_k, theta_prev), GLOBAL_Q,
                             d->ifo.inv_k_theta, 20);
     }
     /* every frame angle is in [0, 1) (ifo wraps it, the observer's atan2 and
      * the encoder's count are there by construction): no wrap */
     d->park.sine = _IQsinPU(d->theta_k);
     d->park.cosine = _IQcosPU(d->theta_k);
-    park_step(&d->park);
+    park_rotate(&d->park, alpha, beta);
 }
 
 /* The regression's inputs of this period (method §2, §7 points 1-2), into
@@ -223,6 +225,26 @@ static inline void control_refs(drive_t *d)
     d->pi_iq.ref = d->i_t_ref;
 }
 
+/* IFO's fast step: i_mr, slip (gain from the SPEED slot), slip angle for
+ * theta_{k+1}; the rotor speed with an 8-sample lag instead of ~31:
+ * orientation during acceleration.  Only with the IFO frame (the
+ * observer ran at the Park transform). */
+static inline void orient_ifo(drive_t *d)
+{
+    ifo_slip_fast(&d->ifo, d->park.ds, d->park.qs, d->qep.speed_raw);
+}
+
+static inline void orient(drive_t *d)
+{
+    if (d->frame_ifo != 0u) {
+        orient_ifo(d);
+    }
+}
+
+/* The current loops, and the orientation's fast step under the same test
+ * of the frame (one per ISR): the PIs read nothing ifo_slip_fast writes
+ * (their frame speed is ws_ctl, taken before), and the decoupling reads
+ * i_mr before it moves, as when the orientation ran after them. */
 static inline void control(drive_t *d)
 {
     /* decoupling feed-forward (rotor-flux frame steady-state voltages):
@@ -233,6 +255,7 @@ static inline void control(drive_t *d)
     _iq emf_flux;
     if (d->frame_ifo != 0u) {
         emf_flux = _IQmpy(d->k.lm2_lr, d->ifo.imr);
+        orient_ifo(d);
     } else {
         emf_flux = _IQmpy(d->fobs.lm_lr, d->fobs.psi_mag);
     }
@@ -245,38 +268,29 @@ static inline void control(drive_t *d)
     pi_step(&d->pi_iq);
 }
 
-static inline void orient(drive_t *d)
-{
-    if (d->frame_ifo == 0u) {
-        return;   /* the observer ran at the Park transform */
-    }
-    d->ifo.i_m = d->park.ds;
-    d->ifo.i_t = d->park.qs;
-    d->ifo.wr = d->qep.speed_raw;   /* 8-sample lag instead of ~31: orientation during acceleration */
-    ifo_step_slip_fast(&d->ifo);    /* i_mr, slip (gain from the SPEED slot), slip angle for theta_{k+1} */
-}
-
 static inline void modulate(drive_t *d, hal_pwm_compare_t *out)
 {
     /* the voltage computed now is applied over period k+1; rotate it at the
      * middle of that period: theta_k + 1.5 w_s Ts */
     const _iq step = _IQmpy(d->ws_ctl, d->k.three_half_step);
+    _iq sine, cosine, u_alpha, u_beta;
     /* from the Park's sin/cos of theta_k by the small step (angle.h) */
-    angle_sincos_step(d->park.sine, d->park.cosine, d->theta_k, step,
-                      &d->ipark.sine, &d->ipark.cosine);
-    d->ipark.ds = d->pi_id.out;
-    d->ipark.qs = d->pi_iq.out;
-    ipark_step(&d->ipark);
+    angle_sincos_step(d->park.sine, d->park.cosine, d->theta_k, step, &sine, &cosine);
+    /* the current loops' outputs straight into the modulator's frame */
+    ipark_rotate(d->pi_id.out, d->pi_iq.out, sine, cosine, &u_alpha, &u_beta);
     {
         /* dead-time feed-forward for period k+1: the phase currents in its
          * middle, extrapolated 1.5 periods on the change over the last one
-         * (voltage_model's volt.dia/dib; Q24, |.| <= 4 pu) */
+         * (voltage_model's volt.dia/dib; Q24, |.| <= 4 pu): i + 1.5 di as
+         * i + di + floor(di/2), which is _IQmpy(di, 1.5) bit for bit */
         _iq ff_a, ff_b;
-        const _iq ia = d->cur.ia + _IQmpy(d->volt.dia, _IQ(1.5));
-        const _iq ib = d->cur.ib + _IQmpy(d->volt.dib, _IQ(1.5));
+        const _iq dia = d->volt.dia;
+        const _iq dib = d->volt.dib;
+        const _iq ia = d->cur.ia + dia + _IQdiv2(dia);
+        const _iq ib = d->cur.ib + dib + _IQdiv2(dib);
         volt_calc_feedforward(&d->volt, d->bus.vdc, ia, ib, &ff_a, &ff_b);
-        d->svgen.ualpha = d->ipark.alpha + ff_a;
-        d->svgen.ubeta = d->ipark.beta + ff_b;
+        d->svgen.ualpha = u_alpha + ff_a;
+        d->svgen.ubeta = u_beta + ff_b;
     }
     /* the bus for the duties changes at the slow rate (drive_slow.c), so
      * that svgen divides once per slow period */
@@ -315,10 +329,9 @@ static inline void isr_body(drive_t *d, const hal_adc_sample_t *adc, uint16_t qe
      * observer (mode 1) has run */
     d->ws_ctl = drive_frame_speed(d);
 
-    pwm_on = (uint16_t)(d->seq.pwm_on != 0u && d->prot.fault == FAULT_NONE);
+    pwm_on = (uint16_t)((uint16_t)(d->seq.pwm_on != 0u) & (uint16_t)(d->prot.fault == FAULT_NONE));
     if (pwm_on != 0u && (d->seq.sensor_testing | d->seq.vi_testing) == 0u) {
-        control(d);
-        orient(d);
+        control(d);   /* and the orientation's fast step */
         modulate(d, out);
     } else if (pwm_on != 0u) {
         /* the sensor test's pulses or the bridge's voltage-error test
@@ -336,10 +349,12 @@ static inline void isr_body(drive_t *d, const hal_adc_sample_t *adc, uint16_t qe
 
     pwm_on = drive_safety_modulate(d, out, pwm_on);   /* the sensor test (drive_safety.h) */
 
-    /* PWM pipeline (hal_pwm.h): shift the duties one period */
-    d->duty_last[0] = d->duty_next[0];
-    d->duty_last[1] = d->duty_next[1];
-    d->duty_last[2] = d->duty_next[2];
+    /* PWM pipeline (hal_pwm.h): shift the duties one period; the ones that
+     * act in the period now starting go straight to the voltage model's
+     * inputs (the next ISR reconstructs that period) */
+    d->volt.da = d->duty_next[0];
+    d->volt.db = d->duty_next[1];
+    d->volt.dc = d->duty_next[2];
     d->on_last = d->on_next;
     d->duty_next[0] = d->svgen.da;
     d->duty_next[1] = d->svgen.db;
