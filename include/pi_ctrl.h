@@ -134,7 +134,9 @@ pi_status_t pi_set_limits(pi_ctrl_t *p, _iq out_min, _iq out_max);
 pi_status_t pi_set_gains(pi_ctrl_t *p, _iq kp, _iq ki);
 
 /**
- * One sample.  Scaling: all Q24; kp*e is truncated (_IQmpy, within 1 LSB
+ * One sample, of the feedback @p fbk and feed-forward @p ff given as
+ * arguments (the current loops': no copy into the struct; p->fbk, p->ff
+ * are left as they were) and the struct's reference.  Scaling: all Q24; kp*e is truncated (_IQmpy, within 1 LSB
  * below the exact product), ki*e rounded (iq_rmpy = _IQrmpy, within 1/2 LSB,
  * no bias),
  * so unsaturated the output is within 1.5 LSB of the exact kp e + ui + ff of
@@ -143,14 +145,14 @@ pi_status_t pi_set_gains(pi_ctrl_t *p, _iq kp, _iq ki);
  * clamp, |ui| <= 16, |ff| <= 16, so every sum is within +-96); the output
  * saturates at out_min/out_max, the integrator at the same limits.
  */
-static inline void pi_step(pi_ctrl_t *p)
+static inline void pi_step_in(pi_ctrl_t *p, _iq fbk, _iq ff)
 {
     /* the limits and the integrator, each read once */
     const _iq out_max = p->out_max;
     const _iq out_min = p->out_min;
     const _iq ui0 = p->ui;
     /* |ref|, |fbk| <= 32, so |e| <= 64: no overflow */
-    const _iq e = p->ref - p->fbk;
+    const _iq e = p->ref - fbk;
     /* Proportional path.  e is clamped to +-e_max = +-64/kp first so that
      * the Q24*Q24 -> Q24 product cannot exceed 64.  The clamp is invisible
      * at the output: when it acts |kp e| >= 64 >= (out_max - out_min) + |ff|,
@@ -165,7 +167,7 @@ static inline void pi_step(pi_ctrl_t *p)
     const _iq di = iq_rmpy(p->ki, e);   /* = _IQrmpy bit for bit: |ki e| < 64 (iq_rmpy.h) */
     /* Headroom of the integrator before the output reaches a limit:
      * |.| <= 16 + 64 + 16 = 96 */
-    const _iq upff = up + p->ff;   /* |.| <= 64 + 16 */
+    const _iq upff = up + ff;   /* |.| <= 64 + 16 */
     const _iq ui_hi = out_max - upff;
     const _iq ui_lo = out_min - upff;
     _iq v;
@@ -190,6 +192,12 @@ static inline void pi_step(pi_ctrl_t *p)
     p->out = _IQsat(v, out_max, out_min);
     /* at or beyond a limit: the integrator is then held in that direction */
     p->sat = (uint16_t)((v >= out_max) | (v <= out_min));   /* no branch */
+}
+
+/** pi_step_in of the struct's own feedback and feed-forward. */
+static inline void pi_step(pi_ctrl_t *p)
+{
+    pi_step_in(p, p->fbk, p->ff);
 }
 
 #endif /* PI_CTRL_H */

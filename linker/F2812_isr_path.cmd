@@ -20,7 +20,7 @@
  * the same name in two files is matched in both (a few words more in RAM).
  * The firmware's own ISR functions are in `ramfuncs` by #pragma CODE_SECTION
  * (checked by the same test); TI's IQmath functions by the IQmath section.
- * 70 functions.
+ * 71 functions.
  */
 *(.text:_angle_diff_pu)
 *(.text:_angle_sincos)
@@ -45,6 +45,7 @@
 *(.text:_drive_test_voltage)
 *(.text:_drive_vi_modulate)
 *(.text:_encoder_check_jump)
+*(.text:_frame_from_ifo)
 *(.text:_ident_in)
 *(.text:_ident_regressor_accumulate)
 *(.text:_identify_accumulate)
@@ -68,7 +69,7 @@
 *(.text:_phase_current_step)
 *(.text:_phase_unit)
 *(.text:_pi_reset)
-*(.text:_pi_step)
+*(.text:_pi_step_in)
 *(.text:_protect)
 *(.text:_protect_check)
 *(.text:_protect_latch)

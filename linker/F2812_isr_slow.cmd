@@ -16,7 +16,7 @@
  * name).  Symbol names: COFF ABI prefixes C names with '_', EABI does not
  * (SPRU514 "COFF ABI vs EABI").  This file: --abi=coffabi.  A static function of
  * the same name in two files is matched in both (a few words more in RAM).
- * 75 functions.
+ * 76 functions.
  */
 *(.text:_bw_filter_step)
 *(.text:_bw_filter_update)
@@ -60,6 +60,7 @@
 *(.text:_model_inputs)
 *(.text:_model_ready)
 *(.text:_pi_apply_gains)
+*(.text:_pi_step)
 *(.text:_publish_guard_tick)
 *(.text:_qep_mean_speed)
 *(.text:_qep_speed_update)

@@ -165,7 +165,7 @@ MUTANTS = [
       "p->sat = (uint16_t)(v >= out_max);",
       "saturation at the lower limit not reported"),
     M("pi_error_sign", "include/pi_ctrl.h",
-      "const _iq e = p->ref - p->fbk;", "const _iq e = p->fbk - p->ref;",
+      "const _iq e = p->ref - fbk;", "const _iq e = fbk - p->ref;",
       "positive feedback"),
     M("park_q_sign", "include/park.h",
       "p->qs = _IQmpy(beta, c) - _IQmpy(alpha, s);",

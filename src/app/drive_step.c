@@ -155,6 +155,15 @@ static inline void voltage_model(drive_t *d)
     }
 }
 
+/* frame angle theta_k = encoder angle + integrated slip (ifo.h), and the
+ * frame's speed over the period */
+static inline void frame_from_ifo(drive_t *d)
+{
+    ifo_frame_from_rotor(&d->ifo);
+    d->theta_k = d->ifo.theta;
+    d->ws_k = d->ifo.ws_frame;
+}
+
 static inline void transform_currents(drive_t *d)
 {
     /* Clarke: alpha is i_a itself; kept in d->clarke for the slow tasks */
@@ -162,7 +171,11 @@ static inline void transform_currents(drive_t *d)
     const _iq beta = clarke_beta(alpha, d->cur.ib);
     d->clarke.alpha = alpha;
     d->clarke.beta = beta;
-    if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
+    d->ifo.theta_r = d->qep.theta_elec;
+    if (d->k.orientation != DRIVE_ORIENT_FLUX_OBS) {
+        /* mode 0: the frame is always ifo's (drive_ifo_frame), one test */
+        frame_from_ifo(d);
+    } else {
         /* the observer's window (its step: drive_slow.c, OBSERVER slot):
          * the voltage of the period that just ended (0 while the bridge was
          * off; limited to the observer's input range, so that 8 of them
@@ -171,24 +184,21 @@ static inline void transform_currents(drive_t *d)
         d->obs_su_beta += _IQsat(d->volt.vbeta, _IQ(FLUX_OBS_IN_MAX), _IQ(-FLUX_OBS_IN_MAX));
         d->obs_si_alpha += alpha;
         d->obs_si_beta += beta;
-    }
-    d->ifo.theta_r = d->qep.theta_elec;
-    if (d->frame_ifo != 0u) {
-        /* frame angle theta_k = encoder angle + integrated slip (ifo.h) */
-        ifo_frame_from_rotor(&d->ifo);
-        d->theta_k = d->ifo.theta;
-        d->ws_k = d->ifo.ws_frame;
-    } else {
-        /* the observer's angle, carried between its steps on ws_f (it
-         * ran at the last OBSERVER slot); or, held (magnetisation, no flux),
-         * the encoder angle: the frame turns with the rotor */
-        const _iq theta_prev = d->theta_k;
-        d->obs_theta = angle_wrap_unit(d->obs_theta + d->obs_dtheta);
-        d->theta_k = (d->fobs_hold != 0u) ? d->qep.theta_elec : d->obs_theta;
-        /* the frame's actual speed over the period (the regression's w_s):
-         * the angle step, whatever moved it; Q24 * Q20 -> Q24, |step| < 0.5 */
-        d->ws_k = _IQmpyIQX(angle_diff_pu(d->theta_k, theta_prev), GLOBAL_Q,
-                            d->ifo.inv_k_theta, 20);
+        if (d->frame_ifo != 0u) {
+            frame_from_ifo(d);   /* RUN with tracking */
+        } else {
+            /* the observer's angle, carried between its steps on ws_f (it
+             * ran at the last OBSERVER slot); or, held (magnetisation, no
+             * flux), the encoder angle: the frame turns with the rotor */
+            const _iq theta_prev = d->theta_k;
+            d->obs_theta = angle_wrap_unit(d->obs_theta + d->obs_dtheta);
+            d->theta_k = (d->fobs_hold != 0u) ? d->qep.theta_elec : d->obs_theta;
+            /* the frame's actual speed over the period (the regression's
+             * w_s): the angle step, whatever moved it; Q24 * Q20 -> Q24,
+             * |step| < 0.5 */
+            d->ws_k = _IQmpyIQX(angle_diff_pu(d->theta_k, theta_prev), GLOBAL_Q,
+                                d->ifo.inv_k_theta, 20);
+        }
     }
     /* every frame angle is in [0, 1) (ifo wraps it, the observer's atan2 and
      * the encoder's count are there by construction): no wrap */
@@ -260,12 +270,8 @@ static inline void control(drive_t *d)
         emf_flux = _IQmpy(d->fobs.lm_lr, d->fobs.psi_mag);
     }
     control_refs(d);
-    d->pi_id.fbk = d->park.ds;
-    d->pi_id.ff = -_IQmpy(ws, _IQmpy(d->k.sigma_ls, d->park.qs));
-    d->pi_iq.fbk = d->park.qs;
-    d->pi_iq.ff = _IQmpy(ws, _IQmpy(d->k.sigma_ls, d->park.ds) + emf_flux);
-    pi_step(&d->pi_id);
-    pi_step(&d->pi_iq);
+    pi_step_in(&d->pi_id, d->park.ds, -_IQmpy(ws, _IQmpy(d->k.sigma_ls, d->park.qs)));
+    pi_step_in(&d->pi_iq, d->park.qs, _IQmpy(ws, _IQmpy(d->k.sigma_ls, d->park.ds) + emf_flux));
 }
 
 static inline void modulate(drive_t *d, hal_pwm_compare_t *out)
