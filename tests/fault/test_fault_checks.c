@@ -102,6 +102,26 @@ static void test_encoder_jump_and_wrap(void **state)
     e.count = (uint16_t)(e.count + 32768u);
     encoder_check_step(&e);
     assert_int_equal(e.fault, 1u);
+    /* the jump test alone (encoder_check_jump, branch-free): |d1| at the
+     * limit passes, one count beyond trips, in both directions, and nothing
+     * trips while the bridge is off (active 0) */
+    {
+        static const int32_t d1s[] = { 27, -27, 28, -28, 0, 32767, -32768 };
+        size_t j;
+        for (j = 0; j < sizeof d1s / sizeof d1s[0]; j++) {
+            const int32_t d1 = d1s[j];
+            const uint16_t over = (uint16_t)(((d1 < 0) ? -d1 : d1) > 27);
+            encoder_check_reset(&e);
+            e.active = 1u;
+            encoder_check_jump(&e, d1);
+            assert_int_equal(e.fault, over);
+            assert_int_equal(e.cause, over ? ENCODER_CHECK_JUMP : 0u);
+            encoder_check_reset(&e);
+            e.active = 0u;
+            encoder_check_jump(&e, d1);
+            assert_int_equal(e.fault, 0u);
+        }
+    }
     /* bad arguments: refused, and the check reports a fault */
     assert_int_equal(encoder_check_init(&e, TS, 0.0f, 0.15f, 4.0f, 50.0f, 1000u, 2u),
                      ENCODER_CHECK_ERR_ARG);

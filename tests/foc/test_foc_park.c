@@ -122,6 +122,22 @@ static void check_park_ipark(_iq al, _iq be, _iq s, _iq c, double *worst)
     ipark_step(&ip);
     e3 = iq2d(ip.alpha) - (a * cd - b * sd);
     e4 = iq2d(ip.beta) - (a * sd + b * cd);
+    {
+        /* the argument forms the ISR calls: the same values (so the bounds
+         * below hold for them); park_rotate reads its arguments, not the
+         * struct's alpha/beta (set to something else here) */
+        park_t q;
+        _iq a2, b2;
+        park_init(&q);
+        q.alpha = be;
+        q.beta = al;
+        q.sine = s;
+        q.cosine = c;
+        park_rotate(&q, al, be);
+        assert_true(q.ds == p.ds && q.qs == p.qs);
+        ipark_rotate(al, be, s, c, &a2, &b2);
+        assert_true(a2 == ip.alpha && b2 == ip.beta);
+    }
 #if MATH_TYPE == IQ_MATH
     assert_true(e1 > -2.0 * FOC_LSB && e1 <= 0.0);
     assert_true(e2 > -1.0 * FOC_LSB && e2 < 1.0 * FOC_LSB);

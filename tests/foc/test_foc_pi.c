@@ -321,7 +321,18 @@ static void check_step(foc_rng_t *r, double kp, double ki, double omin, double o
     ui = iq2d(p.ui);
     model_step(iq2d(p.kp), iq2d(p.ki), iq2d(p.out_min), iq2d(p.out_max), iq2d(p.ref),
                iq2d(p.fbk), iq2d(p.ff), &ui, &out);
-    pi_step(&p);
+    {
+        /* pi_step_in, the current loops' form, on a copy whose own fbk and
+         * ff are something else: the same step as pi_step of p (so the
+         * model's bounds below hold for it), its fbk and ff untouched */
+        pi_ctrl_t q = p;
+        q.fbk = p.ff;
+        q.ff = p.fbk;
+        pi_step_in(&q, p.fbk, p.ff);
+        pi_step(&p);
+        assert_true(q.ui == p.ui && q.out == p.out && q.sat == p.sat);
+        assert_true(q.fbk == p.ff && q.ff == p.fbk);
+    }
     mag = fabs(iq2d(p.kp) * (iq2d(p.ref) - iq2d(p.fbk))) + 32.0;
     assert_true(fabs(iq2d(p.ui) - ui) <= foc_tol(1.5, 4.0, mag));
     assert_true(fabs(iq2d(p.out) - out) <= foc_tol(2.5, 4.0, mag));

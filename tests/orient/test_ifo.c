@@ -178,10 +178,20 @@ static void test_multirate_path(void **state)
     f.wr = _IQ(0.0);
     for (k = 1u; k <= 2400u; k++) {
         double want;
+        ifo_t g;
         if ((k & 3u) == 0u) {
             ifo_update_slip_gain(&f);   /* the slow task, every 4th sample */
         }
+        /* ifo_slip_fast, the ISR's form, on a copy whose own inputs are
+         * something else: the same step (so the bounds below hold for it) */
+        g = f;
+        g.i_m = _IQ(0.0);
+        g.i_t = _IQ(1.0);
+        g.wr = _IQ(-0.5);
+        ifo_slip_fast(&g, f.i_m, f.i_t, f.wr);
         ifo_step_slip_fast(&f);
+        assert_true(g.imr == f.imr && g.wslip == f.wslip && g.ws == f.ws &&
+                    g.theta_slip == f.theta_slip && g.i_m == _IQ(0.0));
         want = to_d(f.i_m) * (1.0 - exp(-(double)k * (double)g_b.Ts_pu / tr));
         if (!(fabs(to_d(f.imr) - want) <= 310.0 * LSB)) {
             print_error("k=%u imr %.10f want %.10f err %.1f LSB\n", (unsigned)k, to_d(f.imr),

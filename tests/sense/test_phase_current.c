@@ -208,6 +208,29 @@ static void test_rail_flags(void **state)
     assert_int_equal(pc.rail, 0);
 }
 
+/* The branch-free rail bits against their definition (a reading of 0 or of
+ * RAIL_HIGH and above), every raw value of each phase with the other at
+ * mid-scale and at each rail. */
+static void test_rail_bits_exhaustive(void **state)
+{
+    static const uint16_t other[] = { 32768u, 0u, PHASE_CURRENT_RAIL_HIGH, 0xFFFFu, 1u };
+    uint32_t raw;
+    size_t j;
+    (void)state;
+    for (j = 0; j < sizeof other / sizeof other[0]; j++) {
+        const uint16_t o = other[j];
+        const uint16_t o_rail = (uint16_t)((o == 0u || o >= PHASE_CURRENT_RAIL_HIGH) ? 1u : 0u);
+        for (raw = 0u; raw <= 0xFFFFu; raw++) {
+            const uint16_t r = (uint16_t)raw;
+            const uint16_t at = (uint16_t)((r == 0u || r >= PHASE_CURRENT_RAIL_HIGH) ? 1u : 0u);
+            assert_int_equal(phase_current_rail_bits(r, o),
+                             (at ? PHASE_CURRENT_PHASE_A : 0u) | (o_rail ? PHASE_CURRENT_PHASE_B : 0u));
+            assert_int_equal(phase_current_rail_bits(o, r),
+                             (o_rail ? PHASE_CURRENT_PHASE_A : 0u) | (at ? PHASE_CURRENT_PHASE_B : 0u));
+        }
+    }
+}
+
 static void test_init_errors(void **state)
 {
     phase_current_t pc;
@@ -235,6 +258,7 @@ int main(void)
         cmocka_unit_test(test_calibration_rejected),
         cmocka_unit_test(test_calibration_long),
         cmocka_unit_test(test_rail_flags),
+        cmocka_unit_test(test_rail_bits_exhaustive),
         cmocka_unit_test(test_init_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -353,9 +353,28 @@ static void test_one_sample_speed(void **state)
     }
 }
 
+/* qep_diff (branch-free) against its definition, a - b modulo 2^16 read
+ * as a two's complement number in [-32768, 32767]: every difference, at
+ * several b (the wrap of the counter at every place). */
+static void test_qep_diff_every_step(void **state)
+{
+    static const uint16_t base[] = { 0u, 1u, 32767u, 32768u, 65535u, 12345u };
+    size_t j;
+    uint32_t d;
+    (void)state;
+    for (j = 0; j < sizeof base / sizeof base[0]; j++) {
+        for (d = 0u; d <= 0xFFFFu; d++) {
+            const uint16_t a = (uint16_t)(base[j] + d);
+            const int32_t want = (d < 32768u) ? (int32_t)d : (int32_t)d - 65536;
+            assert_int_equal(qep_diff(a, base[j]), want);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_qep_diff_every_step),
         cmocka_unit_test(test_wrap_both_directions),
         cmocka_unit_test(test_constant_speed),
         cmocka_unit_test(test_speed_delay),
