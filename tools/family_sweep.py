@@ -353,7 +353,9 @@ def plot(rows, path):
 # ------------------------------------------------------------ expectations
 def check_bounds(rows, spec):
     """spec: {"bound_pct": x, "motors": {name: {seq: {"published": bool,
-    "bound_pct": x, "reasons": [...]}}}}; returns a list of failures."""
+    "bound_pct": x, "reasons": [...]}}}}; returns a list of failures.
+    "published": null accepts either verdict (a motor at the verdict's edge):
+    published within bound_pct, or refused for one of the reasons."""
     fails = []
     for r in rows:
         e = spec["motors"].get(r["motor"], {}).get(r["seq"])
@@ -363,6 +365,14 @@ def check_bounds(rows, spec):
         want = e["published"]
         if r["status"] not in ("published", "not_published"):
             fails.append(f"{tag}: {r['status']} {r['message']}")
+        elif want is None:
+            if r["status"] == "published" and r["worst_pct"] > e.get("bound_pct",
+                                                                      spec["bound_pct"]):
+                fails.append(f"{tag}: worst {r['worst_pct']:.3f} % ({r['worst_param']}) above "
+                             f"{e.get('bound_pct', spec['bound_pct'])} %")
+            elif r["status"] != "published" and r["reason"] not in e.get("reasons", []):
+                fails.append(f"{tag}: reason {r['reason']!r}, expected one of "
+                             f"{e.get('reasons', [])}")
         elif (r["status"] == "published") != want:
             fails.append(f"{tag}: published {r['status'] == 'published'} (reason "
                          f"{r['reason']!r}), expected {want}; worst {r['worst_pct']}")

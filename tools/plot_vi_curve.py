@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """The bridge's voltage error measured at standstill against the simulated bridge's.
 
-Runs motor_sim with [ident] vi_test = 1 (the drive measures the bridge's
-voltage error against the current in CALIBRATE: include/vi_curve.h) for as
-long as the test takes, prints report.json's "vi_curve" (the fitted E and
+Runs motor_sim with [ident] vi_test = 1 (the default: the drive measures the
+bridge's voltage error against the current in CALIBRATE, include/vi_curve.h,
+and nobody sets the compensation's zone) for the whole default run, prints report.json's "vi_curve" (the fitted E and
 band, and the table of measured error against the true one of
 host_sim/model/inverter_model.h at each measured current) and draws
 OUT/vi_curve.png: the measured points over the true curve

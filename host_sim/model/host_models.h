@@ -27,6 +27,9 @@
  *        i_abc = {m.ia_A, m.ib_A, m.ic_A};          (start-of-period current)
  *        inverter_step(&inv, m.t_s, d, i_abc);
  *        motor_step(&m, inv.v_alpha_V, inv.v_beta_V, Ts, n_sub);
+ *      (host_sim/sim/plant.c then redoes the period from the same state
+ *      with inverter_step_implicit: the edge currents consistent with
+ *      their own voltage)
  *      or, with the outputs disabled: motor_step_open(&m, Ts, n_sub).
  *
  * n_sub = 1 already keeps the model within 1e-6 A / 1e-6 rad/s of the

@@ -153,6 +153,167 @@ void inverter_step_slope(inverter_t *inv, double t_s, const double duty[3],
     inv->v_beta_V = (inv->v_phase_V[1] - inv->v_phase_V[2]) / INV_SQRT3;
 }
 
+/* One pole's period-average voltage loss against the ideal d vdc, and its
+ * derivative by the current's change over the period di (the part the
+ * implicit solve needs; the bus held at @p vdc). */
+static double inv_pole_loss(const inverter_t *inv, double vdc, double d, double i0, double di,
+                            double *dloss)
+{
+    const double b = inv->p.i_band_A;
+    const double i_mid = i0 + 0.5 * di;
+    double loss = inv->v_drop_V * inv_sgn(inv, i_mid) + inv->r_on_ohm * i_mid;
+    double dl = 0.5 * inv->r_on_ohm + ((fabs(i_mid) < b) ? 0.5 * inv->v_drop_V / b : 0.0);
+    if ((d > 0.0) && (d < 1.0)) {
+        const double f_on = 0.5 * (1.0 - d), f_off = 0.5 * (1.0 + d);
+        const double i_on = i0 + f_on * di, i_off = i0 + f_off * di;
+        const double s_edges = 0.5 * (inv_sgn(inv, i_on) + inv_sgn(inv, i_off));
+        const double d_eff = d - inv->td_frac * s_edges;
+        if ((d_eff > 0.0) && (d_eff < 1.0)) {
+            loss += inv->td_frac * s_edges * vdc;
+            dl += 0.5 * inv->td_frac * vdc *
+                  (((fabs(i_on) < b) ? f_on / b : 0.0) + ((fabs(i_off) < b) ? f_off / b : 0.0));
+        } else {
+            loss += (d - inv_clamp(d_eff, 0.0, 1.0)) * vdc;   /* clamped: flat */
+        }
+    }
+    *dloss = dl;
+    return loss;
+}
+
+/* The residual di - di1 + g P (e(di) - e1) of the implicit period, its norm
+ * (max |.|, A) and the poles' loss derivatives. */
+static double inv_residual(const inverter_t *inv, double vdc, const double d[3],
+                           const double i0[3], const double di[3], const double di1[3],
+                           const double e1[3], double g, double r[3], double de[3])
+{
+    double e[3], m, n = 0.0;
+    int x;
+    for (x = 0; x < 3; x++) {
+        e[x] = inv_pole_loss(inv, vdc, d[x], i0[x], di[x], &de[x]) - e1[x];
+    }
+    m = (e[0] + e[1] + e[2]) / 3.0;
+    for (x = 0; x < 3; x++) {
+        r[x] = di[x] - di1[x] + g * (e[x] - m);
+        n = fmax(n, fabs(r[x]));
+    }
+    return n;
+}
+
+/* Solves the 3x3 system a z = r (Gaussian elimination with partial
+ * pivoting; a is overwritten).  Returns 0, or 1 if a pivot vanishes. */
+static int inv_solve3(double a[3][3], double r[3], double z[3])
+{
+    int c, row, k;
+    for (c = 0; c < 3; c++) {
+        int piv = c;
+        for (row = c + 1; row < 3; row++) {
+            if (fabs(a[row][c]) > fabs(a[piv][c])) {
+                piv = row;
+            }
+        }
+        if (!(fabs(a[piv][c]) > 1e-300)) {
+            return 1;
+        }
+        if (piv != c) {
+            for (k = 0; k < 3; k++) {
+                const double t = a[c][k];
+                a[c][k] = a[piv][k];
+                a[piv][k] = t;
+            }
+            {
+                const double t = r[c];
+                r[c] = r[piv];
+                r[piv] = t;
+            }
+        }
+        for (row = c + 1; row < 3; row++) {
+            const double f = a[row][c] / a[c][c];
+            for (k = c; k < 3; k++) {
+                a[row][k] -= f * a[c][k];
+            }
+            r[row] -= f * r[c];
+        }
+    }
+    for (c = 2; c >= 0; c--) {
+        double s = r[c];
+        for (k = c + 1; k < 3; k++) {
+            s -= a[c][k] * z[k];
+        }
+        z[c] = s / a[c][c];
+    }
+    return 0;
+}
+
+#define INV_NEWTON_MAX 40
+#define INV_NEWTON_TOL_A 1e-9
+
+uint16_t inverter_step_implicit(inverter_t *inv, double t_s, const double duty[3],
+                                const double i_abc_A[3], const double di1_A[3],
+                                double g_A_per_V)
+{
+    const double vdc = inv->vdc_V;
+    const double g = (isfinite(g_A_per_V) && g_A_per_V > 0.0) ? g_A_per_V : 0.0;
+    double d[3], i0[3], di[3], di1[3], e1[3], de[3], r[3], norm;
+    uint16_t it = 0u;
+    int x, y;
+
+    for (x = 0; x < 3; x++) {
+        /* the first pass's slope: inverter_step's extrapolation */
+        const double di_1st = (inv->started != 0u) ? (i_abc_A[x] - inv->i_A[x]) : 0.0;
+        d[x] = isfinite(duty[x]) ? inv_clamp(duty[x], 0.0, 1.0) : 0.0;
+        i0[x] = i_abc_A[x];
+        di1[x] = isfinite(di1_A[x]) ? di1_A[x] : 0.0;
+        di[x] = di1[x];
+        e1[x] = inv_pole_loss(inv, vdc, d[x], i0[x], di_1st, &de[x]);
+    }
+    norm = inv_residual(inv, vdc, d, i0, di, di1, e1, g, r, de);
+    while ((norm > INV_NEWTON_TOL_A) && (it < INV_NEWTON_MAX)) {
+        double a[3][3], z[3], lam = 1.0;
+        it++;
+        /* J = I + g P diag(de), P = I - 1 1^T / 3 */
+        for (x = 0; x < 3; x++) {
+            for (y = 0; y < 3; y++) {
+                a[x][y] = ((x == y) ? 1.0 : 0.0) + g * (((x == y) ? 1.0 : 0.0) - 1.0 / 3.0) * de[y];
+            }
+        }
+        if (inv_solve3(a, r, z) != 0) {
+            break;
+        }
+        for (;;) {
+            double dn[3], rn[3], den[3], nn;
+            for (x = 0; x < 3; x++) {
+                dn[x] = di[x] - lam * z[x];
+            }
+            nn = inv_residual(inv, vdc, d, i0, dn, di1, e1, g, rn, den);
+            if ((nn < norm) || (lam < 1e-3)) {
+                for (x = 0; x < 3; x++) {
+                    di[x] = dn[x];
+                    r[x] = rn[x];
+                    de[x] = den[x];
+                }
+                norm = nn;
+                break;
+            }
+            lam *= 0.5;
+        }
+    }
+    inverter_step_slope(inv, t_s, duty, i_abc_A, di);
+    return it;
+}
+
+double inverter_current_gain(double Ts_s, double Rs_ohm, double Rr_ohm, double Lm_H,
+                             double Lls_H, double Llr_H)
+{
+    const double Lr = Lm_H + Llr_H;
+    /* sigma Ls = Ls - Lm^2/Lr without the cancellation */
+    const double sls = Lls_H + Lm_H * Llr_H / Lr;
+    const double k = Lm_H / Lr;
+    const double R = Rs_ohm + Rr_ohm * k * k;
+    const double x = Ts_s * R / sls;
+    /* (1 - e^-x)/R = (Ts/sigma Ls)(1 - e^-x)/x; the series below 1e-6 */
+    return (x < 1e-6) ? (Ts_s / sls) * (1.0 - 0.5 * x) : -expm1(-x) / R;
+}
+
 double inverter_duty_from_cmpr(uint16_t cmpr, uint16_t t1pr)
 {
     if ((t1pr == 0u) || (cmpr >= t1pr)) {

@@ -40,11 +40,12 @@
  * charge) within the dead time, so the dead-time error shrinks towards zero
  * with the current; the linear ramp over |i| < i_band is the usual first
  * approximation of that (for Coss ~ 1 nF, Vdc = 54 V, td = 1 us the swing
- * completes within td above ~0.1 A, the default band).  The ramp also keeps
- * the explicit motor/inverter coupling (inverter evaluated once per period
- * at the start-of-period current) free of chatter: its slope is
- * (Vdc td/Ts + v_drop)/i_band ~ 11 ohm per phase against sigma Ls = 4.7 mH,
- * a time constant of ~0.4 ms >> Ts.
+ * completes within td above ~0.1 A, the default band).  Its slope
+ * (Vdc td/Ts + v_drop)/i_band is a resistance per phase (11 ohm here, 195 ohm
+ * on a 600 V bridge with 2 us) whose time constant against the motor's
+ * sigma Ls can be shorter than Ts: a coupling that evaluates the period
+ * explicitly then misbehaves in the transition, inverter_step_implicit
+ * solves it (the plant's second pass).
  *
  * Floating star: the motor sees only the differential part,
  *   v_xn = v_pole_x - (v_pole_a + v_pole_b + v_pole_c)/3,
@@ -138,6 +139,41 @@ void inverter_step(inverter_t *inv, double t_s, const double duty[3],
  *  rather than extrapolated. */
 void inverter_step_slope(inverter_t *inv, double t_s, const double duty[3],
                          const double i_abc_A[3], const double di_A[3]);
+
+/**
+ * The period solved implicitly: the edge currents consistent with the
+ * voltage they produce.  Inside the transition the error is a resistance
+ * E/b per pole (E = vdc td/Ts + v_drop); when (E/b) Ts / (sigma Ls) > 2 an
+ * explicit evaluation (the slope of the last period, or of a first pass over
+ * this one) overshoots from period to period and settles into a limit cycle
+ * around every zero crossing, where a real bridge's error follows the
+ * current within the period and the current settles.
+ *
+ * @p inv is as it was before the period (the state inverter_step started
+ * from), @p di1_A the change of each phase current the motor made over the
+ * period under the voltage of inverter_step (the explicit first pass), and
+ * @p g_A_per_V the motor's phase-current change over one period per volt of
+ * phase-to-neutral voltage (its stator transient: Ts / (sigma Ls) for
+ * Ts << sigma Ls / R, see inverter_current_gain).  The motor is linear in
+ * the voltage over a period, so the change under any other error is
+ *   di = di1 - g P (e(di) - e(di_1st))      (P: the floating star's projection),
+ * e the pole errors by their edge currents i0 + di (1 -+ d)/2; solved for di
+ * by Newton's method with a halving line search (e is piecewise linear and
+ * rises with the current, so the Jacobian I + g P |de/ddi| is regular), then
+ * inverter_step_slope with that di.  The bus is taken at its last value in
+ * the solve only (the step itself evaluates it).  Returns the iterations
+ * taken (0: di1 already consistent).
+ */
+uint16_t inverter_step_implicit(inverter_t *inv, double t_s, const double duty[3],
+                                const double i_abc_A[3], const double di1_A[3],
+                                double g_A_per_V);
+
+/** A motor's phase-current change over @p Ts_s per volt of constant
+ *  phase-to-neutral voltage at constant back-EMF: the stator transient
+ *  sigma Ls di/dt = u - R i, R = Rs + Rr (Lm/Lr)^2 (the rotor's resistance as
+ *  the stator sees it while the flux holds), g = (1 - e^(-Ts R/(sigma Ls)))/R. */
+double inverter_current_gain(double Ts_s, double Rs_ohm, double Rr_ohm, double Lm_H,
+                             double Lls_H, double Llr_H);
 
 /** Instantaneous bus voltage at time @p t_s with DC-link current @p i_dc_A
  *  (e.g. for the ADC sample of the bus at the period start). */

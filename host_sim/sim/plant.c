@@ -47,6 +47,9 @@ int plant_init(plant_t *p, const sim_config_t *c, uint16_t t1pr, char *err, unsi
         return 1;
     }
 
+    p->i_per_V = inverter_current_gain(p->Ts_s, mp.Rs_ohm, mp.Rr_ohm, mp.Lm_H, mp.Lls_H,
+                                       mp.Llr_H);
+
     inverter_params_default(&ip);
     ip.vdc_V = c->inverter.vdc_V;
     ip.r_source_ohm = c->inverter.source_resistance_ohm;
@@ -292,8 +295,12 @@ void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_
             /* two passes: the dead time of each switching edge follows the
              * current at that edge, which depends on the voltage of this
              * very period.  Pass 1 extrapolates the current's change from
-             * the last period; pass 2 redoes the period with the change pass
-             * 1 produced (interpolation between its two ends). */
+             * the last period; pass 2 redoes the period with the change
+             * consistent with its own voltage (inverter_step_implicit: the
+             * motor is linear in the voltage over a period, so pass 1's
+             * change and the motor's current gain give the change under any
+             * other error; solved, not iterated, so a transition steeper
+             * than the motor's sigma Ls / Ts settles instead of cycling). */
             const inverter_t inv0 = p->inv;
             double di[3];
             inverter_step(&p->inv, p->t_s, duty, i_abc);
@@ -304,7 +311,8 @@ void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_
             di[2] = m->ic_A - i_abc[2];
             *m = m0;
             p->inv = inv0;
-            inverter_step_slope(&p->inv, p->t_s, duty, i_abc, di);
+            (void)inverter_step_implicit(&p->inv, p->t_s, duty, i_abc, di,
+                                         p->i_per_V * p->vdc_scale);
             if (p->hw_pending_s >= 0.0) {
                 /* the comparator crossed near the end of the last period */
                 const double t_on = fmin(p->hw_pending_s, p->Ts_s);

@@ -66,6 +66,8 @@ typedef struct {
     encoder_t enc;
     load_t load;
     double Ts_s;
+    double i_per_V;           /* the motor's current change over a period per phase volt
+                                 (inverter_current_gain: the implicit bridge) */
     uint16_t t1pr;
     uint16_t substeps;
     double load_const_Nm, load_prop_Nm_s, load_fan_Nm, w_rated_m_rad_s;

@@ -89,8 +89,6 @@ static const key_spec_t k_keys[] = {
     D(controller, vdc_max_V, REQ, 0, DRIVE, "bus overvoltage trip"),
     D(controller, vdc_min_V, REQ, 0, DRIVE, "bus undervoltage trip"),
     D(controller, dead_time_comp, OPT, 1, DRIVE, "1: dead-time and drop compensation"),
-    D(controller, dead_time_band_A, OPT, 0.1, DRIVE,
-      "the compensation's linear zone (not the bridge's: inverter.dead_time_band_A)"),
     D(controller, orientation, OPT, 0, DRIVE, "0: indirect (the paper's), 1: rotor-flux observer"),
     D(ident, filter_cutoff_Hz, OPT, 10, DRIVE, "Butterworth corner of the regression signals"),
     D(ident, euler_passes, OPT, 10, DRIVE, "improved-Euler corrector passes"),
@@ -108,9 +106,10 @@ static const key_spec_t k_keys[] = {
     D(ident, standstill, OPT, 0, DRIVE, "1: Rs and sigma Ls at standstill (orientation 1)"),
     D(ident, track_rr, OPT, 0, DRIVE, "1: Rr/Tr tracked in RUN (orientation 1)"),
     D(ident, track_memory_s, OPT, 1.0, DRIVE, "the tracker's forgetting time constant"),
-    D(ident, vi_test, OPT, 0, DRIVE,
+    D(ident, vi_test, OPT, 1, DRIVE,
       "1: the bridge's voltage error measured at standstill, the compensation on it "
-      "(controller.dead_time_band_A unused)"),
+      "(0: a study without the test; the drive then assumes a linear zone of 3 codes "
+      "of the current channel, at least 0.1 A)"),
     /* ---- the simulated world ---- */
     K(plant, Rs_ohm, OPT, 0, "nameplate.Rs_ohm", 1e-4, 1000, 0, "ohm", SIM,
       "true stator resistance"),

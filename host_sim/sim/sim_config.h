@@ -28,6 +28,11 @@
 #include <stdint.h>
 #include "drive_config.h"
 
+/** The drive's linear zone of the dead-time compensation when [ident]
+ *  vi_test = 0 (no key sets it: the test measures it): 3 codes of the
+ *  current channel, at least this (sim_config_to_drive). */
+#define SIM_FALLBACK_BAND_A 0.1
+
 /* Every member is a double named as its key, one struct per section (the
  * fuzz target reads sim_config_t as an array of doubles). */
 
@@ -52,7 +57,7 @@ typedef struct {
 typedef struct {
     double current_bw_Hz, speed_bw_Hz, inertia_kgm2, max_torque_current_A;
     double speed_ramp_rpm_s, speed_filter_Hz, magnetizing_current_A;
-    double overcurrent_A, vdc_max_V, vdc_min_V, dead_time_comp, dead_time_band_A;
+    double overcurrent_A, vdc_max_V, vdc_min_V, dead_time_comp;
     double orientation;      /* 0: indirect (IFO), 1: rotor-flux observer (drive_config.h) */
 } sim_controller_t;
 

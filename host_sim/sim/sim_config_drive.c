@@ -53,7 +53,13 @@ void sim_config_to_drive(const sim_config_t *c, drive_config_t *d)
     d->board.dead_time_s = f32(b->dead_time_s);
     d->board.device_drop_V = f32(b->device_drop_V);
     d->board.dead_time_comp = u16(k->dead_time_comp);
-    d->board.dead_time_band_A = f32(k->dead_time_band_A);
+    /* the linear zone is measured (ident.vi_test, the default) and set by
+     * nobody; with the test switched off the drive falls back to 3 codes of
+     * the current channel (the zone a sensor can resolve), at least 0.1 A
+     * (a small bridge's: its output capacitance swings the pole within a
+     * 1 us dead time above ~0.1 A, inverter_model.h) */
+    d->board.dead_time_band_A =
+        f32(fmax(3.0 * 2.0 * b->current_full_scale_A / 4096.0, SIM_FALLBACK_BAND_A));
     d->board.vdc_nominal_V = f32(b->vdc_nominal_V);
     d->board.vdc_adc_full_scale_V = f32(b->vdc_full_scale_V);
     d->board.current_full_scale_A = f32(b->current_full_scale_A);

@@ -57,7 +57,10 @@ static const char *const k_why[DRIVE_LD_COUNT] = {
     [DRIVE_LD_BRIDGE_LOSS] = "2 board.device_drop_V + board.vdc_nominal_V board.dead_time_s "
                              "board.pwm_freq_Hz, the voltage the dead-time compensation adds, "
                              "below the linear modulation's 0.95 board.vdc_nominal_V / sqrt(3)",
-    [DRIVE_LD_BAND] = "between 0.0005 and 1 times board.current_full_scale_A",
+    [DRIVE_LD_VI_HOLD] = "the believed Tr at most 65535 slow periods / 6 (the bridge's curve "
+                         "test holds a level 6 Tr in a 16-bit count)",
+    [DRIVE_LD_BAND] = "with ident.vi_test = 0: the fallback zone (3 codes of the current channel, "
+                      "at least 0.1 A) between 0.0005 and 1 times board.current_full_scale_A",
     [DRIVE_LD_FILT] = "the regression's Butterworth corner",
     [DRIVE_LD_FILT_WB] = "below 4 nameplate.rated_freq_Hz",
     [DRIVE_LD_FILT_STEP] = "the improved-Euler step 2 pi f DRIVE_SLOTS / board.pwm_freq_Hz at most 0.3 (the filters run in the slow task)",

@@ -243,9 +243,7 @@ static int trace_row_adaptation(FILE *f, const drive_t *d, const plant_t *p)
             (double)_IQ20toF(t->Tr_track) * d->base.t_base_s);
 }
 
-/* The bridge's voltage-error test in CALIBRATE (vi_curve.h; with the
- * compensation only), on the believed Tr, and the background's fit. */
-static double vi_test_s(const sim_config_t *c)
+double sim_vi_test_s(const sim_config_t *c)
 {
     const sim_nameplate_t *n = &c->nameplate;
     if (c->controller.dead_time_comp == 0.0 || c->ident.vi_test == 0.0) {
@@ -264,7 +262,7 @@ static double default_duration_s(const sim_config_t *c, sim_scenario_t s)
 {
     double ident = 0.1 + c->ident.magnetize_s +
                    c->ident.target_speed_rpm / c->controller.speed_ramp_rpm_s + 3.2;
-    double d = ident * c->ident.passes + vi_test_s(c);
+    double d = ident * c->ident.passes + sim_vi_test_s(c);
     if (c->ident.track_rr != 0.0) {
         /* the fused set: the tracker valid 1 s into RUN, then its fit judged */
         d += 2.0;

@@ -204,6 +204,12 @@ typedef struct {
     double trace_truncated_at_s;    /* the trace reached trace_max_bytes and stopped; -1: no */
 } sim_result_t;
 
+/** The time the bridge's voltage-error test adds to CALIBRATE (vi_curve.h;
+ *  with [ident] vi_test and the compensation on, else 0): its levels on the
+ *  believed Tr and the background's fit, s (for the durations of runs that
+ *  must reach a later state). */
+double sim_vi_test_s(const sim_config_t *c);
+
 /** Run; returns 0, or non-zero with a message in err (drive_init or a model
  *  refused the configuration, or the trace file could not be written). */
 int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res, char *err,

@@ -120,7 +120,7 @@ static const drive_limit_t k_limits[] = {
     FIELD_F("board.device_drop_V", board.device_drop_V, "V", DRIVE_CFG_VOLTAGE_MODEL, 0.0f, 5.0f),
     FIELD_U("controller.dead_time_comp", board.dead_time_comp, "0/1", DRIVE_CFG_VOLTAGE_MODEL,
             0.0f, 1.0f),
-    FIELD_F("controller.dead_time_band_A", board.dead_time_band_A, "A", DRIVE_CFG_VOLTAGE_MODEL,
+    FIELD_F("board.dead_time_band_A", board.dead_time_band_A, "A", DRIVE_CFG_VOLTAGE_MODEL,
             1.0e-3f, 100.0f),
     FIELD_U("ident.euler_passes", ident.euler_passes, "-", DRIVE_CFG_IDENT, 1.0f,
             (float)BW_FILTER_N_MAX),
@@ -178,7 +178,8 @@ static const drive_limit_t k_limits[] = {
     DERIVED("board.dead_time_s", "s", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_DEAD),
     DERIVED("board.device_drop_V", "V", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_DROP),
     DERIVED("bridge loss", "V", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_BRIDGE_LOSS),
-    DERIVED("controller.dead_time_band_A", "A", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_BAND),
+    DERIVED("ident.vi_test", "s", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_VI_HOLD),
+    DERIVED("board.dead_time_band_A", "A", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_BAND),
     DERIVED_RANGE("ident.filter_cutoff_Hz", "Hz", DRIVE_CFG_IDENT, DRIVE_LD_FILT, 0u, 0.5f, 500.0f),
     DERIVED("ident.filter_cutoff_Hz", "Hz", DRIVE_CFG_IDENT, DRIVE_LD_FILT_WB),
     DERIVED("ident.filter_cutoff_Hz", "Hz", DRIVE_CFG_IDENT, DRIVE_LD_FILT_STEP),
@@ -518,14 +519,17 @@ static int16_t check_voltage_model(const drive_limit_t *l, const limit_ctx_t *x,
                                        bd->device_drop_V);
         return verdict((int16_t)(v < DRIVE_LIMITS_LINEAR_OF_VDC * bd->vdc_nominal_V), f, v, 0.0f,
                        DRIVE_LIMITS_LINEAR_OF_VDC * bd->vdc_nominal_V, HI_OPEN);
+    case DRIVE_LD_VI_HOLD:
+        /* the zone is measured (drive_vi.c) and checked when it is
+         * (volt_calc_curve_design); vi_curve_init holds a current level
+         * 6 Tr in a 16-bit count of slow samples */
+        v = 65535.0f * x->g.Ts_slow / 6.0f;
+        return verdict((int16_t)(x->c->ident.vi_test == 0u || bd->dead_time_comp == 0u ||
+                                 x->g.tr <= v),
+                       f, x->g.tr, 0.0f, v, LO_OPEN);
     case DRIVE_LD_BAND:
         if (x->c->ident.vi_test != 0u) {
-            /* the zone is measured (drive_vi.c) and checked when it is
-             * (volt_calc_curve_design); vi_curve_init holds a current level
-             * 6 Tr in a 16-bit count of slow samples */
-            v = 65535.0f * x->g.Ts_slow / 6.0f;
-            return verdict((int16_t)(bd->dead_time_comp == 0u || x->g.tr <= v), f, x->g.tr,
-                           0.0f, v, LO_OPEN);
+            return 0;   /* passes: the fallback zone is unused, the test measures it */
         }
         v = bd->dead_time_band_A / b->I_base_A;
         return verdict((int16_t)(v >= VOLT_CALC_ITH_MIN_PU && v <= VOLT_CALC_ITH_MAX_PU), f,

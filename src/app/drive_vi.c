@@ -34,9 +34,12 @@
 #define DRIVE_VI_BW_HZ 50.0f     /* the current levels' loop: a tenth of the current loops'
                                     usual bandwidth, at the slow rate (1.875 kHz: 37 samples
                                     per time constant); its levels are held 3 Tr anyway */
-#define DRIVE_VI_I1_OF_IM 0.25f  /* i1 = 0.25 i_M (2 i1 = 0.5 i_M): far beyond a transition
-                                    of tenths of an ampere, and a flux small enough to leave
-                                    within the rest */
+#define DRIVE_VI_I1_OF_IM 0.5f   /* i1 = 0.5 i_M (2 i1 = i_M): beyond a transition of
+                                    b < i_M / 4 (at 0.25 i_M the family's 0.2 kW 6-pole
+                                    motor, i_M 0.63 A, had its levels inside 2 b of a 0.1 A
+                                    bridge and the fit refused the curve); at most the
+                                    magnetising current, its flux gone after the voltage
+                                    levels and the rest */
 #define DRIVE_VI_WAIT_S 1.0f     /* longest wait for the background's fit */
 #define DRIVE_VI_E_FACTOR 2.0f   /* the measured E within this factor of the board's
                                     vdc td/Ts + v_drop: else the board's dead time or the
@@ -166,7 +169,12 @@ void drive_vi_background(drive_t *d)
         dt = e_pu / vdc_pu;
         drop = 0.0f;
     }
-    if (volt_calc_curve_design(&d->vic_curve, dt, drop, f->band_A / b->I_base_A) !=
+    /* a zone narrower than VOLT_CALC_ITH_MIN_PU (about one code of the
+     * current channel: 2/4096 pu) is a step to a drive that reads the current
+     * in codes; the narrowest zone volt_calc holds stands for it (the 15 kW
+     * motor's 100 A channel: 0.05 A against a bridge's 0.03 A) */
+    if (volt_calc_curve_design(&d->vic_curve, dt, drop,
+                               fmaxf(f->band_A / b->I_base_A, VOLT_CALC_ITH_MIN_PU)) !=
         VOLT_CALC_OK) {
         d->vic_status = (uint16_t)VI_FIT_BAND;
         d->vic_post = DRIVE_VI_REFUSED;

@@ -293,7 +293,8 @@ static void write_reasons(void)
 {
     /* 280 r/min of 1400, the lowest target the INI check accepts (20 % of
      * rated): the excitation 0.18, below the verdict's limit */
-    base_plus("reason_low_excitation.ini", "\n[ident]\ntarget_speed_rpm = 280\n");
+    base_plus("reason_low_excitation.ini",
+              "\n[ident]\ntarget_speed_rpm = 280\n[sensors]\nhall_noise_A_rms = 0.04\n");
     /* P(0) = 0.001: the RLS hardly leaves theta(0) = 0, the guard never takes it */
     base_plus("reason_not_converged.ini", "\n[ident]\nrls_p0 = 0.001\n");
     /* a viscous load of 2.9 N m at 1400 r/min, beyond the 10 A torque limit: the

@@ -94,8 +94,9 @@ static void test_no_restart_without_reset(void **state)
  * request bits, drive.h) and taken in a defined order whatever order they
  * came in.  PDPINTA low from 1.0 to 1.5 s latches HW_TRIP; a reset and a
  * start at the same instant, 2.0 s, must clear the fault and then start: at
- * 3.0 s the drive runs the sequence (past calibration and magnetisation,
- * 0.07 + 0.3 s), PWM on, no fault.  Both orders of the two commands: with one
+ * 3.0 s + FAULT_VI_S the drive runs the sequence (past calibration, the
+ * bridge's curve test and magnetisation, 0.07 + 1.65 + 0.3 s), PWM on, no
+ * fault.  Both orders of the two commands: with one
  * command slot the later one replaced the earlier, so one order lost the
  * reset (the fault stayed latched) and the other lost the start. */
 static void test_reset_and_start_at_the_same_instant(void **state)
@@ -110,7 +111,7 @@ static void test_reset_and_start_at_the_same_instant(void **state)
     unsigned k;
     (void)state;
     for (k = 0; k < 2u; k++) {
-        assert_int_equal(fault_run(PAPER, &f, 1u, orders[k], 2u, 3.0, &cfg, &r), 0);
+        assert_int_equal(fault_run(PAPER, &f, 1u, orders[k], 2u, 3.0 + FAULT_VI_S, &cfg, &r), 0);
         print_message("reset + start at 2.0 s (order %u): faults %u, final state %u fault %u "
                       "PWM %u\n", k, r.n_faults_seen, r.final_state, r.final_fault,
                       r.final_pwm_on);
@@ -118,7 +119,7 @@ static void test_reset_and_start_at_the_same_instant(void **state)
         assert_int_equal(r.fault_code[0], FAULT_HW_TRIP);
         assert_int_equal(r.final_fault, FAULT_NONE);
         assert_int_equal(r.final_pwm_on, 1);
-        /* 1.0 s after the start: beyond CALIBRATE and MAGNETIZE (0.37 s) */
+        /* 1.0 s + FAULT_VI_S after the start: beyond CALIBRATE and MAGNETIZE */
         assert_true(r.final_state == ID_ACCELERATE || r.final_state == ID_SETTLE ||
                     r.final_state == ID_RUN);
         assert_int_equal(r.pwm_periods_with_fault, 0);
@@ -126,8 +127,9 @@ static void test_reset_and_start_at_the_same_instant(void **state)
 }
 
 /* A stop and a start in the same period: the stop wins, in either order
- * (a stop must never be overridden).  The drive runs (published at 1.6 s);
- * stop and start at 2.0 s; at 3.5 s it is IDLE with the bridge off (the
+ * (a stop must never be overridden).  The drive runs (published at 3.1 s,
+ * after the bridge's curve test); stop and start at 2.0 s + FAULT_VI_S; at
+ * 3.5 s + FAULT_VI_S it is IDLE with the bridge off (the
  * ramp to zero from 1400 r/min at 2000 r/min/s takes 0.7 s).  With one
  * command slot, stop-then-start kept the start, which a running sequence
  * ignores: the drive ran on. */
@@ -136,16 +138,16 @@ static void test_stop_wins_over_start_in_the_same_period(void **state)
     sim_config_t cfg;
     sim_result_t r;
     const sim_cmd_t orders[2][2] = {
-        {{2.0, DRIVE_CMD_STOP}, {2.0, DRIVE_CMD_START_IDENT}},
-        {{2.0, DRIVE_CMD_START_IDENT}, {2.0, DRIVE_CMD_STOP}},
+        {{2.0 + FAULT_VI_S, DRIVE_CMD_STOP}, {2.0 + FAULT_VI_S, DRIVE_CMD_START_IDENT}},
+        {{2.0 + FAULT_VI_S, DRIVE_CMD_START_IDENT}, {2.0 + FAULT_VI_S, DRIVE_CMD_STOP}},
     };
     unsigned k;
     (void)state;
     for (k = 0; k < 2u; k++) {
-        assert_int_equal(fault_run(PAPER, NULL, 0u, orders[k], 2u, 3.5, &cfg, &r), 0);
+        assert_int_equal(fault_run(PAPER, NULL, 0u, orders[k], 2u, 3.5 + FAULT_VI_S, &cfg, &r), 0);
         print_message("stop + start at 2.0 s (order %u): final state %u PWM %u, speed %.1f "
                       "r/min\n", k, r.final_state, r.final_pwm_on, r.final_speed_rpm);
-        assert_true(r.t_first_published_s > 0.0 && r.t_first_published_s < 2.0);
+        assert_true(r.t_first_published_s > 0.0 && r.t_first_published_s < 2.0 + FAULT_VI_S);
         assert_int_equal(r.final_state, ID_IDLE);
         assert_int_equal(r.final_pwm_on, 0);
         assert_int_equal(r.n_faults_seen, 0);

@@ -117,7 +117,8 @@ static double nameplate_case(const sim_config_t *base, double tr, double lm, dou
     const sim_params_t *e = &r.published_end_error_pct;
     adaptive(&c);
     wrong_nameplate(&c, rs, lm, rr_error_for_tr(base, tr, lm));
-    run(&c, SCEN_START, duration_s, &r);
+    /* and the bridge's curve test in CALIBRATE (on the believed Tr) */
+    run(&c, SCEN_START, duration_s + sim_vi_test_s(&c), &r);
     assert_int_equal(r.n_faults_seen, 0);
     assert_int_equal(r.final_pass, 2);
     if (!r.identified) {
@@ -141,7 +142,8 @@ static double nameplate_case(const sim_config_t *base, double tr, double lm, dou
 /* The centre and the 8 corners of the +-30 % cube: every published
  * parameter within 3 %, the centre (the true nameplate) published, and at
  * most max_refused of the 8 corners refused (each for a reason from its
- * data).  Duration: two passes and 5 s of tracking after them. */
+ * data).  Duration: the curve test, two passes and 5 s of tracking after
+ * them. */
 static void nameplate_cube(const sim_config_t *base, double duration_s, unsigned max_refused)
 {
     static const double s[2] = {-30.0, 30.0};

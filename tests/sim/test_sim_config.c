@@ -128,9 +128,12 @@ static void test_wrong_nameplate(void **state)
     assert_true(fabs(tr_believed / tr_true - 1.3) < 1e-5);
 }
 
-/* Every key has one meaning and one section: the compensation's band
- * ([controller]) and the bridge's ([inverter]) are two keys, each read by
- * its own side only. */
+/* The bridge's band is the simulated world's ([inverter]), read by the plant
+ * only; the drive's compensation zone is no key: the drive measures the
+ * curve (ident.vi_test, default 1) and, with the test off, falls back to 3
+ * codes of the current channel, at least 0.1 A (the paper motor's 20 A
+ * channel: 0.029 A, so 0.1 A; a 100 A channel: 0.146 A); a [controller]
+ * dead_time_band_A is refused as an unknown key. */
 static void test_two_dead_time_bands(void **state)
 {
     sim_config_t cfg;
@@ -144,10 +147,14 @@ static void test_two_dead_time_bands(void **state)
     assert_int_equal(sim_config_load(path, &cfg, err, sizeof err), 0);
     sim_config_to_drive(&cfg, &dc);
     assert_true(cfg.inverter.dead_time_band_A == 0.3 && dc.board.dead_time_band_A == 0.1f);
-    write_variant(path, NULL, "[controller]\ndead_time_band_A = 0.2");
+    assert_true(cfg.ident.vi_test == 1.0 && dc.ident.vi_test == 1u);
+    write_variant(path, "current_full_scale_A = 20", "current_full_scale_A = 100");
     assert_int_equal(sim_config_load(path, &cfg, err, sizeof err), 0);
     sim_config_to_drive(&cfg, &dc);
-    assert_true(cfg.inverter.dead_time_band_A == 0.1 && dc.board.dead_time_band_A == 0.2f);
+    assert_true(fabs((double)dc.board.dead_time_band_A - 6.0 * 100.0 / 4096.0) < 1e-6);
+    write_variant(path, NULL, "[controller]\ndead_time_band_A = 0.2");
+    assert_int_not_equal(sim_config_load(path, &cfg, err, sizeof err), 0);
+    assert_non_null(strstr(err, "unknown key 'dead_time_band_A'"));
     remove(path);
 }
 

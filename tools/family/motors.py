@@ -116,12 +116,9 @@ I0_A = {2: 0.50, 4: 0.58, 6: 0.64, 8: 0.70}
 HALL_SIZES = (5, 6, 10, 15, 20, 25, 32, 40, 50, 75, 100, 150, 200, 250, 300, 400, 500, 600)
 PWM_HZ = 15000.0
 SYSCLK_HZ = 150e6
-# The simulated bridge's dead-time linear zone (motor_sim's inverter.dead_time_band_A,
-# which the family leaves at its default): the current over which the bridge's
-# dead-time error changes sign.  The drive's compensation zone ([controller]
-# dead_time_band_A, "measured on the inverter at commissioning") is 3 codes of
-# the current channel but never below it (ini_values).
-BRIDGE_BAND_A = 0.1
+# The bridge's dead-time linear zone is set by nobody: the simulated bridge's
+# stays at motor_sim's default ([inverter] dead_time_band_A) and the drive
+# measures the curve at standstill ([ident] vi_test, motor_sim's default 1).
 
 
 # The identification ramp's accelerating torque, at least this fraction of T_N.
@@ -430,7 +427,6 @@ def ini_values(m: Motor):
         "max_torque_current_A": m.max_torque_current, "speed_ramp_rpm_s": m.ramp_rpm_s,
         "magnetizing_current_A": m.i_m, "overcurrent_A": m.overcurrent,
         "vdc_max_V": 1.25 * m.vdc, "vdc_min_V": 0.75 * m.vdc,
-        "dead_time_band_A": max(3.0 * 2.0 * m.hall_fs / 4096.0, BRIDGE_BAND_A),
         # identification
         "magnetize_s": m.magnetize_s, "target_speed_rpm": m.target_rpm,
         # simulation
@@ -465,7 +461,7 @@ def key_map(layout="split"):
             sec[k] = "sensors"
         for k in ("current_bw_Hz", "speed_bw_Hz", "inertia_kgm2", "max_torque_current_A",
                   "speed_ramp_rpm_s", "magnetizing_current_A", "overcurrent_A", "vdc_max_V",
-                  "vdc_min_V", "dead_time_band_A"):
+                  "vdc_min_V"):
             sec[k] = "controller"
         for k in ("magnetize_s", "target_speed_rpm"):
             sec[k] = "ident"
@@ -494,7 +490,7 @@ def key_map(layout="split"):
             m[k] = ("load", k)
         for k in ("current_bw_Hz", "speed_bw_Hz", "inertia_kgm2", "max_torque_current_A",
                   "speed_ramp_rpm_s", "magnetizing_current_A", "overcurrent_A", "vdc_max_V",
-                  "vdc_min_V", "dead_time_band_A"):
+                  "vdc_min_V"):
             m[k] = ("controller", k)
         for k in ("magnetize_s", "target_speed_rpm"):
             m[k] = ("ident", k)

@@ -38,6 +38,19 @@ def test_check_bounds_fails_what_it_should(bad):
     assert fs.check_bounds([bad], SPEC) != []
 
 
+EDGE = {"bound_pct": 3.0, "motors": {"m": {"paper": {"published": None, "bound_pct": 1.0,
+                                                    "reasons": ["low_confidence"]}}}}
+
+
+def test_check_bounds_either_verdict():
+    """"published": null: published within its bound, or refused for a listed reason."""
+    assert fs.check_bounds([row(worst=0.3)], EDGE) == []
+    assert fs.check_bounds([row(status="not_published", reason="low_confidence")], EDGE) == []
+    assert fs.check_bounds([row(worst=1.2)], EDGE) != []
+    assert fs.check_bounds([row(status="not_published", reason="timeout")], EDGE) != []
+    assert fs.check_bounds([row(status="refused")], EDGE) != []
+
+
 def test_summary_worsts_and_counts():
     rows = [row(seq="paper", worst=2.0), row(seq="paper", status="not_published", worst=None),
             row(seq="adaptive", worst=0.5), row(seq="adaptive", worst=0.7),

@@ -116,35 +116,25 @@ def test_motor_sim_accepts_the_ci_subset(tmp_path):
         assert r.returncode == 3, (m.name, r.stdout, r.stderr)
 
 
-@pytest.mark.parametrize("m", fam.ci_subset() + fam.grid(), ids=lambda m: m.name)
-def test_compensation_zone_covers_the_bridge(m):
-    """The drive's dead-time compensation zone is never narrower than the
-    simulated bridge's: 3 codes of a 5-50 A channel (7-73 mA) told the drive
-    that the dead-time error changes sign 1.4-14x faster than the bridge's
-    0.1 A does, and the voltage error that left on a 690 V bus (3.5 us at
-    15 kHz, 0.106 pu) tripped the model check's UNBALANCE on the healthy
-    1.5 kW 2- and 8-pole and 4 kW 6-pole motors (0.025 pu of negative sequence
-    against a level of 0.025; with the zone at 0.1 A: 0.008)."""
-    band = fam.ini_values(m)["dead_time_band_A"]
-    assert band >= fam.BRIDGE_BAND_A
-    assert band == pytest.approx(max(6.0 * m.hall_fs / 4096.0, fam.BRIDGE_BAND_A))
-
-
 @pytest.mark.skipif(not MOTOR_SIM.exists(), reason="motor_sim not built")
-def test_bridge_band_is_motor_sims_default():
-    """BRIDGE_BAND_A is the bridge motor_sim simulates when the family leaves
-    inverter.dead_time_band_A unset."""
+def test_no_band_is_set():
+    """Nobody sets the dead-time compensation's zone: the drive measures the
+    bridge's curve at standstill ([ident] vi_test, default 1), motor_sim has
+    no [controller] dead_time_band_A, and the family writes neither that nor
+    the simulated bridge's own [inverter] dead_time_band_A (its default)."""
     out = subprocess.run([str(MOTOR_SIM), "--keys"], capture_output=True, text=True,
                          check=True).stdout
-    sec, default = None, None
+    sec, keys = None, {}
     for line in out.splitlines():
         if line.startswith("[") and line.rstrip().endswith("]"):
             sec = line.strip()[1:-1]
-        elif sec == "inverter" and line.split()[:1] == ["dead_time_band_A"]:
-            default = float(line.split()[1])
-    assert default == fam.BRIDGE_BAND_A
-    # and the family does not set it (else the constant would have to follow it)
-    assert ("inverter", "dead_time_band_A") not in fam.key_map("split").values()
+        elif sec is not None and line.split():
+            keys[(sec, line.split()[0])] = line.split()[1:2]
+    assert ("controller", "dead_time_band_A") not in keys
+    assert ("inverter", "dead_time_band_A") in keys
+    assert keys[("ident", "vi_test")] == ["1"]
+    assert "dead_time_band_A" not in fam.ini_values(fam.ci_subset()[0])
+    assert not any(k == "dead_time_band_A" for _, k in fam.key_map("split").values())
 
 
 @pytest.mark.parametrize("m", fam.ci_subset() + fam.grid(), ids=lambda m: m.name)
