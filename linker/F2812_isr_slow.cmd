@@ -16,10 +16,11 @@
  * name).  Symbol names: COFF ABI prefixes C names with '_', EABI does not
  * (SPRU514 "COFF ABI vs EABI").  This file: --abi=coffabi.  A static function of
  * the same name in two files is matched in both (a few words more in RAM).
- * 75 functions.
+ * 76 functions.
  */
 *(.text:_bw_filter_step)
 *(.text:_bw_filter_update)
+*(.text:_calibrate_phase)
 *(.text:_capture)
 *(.text:_check_current)
 *(.text:_clamp)

@@ -13,6 +13,17 @@
  * below 128. */
 #define SUM_MAX 7.9f
 
+/* The recurrence's rounding constants: half an LSB of Q24 in Q30 (the
+ * weights' Q30 -> Q24 rounding), one LSB of Q30 (two truncated products'
+ * bias, at most 2 LSB); nothing in the FLOAT build, which rounds to nearest. */
+#if MATH_TYPE == IQ_MATH
+#define SSZ_HALF_Q24_IN_Q30 ((int32_t)1 << (30 - GLOBAL_Q - 1))
+#define SSZ_ONE_Q30 ((int32_t)1)
+#else
+#define SSZ_HALF_Q24_IN_Q30 0.0f
+#define SSZ_ONE_Q30 0.0f
+#endif
+
 static _iq sat_in(_iq x)
 {
     return _IQsat(x, _IQ(STANDSTILL_Z_IN_MAX), -_IQ(STANDSTILL_Z_IN_MAX));
@@ -27,7 +38,8 @@ standstill_z_status_t standstill_z_init(standstill_z_t *z, float Ts_s, float f_b
     float w_pu;
     uint32_t window;
 
-    z->ampl = z->inv_n = z->rev_step = z->inv_w = z->w = z->corr = _IQ(0.0);
+    z->ampl = z->inv_n = z->inv_w = z->w = z->corr = _IQ(0.0);
+    z->rot_c = z->rot_s = z->s = z->c = _IQ30(0.0);
     z->per_period = z->lead = z->window = 0u;
     z->running = 0u;
     standstill_z_start(z);
@@ -59,7 +71,15 @@ standstill_z_status_t standstill_z_init(standstill_z_t *z, float Ts_s, float f_b
     z->window = (uint16_t)window;
     z->ampl = _IQ(ampl_pu);
     z->inv_n = _IQ(SUM_GAIN / (float)window);
-    z->rev_step = _IQ(1.0f / per);
+    /* the weights' rotation by 2 pi / per a sample: cos as 1 - 2 sin^2(half),
+     * so that the float's relative rounding falls on the small 2 sin^2 (0.4
+     * LSB of Q30) and not on a number near 1 (64 LSB) */
+    {
+        const float h = sinf(TWO_PI_F * 0.5f / per);
+        z->rot_c = _IQ30(1.0) - _IQ30(2.0f * h * h);
+        z->rot_s = _IQ30(sinf(TWO_PI_F / per));
+    }
+
     z->inv_w = _IQ(1.0f / w_pu);
     z->w = _IQ(w_pu);
     z->corr = _IQ(corr_pu);
@@ -133,24 +153,33 @@ void standstill_z_finish(standstill_z_t *z)
 
 void standstill_z_step(standstill_z_t *z)
 {
-    _iq s;
-    _iq c;
+    _iq sn;
+    _iq cn;
     _iq im;
+    _iq30 sv;
+    _iq30 cv;
 
     if (z->running == 0u) {
         z->i_add = _IQ(0.0);
         return;
     }
-    /* phase = ph / per_period revolutions, from an integer counter: no
-     * accumulated rounding, exactly periodic */
-    s = _IQsinPU(_IQmpyI32(z->rev_step, (int32_t)z->ph));
-    c = _IQcosPU(_IQmpyI32(z->rev_step, (int32_t)z->ph));
+    /* sin, cos of phase ph / per_period revolutions by a rotation
+     * recurrence (header), re-seeded exactly at the start of every period:
+     * the pattern repeats exactly each period, as a table would, and the
+     * drift is bounded by one period's steps */
+    if (z->ph == 0u) {
+        z->s = _IQ30(0.0);
+        z->c = _IQ30(1.0);
+    }
+    sv = z->s;
+    cv = z->c;
+    /* the weights 16/N sin, 16/N cos: Q30 * Q24 -> Q30, then rounded to Q24
+     * (a truncated weight is biased by -1/2 LSB and lets the DC of u and i
+     * leak into the phasors: measured sigma Ls +8e-4); |.| <= 0.5 */
+    sn = _IQ30toIQ(_IQ30mpyIQX(sv, 30, z->inv_n, GLOBAL_Q) + SSZ_HALF_Q24_IN_Q30);
+    cn = _IQ30toIQ(_IQ30mpyIQX(cv, 30, z->inv_n, GLOBAL_Q) + SSZ_HALF_Q24_IN_Q30);
     im = sat_in(z->i_m);
     if (z->k >= z->lead) {
-        /* rounded: a truncated weight is biased by -1/2 LSB and lets the DC
-         * of u and i leak into the phasors (measured: sigma Ls +8e-4) */
-        _iq sn = _IQrmpy(s, z->inv_n);
-        _iq cn = _IQrmpy(c, z->inv_n);
         _iq u = sat_in(z->u_m);
         /* mean of i(k-1), i(k): the instant of u (header); |.| <= 4 */
         _iq i_mid = _IQmpy(im + z->i_prev, _IQ(0.5));
@@ -160,7 +189,13 @@ void standstill_z_step(standstill_z_t *z)
         z->ic += _IQrmpy(i_mid, cn);
     }
     z->i_prev = im;
-    z->i_add = _IQmpy(z->ampl, s);
+    z->i_add = _IQmpyIQX(sv, 30, z->ampl, GLOBAL_Q);   /* Q30 * Q24 -> Q24, |.| <= ampl */
+    /* the next phase: (sin, cos) turned by 2 pi / per_period.  Each Q30
+     * product truncates (in (-1, 0] LSB): the sum of two gets one LSB back,
+     * the difference is centred as it is; |.| <= 1 + the drift: no
+     * overflow */
+    z->s = _IQ30mpy(sv, z->rot_c) + _IQ30mpy(cv, z->rot_s) + SSZ_ONE_Q30;
+    z->c = _IQ30mpy(cv, z->rot_c) - _IQ30mpy(sv, z->rot_s);
     if (++z->ph >= z->per_period) {
         z->ph = 0u;
     }
