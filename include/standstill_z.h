@@ -44,7 +44,8 @@
  * <= 0.5) are formed once per sample in Q30 and rounded to Q24 (a
  * truncated weight is biased by
  * -1/2 LSB and lets the DC of u and i leak into the phasors); each product
- * u w, i w is rounded (_IQrmpy, +-0.5 LSB, not biased); the sums stay below
+ * u w, i w is rounded (iq_rmpy.h: _IQrmpy bit for bit
+ * without the library call, +-0.5 LSB, not biased); the sums stay below
  * 4 * 16 = 64 for inputs saturated at +-4 pu, and the factor 16 keeps 4
  * more bits of the phasors for the final products.  Rounding over the
  * window: up to N/2 LSB for an exactly periodic input (the errors repeat

@@ -1,6 +1,8 @@
 /* Standstill lock-in measurement of sigma Ls.  See standstill_z.h. */
 #include "standstill_z.h"
 
+#include "iq_rmpy.h"
+
 #include <math.h>
 
 #define TWO_PI_F 6.28318530717958647692f
@@ -183,10 +185,11 @@ void standstill_z_step(standstill_z_t *z)
         _iq u = sat_in(z->u_m);
         /* mean of i(k-1), i(k): the instant of u (header); |.| <= 4 */
         _iq i_mid = _IQmpy(im + z->i_prev, _IQ(0.5));
-        z->us += _IQrmpy(u, sn);
-        z->uc += _IQrmpy(u, cn);
-        z->is += _IQrmpy(i_mid, sn);
-        z->ic += _IQrmpy(i_mid, cn);
+        /* rounded products (iq_rmpy.h: _IQrmpy bit for bit, |.| <= 4 * 0.5) */
+        z->us += iq_rmpy(u, sn);
+        z->uc += iq_rmpy(u, cn);
+        z->is += iq_rmpy(i_mid, sn);
+        z->ic += iq_rmpy(i_mid, cn);
     }
     z->i_prev = im;
     z->i_add = _IQmpyIQX(sv, 30, z->ampl, GLOBAL_Q);   /* Q30 * Q24 -> Q24, |.| <= ampl */
