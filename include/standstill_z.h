@@ -39,7 +39,8 @@
  * below 2 (per_period - 1) + 1 608 LSB at a period's end, < 1e-5 of the
  * unit amplitude for per_period <= 4096.  The re-seed makes the error a
  * pattern that repeats exactly every period, as the weights do
- * (test_standstill_z.c measures it against double).
+ * (test_standstill_z.c measures it against double).  The FLOAT build, the
+ * host's reference model, takes the sine and cosine themselves.
  * Scaling and overflow (Q24): the weights 16 sin/N, 16 cos/N (|.| <= 16/N
  * <= 0.5) are formed once per sample in Q30 and rounded to Q24 (a
  * truncated weight is biased by
@@ -96,6 +97,9 @@ typedef struct {
     _iq us, uc, is, ic;     /* Q24 phasor sums */
     _iq i_prev;
     _iq30 s, c;             /* Q30: sin, cos of the next sample's phase (the recurrence) */
+#if MATH_TYPE != IQ_MATH
+    float rev_step;         /* FLOAT: revolutions per sample, 1 / per_period (sin, cos direct) */
+#endif
     uint16_t k;             /* samples since the start */
     uint16_t ph;            /* sample within the period */
     uint16_t running;

@@ -23,7 +23,6 @@
 #define SSZ_ONE_Q30 ((int32_t)1)
 #else
 #define SSZ_HALF_Q24_IN_Q30 0.0f
-#define SSZ_ONE_Q30 0.0f
 #endif
 
 static _iq sat_in(_iq x)
@@ -42,6 +41,9 @@ standstill_z_status_t standstill_z_init(standstill_z_t *z, float Ts_s, float f_b
 
     z->ampl = z->inv_n = z->inv_w = z->w = z->corr = _IQ(0.0);
     z->rot_c = z->rot_s = z->s = z->c = _IQ30(0.0);
+#if MATH_TYPE != IQ_MATH
+    z->rev_step = 0.0f;
+#endif
     z->per_period = z->lead = z->window = 0u;
     z->running = 0u;
     standstill_z_start(z);
@@ -81,6 +83,9 @@ standstill_z_status_t standstill_z_init(standstill_z_t *z, float Ts_s, float f_b
         z->rot_c = _IQ30(1.0) - _IQ30(2.0f * h * h);
         z->rot_s = _IQ30(sinf(TWO_PI_F / per));
     }
+#if MATH_TYPE != IQ_MATH
+    z->rev_step = _IQ(1.0f / per);
+#endif
 
     z->inv_w = _IQ(1.0f / w_pu);
     z->w = _IQ(w_pu);
@@ -169,12 +174,20 @@ void standstill_z_step(standstill_z_t *z)
      * recurrence (header), re-seeded exactly at the start of every period:
      * the pattern repeats exactly each period, as a table would, and the
      * drift is bounded by one period's steps */
+#if MATH_TYPE == IQ_MATH
     if (z->ph == 0u) {
         z->s = _IQ30(0.0);
         z->c = _IQ30(1.0);
     }
     sv = z->s;
     cv = z->c;
+#else
+    /* FLOAT (the host's reference model, no cycle budget): the sine and
+     * cosine themselves, as before the recurrence (a float recurrence
+     * drifts by 6e-8 a step, enough to move a marginal closed-loop run) */
+    sv = _IQsinPU(z->rev_step * (float)z->ph);
+    cv = _IQcosPU(z->rev_step * (float)z->ph);
+#endif
     /* the weights 16/N sin, 16/N cos: Q30 * Q24 -> Q30, then rounded to Q24
      * (a truncated weight is biased by -1/2 LSB and lets the DC of u and i
      * leak into the phasors: measured sigma Ls +8e-4); |.| <= 0.5 */
@@ -197,8 +210,10 @@ void standstill_z_step(standstill_z_t *z)
      * product truncates (in (-1, 0] LSB): the sum of two gets one LSB back,
      * the difference is centred as it is; |.| <= 1 + the drift: no
      * overflow */
+#if MATH_TYPE == IQ_MATH
     z->s = _IQ30mpy(sv, z->rot_c) + _IQ30mpy(cv, z->rot_s) + SSZ_ONE_Q30;
     z->c = _IQ30mpy(cv, z->rot_c) - _IQ30mpy(sv, z->rot_s);
+#endif
     if (++z->ph >= z->per_period) {
         z->ph = 0u;
     }
