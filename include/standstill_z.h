@@ -97,9 +97,8 @@ typedef struct {
     _iq us, uc, is, ic;     /* Q24 phasor sums */
     _iq i_prev;
     _iq30 s, c;             /* Q30: sin, cos of the next sample's phase (the recurrence) */
-#if MATH_TYPE != IQ_MATH
-    float rev_step;         /* FLOAT: revolutions per sample, 1 / per_period (sin, cos direct) */
-#endif
+    _iq rev_step;           /* Q24: revolutions per sample, 1 / per_period (the FLOAT build's
+                               direct sin, cos; unused by the IQ build's recurrence) */
     uint16_t k;             /* samples since the start */
     uint16_t ph;            /* sample within the period */
     uint16_t running;

@@ -41,9 +41,7 @@ standstill_z_status_t standstill_z_init(standstill_z_t *z, float Ts_s, float f_b
 
     z->ampl = z->inv_n = z->inv_w = z->w = z->corr = _IQ(0.0);
     z->rot_c = z->rot_s = z->s = z->c = _IQ30(0.0);
-#if MATH_TYPE != IQ_MATH
-    z->rev_step = 0.0f;
-#endif
+    z->rev_step = _IQ(0.0);
     z->per_period = z->lead = z->window = 0u;
     z->running = 0u;
     standstill_z_start(z);
@@ -83,9 +81,7 @@ standstill_z_status_t standstill_z_init(standstill_z_t *z, float Ts_s, float f_b
         z->rot_c = _IQ30(1.0) - _IQ30(2.0f * h * h);
         z->rot_s = _IQ30(sinf(TWO_PI_F / per));
     }
-#if MATH_TYPE != IQ_MATH
     z->rev_step = _IQ(1.0f / per);
-#endif
 
     z->inv_w = _IQ(1.0f / w_pu);
     z->w = _IQ(w_pu);
