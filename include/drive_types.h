@@ -62,9 +62,10 @@ typedef enum {
                                the model check's residual, its halves in 0 and 2) */
 } drive_slot_t;
 /** The firmware's data log runs in the ISR after this slot's, one of the
- *  lightest of the schedule (drive_log_due; tools/bench_isr.py adds its cost
- *  there). */
-#define DRIVE_LOG_SLOT DRIVE_SLOT_FILTERS_B
+ *  lightest of the schedule in every state of both orientations
+ *  (drive_log_due; tools/bench_isr.py adds its cost there): FILTERS_A, not
+ *  FILTERS_B, which carries the model check's heavier half. */
+#define DRIVE_LOG_SLOT DRIVE_SLOT_FILTERS_A
 
 /** Gains and constants derived once by drive_init (pu, Q24). */
 typedef struct {

@@ -27,10 +27,26 @@
  * is paired with the mean of i_M(k-1) and i_M(k), the same instant, so the
  * half-period between sampling and averaging cancels in U/I.
  *
- * Scaling and overflow (Q24): the weights 16 sin/N, 16 cos/N (|.| <= 16/N)
- * are formed once per sample, rounded (a truncated weight is biased by
+ * The sine and cosine of the sample's phase come from a rotation
+ * recurrence in Q30, (s, c) <- (s C + c S, c C - s S) with C, S the cosine
+ * and sine of 2 pi / per_period (four multiplies instead of an IQmath sine
+ * and cosine), re-seeded exactly to (0, 1) at the start of every period.
+ * Drift, LSB of Q30: each step's two truncated products lose at most 1 LSB
+ * per component after the bias correction (the sum gets +1 LSB): sqrt(2) of
+ * the vector a step; C rounded to Q30 scales it by at most 0.5 LSB a step;
+ * S from a float sine (2^-22 relative, with its conversion) turns it by at
+ * most 2^-22 S rad a step, 2 pi 2^-22 over a period (1 608 LSB): in all
+ * below 2 (per_period - 1) + 1 608 LSB at a period's end, < 1e-5 of the
+ * unit amplitude for per_period <= 4096.  The re-seed makes the error a
+ * pattern that repeats exactly every period, as the weights do
+ * (test_standstill_z.c measures it against double).  The FLOAT build, the
+ * host's reference model, takes the sine and cosine themselves.
+ * Scaling and overflow (Q24): the weights 16 sin/N, 16 cos/N (|.| <= 16/N
+ * <= 0.5) are formed once per sample in Q30 and rounded to Q24 (a
+ * truncated weight is biased by
  * -1/2 LSB and lets the DC of u and i leak into the phasors); each product
- * u w, i w is rounded (_IQrmpy, +-0.5 LSB, not biased); the sums stay below
+ * u w, i w is rounded (iq_rmpy.h: _IQrmpy bit for bit
+ * without the library call, +-0.5 LSB, not biased); the sums stay below
  * 4 * 16 = 64 for inputs saturated at +-4 pu, and the factor 16 keeps 4
  * more bits of the phasors for the final products.  Rounding over the
  * window: up to N/2 LSB for an exactly periodic input (the errors repeat
@@ -63,7 +79,7 @@ typedef struct {
     /* parameters */
     _iq ampl;               /* Q24 pu: injection amplitude */
     _iq inv_n;              /* Q24: 16 / (samples in the window): the sums' weight */
-    _iq rev_step;           /* Q24: revolutions per sample, 1 / samples per period */
+    _iq30 rot_c, rot_s;     /* Q30: cos, sin of 2 pi / per_period (the weights' rotation) */
     _iq w;                  /* Q24: w_inj, pu of w_base, in [0.01, 30] */
     _iq inv_w;              /* Q24: 1 / w_inj */
     _iq corr;               /* Q24 pu: rotor-branch term c subtracted */
@@ -80,6 +96,9 @@ typedef struct {
     /* state */
     _iq us, uc, is, ic;     /* Q24 phasor sums */
     _iq i_prev;
+    _iq30 s, c;             /* Q30: sin, cos of the next sample's phase (the recurrence) */
+    _iq rev_step;           /* Q24: revolutions per sample, 1 / per_period (the FLOAT build's
+                               direct sin, cos; unused by the IQ build's recurrence) */
     uint16_t k;             /* samples since the start */
     uint16_t ph;            /* sample within the period */
     uint16_t running;

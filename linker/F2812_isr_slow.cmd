@@ -20,6 +20,7 @@
  */
 *(.text:_bw_filter_step)
 *(.text:_bw_filter_update)
+*(.text:_calibrate_phase)
 *(.text:_capture)
 *(.text:_check_current)
 *(.text:_clamp)

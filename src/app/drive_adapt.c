@@ -313,11 +313,14 @@ static void state_change(drive_t *d, uint16_t st)
     if (st == (uint16_t)ID_MAGNETIZE) {
         a->ssz_started = 0u;
         d->seq.adapt_ready = 0u;
+        /* demagnetised machine: both observer models from zero flux (the
+         * voltage model has integrated offsets while the bridge was off) */
+        flux_obs_reset(&d->fobs);
     }
     if (st == (uint16_t)ID_REFINE) {
         d->seq.adapt_ready = 0u;
     }
-    if (st != (uint16_t)ID_RUN) {
+    if (st != (uint16_t)ID_RUN && (a->track_armed | d->run_ifo) != 0u) {
         a->track_armed = 0u;
         drive_set_run_ifo(d, 0u);
     }
@@ -336,13 +339,15 @@ void drive_adapt_slow(drive_t *d)
     /* a few compares while nothing happens (ACCELERATE, where the RLS makes
      * the ISR's worst case, runs only these) */
     a->ticks++;
-    /* (with the standstill test the sequence waits in MAGNETIZE: its
-     * magnetize_end pulse comes in MAGNETIZE, id_sequence_set_wait) */
-    if (st == (uint16_t)ID_MAGNETIZE && a->standstill != 0u) {
-        standstill(d);
-    }
+    /* a state change first (the sequence step that entered a state left its
+     * t_state at 0 and pulsed nothing of it: the standstill test has nothing
+     * to do in that step).  (With the standstill test the sequence waits in
+     * MAGNETIZE: its magnetize_end pulse comes in MAGNETIZE,
+     * id_sequence_set_wait.) */
     if (st != a->prev_state) {
         state_change(d, st);
+    } else if (st == (uint16_t)ID_MAGNETIZE && a->standstill != 0u) {
+        standstill(d);
     }
     if (d->seq.rls_restart != 0u) {
         /* the background's RLS restarts before the next queued sample */

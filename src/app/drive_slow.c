@@ -35,10 +35,11 @@
  *                 slots that run with both orientations: the heaviest part
  *                 of the schedule, 1300 cycles in one ISR, is then spread
  *                 over three)
- * The firmware's data log runs in the ISR of slot 2 (DRIVE_LOG_SLOT), chosen
- * as the lightest and still one of the lighter ones with the model check's
- * half 1 (the observer's 5 and 6 are lighter only with IFO): its cost adds
- * there.
+ * The firmware's data log runs in the ISR of slot 1 (DRIVE_LOG_SLOT), the
+ * lightest but one in RUN of both orientations and light in every state
+ * (the observer's 5 and 6 are lighter only with IFO, slot 2 carries the
+ * model check's heavier half, 4 the adaptive sequence's MAGNETIZE): its
+ * cost adds there.
  *
  * The sequence sees the filtered di/dt of this period and judges the RLS's
  * enable for the next one.  The 10 Hz regression band and the speed loop's
@@ -65,13 +66,8 @@ static void sequence(drive_t *d)
                                the test off (the default), not even the call */
     }
     id_sequence_step(s);
-    if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS && s->state == ID_MAGNETIZE &&
-        s->t_state == 0u) {
-        /* just entered (t_state restarts at 0 on entry): demagnetised
-         * machine, start both models from zero flux (the voltage model has
-         * integrated offsets while the bridge was off) */
-        flux_obs_reset(&d->fobs);
-    }
+    /* (the observer's reset on entering MAGNETIZE: drive_adapt_slow's
+     * state change, next) */
     /* the snapshots, taken by the background in the RLS's own order: the
      * events ride with the next queued sample (drive_rls_bg.c); with the
      * extraction go the covariance and the confidence's residual sums */

@@ -62,19 +62,58 @@ int16_t id_sequence_set_wait(id_sequence_t *s, uint16_t at_magnetize, uint32_t m
 void id_sequence_start(id_sequence_t *s) { s->start_req = 1u; }
 void id_sequence_stop(id_sequence_t *s) { s->stop_req = 1u; }
 
-void id_sequence_clear_fault(id_sequence_t *s)
-{
-    if (s->state == ID_FAULT) {
-        s->state = ID_IDLE;
-        s->t_state = 0u;
-    }
-}
+/* The outputs that follow from the state alone, looked up once per state
+ * change instead of recomputed from the state in every step: the bridge on,
+ * the speed loop, the RLS (SETTLE: only for its first rls_tail_samples, the
+ * step's own compare), i_M to its reference.  CALIBRATE's phases (the
+ * offsets, the sensor test, the bridge's test) are set by its own case. */
+#define OUT_PWM 1u
+#define OUT_SPEED 2u
+#define OUT_RLS 4u
+#define OUT_IM 8u
+static const uint16_t k_state_out[] = {
+    0u,                                     /* IDLE */
+    0u,                                     /* CALIBRATE: its case */
+    OUT_PWM | OUT_IM,                       /* MAGNETIZE */
+    OUT_PWM | OUT_IM | OUT_SPEED | OUT_RLS, /* ACCELERATE */
+    OUT_PWM | OUT_IM | OUT_SPEED | OUT_RLS, /* SETTLE: rls_on until the tail's end */
+    OUT_PWM | OUT_IM | OUT_SPEED,           /* RUN */
+    0u,                                     /* FAULT */
+    OUT_PWM | OUT_IM | OUT_SPEED            /* REFINE */
+};
 
 static void enter(id_sequence_t *s, id_state_t next)
 {
+    const uint16_t f = k_state_out[(uint16_t)next];
+
     s->state = next;
     s->t_state = 0u;
     s->t_steady = 0u;
+    s->pwm_on = (uint16_t)(f & OUT_PWM);
+    s->speed_loop_on = (uint16_t)((f & OUT_SPEED) >> 1);
+    s->rls_on = (uint16_t)((f & OUT_RLS) >> 2);
+    s->im_cmd = ((f & OUT_IM) != 0u) ? s->im_ref : _IQ(0.0);
+    /* CALIBRATE starts with the offsets (its case sets the later phases) */
+    s->calibrating = (uint16_t)(next == ID_CALIBRATE);
+    s->sensor_testing = 0u;
+    s->vi_testing = 0u;
+}
+
+void id_sequence_clear_fault(id_sequence_t *s)
+{
+    if (s->state == ID_FAULT) {
+        enter(s, ID_IDLE);
+    }
+}
+
+/* CALIBRATE's outputs in one of its phases (one of the three flags set):
+ * the bridge switches for either test. */
+static void calibrate_phase(id_sequence_t *s, uint16_t cal, uint16_t sensor, uint16_t vi)
+{
+    s->calibrating = cal;
+    s->sensor_testing = sensor;
+    s->vi_testing = vi;
+    s->pwm_on = (uint16_t)(sensor | vi);
 }
 
 /* Has the drive's model arrived?  Else one more sample of waiting; 1 also
@@ -121,8 +160,16 @@ void id_sequence_step(id_sequence_t *s)
         }
         break;
     case ID_CALIBRATE:
-        if (s->cal_done != 0u && (s->sensor_test == 0u || s->test_done != 0u) &&
-            (s->vi_test == 0u || s->vi_done != 0u)) {
+        /* its phases in turn: the offsets, the sensor test, the bridge's
+         * test (each while its input says it is not done), then MAGNETIZE;
+         * the bridge switches for the two tests, with no current reference */
+        if (s->cal_done == 0u) {
+            calibrate_phase(s, 1u, 0u, 0u);
+        } else if (s->sensor_test != 0u && s->test_done == 0u) {
+            calibrate_phase(s, 0u, 1u, 0u);
+        } else if (s->vi_test != 0u && s->vi_done == 0u) {
+            calibrate_phase(s, 0u, 0u, 1u);
+        } else {
             enter(s, ID_MAGNETIZE);
         }
         break;
@@ -146,6 +193,7 @@ void id_sequence_step(id_sequence_t *s)
          * A window that fails the currents' test closes; the next sample
          * opens another.  (|i| < 4 pu: the differences cannot overflow.) */
         uint16_t held = 0u;
+        s->rls_on = (uint16_t)(s->t_state <= s->rls_tail_samples);
         if (s->speed_err >= s->speed_tol) {
             s->t_steady = 0u;
         } else {
@@ -193,25 +241,8 @@ void id_sequence_step(id_sequence_t *s)
     }
     s->start_req = 0u;
 
-    /* outputs as a function of the (new) state */
-    s->sensor_testing = (uint16_t)((uint16_t)(s->state == ID_CALIBRATE) &
-                                   (uint16_t)(s->cal_done != 0u) &
-                                   (uint16_t)(s->sensor_test != 0u) &
-                                   (uint16_t)(s->test_done == 0u));
-    s->vi_testing = (uint16_t)((uint16_t)(s->state == ID_CALIBRATE) &
-                               (uint16_t)(s->cal_done != 0u) &
-                               (uint16_t)(s->sensor_test == 0u || s->test_done != 0u) &
-                               (uint16_t)(s->vi_test != 0u) & (uint16_t)(s->vi_done == 0u));
-    s->pwm_on = (uint16_t)(s->state == ID_MAGNETIZE || s->state == ID_ACCELERATE ||
-                           s->state == ID_SETTLE || s->state == ID_RUN ||
-                           s->state == ID_REFINE || s->sensor_testing != 0u ||
-                           s->vi_testing != 0u);
-    s->calibrating = (uint16_t)(s->state == ID_CALIBRATE && s->cal_done == 0u);
-    s->speed_loop_on = (uint16_t)(s->state == ID_ACCELERATE || s->state == ID_SETTLE ||
-                                  s->state == ID_RUN || s->state == ID_REFINE);
-    s->rls_on = (uint16_t)(s->state == ID_ACCELERATE ||
-                           (s->state == ID_SETTLE && s->t_state <= s->rls_tail_samples));
-    s->im_cmd = (s->pwm_on != 0u && s->state != ID_CALIBRATE) ? s->im_ref : _IQ(0.0);
+    /* the outputs of the (new) state: enter() and the cases above; the
+     * speed target may change in RUN (drive_set_speed) */
     if (s->speed_loop_on == 0u) {
         s->speed_cmd = _IQ(0.0);
     } else {

@@ -1,6 +1,8 @@
 /* Standstill lock-in measurement of sigma Ls.  See standstill_z.h. */
 #include "standstill_z.h"
 
+#include "iq_rmpy.h"
+
 #include <math.h>
 
 #define TWO_PI_F 6.28318530717958647692f
@@ -12,6 +14,16 @@
  * test's); keeps each product of the final step below 64 and their sums
  * below 128. */
 #define SUM_MAX 7.9f
+
+/* The recurrence's rounding constants: half an LSB of Q24 in Q30 (the
+ * weights' Q30 -> Q24 rounding), one LSB of Q30 (two truncated products'
+ * bias, at most 2 LSB); nothing in the FLOAT build, which rounds to nearest. */
+#if MATH_TYPE == IQ_MATH
+#define SSZ_HALF_Q24_IN_Q30 ((int32_t)1 << (30 - GLOBAL_Q - 1))
+#define SSZ_ONE_Q30 ((int32_t)1)
+#else
+#define SSZ_HALF_Q24_IN_Q30 0.0f
+#endif
 
 static _iq sat_in(_iq x)
 {
@@ -27,7 +39,9 @@ standstill_z_status_t standstill_z_init(standstill_z_t *z, float Ts_s, float f_b
     float w_pu;
     uint32_t window;
 
-    z->ampl = z->inv_n = z->rev_step = z->inv_w = z->w = z->corr = _IQ(0.0);
+    z->ampl = z->inv_n = z->inv_w = z->w = z->corr = _IQ(0.0);
+    z->rot_c = z->rot_s = z->s = z->c = _IQ30(0.0);
+    z->rev_step = _IQ(0.0);
     z->per_period = z->lead = z->window = 0u;
     z->running = 0u;
     standstill_z_start(z);
@@ -59,7 +73,16 @@ standstill_z_status_t standstill_z_init(standstill_z_t *z, float Ts_s, float f_b
     z->window = (uint16_t)window;
     z->ampl = _IQ(ampl_pu);
     z->inv_n = _IQ(SUM_GAIN / (float)window);
+    /* the weights' rotation by 2 pi / per a sample: cos as 1 - 2 sin^2(half),
+     * so that the float's relative rounding falls on the small 2 sin^2 (0.4
+     * LSB of Q30) and not on a number near 1 (64 LSB) */
+    {
+        const float h = sinf(TWO_PI_F * 0.5f / per);
+        z->rot_c = _IQ30(1.0) - _IQ30(2.0f * h * h);
+        z->rot_s = _IQ30(sinf(TWO_PI_F / per));
+    }
     z->rev_step = _IQ(1.0f / per);
+
     z->inv_w = _IQ(1.0f / w_pu);
     z->w = _IQ(w_pu);
     z->corr = _IQ(corr_pu);
@@ -133,34 +156,60 @@ void standstill_z_finish(standstill_z_t *z)
 
 void standstill_z_step(standstill_z_t *z)
 {
-    _iq s;
-    _iq c;
+    _iq sn;
+    _iq cn;
     _iq im;
+    _iq30 sv;
+    _iq30 cv;
 
     if (z->running == 0u) {
         z->i_add = _IQ(0.0);
         return;
     }
-    /* phase = ph / per_period revolutions, from an integer counter: no
-     * accumulated rounding, exactly periodic */
-    s = _IQsinPU(_IQmpyI32(z->rev_step, (int32_t)z->ph));
-    c = _IQcosPU(_IQmpyI32(z->rev_step, (int32_t)z->ph));
+    /* sin, cos of phase ph / per_period revolutions by a rotation
+     * recurrence (header), re-seeded exactly at the start of every period:
+     * the pattern repeats exactly each period, as a table would, and the
+     * drift is bounded by one period's steps */
+#if MATH_TYPE == IQ_MATH
+    if (z->ph == 0u) {
+        z->s = _IQ30(0.0);
+        z->c = _IQ30(1.0);
+    }
+    sv = z->s;
+    cv = z->c;
+#else
+    /* FLOAT (the host's reference model, no cycle budget): the sine and
+     * cosine themselves, as before the recurrence (a float recurrence
+     * drifts by 6e-8 a step, enough to move a marginal closed-loop run) */
+    sv = _IQsinPU(z->rev_step * (float)z->ph);
+    cv = _IQcosPU(z->rev_step * (float)z->ph);
+#endif
+    /* the weights 16/N sin, 16/N cos: Q30 * Q24 -> Q30, then rounded to Q24
+     * (a truncated weight is biased by -1/2 LSB and lets the DC of u and i
+     * leak into the phasors: measured sigma Ls +8e-4); |.| <= 0.5 */
+    sn = _IQ30toIQ(_IQ30mpyIQX(sv, 30, z->inv_n, GLOBAL_Q) + SSZ_HALF_Q24_IN_Q30);
+    cn = _IQ30toIQ(_IQ30mpyIQX(cv, 30, z->inv_n, GLOBAL_Q) + SSZ_HALF_Q24_IN_Q30);
     im = sat_in(z->i_m);
     if (z->k >= z->lead) {
-        /* rounded: a truncated weight is biased by -1/2 LSB and lets the DC
-         * of u and i leak into the phasors (measured: sigma Ls +8e-4) */
-        _iq sn = _IQrmpy(s, z->inv_n);
-        _iq cn = _IQrmpy(c, z->inv_n);
         _iq u = sat_in(z->u_m);
         /* mean of i(k-1), i(k): the instant of u (header); |.| <= 4 */
         _iq i_mid = _IQmpy(im + z->i_prev, _IQ(0.5));
-        z->us += _IQrmpy(u, sn);
-        z->uc += _IQrmpy(u, cn);
-        z->is += _IQrmpy(i_mid, sn);
-        z->ic += _IQrmpy(i_mid, cn);
+        /* rounded products (iq_rmpy.h: _IQrmpy bit for bit, |.| <= 4 * 0.5) */
+        z->us += iq_rmpy(u, sn);
+        z->uc += iq_rmpy(u, cn);
+        z->is += iq_rmpy(i_mid, sn);
+        z->ic += iq_rmpy(i_mid, cn);
     }
     z->i_prev = im;
-    z->i_add = _IQmpy(z->ampl, s);
+    z->i_add = _IQmpyIQX(sv, 30, z->ampl, GLOBAL_Q);   /* Q30 * Q24 -> Q24, |.| <= ampl */
+    /* the next phase: (sin, cos) turned by 2 pi / per_period.  Each Q30
+     * product truncates (in (-1, 0] LSB): the sum of two gets one LSB back,
+     * the difference is centred as it is; |.| <= 1 + the drift: no
+     * overflow */
+#if MATH_TYPE == IQ_MATH
+    z->s = _IQ30mpy(sv, z->rot_c) + _IQ30mpy(cv, z->rot_s) + SSZ_ONE_Q30;
+    z->c = _IQ30mpy(cv, z->rot_c) - _IQ30mpy(sv, z->rot_s);
+#endif
     if (++z->ph >= z->per_period) {
         z->ph = 0u;
     }

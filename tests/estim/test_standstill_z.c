@@ -326,6 +326,87 @@ static void test_freq_rounding(void **state)
     assert_int_equal(standstill_z_samples(&z), 0u);
 }
 
+/* The rotation recurrence of the phase's sine and cosine (standstill_z.h)
+ * against double: the pair each step uses, (0, 1) at a period's start, else
+ * the pair the last step turned, against (sin, cos)(2 pi ph / P), over the
+ * whole test of the longest period the init allows (P = 4096 at 3.66 Hz,
+ * 14 periods, the most that fit 65535 samples with the lead) and of the
+ * rig's 50.  Bound (header), LSB of Q30: sqrt(2) a step from the truncated
+ * products (after the sum's +1), 0.5 from the rotation's cos rounded to
+ * Q30, and its float sine's 2^-22 relative (2 pi 2^-22 rad a period, 1 608
+ * LSB): 2 (P - 1) + 1 608.  And the
+ * recurrence must not hide a bias in it: the DC of the weights each sample
+ * uses (16/N sin rounded to Q24, summed over a period: exactly 0 for the
+ * exact sine) within P (0.5 LSB of Q24 + 16/N the drift).  FLOAT: no
+ * recurrence, the float sine and cosine of the float phase (its rounding,
+ * 2 pi 6e-8 rad, and 1 ulp): 1e-6, and the weights' DC P 16/N 1e-6. */
+static void test_weight_recurrence(void **state)
+{
+    static const struct {
+        float f;
+        uint16_t cycles, per;
+    } cases[] = {{15000.0f / 4096.0f, 14u, 4096u}, {F_INJ, CYCLES, 50u}};
+    uint32_t c;
+    (void)state;
+
+    for (c = 0u; c < sizeof cases / sizeof cases[0]; c++) {
+        standstill_z_t z;
+        const double P = (double)cases[c].per;
+        double w, max_e = 0.0, max_dc = 0.0, dc = 0.0, bound, bound_dc;
+        uint32_t k;
+        assert_int_equal(standstill_z_init(&z, TS_S, FB_HZ, cases[c].f, cases[c].cycles,
+                                           (float)A_PU, 0.0f),
+                         STANDSTILL_Z_OK);
+        assert_int_equal(z.per_period, cases[c].per);
+        w = iq_to_d(z.inv_n);
+#if MATH_TYPE == IQ_MATH
+        bound = (2.0 * (P - 1.0) + 1608.0) / 1073741824.0;
+        bound_dc = P * (0.5 * LSB24 + w * bound);
+#else
+        bound = 1e-6;
+        bound_dc = P * w * bound;
+#endif
+        standstill_z_start(&z);
+        z.i_m = _IQ(0.3);
+        z.u_m = _IQ(0.2);
+        for (k = 0u; z.running != 0u; k++) {
+            const uint16_t ph = z.ph;
+#if MATH_TYPE == IQ_MATH
+            const double sv = (ph == 0u) ? 0.0 : qn_to_d(z.s, 30);
+            const double cv = (ph == 0u) ? 1.0 : qn_to_d(z.c, 30);
+#else
+            const double sv = (double)_IQsinPU(z.rev_step * (float)ph);
+            const double cv = (double)_IQcosPU(z.rev_step * (float)ph);
+#endif
+            const double a = 2.0 * PI_D * (double)ph / P;
+            double e = fmax(fabs(sv - sin(a)), fabs(cv - cos(a)));
+            assert_int_equal(ph, k % cases[c].per);
+            max_e = fmax(max_e, e);
+            /* the Q24 weight 16/N sin used: Q30 * Q24 -> Q30, rounded to
+             * Q24 (IQ); the product (FLOAT) */
+#if MATH_TYPE == IQ_MATH
+            dc += (double)(((int32_t)(((int64_t)((ph == 0u) ? 0 : z.s) * z.inv_n) >> 24) + 32) >>
+                           6) *
+                  LSB24;
+#else
+            dc += sv * w;
+#endif
+            if (ph == cases[c].per - 1u) {
+                max_dc = fmax(max_dc, fabs(dc));
+                dc = 0.0;
+            }
+            standstill_z_step(&z);
+        }
+        assert_int_equal(k, (uint32_t)standstill_z_samples(&z));
+        print_message("P %4.0f: sin, cos max drift %.1f LSB30 (bound %.1f); the weight's DC per "
+                      "period %.2f LSB24 (bound %.1f)\n",
+                      P, max_e * 1073741824.0, bound * 1073741824.0, max_dc / LSB24,
+                      bound_dc / LSB24);
+        assert_true(max_e <= bound);
+        assert_true(max_dc <= bound_dc);
+    }
+}
+
 /* Every init error, the others valid; on error the module does not run
  * (done stays 0, no injection). */
 static void test_init_errors(void **state)
@@ -408,6 +489,7 @@ int main(void)
         cmocka_unit_test(test_invalid),
         cmocka_unit_test(test_finish_large_sums),
         cmocka_unit_test(test_freq_rounding),
+        cmocka_unit_test(test_weight_recurrence),
         cmocka_unit_test(test_init_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
