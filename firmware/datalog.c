@@ -6,8 +6,8 @@
 
 #include "datalog.h"
 
-#pragma CODE_SECTION(datalog_step, "ramfuncs")
-#pragma CODE_SECTION(datalog_q15, "ramfuncs")
+#pragma CODE_SECTION(datalog_step, "ramfuncs_slow")
+#pragma CODE_SECTION(datalog_q15, "ramfuncs_slow")
 
 uint16_t datalog_init(datalog_t *d, uint16_t prescale, _iq trig_level)
 {

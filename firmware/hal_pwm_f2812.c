@@ -26,6 +26,7 @@
 #pragma CODE_SECTION(hal_pwm_tripped, "ramfuncs")
 #pragma CODE_SECTION(hal_isr_overrun, "ramfuncs")
 #pragma CODE_SECTION(pwm_f2812_period, "ramfuncs")
+#pragma CODE_SECTION(hal_slow_isr_request, "ramfuncs")
 
 /* T1CON (SPRU065, GP timer control register): FREE (bit 15) = 0 and SOFT
  * (bit 14) = 1: on an emulator halt T1 completes its current period and
@@ -141,6 +142,15 @@ uint16_t hal_isr_overrun(void)
      * when this ISR read its samples: set again means the next period has
      * begun while the ISR still ran */
     return (uint16_t)((EvaRegs.EVAIFRA.all & EVAIFRA_T1UFINT) != 0u);
+}
+
+/* INT14 (CPU timer 2's vector, free without DSP/BIOS) forced in software:
+ * IFR can be changed only by OR/AND IFR, which `IFR |=` compiles to
+ * (SPRU514, "The cregister keyword"); the CPU serves it when the control
+ * ISR returns, below INT1 in priority (firmware/isr.c: isr_slow). */
+void hal_slow_isr_request(void)
+{
+    IFR |= M_INT14;
 }
 
 uint16_t pwm_f2812_clear_trip(void)

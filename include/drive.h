@@ -124,16 +124,25 @@ int16_t drive_init(drive_t *d, const drive_config_t *cfg);
  *  check last).  Returns that check: 1 if this ISR ran past its period
  *  (hal_isr_overrun), for the caller's load figure. */
 uint16_t drive_isr(drive_t *d);
+/** The slow ISR: the slow task (drive_slow.c) of the slot of the last
+ *  drive_isr, at a lower priority than it (the F2812's INT14, which the
+ *  control ISR may preempt; firmware/isr.c).  Must finish before the next
+ *  drive_isr ends: one that finds it unfinished counts an overrun
+ *  (drive_telemetry_t.isr_overruns; several in a row latch
+ *  FAULT_ISR_OVERRUN).  A caller of drive_isr without interrupts (the
+ *  simulator) calls it right after drive_isr. */
+void drive_slow_isr(drive_t *d);
 /** The data log's four channels (i_M, i_T, speed, published Rr; pu, Q
  *  GLOBAL_Q) as the ISR last left them: for the firmware's data log, read
  *  without copying the whole telemetry snapshot. */
 void drive_get_log_signals(const drive_t *d, _iq sig[4]);
-/** 1 right after the ISR of DRIVE_LOG_SLOT, one of the schedule's lightest
- *  slow slots: the firmware's data log runs then, so that its cost adds to one of the
- *  lightest ISRs (data at f_pwm / DRIVE_SLOTS, before the log's own
- *  prescaler). */
+/** 1 in (after) the slow ISR of DRIVE_LOG_SLOT, one of the schedule's
+ *  lightest slow slots: the firmware's data log runs then, in the slow ISR,
+ *  never in the control ISR (data at f_pwm / DRIVE_SLOTS, before the log's
+ *  own prescaler). */
 uint16_t drive_log_due(const drive_t *d);
-/** The same without the HAL. */
+/** The same without the HAL, and its slow task after it (drive_slow_isr):
+ *  one whole period. */
 void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
                 hal_pwm_compare_t *out);
 /** Low-priority work for the background loop (publishing, telemetry). */

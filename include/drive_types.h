@@ -329,7 +329,13 @@ struct drive {
     standstill_z_t ssz;         /* standstill sigma Ls (standstill) */
 
     /* multi-rate schedule and what the slow tasks hand to the fast path */
-    uint16_t slot;              /* drive_slot_t of this ISR (0 .. DRIVE_SLOTS-1) */
+    uint16_t slot;              /* drive_slot_t of the next fast ISR (0 .. DRIVE_SLOTS-1) */
+    /* fast ISR -> slow ISR (drive_slow_isr): the slot whose slow task is
+     * due, and the hand-shake; written by both contexts, hence volatile */
+    uint16_t slow_slot;         /* drive_slot_t of the last fast ISR */
+    volatile uint16_t slow_due; /* 1: requested by the fast ISR, not yet started */
+    volatile uint16_t slow_busy;/* 1: the slow task is running */
+    uint16_t slow_late;         /* 1: a fast ISR found the last slow task unfinished */
     uint16_t frame_ifo;         /* this ISR's control frame is ifo's (drive_ifo_frame) */
     _iq theta_k;                /* Q24 pu [0, 1): the frame angle of this sample */
     _iq ws_k;                   /* Q24 pu: the frame's speed over the period that just ended */

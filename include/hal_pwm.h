@@ -33,5 +33,10 @@ uint16_t hal_pwm_tripped(void);
  *  hal_adc_read) is set again, i.e. the ISR overran its period.  Called as
  *  the ISR's last action (drive_isr). */
 uint16_t hal_isr_overrun(void);
+/** Request the slow ISR (drive_slow_isr), to run when the control ISR
+ *  returns, at a lower priority: the next control ISR may preempt it.  On
+ *  the F2812 a software-forced CPU interrupt (INT14); on the host a count
+ *  (the simulator calls drive_slow_isr after drive_isr itself). */
+void hal_slow_isr_request(void);
 
 #endif /* HAL_PWM_H */

@@ -74,6 +74,14 @@ typedef struct {
 /** Set the period and clear inputs and outputs (outputs start at 50 %). */
 svgen_status_t svgen_init(svgen_t *s, uint16_t t1pr);
 
+/** Set the bus (Q24 pu) and, when it changed and is usable (>= vdc_min),
+ *  its reciprocal now, so that svgen_step divides only beyond the linear
+ *  range: the multi-rate schedule sets the bus in a slow task, and the
+ *  control ISR that steps next never carries the division.  Scaling: one
+ *  _IQdiv, 1/vdc <= 1/SVGEN_VDC_MIN_PU in Q24 (no saturation); a bus below
+ *  vdc_min is stored as it is (svgen_step's bus fault). */
+void svgen_set_vdc(svgen_t *s, _iq vdc);
+
 /* CMPR = T1PR - round(d T1PR), d in [0, 1] (Q24).
  * round(d N) = floor(d N + 1/2) = floor((floor(2 d N) + 1) / 2), because
  * floor(y/2) = floor(floor(y)/2) for any real y.  floor(2 d N) is the

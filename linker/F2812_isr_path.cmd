@@ -4,12 +4,11 @@
  *
  * The FAST set of the ISR path: the input sections of every function of src/
  * (and of the inline functions of include/ that cl2000 may emit as functions)
- * that the control ISR (isr_control -> drive_isr ...) can call WITHOUT going
- * through the slow-task dispatch drive_slow_task (which is listed: it runs every
- * period), found in the call graph of gcc -O1 -fno-inline (every source-level
+ * that the control ISR (isr_control -> drive_isr ...) can call, found in the
+ * call graph of gcc -O1 -fno-inline (every source-level
  * function kept).  Included inside the `ramfuncs` output section of
  * F2812_flash.cmd / F2812_ram.cmd (RUN in L0+L1, copied at boot by
- * flash_copy_ramfuncs).  What only the dispatch reaches is in
+ * flash_copy_ramfuncs).  What only the slow ISR (isr_slow) reaches is in
  * F2812_isr_slow.cmd (`ramfuncs_slow`, RUN in H0).
  *
  * cl2000 --gen_func_subsections=on puts each function in its own subsection
@@ -20,7 +19,7 @@
  * the same name in two files is matched in both (a few words more in RAM).
  * The firmware's own ISR functions are in `ramfuncs` by #pragma CODE_SECTION
  * (checked by the same test); TI's IQmath functions by the IQmath section.
- * 71 functions.
+ * 68 functions.
  */
 *(.text:_angle_diff_pu)
 *(.text:_angle_sincos)
@@ -35,13 +34,10 @@
 *(.text:_dc_bus_measure)
 *(.text:_drive_adapt_fast)
 *(.text:_drive_frame_speed)
-*(.text:_drive_get_log_signals)
 *(.text:_drive_isr)
-*(.text:_drive_log_due)
 *(.text:_drive_safety_fast)
 *(.text:_drive_safety_modulate)
 *(.text:_drive_safety_test_period)
-*(.text:_drive_slow_task)
 *(.text:_drive_test_voltage)
 *(.text:_drive_vi_modulate)
 *(.text:_encoder_check_jump)

@@ -39,16 +39,16 @@ Two compiles, both -ffunction-sections -fdata-sections -fcallgraph-info=su:
     the linker accepts).
 
 The ISR path: every function reachable in the call graph (gcc
--fcallgraph-info) from the control ISR, firmware/isr.c's `isr_control` (the
-ADCINT entry, which calls drive_isr and the data log), nothing else: init,
+-fcallgraph-info) from the two interrupt entries of firmware/isr.c: the
+control ISR `isr_control` (ADCINT, which calls drive_isr) and the slow ISR
+`isr_slow` (INT14, which calls drive_slow_isr and the data log), nothing else: init,
 background and float code are not on it unless the ISR calls them (checked:
 no soft-float helper may be reachable).  The call graph has no function
 pointers to miss: the core has none, and every interrupt entry is a root.
-It is split in two sets: FAST, every function reachable without going through
-the slow-task dispatch `drive_slow_task` (the dispatch itself included: it
-runs every period), placed in `ramfuncs` (linker/F2812_isr_path.cmd), and
-SLOW, reachable only through it (the slot tasks), placed in `ramfuncs_slow`
-(linker/F2812_isr_slow.cmd); a function reached both ways is fast.  The TI
+It is split in two sets: FAST, every function the control ISR reaches, placed
+in `ramfuncs` (linker/F2812_isr_path.cmd), and SLOW, reached only from the
+slow ISR (the slot tasks), placed in `ramfuncs_slow`
+(linker/F2812_isr_slow.cmd); a function reached from both is fast.  The TI
 IQmath functions the ISR reaches count in the output section that #includes
 F2812_isr_slow.cmd (whose last lines name their library members).
 
@@ -114,10 +114,12 @@ CC = "arm-none-eabi-gcc"
 NM = "arm-none-eabi-nm"
 ARCH = ["-mthumb", "-mcpu=cortex-m3"]
 WORDS_PER_HALFWORD = 1.2           # see the module docstring
-ISR_ROOTS = ("isr_control",)       # firmware/isr.c: the ADCINT (PIE 1.6) entry
-# the slow-task dispatch (src/app/drive_slow.c): what only it reaches runs
-# once per DRIVE_SLOTS periods, in `ramfuncs_slow`; it runs every period itself
-SLOW_DISPATCH = "drive_slow_task"
+FAST_ROOTS = ("isr_control",)      # firmware/isr.c: the control ISR, ADCINT (PIE 1.6)
+SLOW_ROOTS = ("isr_slow",)         # firmware/isr.c: the slow ISR, INT14 forced by it
+ISR_ROOTS = FAST_ROOTS + SLOW_ROOTS
+# the slow ISR (firmware/isr.c): what only it reaches is in `ramfuncs_slow`
+SLOW_DISPATCH = "isr_slow"
+SLOW_TASK = "drive_slow_task"      # src/app/drive_slow.c: must be on the slow side
 LIMIT = 0.70                       # the goal: 30 % of every RAM block kept spare
 # CTest checks the fit at --limit 0.90 (10 % spare for the stand-in's error):
 # the 70 % goal is not met by today's ISR path and state (79 % of the on-chip
@@ -469,14 +471,12 @@ def pragma_ramfuncs():
 
 def isr_sets(graph):
     """(fast, slow) titles of the ISR path, the host IQmathLib.h's inline
-    helpers included where they are reached: fast = reachable from the control ISR
-    without going through the slow-task dispatch (the dispatch itself runs
-    every period: fast), slow = reachable only through it."""
-    roots = graph.roots(ISR_ROOTS)
-    fast, _ = graph.reach(roots, stop=lambda f: is_iqmath(f) or f["name"] == SLOW_DISPATCH)
-    every, _ = graph.reach(roots, stop=is_iqmath)
-    if not any(graph.func[t]["name"] == SLOW_DISPATCH for t in fast):
-        raise SystemExit(f"bench_size: {SLOW_DISPATCH} is not reachable from {ISR_ROOTS}")
+    helpers included where they are reached: fast = reachable from the control
+    ISR, slow = reachable from the slow ISR only (the slot tasks)."""
+    fast, _ = graph.reach(graph.roots(FAST_ROOTS), stop=is_iqmath)
+    every, _ = graph.reach(graph.roots(ISR_ROOTS), stop=is_iqmath)
+    if not any(graph.func[t]["name"] == SLOW_TASK for t in every - fast):
+        raise SystemExit(f"bench_size: {SLOW_TASK} is not reachable from {SLOW_ROOTS} alone")
     return fast, every - fast
 
 
@@ -523,12 +523,11 @@ def isr_cmd_texts(graph, abi="coffabi"):
         " *",
         " * The FAST set of the ISR path: the input sections of every function of src/",
         " * (and of the inline functions of include/ that cl2000 may emit as functions)",
-        " * that the control ISR (isr_control -> drive_isr ...) can call WITHOUT going",
-        f" * through the slow-task dispatch {SLOW_DISPATCH} (which is listed: it runs every",
-        " * period), found in the call graph of gcc -O1 -fno-inline (every source-level",
+        " * that the control ISR (isr_control -> drive_isr ...) can call, found in the",
+        " * call graph of gcc -O1 -fno-inline (every source-level",
         " * function kept).  Included inside the `ramfuncs` output section of",
         " * F2812_flash.cmd / F2812_ram.cmd (RUN in L0+L1, copied at boot by",
-        " * flash_copy_ramfuncs).  What only the dispatch reaches is in",
+        " * flash_copy_ramfuncs).  What only the slow ISR (isr_slow) reaches is in",
         " * F2812_isr_slow.cmd (`ramfuncs_slow`, RUN in H0).",
     ] + common + [
         " * The firmware's own ISR functions are in `ramfuncs` by #pragma CODE_SECTION",
@@ -542,7 +541,7 @@ def isr_cmd_texts(graph, abi="coffabi"):
         " * CTest target_isr_path_cmd_current fails when it differs from the call graph.",
         " *",
         " * The SLOW set of the ISR path: the input sections of every function of src/",
-        f" * that the control ISR reaches ONLY through the slow-task dispatch {SLOW_DISPATCH}",
+        f" * that ONLY the slow ISR {SLOW_DISPATCH} reaches (INT14, below the control ISR)",
         " * (the slot tasks: filters, observer, sequence, adaptation, tracker), found in",
         " * the call graph of gcc -O1 -fno-inline.  A function also reached on the",
         " * every-period path is in F2812_isr_path.cmd instead.  Included inside the",
@@ -607,10 +606,10 @@ def cmd_problems(old_fast, old_slow, new_fast, new_slow, fast_file, slow_file):
     errs = []
     was_f, was_s, now_f, now_s = names(old_fast), names(old_slow), names(new_fast), names(new_slow)
     for n in sorted(was_f & now_s):
-        errs.append(f"{n} is in {fast_file} but only {SLOW_DISPATCH} reaches it: "
+        errs.append(f"{n} is in {fast_file} but only the slow ISR {SLOW_DISPATCH} reaches it: "
                     f"it belongs in {slow_file}")
     for n in sorted(was_s & now_f):
-        errs.append(f"{n} is in {slow_file} but the every-period path reaches it: "
+        errs.append(f"{n} is in {slow_file} but the control ISR reaches it: "
                     f"it belongs in {fast_file}")
     for n in sorted(was_f & was_s):
         errs.append(f"{n} is in both {fast_file} and {slow_file}")
@@ -743,12 +742,19 @@ def report(args, srcs, g):
     text_in = plan["text_in"]
     text_offchip = bool(text_in) and not any(re.fullmatch(r"FLASH[A-J]", r) for r in text_in)
 
-    # stack: the background's deepest chain + the deeper ISR's + its context
+    # stack: the background's deepest chain, the slow ISR's on it (INT14
+    # interrupts the background), the deepest other ISR's on that (the
+    # control ISR or PDPINTA preempt the slow ISR: nesting; they do not nest
+    # in each other), and two interrupt contexts
     bg_bytes = g.deepest(g.roots(["main"])[0])
-    isr_bytes_stack = max(g.deepest(t, stop=is_iqmath) for t in g.roots(entries[1:]))
-    # (an IQmath call below either chain: TI_IQMATH_STACK_WORDS each, errs high)
-    stack_words = (words(bg_bytes, factor) + words(isr_bytes_stack, factor) + ISR_CONTEXT_WORDS
-                   + (2 * TI_IQMATH_STACK_WORDS if ti_iq else 0))
+    slow_roots = g.roots(SLOW_ROOTS)
+    slow_bytes_stack = max(g.deepest(t, stop=is_iqmath) for t in slow_roots)
+    isr_bytes_stack = max(g.deepest(t, stop=is_iqmath) for t in g.roots(entries[1:])
+                          if t not in slow_roots)
+    # (an IQmath call below each chain: TI_IQMATH_STACK_WORDS each, errs high)
+    stack_words = (words(bg_bytes, factor) + words(slow_bytes_stack, factor)
+                   + words(isr_bytes_stack, factor) + 2 * ISR_CONTEXT_WORDS
+                   + (3 * TI_IQMATH_STACK_WORDS if ti_iq else 0))
     stack_block = plan["place"][".stack"][0]
     stack_cap = min(plan["ranges"][stack_block], stack_size())
 
@@ -802,6 +808,7 @@ def report(args, srcs, g):
         "stack_words": stack_words,
         "stack_background_thumb_bytes": bg_bytes,
         "stack_isr_thumb_bytes": isr_bytes_stack,
+        "stack_slow_isr_thumb_bytes": slow_bytes_stack,
         "stack_block": stack_block,
         "stack_capacity_words": stack_cap,
         "board_config": rel(args.board_config) if args.board_config else None,
@@ -850,7 +857,7 @@ def print_table(r):
           f"{iq if r['iqmath_section_in'] == FAST_SECTION else ''}): "
           f"{r['ramfuncs_words']} words of {r['ramfuncs_capacity_words']} "
           f"({100 * r['ramfuncs_fraction']:.0f} %), RUN {r['ramfuncs_run']}")
-    print(f"  ramfuncs_slow (only through {SLOW_DISPATCH}"
+    print(f"  ramfuncs_slow (only from the slow ISR {SLOW_DISPATCH}"
           f"{iq if r['iqmath_section_in'] == SLOW_SECTION else ''}): "
           f"{r['ramfuncs_slow_words']} words of {r['ramfuncs_slow_capacity_words']} "
           f"({100 * r['ramfuncs_slow_fraction']:.0f} %), RUN {r['ramfuncs_slow_run']}")
@@ -873,7 +880,8 @@ def print_table(r):
         print(f"    {rng:14s} {parts} = {b['used_words']} of {b['capacity_words']} "
               f"({100 * b['fraction']:.0f} %)")
     print(f"  stack: {r['stack_words']} words (background {r['stack_background_thumb_bytes']} + "
-          f"ISR {r['stack_isr_thumb_bytes']} Thumb bytes, + {ISR_CONTEXT_WORDS} words of "
+          f"slow ISR {r['stack_slow_isr_thumb_bytes']} + control ISR "
+          f"{r['stack_isr_thumb_bytes']} Thumb bytes nested, + 2 x {ISR_CONTEXT_WORDS} words of "
           f"interrupt context) of {r['stack_capacity_words']} (--stack_size, in "
           f"{r['stack_block']})")
     print(f"\n  {'ISR-path function':32s} {'file':34s} {'section':14s} {'Thumb B':>8s} {'words':>6s}")

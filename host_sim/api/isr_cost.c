@@ -17,6 +17,8 @@
  *     reset before it and dumped after it into its own folder (GCOV_PREFIX
  *     = OUT/s<index>), so that its line counts are that ISR's and nothing
  *     else's (the background, which runs between ISRs, is never inside);
+ *     and after it, its slow ISR (drive_slow_isr) alone the same way
+ *     (OUT/s<index>_slow);
  *     its IQmath calls are counted per operation (bench_isr.py attributes
  *     them to modules by the executed lines that make them, and checks that
  *     attribution against these counts).
@@ -25,7 +27,8 @@
  *   {"isrs": N, "iqmath_names": [...], "slots": S, "log_slot": L,
  *    "state_isrs": {"STATE": n, ...},
  *    "samples": [{"index": k, "state": "ACCELERATE", "slot": s,
- *                 "uniform": 0|1, "dir": "s<k>", "iq": [per op]}, ...]}
+ *                 "uniform": 0|1, "dir": "s<k>", "dir_slow": "s<k>_slow",
+ *                 "iq": [per op], "iq_slow": [per op]}, ...]}
  * Usage: isr_cost CONFIG.ini --out DIR [--uniform K] [--duration S]
  */
 #include <errno.h>
@@ -129,6 +132,24 @@ static void print_vec32(const uint32_t *v)
     printf("]");
 }
 
+/* One ISR alone (slow 0: the control ISR, 1: its slow ISR): the counters
+ * zeroed before it, its gcov counts dumped after it into OUT/s<k> or
+ * OUT/s<k>_slow; its IQmath calls stay in iqmath_call_count. */
+static void sample_isr(drive_t *d, uint16_t slow, const char *out, uint32_t k)
+{
+    char dir[512];
+    iqmath_count_reset();
+    __gcov_reset();
+    if (slow != 0u) {
+        drive_slow_isr(d);
+    } else {
+        (void)drive_isr(d);
+    }
+    (void)snprintf(dir, sizeof dir, "%s/s%u%s", out, (unsigned)k, slow ? "_slow" : "");
+    (void)setenv("GCOV_PREFIX", dir, 1);
+    __gcov_dump();
+}
+
 int main(int argc, char **argv)
 {
     static run_t run;
@@ -190,6 +211,7 @@ int main(int argc, char **argv)
         g_class_n[state_at[k]][slot]++;
         run_before_isr(&run);
         drive_isr(&run.drive);
+        drive_slow_isr(&run.drive);
         run_after_isr(&run);
     }
     {
@@ -235,23 +257,24 @@ int main(int argc, char **argv)
         if (kind[k] == 0u || state_at[k] == (uint8_t)ID_IDLE) {
             run_before_isr(&run);
             drive_isr(&run.drive);
+            drive_slow_isr(&run.drive);
             run_after_isr(&run);
             continue;
         }
         {
-            char dir[512];
+            uint32_t iq_fast[N_OPS];
             uint16_t slot = run.drive.slot;
             run_before_isr(&run);
-            iqmath_count_reset();
-            __gcov_reset();
-            drive_isr(&run.drive);
-            (void)snprintf(dir, sizeof dir, "%s/s%u", out, (unsigned)k);
-            (void)setenv("GCOV_PREFIX", dir, 1);
-            __gcov_dump();
+            sample_isr(&run.drive, 0u, out, k);
+            /* its slow ISR, a sample of its own (dir s<k>_slow, "iq_slow") */
+            memcpy(iq_fast, iqmath_call_count, sizeof iq_fast);
+            sample_isr(&run.drive, 1u, out, k);
             printf("%s\n  {\"index\": %u, \"state\": \"%s\", \"slot\": %u, \"uniform\": %u, "
-                   "\"dir\": \"s%u\", \"iq\": ",
+                   "\"dir\": \"s%u\", \"dir_slow\": \"s%u_slow\", \"iq\": ",
                    first ? "" : ",", (unsigned)k, k_state_names[state_at[k]], (unsigned)slot,
-                   (unsigned)(kind[k] == 2u), (unsigned)k);
+                   (unsigned)(kind[k] == 2u), (unsigned)k, (unsigned)k);
+            print_vec32(iq_fast);
+            printf(", \"iq_slow\": ");
             print_vec32(iqmath_call_count);
             printf("}");
             first = 0;

@@ -79,3 +79,4 @@ uint16_t hal_host_clear_trip(hal_host_port_t *p)
     return p->trip_latch;
 }
 uint16_t hal_isr_overrun(void) { return logged(HAL_HOST_ISR_OVERRUN)->overrun; }
+void hal_slow_isr_request(void) { logged(HAL_HOST_SLOW_REQUEST)->slow_requests++; }

@@ -20,7 +20,7 @@
 /** HAL calls, in the order an ISR made them (hal_host_port_t.calls). */
 typedef enum {
     HAL_HOST_ADC_READ = 1, HAL_HOST_QEP_READ, HAL_HOST_PWM_WRITE, HAL_HOST_PWM_ENABLE,
-    HAL_HOST_PWM_DISABLE, HAL_HOST_PWM_TRIPPED, HAL_HOST_ISR_OVERRUN
+    HAL_HOST_PWM_DISABLE, HAL_HOST_PWM_TRIPPED, HAL_HOST_ISR_OVERRUN, HAL_HOST_SLOW_REQUEST
 } hal_host_call_t;
 #define HAL_HOST_CALL_LOG 16u
 
@@ -39,6 +39,8 @@ typedef struct {
     hal_pwm_compare_t cmp;     /* last CMPR1..3 written (takes effect next period) */
     uint16_t outputs_enabled;  /* COMCONA.FCOMPOE */
     uint32_t writes;           /* number of hal_pwm_write calls */
+    uint32_t slow_requests;    /* number of hal_slow_isr_request calls (the caller runs
+                                  drive_slow_isr itself: the host has no interrupt) */
     uint16_t calls[HAL_HOST_CALL_LOG];  /* hal_host_call_t, in order (a test clears n_calls) */
     uint16_t n_calls;          /* calls logged (stops at HAL_HOST_CALL_LOG) */
 } hal_host_port_t;

@@ -488,6 +488,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
         plant_sample(&plant, &port);
         port.trip_input = plant_trip_line(&plant);
         drive_isr(&drive);
+        drive_slow_isr(&drive);   /* the target's INT14, right after (hal_slow_isr_request) */
         if ((k % BACKGROUND_DIV) == 0u) {
             drive_background(&drive);
             if (opt->background_hook != NULL &&

@@ -159,6 +159,15 @@ int16_t drive_safety_init(drive_t *d, const drive_config_t *c)
     return 0;
 }
 
+void drive_safety_state(drive_t *d)
+{
+    sensor_test_t *t = &d->safety.stest;
+    if (t->armed != 0u && d->seq.state != ID_CALIBRATE) {
+        t->armed = 0u;
+        sensor_test_step(t);   /* disarmed: IDLE again, its verdict still readable */
+    }
+}
+
 uint16_t drive_safety_test_period(drive_t *d, hal_pwm_compare_t *out, uint16_t pwm_on)
 {
     sensor_test_t *t = &d->safety.stest;

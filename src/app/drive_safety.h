@@ -18,6 +18,12 @@ static inline void drive_safety_fast(drive_t *d)
     current_model_check_accumulate(&d->safety.cmc, d->volt.valpha, d->volt.vbeta, d->on_last);
 }
 
+/** Slow ISR, slot SEQUENCE, right after the sequence's step: the sensor
+ *  test disarmed as the sequence leaves CALIBRATE, here rather than in the
+ *  next control ISR (drive_safety_modulate then skips it from the first
+ *  period of the next state on: no control ISR carries the disarm). */
+void drive_safety_state(drive_t *d);
+
 /** Non-inline part of drive_safety_modulate (the sensor test's period). */
 uint16_t drive_safety_test_period(drive_t *d, hal_pwm_compare_t *out, uint16_t pwm_on);
 

@@ -1,8 +1,9 @@
 /**
- * The slow tasks of the multi-rate ISR (drive_step.c): one per ISR, in turn,
+ * The slow tasks of the multi-rate schedule (drive_step.c): one per period,
+ * in turn, in the slow ISR that follows the control ISR (drive_slow_isr),
  * each at f_pwm / DRIVE_SLOTS (1.875 kHz at 15 kHz).  Every slot's work is
- * bounded and similar in size, so that no ISR carries more than the fast
- * path plus one of them.
+ * bounded and similar in size, so that no period carries more than the
+ * fast path plus one of them.
  *
  *   0 SPEED       the QEP's speeds, the speed ramp + PI (i_T reference
  *                 for the fast current loop, held first-order over the slow
@@ -35,7 +36,7 @@
  *                 slots that run with both orientations: the heaviest part
  *                 of the schedule, 1300 cycles in one ISR, is then spread
  *                 over three)
- * The firmware's data log runs in the ISR of slot 1 (DRIVE_LOG_SLOT), the
+ * The firmware's data log runs in the slow ISR of slot 1 (DRIVE_LOG_SLOT), the
  * lightest but one in RUN of both orientations and light in every state
  * (the observer's 5 and 6 are lighter only with IFO, slot 2 carries the
  * model check's heavier half, 4 the adaptive sequence's MAGNETIZE): its
@@ -123,8 +124,8 @@ static void telemetry(drive_t *d)
 /* Current feedback check: the M-T currents against the references the
  * current loops followed in the last period (current_check.h; its 2 ms
  * filter needs no more than this slot's rate).  A trip latches the fault,
- * and the bridge is off in this same ISR (the fast path decides after the
- * slow task). */
+ * and the bridge is off in this same period (drive_slow_isr switches it off
+ * after the slow task). */
 static void check_current(drive_t *d)
 {
     d->cur_chk.i_m_ref = d->pi_id.ref;
@@ -165,12 +166,13 @@ static void task_speed(drive_t *d)
     if (d->frame_ifo != 0u) {
         ifo_update_slip_gain(&d->ifo);
     }
-    d->svgen.vdc = d->bus.vdc;
+    svgen_set_vdc(&d->svgen, d->bus.vdc);   /* and 1/vdc, here, not in the control ISR */
 }
 
 static void task_sequence(drive_t *d)
 {
     sequence(d);
+    drive_safety_state(d);   /* the sensor test disarmed on leaving CALIBRATE */
     drive_adapt_slow(d);
     telemetry(d);
 }
@@ -347,6 +349,5 @@ void drive_slow_task(drive_t *d, uint16_t slot)
 
 uint16_t drive_log_due(const drive_t *d)
 {
-    /* drive_step advanced d->slot past the slot it ran */
-    return (uint16_t)(d->slot == ((DRIVE_LOG_SLOT + 1u) & (DRIVE_SLOTS - 1u)));
+    return (uint16_t)(d->slow_slot == DRIVE_LOG_SLOT);
 }

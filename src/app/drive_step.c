@@ -1,9 +1,15 @@
 /**
- * The 15 kHz control ISR, in the order the F2812 runs it, as a multi-rate
- * schedule: every ISR runs the fast path, and exactly one slow task in turn
- * (slot = ISR count modulo DRIVE_SLOTS, drive_slow.c), so that each ISR
- * carries an equal share of the work and the worst single ISR - what the
- * deadline is set by - is the fast path plus the largest slot.
+ * The 15 kHz control ISR, in the order the F2812 runs it, and the slow ISR
+ * that follows it, as a multi-rate schedule: every control ISR runs the
+ * fast path, then requests the slow ISR (drive_slow_isr, the F2812's INT14
+ * at a lower priority), which runs exactly one slow task in turn (slot =
+ * period count modulo DRIVE_SLOTS, drive_slow.c).  The control ISR is the
+ * same every period and never waits for a slow task: the current loop's
+ * deadline is set by it alone; the slow ISR may be preempted by the next
+ * control ISR and must end before that one ends (else an overrun, counted
+ * and latched as the control ISR's own).  Each period carries one slow
+ * task, an equal share: the worst period is the fast path plus the largest
+ * slot (tools/bench_isr.py reports both ISRs and the period).
  *
  *   sample k (T1 underflow): ADC has sampled i_a, i_b, v_dc; T2CNT read
  *   fast path, every period (66.7 us):
@@ -14,11 +20,17 @@
  *   5. regression in  the period's voltage rotated into M-T at its middle,
  *                     the products w_s i, summed over the slow period
  *                     (ident_regressor_accumulate: the anti-alias mean)
- *   6. slow task      one of drive_slow.c's eight, by slot (drive_slow.c
- *                     lists them: speed loop, the regression's filters over
- *                     three slots and the rows queued for the background's
- *                     RLS, the sequence and adaptation, the observer over
- *                     two, the model-based protections)
+ *   6. slow request   the slot whose slow task the slow ISR runs next
+ *                     (drive_slow.c lists them: speed loop, the regression's
+ *                     filters over three slots and the rows queued for the
+ *                     background's RLS, the sequence and adaptation, the
+ *                     observer over two, the model-based protections); what
+ *                     it hands over (the speed loop's step, the observer's
+ *                     angle and speed, the sequence's state) acts from the
+ *                     next control ISR on, one period later than when it
+ *                     ran inside this ISR: nothing of it is faster than
+ *                     the slow period itself.  A fault it latches switches
+ *                     the bridge off in the slow ISR, in the same period.
  *   7. current loops  d/q PIs with decoupling, current plausibility check
  *   8. orientation    (with 7, under its test of the frame) i_mr and the
  *                     slip angle (indirect; the frame angle of
@@ -34,7 +46,7 @@
  *     voltage reconstruction and the per-sample regression inputs (the
  *     voltage of a period exists only in that period: it is rotated at its
  *     own mid-period angle and summed, never sampled).
- *   - at f_pwm / DRIVE_SLOTS (1.875 kHz): the speed loop (bandwidth a few
+ *   - at f_pwm / DRIVE_SLOTS (1.875 kHz), in the slow ISR: the speed loop (bandwidth a few
  *     Hz), the sequence (times of 0.1-1 s), the regression filters (10 Hz
  *     band: the 8-sample mean before them is the anti-alias stage, its
  *     nulls at the multiples of 1.875 kHz that would fold onto that band),
@@ -330,9 +342,15 @@ static inline void isr_body(drive_t *d, const hal_adc_sample_t *adc, uint16_t qe
     transform_currents(d);
     identify_accumulate(d);
     drive_adapt_fast(d);
-    drive_slow_task(d, slot);
-    /* the frame speed for decoupling and the modulation angle, once the
-     * observer (mode 1) has run */
+    /* the slow task of this slot runs after this ISR, in the slow ISR
+     * (drive_slow_isr): what it hands over (the speed loop's step, the
+     * observer's angle and speed, the sequence's state, a check's fault)
+     * acts from the next fast ISR on */
+    d->slow_late = (uint16_t)(d->slow_due | d->slow_busy);
+    d->slow_slot = slot;
+    d->slow_due = 1u;
+    /* the frame speed for decoupling and the modulation angle (mode 1: the
+     * observer's, from its last step) */
     d->ws_ctl = drive_frame_speed(d);
 
     pwm_on = (uint16_t)((uint16_t)(d->seq.pwm_on != 0u) & (uint16_t)(d->prot.fault == FAULT_NONE));
@@ -369,10 +387,41 @@ static inline void isr_body(drive_t *d, const hal_adc_sample_t *adc, uint16_t qe
     d->telemetry.pwm_on = pwm_on;
 }
 
+/* The slow task the last fast ISR requested (drive_slow.c), once.  A fault
+ * it latched turns the bridge off in this same period, as one the fast
+ * path finds: the fast ISR has already set the period's outputs, so they
+ * are switched off here (returns 1: the caller's outputs go off now). */
+static uint16_t slow_run(drive_t *d)
+{
+    if (d->slow_due == 0u) {
+        return 0u;
+    }
+    d->slow_due = 0u;   /* first: a request made while the task runs is kept */
+    d->slow_busy = 1u;
+    drive_slow_task(d, d->slow_slot);
+    d->slow_busy = 0u;
+    if (d->prot.fault != FAULT_NONE && d->on_next != 0u) {
+        d->on_next = 0u;   /* the voltage model: no voltage in this period */
+        d->telemetry.pwm_on = 0u;
+        return 1u;
+    }
+    return 0u;
+}
+
 void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
                 hal_pwm_compare_t *out)
 {
     isr_body(d, adc, qep_count, out);
+    if (slow_run(d) != 0u) {
+        set_outputs_off(d, out);
+    }
+}
+
+void drive_slow_isr(drive_t *d)
+{
+    if (slow_run(d) != 0u) {
+        hal_pwm_disable();
+    }
 }
 
 uint16_t drive_isr(drive_t *d)
@@ -389,9 +438,13 @@ uint16_t drive_isr(drive_t *d)
     } else {
         hal_pwm_disable();
     }
-    /* last: did this ISR run past its period?  Several in a row latch a
-     * fault and the bridge goes off now (isr_monitor.h) */
-    d->ovr.overrun = hal_isr_overrun();
+    if (d->slow_due != 0u) {
+        hal_slow_isr_request();   /* the slow ISR runs when this one returns */
+    }
+    /* last: did this ISR run past its period, or find the last slow task
+     * unfinished?  Several in a row latch a fault and the bridge goes off
+     * now (isr_monitor.h) */
+    d->ovr.overrun = (uint16_t)(hal_isr_overrun() | d->slow_late);
     isr_monitor_step(&d->ovr);
     d->telemetry.isr_overruns = d->ovr.count;
     if (d->ovr.fault != 0u) {

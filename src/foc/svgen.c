@@ -22,6 +22,15 @@ svgen_status_t svgen_init(svgen_t *s, uint16_t t1pr)
     return SVGEN_OK;
 }
 
+void svgen_set_vdc(svgen_t *s, _iq vdc)
+{
+    s->vdc = vdc;
+    if (vdc >= s->vdc_min && vdc != s->vdc_seen) {
+        s->inv_vdc = _IQdiv(_IQ(1.0), vdc);
+        s->vdc_seen = vdc;
+    }
+}
+
 void svgen_step(svgen_t *s)
 {
     const _iq vdc = s->vdc;

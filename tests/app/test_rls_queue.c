@@ -37,6 +37,7 @@ static void isr(loop_t *l)
     const uint16_t slot = d->slot;   /* the slot this ISR runs */
     drive_rig_sample(&l->rig);
     drive_isr(d);
+    drive_slow_isr(d);
     drive_rig_period(&l->rig);
     if (slot == DRIVE_SLOT_SEQUENCE && d->seq.rls_restart != 0u) {
         l->ref = d->rls_start;   /* a new pass (the adaptive sequence only) */

@@ -4,7 +4,9 @@
  * flag set again at the ISR's end).  One or two in a row are counted and
  * reported in telemetry, the drive runs on; ISR_MONITOR_LATCH_RUN in a row
  * latch FAULT_ISR_OVERRUN and turn the bridge off in that same ISR; a fault
- * reset re-arms the latch and keeps the count.
+ * reset re-arms the latch and keeps the count.  The slow ISR (drive_slow_isr,
+ * the F2812's INT14 below the control ISR) found unfinished by the next
+ * control ISR counts the same way.
  *
  * The drive runs closed loop on the paper motor (the simulator's plant and
  * the host HAL, as motor_sim) until it is accelerating, so that the bridge
@@ -33,6 +35,7 @@ static void isr(loop_t *l, uint16_t overrun)
     drive_rig_sample(l);
     l->port.overrun = overrun;
     drive_isr(&l->drive);
+    drive_slow_isr(&l->drive);
     if ((l->k % 15u) == 0u) {
         drive_background(&l->drive);
     }
@@ -77,6 +80,36 @@ static void test_isolated_overruns_counted(void **state)
     assert_int_equal(l->drive.seq.state, ID_ACCELERATE);
 }
 
+/* The slow ISR unfinished when the next control ISR ends (on the F2812:
+ * preempted by it, the period's work too long; here: one control ISR
+ * without its slow ISR, then one with the task still marked running): an
+ * overrun each, counted with the control ISR's own; the late task still
+ * runs, once; no fault for two. */
+static void test_slow_isr_late_counted(void **state)
+{
+    loop_t *l = &g_loop;
+    const uint16_t before = l->drive.ovr.count;
+    (void)state;
+    drive_rig_sample(l);
+    l->port.overrun = 0u;
+    drive_isr(&l->drive);            /* its slow ISR does not run */
+    drive_rig_period(l);
+    assert_int_equal(l->drive.ovr.count, before);   /* nothing late yet */
+    assert_int_equal(l->drive.slow_due, 1);
+    isr(l, 0u);                      /* finds it due: late; then both run */
+    assert_int_equal(l->drive.ovr.count, before + 1u);
+    assert_int_equal(l->drive.slow_due, 0);
+    l->drive.slow_busy = 1u;         /* as if preempted in the middle */
+    isr(l, 0u);
+    assert_int_equal(l->drive.ovr.count, before + 2u);
+    assert_int_equal(l->drive.slow_busy, 0);
+    isr(l, 0u);
+    assert_int_equal(l->drive.ovr.count, before + 2u);
+    assert_int_equal(l->drive.ovr.run, 0);
+    assert_int_equal(l->drive.prot.fault, FAULT_NONE);
+    assert_int_equal(l->port.outputs_enabled, 1);
+}
+
 /* ISR_MONITOR_LATCH_RUN in a row: the fault is latched and the outputs are
  * off at the end of the ISR that saw the last one; they stay off; a reset
  * re-arms the latch (the count stays). */
@@ -111,7 +144,8 @@ static void test_consecutive_overruns_latch_fault(void **state)
 
 /* The order of the ISR's HAL calls: the samples are read (and on the F2812
  * the ADC and the interrupt re-armed, hal_adc_f2812.c) before anything
- * else, and the overrun is checked after everything else. */
+ * else, the slow ISR is requested after the outputs, and the overrun is
+ * checked after everything else. */
 static void test_hal_call_order(void **state)
 {
     loop_t *l = &g_loop;
@@ -120,6 +154,7 @@ static void test_hal_call_order(void **state)
     isr(l, 0u);
     assert_true(l->port.n_calls >= 3u);
     assert_int_equal(l->port.calls[0], HAL_HOST_ADC_READ);
+    assert_int_equal(l->port.calls[l->port.n_calls - 2u], HAL_HOST_SLOW_REQUEST);
     assert_int_equal(l->port.calls[l->port.n_calls - 1u], HAL_HOST_ISR_OVERRUN);
 }
 
@@ -146,6 +181,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_isolated_overruns_counted),
+        cmocka_unit_test(test_slow_isr_late_counted),
         cmocka_unit_test(test_consecutive_overruns_latch_fault),
         cmocka_unit_test(test_hal_call_order),
         cmocka_unit_test(test_monitor_saturates),

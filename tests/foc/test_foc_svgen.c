@@ -312,6 +312,40 @@ static void test_vdc_guard(void **state)
     assert_int_equal(s.vdc_fault, 0u);
 }
 
+/* svgen_set_vdc: the same outputs as the bus set directly (bit for bit),
+ * its reciprocal taken at the set, so that a step with that bus does not
+ * divide again; a bus below the minimum is stored, not inverted (the step's
+ * bus fault as before). */
+static void test_set_vdc(void **state)
+{
+    static const double buses[] = { 1.732, 1.5, 0.9, 1.732 };
+    svgen_t a, b;
+    size_t i;
+    (void)state;
+    assert_int_equal(svgen_init(&a, 5000u), SVGEN_OK);
+    assert_int_equal(svgen_init(&b, 5000u), SVGEN_OK);
+    for (i = 0; i < sizeof buses / sizeof buses[0]; i++) {
+        const _iq v = d2iq(buses[i]);
+        svgen_set_vdc(&a, v);
+        assert_true(a.vdc == v && a.vdc_seen == v);
+        /* Q24 reciprocal as _IQdiv gives it */
+        assert_true(a.inv_vdc == _IQdiv(_IQ(1.0), v));
+        b.vdc = v;
+        a.ualpha = b.ualpha = _IQ(0.6);
+        a.ubeta = b.ubeta = _IQ(-0.25);
+        svgen_step(&a);
+        svgen_step(&b);
+        assert_int_equal(a.cmpr[0], b.cmpr[0]);
+        assert_int_equal(a.cmpr[1], b.cmpr[1]);
+        assert_int_equal(a.cmpr[2], b.cmpr[2]);
+        assert_true(a.da == b.da && a.db == b.db && a.dc == b.dc);
+    }
+    svgen_set_vdc(&a, d2iq(0.01));   /* below SVGEN_VDC_MIN_PU */
+    assert_true(a.vdc == d2iq(0.01) && a.vdc_seen == d2iq(1.732));
+    svgen_step(&a);
+    assert_int_equal(a.vdc_fault, 1u);
+}
+
 /* Compare values at the duty extremes, T1PR from 1 to 65535: always within
  * [0, T1PR]; d = 1 -> 0, d = 0 -> T1PR. */
 static void test_compare_edges(void **state)
@@ -345,6 +379,7 @@ int main(void)
         cmocka_unit_test(test_linear_reconstruction),
         cmocka_unit_test(test_overmodulation),
         cmocka_unit_test(test_vdc_guard),
+        cmocka_unit_test(test_set_vdc),
         cmocka_unit_test(test_compare_edges),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

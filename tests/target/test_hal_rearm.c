@@ -8,7 +8,8 @@
  *    INT_SEQ1, acknowledges PIE group 1 and clears the T1 underflow flag -
  *    and writes that flag with 1 in its own bit only (a read-modify-write
  *    would also clear a pending PDPINTA flag);
- *  - hal_isr_overrun reads that flag: set again = the ISR overran.
+ *  - hal_isr_overrun reads that flag: set again = the ISR overran;
+ *  - hal_slow_isr_request forces INT14 (IFR bit 13) and no other.
  * The drive-level order (hal_adc_read first, hal_isr_overrun last, in
  * drive_isr) is the host-HAL test in tests/fault/test_isr_overrun.c. */
 #include <setjmp.h>
@@ -26,6 +27,8 @@
 volatile struct ADC_REGS AdcRegs;
 volatile struct EVA_REGS EvaRegs;
 volatile struct PIE_CTRL_REGS PieCtrlRegs;
+volatile Uint16 IFR;
+volatile Uint16 IER;
 
 static void clear_regs(void)
 {
@@ -78,12 +81,21 @@ static void test_overrun_flag(void **state)
     assert_int_equal(hal_isr_overrun(), 0u);
 }
 
+static void test_slow_request_forces_int14(void **state)
+{
+    (void)state;
+    IFR = 0x0001u;   /* INT1 pending (the next control ISR): must stay */
+    hal_slow_isr_request();
+    assert_int_equal(IFR, 0x2001u);   /* OR IFR,#M_INT14: bit 13 added */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_read_then_rearm),
         cmocka_unit_test(test_underflow_clear_spares_trip_flag),
         cmocka_unit_test(test_overrun_flag),
+        cmocka_unit_test(test_slow_request_forces_int14),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

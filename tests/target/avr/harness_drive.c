@@ -28,6 +28,7 @@ void hal_pwm_enable(void) {}
 void hal_pwm_disable(void) {}
 uint16_t hal_pwm_tripped(void) { return 0u; }
 uint16_t hal_isr_overrun(void) { return 0u; }
+void hal_slow_isr_request(void) {}
 uint16_t hal_qep_read_count(void) { return 0u; }
 
 static uint16_t s_rng = 0x1D2Bu;

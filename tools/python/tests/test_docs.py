@@ -26,6 +26,7 @@
    references in the tree.
 
     .venv/bin/python tools/python/tests/test_docs.py --update   # rewrite every table
+    .venv/bin/python tools/python/tests/test_docs.py --update --skip-slow   # all but the slow ones
 """
 import re
 import subprocess
@@ -236,8 +237,9 @@ def test_compare_tolerance():
     assert compare_tables("| a | 3 |", "| a | 4 |", 0.05)   # counts: exact
 
 
-def update():
-    """Rewrite every marked table with its generator's output (slow ones too)."""
+def update(skip_slow=False):
+    """Rewrite every marked table with its generator's output (slow ones too,
+    unless skip_slow: those marked slow are left as they are)."""
     for path in DOCS:
         if not path.exists():
             continue
@@ -245,14 +247,17 @@ def update():
         if not found:
             continue
         lines = path.read_text().splitlines()
-        for _, cmd, _, _, _, first, last in reversed(found):
+        for _, cmd, _, slow, _, first, last in reversed(found):
+            if slow and skip_slow:
+                print(f"{_rel(path)}: {cmd}: slow, kept", file=sys.stderr)
+                continue
             print(f"{_rel(path)}: {cmd}", file=sys.stderr)
             lines[first:last] = run_generator(cmd).splitlines()
         path.write_text("\n".join(lines) + "\n")
 
 
 if __name__ == "__main__":
-    if sys.argv[1:] == ["--update"]:
-        update()
+    if sys.argv[1:] in (["--update"], ["--update", "--skip-slow"]):
+        update(skip_slow=sys.argv[2:] == ["--skip-slow"])
     else:
         sys.exit(pytest.main([__file__, "-q", "-rs"] + sys.argv[1:]))
