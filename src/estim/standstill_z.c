@@ -25,7 +25,7 @@
 #define SSZ_HALF_Q24_IN_Q30 0.0f
 #endif
 
-static _iq sat_in(_iq x)
+static inline _iq sat_in(_iq x)
 {
     return _IQsat(x, _IQ(STANDSTILL_Z_IN_MAX), -_IQ(STANDSTILL_Z_IN_MAX));
 }
