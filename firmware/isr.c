@@ -1,7 +1,8 @@
 /**
  * @file isr.c
- * Interrupt glue.  The control ISR and everything it calls run from RAM
- * (`ramfuncs`): flash has 5 wait states at 150 MHz.
+ * Interrupt glue.  Both ISRs and everything they call run from RAM (flash
+ * has 5 wait states at 150 MHz): the control ISR's code in `ramfuncs`
+ * (L0/L1), what only the slow ISR calls in `ramfuncs_slow` (H0).
  *
  * Two ISRs per PWM period, at two priorities (a multi-rate schedule,
  * drive_step.c / drive_slow.c):

@@ -81,17 +81,20 @@ typedef struct {
     _iq kf;             /* Q24, 1 - exp(-Ts/Tr) */
     _iq ts;             /* Q24, Ts in pu time */
     _iq30 k_theta;      /* Q30, f_base Ts: revolutions per sample at 1 pu speed */
+    _iq30 k_acc;        /* Q30, f_base Ts 2^(32-GLOBAL_Q): the same for an angle_acc_t (angle.h) */
     _iq imr_min;        /* Q24, pu: below it the slip is forced to 0 */
     /* outputs */
     _iq imr;            /* Q24, magnetising current psi_r / Lm, pu of I_base */
     _iq wslip;          /* Q24, slip speed, pu of w_base */
     _iq ws;             /* Q24, M-T frame (synchronous) speed, pu of w_base */
     _iq theta;          /* Q24, flux angle for the next sample, pu [0, 1) */
+    angle_acc_t theta_acc; /* state: ifo_step's integral of w_s, 2^32 per revolution (theta's source) */
     _iq theta_prev;     /* Q24, flux angle of this sample, pu [0, 1) */
     uint16_t imr_low;   /* 1 while imr < imr_min (slip forced to 0) */
     /* encoder-angle mode (ifo_frame_from_rotor / ifo_step_slip) */
     _iq theta_r;        /* input, Q24: rotor electrical angle from the encoder, pu [0, 1) */
-    _iq theta_slip;     /* state, Q24: integral of the slip, pu [0, 1) */
+    angle_acc_t slip_acc; /* state: integral of the slip, 2^32 per revolution (angle.h: the
+                           Q24 pu angle's truncated increment was 0.05-0.1 % of a slip's) */
     _iq20 inv_k_theta;  /* parameter, Q20: 1 / (f_base Ts), pu speed per revolution per sample */
     _iq ws_frame;       /* output, Q24: frame speed over the last sample, from the angle step */
     /* multi-rate slip (ifo_update_slip_gain / ifo_step_slip_fast) */
@@ -151,11 +154,10 @@ void ifo_reset(ifo_t *f, _iq theta0);
  * imr >= imr_min, so |wslip| <= 2 / (Tr imr_min) <= 64 (checked at init);
  * ws = wr + wslip (|wr| <= 63 assumed: qep_speed saturates there), so
  * |ws| < 128; with f_base Ts < 1/128 (checked at init) the angle
- * increment is below one revolution, so one conditional +-1
- * wraps theta exactly into [0, 1) (the wrap is an exact integer operation
- * in Q24; in float theta - 1 is exact, theta + 1 of a small negative theta
- * rounds to the float grid near 1, ~1e-7).  The increment is truncated (< 1 LSB per
- * sample, 6e-8 of a revolution).
+ * increment is below one revolution.  The angle is integrated in a phase
+ * accumulator (theta_acc, 2^32 per revolution, wrapping: angle.h), the
+ * increment truncated to 2^-32 of a revolution in both builds; theta is its
+ * top 24 bits, rounded (< 0.5 LSB, not accumulated).
  */
 void ifo_step(ifo_t *f);
 
@@ -183,13 +185,16 @@ static inline _iq ifo_wrap(_iq th)
  * rotation the M-T quantities saw); then, after the current control,
  * ifo_step_slip() (i_m, i_t, wr set), which updates imr, wslip, ws = wr + wslip
  * (for decoupling and modulation) and the slip angle for sample k+1.
- * Scaling: the angle sum wraps modulo 1 pu exactly (ifo_wrap); ws_frame
+ * Scaling: the slip angle is a phase accumulator (slip_acc, 2^32 per
+ * revolution: angle.h), read as Q24 rounded; the sum with theta_r wraps
+ * modulo 1 pu exactly (ifo_wrap); ws_frame
  * saturates at +-(0.5 / (f_base Ts)) pu, half a revolution per sample.
  */
 static inline void ifo_frame_from_rotor(ifo_t *f)
 {
     f->theta_prev = f->theta;
-    f->theta = ifo_wrap(f->theta_r + f->theta_slip);   /* both in [0, 1): no overflow */
+    /* both in [0, 1): no overflow */
+    f->theta = ifo_wrap(f->theta_r + angle_acc_pu(f->slip_acc));
     /* Q24 * Q20 -> Q24; |d| <= 0.5 and 1/(f_base Ts) < 256 keep |result| < 128 */
     f->ws_frame = _IQmpyIQX(angle_diff_pu(f->theta, f->theta_prev), GLOBAL_Q,
                             f->inv_k_theta, 20);
@@ -225,7 +230,7 @@ static inline void ifo_slip_fast(ifo_t *f, _iq i_m, _iq i_t, _iq wr)
     f->wslip = wslip;
     f->ws = wr + wslip;
     /* Q24 * Q30 -> Q24 (truncated), wrapped modulo one revolution */
-    f->theta_slip = ifo_wrap(f->theta_slip + _IQmpyIQX(wslip, GLOBAL_Q, f->k_theta, 30));
+    f->slip_acc = angle_acc_step(f->slip_acc, wslip, f->k_acc);
 }
 
 /** ifo_slip_fast of the struct's inputs i_m, i_t, wr. */

@@ -21,7 +21,7 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-WORD32 = {"int32_t", "uint32_t", "float", "_iq"} | {f"_iq{n}" for n in range(1, 31)}
+WORD32 = {"int32_t", "uint32_t", "angle_acc_t", "float", "_iq"} | {f"_iq{n}" for n in range(1, 31)}
 WORD16 = {"int16_t", "uint16_t"}
 
 

@@ -22,12 +22,23 @@ svgen_status_t svgen_init(svgen_t *s, uint16_t t1pr)
     return SVGEN_OK;
 }
 
+/* 1/vdc (Q24 / Q24 -> Q24, vdc >= vdc_min: no saturation), divided only
+ * when vdc changed since the last division: shared by svgen_set_vdc (the
+ * slow task's) and svgen_step (a bus that moved since). */
+static inline _iq svgen_inv_vdc(svgen_t *s, _iq vdc)
+{
+    if (vdc != s->vdc_seen) {
+        s->inv_vdc = _IQdiv(_IQ(1.0), vdc);
+        s->vdc_seen = vdc;
+    }
+    return s->inv_vdc;
+}
+
 void svgen_set_vdc(svgen_t *s, _iq vdc)
 {
     s->vdc = vdc;
-    if (vdc >= s->vdc_min && vdc != s->vdc_seen) {
-        s->inv_vdc = _IQdiv(_IQ(1.0), vdc);
-        s->vdc_seen = vdc;
+    if (vdc >= s->vdc_min) {
+        (void)svgen_inv_vdc(s, vdc);
     }
 }
 
@@ -85,11 +96,7 @@ void svgen_step(svgen_t *s)
             inv = _IQdiv(_IQ(1.0), span);
         } else {
             s->overmod = 0u;
-            if (vdc != s->vdc_seen) {
-                s->inv_vdc = _IQdiv(_IQ(1.0), vdc);
-                s->vdc_seen = vdc;
-            }
-            inv = s->inv_vdc;
+            inv = svgen_inv_vdc(s, vdc);
         }
 
         /* d_x = 1/2 + (v_x - mid)/div; |v_x - mid| <= span/2 <= div/2, so

@@ -17,6 +17,7 @@ ifo_status_t ifo_init(ifo_t *f, float Tr_s, const base_values_t *b, float imr_mi
     f->kf = _IQ(0.0);
     f->ts = _IQ(0.0);
     f->k_theta = _IQ30(0.0);
+    f->k_acc = _IQ30(0.0);
     f->imr_min = _IQ(0.0);
     ifo_reset(f, _IQ(0.0));
 
@@ -43,6 +44,7 @@ ifo_status_t ifo_init(ifo_t *f, float Tr_s, const base_values_t *b, float imr_mi
     }
     f->ts = _IQ(b->Ts_pu);
     f->k_theta = _IQ30(b->f_base_Hz * b->Ts_s);
+    f->k_acc = angle_acc_k(b->f_base_Hz * b->Ts_s);   /* < 2: f_base Ts < 1/128, above */
     f->inv_k_theta = _IQ20(1.0f / (b->f_base_Hz * b->Ts_s));
     f->imr_min = _IQ(imr_min_pu);
     {
@@ -99,10 +101,12 @@ void ifo_reset(ifo_t *f, _iq theta0)
     f->wslip = _IQ(0.0);
     f->ws = _IQ(0.0);
     f->theta = ifo_wrap(theta0);
+    f->theta_acc = angle_acc_from_pu(f->theta);
+    f->theta = angle_acc_pu(f->theta_acc);   /* FLOAT_MATH: on the accumulator's grid */
     f->theta_prev = f->theta;
     f->imr_low = 1u;
     f->k_slip = _IQ(0.0);
-    f->theta_slip = _IQ(0.0);
+    f->slip_acc = 0u;
     f->ws_frame = _IQ(0.0);
 }
 
@@ -130,8 +134,9 @@ void ifo_step(ifo_t *f)
 {
     ifo_update_flux(f);
     f->theta_prev = f->theta;
-    /* Q24 * Q30 -> Q24 (truncated): |increment| < 128 f_base Ts < 1 revolution */
-    f->theta = ifo_wrap(f->theta + _IQmpyIQX(f->ws, GLOBAL_Q, f->k_theta, 30));
+    /* in 2^-32 of a revolution (angle.h), modulo one revolution */
+    f->theta_acc = angle_acc_step(f->theta_acc, f->ws, f->k_acc);
+    f->theta = angle_acc_pu(f->theta_acc);
 }
 
 _iq ifo_theta_mid(const ifo_t *f)
@@ -142,8 +147,8 @@ _iq ifo_theta_mid(const ifo_t *f)
 void ifo_step_slip(ifo_t *f)
 {
     ifo_update_flux(f);
-    /* Q24 * Q30 -> Q24 (truncated), wrapped modulo one revolution */
-    f->theta_slip = ifo_wrap(f->theta_slip + _IQmpyIQX(f->wslip, GLOBAL_Q, f->k_theta, 30));
+    /* in 2^-32 of a revolution (angle.h), modulo one revolution */
+    f->slip_acc = angle_acc_step(f->slip_acc, f->wslip, f->k_acc);
 }
 
 void ifo_update_slip_gain(ifo_t *f)
@@ -161,8 +166,9 @@ void ifo_update_slip_gain(ifo_t *f)
 void ifo_align(ifo_t *f, _iq theta_frame, _iq imr_pu)
 {
     /* both in [0, 1): the difference in (-1, 1), wrapped exactly */
-    f->theta_slip = ifo_wrap(ifo_wrap(theta_frame) - ifo_wrap(f->theta_r));
+    f->slip_acc = angle_acc_from_pu(ifo_wrap(ifo_wrap(theta_frame) - ifo_wrap(f->theta_r)));
     f->theta = ifo_wrap(theta_frame);
+    f->theta_acc = angle_acc_from_pu(f->theta);
     f->theta_prev = f->theta;
     f->ws_frame = _IQ(0.0);
     f->imr = _IQsat(imr_pu, _IQ(4.0), _IQ(0.0));

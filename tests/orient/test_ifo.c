@@ -191,7 +191,7 @@ static void test_multirate_path(void **state)
         ifo_slip_fast(&g, f.i_m, f.i_t, f.wr);
         ifo_step_slip_fast(&f);
         assert_true(g.imr == f.imr && g.wslip == f.wslip && g.ws == f.ws &&
-                    g.theta_slip == f.theta_slip && g.i_m == _IQ(0.0));
+                    g.slip_acc == f.slip_acc && g.i_m == _IQ(0.0));
         want = to_d(f.i_m) * (1.0 - exp(-(double)k * (double)g_b.Ts_pu / tr));
         if (!(fabs(to_d(f.imr) - want) <= 310.0 * LSB)) {
             print_error("k=%u imr %.10f want %.10f err %.1f LSB\n", (unsigned)k, to_d(f.imr),
@@ -216,15 +216,73 @@ static void test_multirate_path(void **state)
 }
 
 /* Angle integration at constant ws: theta(N) = frac(theta0 + N ws f_base
- * Ts).  Per sample: the increment is truncated (IQ: in (-1, 0] LSB) and
- * the constant f_base Ts carries its float product (< 6e-8 relative) and
- * its Q30 truncation (< 2^-30), i.e. d = |ws| (2^-30 + 6e-8 f_base Ts)
- * either way (0.023 LSB at ws = 1.2).  So after k samples the IQ angle is
- * within [-k (1 LSB + d), +k d] of the exact one; float: one rounding of
- * the sum per sample (<= 0.5 ulp of < 1: 0.5 LSB), |error| <= k (0.5 LSB +
- * d) + 1 LSB.  Asserted at every sample, k up to 20000 (about 80
- * revolutions, 80 wraps), both directions; also theta in [0, 1) and
- * theta_prev. */
+ * Ts).  The angle is a phase accumulator of 2^32 counts per revolution
+ * (angle.h).  Per sample: the increment is truncated to a count (< 2^-32
+ * revolution) and the constant k_acc = f_base Ts 2^8 carries its float
+ * product (< 6e-8 relative) and its Q30 truncation (2^-30 of 2^8 counts per
+ * LSB: 2^-38 revolution per pu of speed), i.e. d = |ws| (2^-38 + 6e-8 f_base
+ * Ts) + 2^-32; FLOAT_MATH adds the float product of the increment (two
+ * roundings: 2^-23 of it).  theta is the accumulator read as Q24, rounded
+ * (0.5 LSB, not accumulated).  So after k samples |error| <= 0.5 LSB + k d
+ * (+ k |inc| 2^-23 in float): 0.5 LSB + 0.02 LSB at k = 20000 in IQ_MATH,
+ * where the Q24 sum it replaced lost up to one LSB per sample.  Asserted at
+ * every sample, k up to 20000 (about 80 revolutions, 80 wraps), both
+ * directions; also theta in [0, 1) and theta_prev. */
+/* The phase accumulator itself (angle.h), against double sums: f_base Ts =
+ * 3/512 (exact in float and Q30: k_acc = 1.5), so the only errors are the
+ * increment's truncation to a count (2^-32 revolution per sample; FLOAT_MATH
+ * also its float product, 2^-23 of the increment) and the read-out's
+ * rounding (0.5 LSB of Q24).  Speeds from a slip's 0.013 pu to 120 pu, whose
+ * 0.70-revolution increment wraps the int32 increment (the same angle modulo
+ * one revolution); both directions; 5000 samples.  Then the read-out at its
+ * edges: 0x7F counts are 0, 0x80 one LSB, 2^32 - 1 wraps to 0; and
+ * angle_acc_pu(angle_acc_from_pu(a)) == a on the Q24 grid. */
+static void test_angle_acc(void **state)
+{
+    static const double w_list[] = {0.013, -0.013, 0.9, -45.3, 120.0, -120.0};
+    const double fts = 3.0 / 512.0;
+    const _iq30 k_acc = angle_acc_k(3.0f / 512.0f);
+    uint32_t i, k;
+    (void)state;
+
+    for (i = 0u; i < 6u; i++) {
+        const _iq w = _IQ(w_list[i]);
+        const double inc = to_d(w) * fts;   /* revolutions per sample, exact */
+        angle_acc_t acc = angle_acc_from_pu(_IQ(0.25));
+        double bound;
+        for (k = 1u; k <= 5000u; k++) {
+            double want = 0.25 + (double)k * inc;
+            double e;
+            acc = angle_acc_step(acc, w, k_acc);
+            want -= floor(want);
+            e = to_d(angle_acc_pu(acc)) - want;
+            e -= floor(e + 0.5);   /* on the circle */
+            bound = 0.5 * LSB + (double)k * ldexp(1.0, -32);
+#if MATH_TYPE == FLOAT_MATH
+            bound += (double)k * fabs(inc) * ldexp(1.0, -23);
+#endif
+            if (!(fabs(e) <= bound) || !(to_d(angle_acc_pu(acc)) >= 0.0) ||
+                !(to_d(angle_acc_pu(acc)) < 1.0)) {
+                print_error("w=%.3f k=%u: angle %.10f want %.10f (%.2f LSB, bound %.2f)\n",
+                            w_list[i], (unsigned)k, to_d(angle_acc_pu(acc)), want, e / LSB,
+                            bound / LSB);
+                fail();
+            }
+        }
+    }
+    assert_true(angle_acc_pu(0x7Fu) == _IQ(0.0));
+    assert_true(to_d(angle_acc_pu(0x80u)) == LSB);
+    assert_true(angle_acc_pu(0xFFFFFFFFu) == _IQ(0.0));
+    assert_true(to_d(angle_acc_pu(0x80000000u)) == 0.5);
+    {
+        static const double a_list[] = {0.0, LSB, 0.5, 1.0 - LSB, 0.123456};
+        for (i = 0u; i < 5u; i++) {
+            const _iq a = _IQ(a_list[i]);
+            assert_true(angle_acc_pu(angle_acc_from_pu(a)) == a);
+        }
+    }
+}
+
 static void test_angle_integration(void **state)
 {
     static const double ws_list[] = {1.2, -0.7};
@@ -235,7 +293,7 @@ static void test_angle_integration(void **state)
     for (i = 0u; i < 2u; i++) {
         double ws = ws_list[i];
         double inc = ws * 50.0 * (double)TS_S;
-        double d = fabs(ws) * (ldexp(1.0, -30) + 6e-8 * 50.0 * (double)TS_S);
+        double d = fabs(ws) * (ldexp(1.0, -38) + 6e-8 * 50.0 * (double)TS_S) + ldexp(1.0, -32);
         _iq prev;
         assert_int_equal(ifo_init(&f, TR_S, &g_b, 0.05f), IFO_OK);
         ifo_reset(&f, _IQ(0.9));
@@ -243,6 +301,7 @@ static void test_angle_integration(void **state)
         for (k = 1u; k <= 20000u; k++) {
             double want = fmod(to_d(_IQ(0.9)) + (double)k * to_d(f.wr) / ws * inc, 1.0);
             double e;
+            double d_k;
             if (want < 0.0) {
                 want += 1.0;
             }
@@ -252,11 +311,12 @@ static void test_angle_integration(void **state)
             assert_true(to_d(f.theta) >= 0.0 && to_d(f.theta) < 1.0);
             e = to_d(f.theta) - want;
             e -= floor(e + 0.5);       /* compare on the circle */
-#if MATH_TYPE == IQ_MATH
-            if (!(e <= (double)k * d && e >= -(double)k * (LSB + d))) {
+#if MATH_TYPE == FLOAT_MATH
+            d_k = (double)k * (d + fabs(inc) * ldexp(1.0, -23));
 #else
-            if (!(fabs(e) <= (double)k * (0.5 * LSB + d) + LSB)) {
+            d_k = (double)k * d;
 #endif
+            if (!(fabs(e) <= 0.5 * LSB + d_k)) {
                 print_error("ws=%.2f k=%u theta %.10f want %.10f err %.1f LSB\n", ws,
                             (unsigned)k, to_d(f.theta), want, e / LSB);
                 fail();
@@ -484,7 +544,7 @@ static void test_encoder_angle_mode(void **state)
         ifo_step_slip(&f);
         wslip = to_d(f.wslip);
         slip_ref = fmod(slip_ref + wslip * k, 1.0);
-        assert_true(to_d(f.theta_slip) >= 0.0 && to_d(f.theta_slip) < 1.0);
+        assert_true(to_d(angle_acc_pu(f.slip_acc)) >= 0.0 && to_d(angle_acc_pu(f.slip_acc)) < 1.0);
     }
     assert_true(fabs(to_d(f.ws) - (wr + wslip)) <= 2.0 * LSB);
 }
@@ -534,7 +594,7 @@ static void test_align(void **state)
         ifo_align(&f, _IQ(cases[c][1]), _IQ(0.3));
         assert_true(f.theta == _IQ(cases[c][1]) && f.theta_prev == f.theta);
         assert_true(f.ws_frame == _IQ(0.0));
-        assert_true(to_d(f.theta_slip) >= 0.0 && to_d(f.theta_slip) < 1.0);
+        assert_true(to_d(angle_acc_pu(f.slip_acc)) >= 0.0 && to_d(angle_acc_pu(f.slip_acc)) < 1.0);
         ifo_frame_from_rotor(&f);
         d = fabs(to_d(f.theta) - to_d(_IQ(cases[c][1])));
         d = fmin(d, 1.0 - d);
@@ -601,6 +661,7 @@ int main(void)
         cmocka_unit_test(test_slip),
         cmocka_unit_test(test_multirate_path),
         cmocka_unit_test(test_angle_integration),
+        cmocka_unit_test(test_angle_acc),
         cmocka_unit_test(test_small_imr_guard),
         cmocka_unit_test(test_theta_mid),
         cmocka_unit_test(test_init_errors),

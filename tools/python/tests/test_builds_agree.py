@@ -6,6 +6,12 @@ Bounds: every identified parameter within 0.5 % of the other build's value
 (the accuracy bound for IQ vs FLOAT); the final speed within 0.1 % of rated; the
 same sequence of states (both publish, neither faults).  Measured: at most
 0.01 percentage points apart (tools/accuracy.py).
+
+On the 15 kW motor one seed's difference is mostly the realisation of the
+quantisation noise (sd 0.9 point on Rr from seed to seed), so the builds are
+compared there by their means over noise seeds 1-8: within 0.5 point on every
+parameter (measured 0.33 at most, tools/accuracy.py --seeds 8; 0.87 on Rs while
+the slip angle was integrated in Q24 / float32).
 """
 import json
 import subprocess
@@ -15,6 +21,8 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[3]
+sys.path.insert(0, str(ROOT / "tools"))
+import accuracy  # noqa: E402  (tools/accuracy.py: run() with a seed, with_seed())
 KEYS = ["Rs_ohm", "Rr_ohm", "Lm_H", "Lr_H", "psi_r_Wb", "Tr_s"]
 
 
@@ -57,3 +65,36 @@ def test_a_missing_build_fails_naming_it(tmp_path, monkeypatch):
     except BaseException as e:   # a skip is an outcome too: it must not be one
         pytest.fail(f"a missing build gave {type(e).__name__}: {e}, not a failure")
     pytest.fail("a missing build ran on")
+
+
+def test_with_seed_sets_one_seed_key():
+    """The seeded INI has exactly one seed, in [sensors], whether the file had
+    the section, a seed, or neither."""
+    import configparser
+    for text in ("[plant]\nJ_kgm2 = 0.1\n",
+                 "[sensors]\nnoise_A = 0.01\n[load]\nconst_Nm = 1\n",
+                 "[sensors]\nseed = 9\nnoise_A = 0.01\n"):
+        out = accuracy.with_seed(text, 5)
+        cp = configparser.ConfigParser()
+        cp.read_string(out)   # duplicate sections or keys would raise
+        assert cp["sensors"]["seed"] == "5"
+        assert out.count("seed") == 1
+
+
+def test_15kw_builds_agree_over_seeds():
+    """The 15 kW motor, seeds 1-8, both builds: the means of every parameter's
+    error within 0.5 point of each other."""
+    from concurrent.futures import ThreadPoolExecutor
+    for build in accuracy.BUILDS:
+        exe = ROOT / "build" / build / "host_sim" / "sim" / "motor_sim"
+        if not exe.exists():
+            pytest.fail(f"the {build} build is missing: {exe}", pytrace=False)
+    seeds = range(1, 9)
+    with ThreadPoolExecutor(2) as pool:
+        futs = {(b, sd): pool.submit(accuracy.run, b, "motor_15kw", sd)
+                for b in accuracy.BUILDS for sd in seeds}
+        errs = {k: f.result()["last_extraction_error_pct"] for k, f in futs.items()}
+    for k in KEYS:
+        mean = {b: sum(errs[(b, sd)][k] for sd in seeds) / len(seeds) for b in accuracy.BUILDS}
+        gap = mean["host-iq"] - mean["host-float"]
+        assert abs(gap) <= 0.5, f"{k}: mean IQ {mean['host-iq']:+.2f} %, FLOAT {mean['host-float']:+.2f} %"
