@@ -114,6 +114,9 @@
  *  with the believed Lm 30 % low (|pos| 30 A at 0.44 pu, accelerating):
  *  2.3 %; twice that. */
 #define CMC_LEAK 0.05f
+/** Largest bridge allowance, pu flux (with the leak's 0.5: the levels' sum
+ *  below 1, their squares in Q24). */
+#define CMC_BRIDGE_ALLOW_MAX 0.5f
 
 /** The largest window (periods) the sums are sized for. */
 #define CMC_N_MAX 8u
@@ -150,6 +153,9 @@ typedef struct {
     _iq d_max_tau;            /* Q24 pu current x pu time: OFFSET level d_max tau_r
                                  (times Rs) */
     _iq ws_min;               /* Q24 pu: the sequence tests run above this |w_s| */
+    _iq bridge_allow;         /* Q24 pu flux, [0, CMC_BRIDGE_ALLOW_MAX]: the bridge's residual
+                                 after the dead-time compensation, added to the UNBALANCE
+                                 level (current_model_check_set_bridge; 0 from init) */
     uint16_t seq_settle;      /* slow steps at speed before the sequence tests may trip */
     /* outputs */
     _iq r_alpha, r_beta;      /* Q24 pu flux: the residual r */
@@ -184,6 +190,24 @@ cmc_status_t current_model_check_init(current_model_check_t *c, float Ts_s, uint
                                       float w_base_rad_s, float tau_r_s, float tau_seq_s,
                                       float r_max_pu, float k_neg, float d_max_pu,
                                       float ws_min_pu);
+
+/**
+ * Float, once, after init: the sequence tests' allowance for the bridge's
+ * voltage error the dead-time compensation leaves, k_bridge e_pole tau_r
+ * (pu flux: a voltage error held over the residual's memory), added to the
+ * UNBALANCE level like the leak (not to OFFSET's: the stationary frame's DC
+ * is where an offset shows, and a harmonic of the bridge is not DC there).  e_pole_pu: one pole's
+ * saturated error (vdc td/Ts + v_drop), pu; k_bridge: the fraction left.
+ * Why: the compensation's error is a harmonic voltage (the -5th turns at
+ * -4 w_e in the negative sequence's frame, 60 Hz at the tests' 0.3 pu of
+ * 50 Hz, what the 50 ms low-pass lets through is 1/19 of it) that scales with
+ * the bridge's E, not with sigma Ls: a 690 V motor of sigma 0.05 with a
+ * 3.5 us dead time reached 0.98 of a level set from sigma Ls alone.
+ * CMC_ERR_ARG (allowance unchanged) if the result is not in
+ * [0, CMC_BRIDGE_ALLOW_MAX].
+ */
+cmc_status_t current_model_check_set_bridge(current_model_check_t *c, float e_pole_pu,
+                                            float k_bridge, float tau_r_s, float w_base_rad_s);
 
 /** Every PWM period: the voltage applied over the period that just ended
  *  (Q24 pu, 0 while the bridge was off) and whether the bridge switched in

@@ -311,6 +311,10 @@ struct drive {
     uint32_t vic_wait;          /* ISR: slow samples waited for the background's answer */
     uint32_t vic_wait_max;      /* the longest wait; then the test is refused */
     float vic_dt_frac;          /* the board's td / Ts (background) */
+    float vic_i1_0;             /* the test's first i1, pu (background) */
+    float vic_i1_max;           /* the largest i1 of a retry, pu: 2 i1 within the current
+                                   limit (background) */
+    uint16_t vic_retried;       /* background: the test was run again with a larger i1 */
 
     /* PWM pipeline: duties computed at sample k apply during period k+1 and
      * are reconstructed into voltages at sample k+2 (hal_pwm.h timing). */

@@ -129,6 +129,8 @@ typedef struct {
     vi_fit_status_t status;
     float rs_ohm;          /* Rs (with the devices' on-resistance) */
     float e_pole_V;        /* E: one pole's saturated error (vdc td/Ts + v_drop) */
+    float e_split;         /* |E+ - E-| / mean(E+, E-): the two polarities' disagreement (an
+                              offset d left by the calibration splits them by 2 Rs d) */
     float band_A;          /* b: the transition's half-width */
     float vdc_V;           /* the bus during the test (mean) */
     uint16_t n_band;       /* voltage levels b was taken from (of 6: a level whose current
@@ -148,6 +150,12 @@ vi_curve_status_t vi_curve_init(vi_curve_t *v, float Ts_s, float i1_pu, float Tr
 /** Back to level 0 (background, while the ISR does not run the test: the
  *  next run starts it afresh). */
 void vi_curve_restart(vi_curve_t *v);
+/** The test again from its first level with the current levels at
+ *  +-@p i1_pu, +-2 i1 (a fit that found its current levels inside the
+ *  transition, 2 b >= i1: drive_vi.c).  Safe from the background while the
+ *  ISR holds a finished test (done is written last); VI_CURVE_ERR_CURRENT
+ *  (nothing changed) if i1 is not > 0 or 2 i1 > VI_CURVE_I_MAX_PU. */
+vi_curve_status_t vi_curve_retry(vi_curve_t *v, float i1_pu);
 /** One slow sample (ISR, fixed point): the level's PI step or its held
  *  voltage, the window's sums; u_cmd = 0 while run is 0 or when done. */
 void vi_curve_step(vi_curve_t *v);

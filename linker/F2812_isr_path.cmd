@@ -19,8 +19,10 @@
  * the same name in two files is matched in both (a few words more in RAM).
  * The firmware's own ISR functions are in `ramfuncs` by #pragma CODE_SECTION
  * (checked by the same test); TI's IQmath functions by the IQmath section.
- * 68 functions.
+ * 71 functions.
  */
+*(.text:_angle_acc_pu)
+*(.text:_angle_acc_step)
 *(.text:_angle_diff_pu)
 *(.text:_angle_sincos)
 *(.text:_angle_sincos_step)
@@ -81,6 +83,7 @@
 *(.text:_set_outputs_off)
 *(.text:_standstill_z_step)
 *(.text:_svgen_compare)
+*(.text:_svgen_inv_vdc)
 *(.text:_svgen_step)
 *(.text:_transform_currents)
 *(.text:_volt_calc_feedforward)

@@ -16,8 +16,9 @@
  * name).  Symbol names: COFF ABI prefixes C names with '_', EABI does not
  * (SPRU514 "COFF ABI vs EABI").  This file: --abi=coffabi.  A static function of
  * the same name in two files is matched in both (a few words more in RAM).
- * 84 functions.
+ * 85 functions.
  */
+*(.text:_angle_acc_from_pu)
 *(.text:_bw_filter_step)
 *(.text:_bw_filter_update)
 *(.text:_calibrate_phase)

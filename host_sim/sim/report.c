@@ -130,6 +130,9 @@ static void json_vi_curve(jw_t *w, const sim_result_t *r)
     fputs(", \"vdc_V\": ", w->f);
     jw_num(w, "%.6g", "vi_curve", "vdc_V", v->vdc_V);
     fprintf(w->f, ", \"n_band\": %u", (unsigned)v->n_band);
+    fputs(", \"i1_A\": ", w->f);
+    jw_num(w, "%.6g", "vi_curve", "i1_A", r->vi_i1_A);
+    fprintf(w->f, ", \"retried\": %s", r->vi_retried ? "true" : "false");
     fprintf(w->f, ", \"true_e_pole_V\": %.6g, \"true_band_A\": %.6g, \"table\": [",
             r->vi_true_e_pole_V, r->vi_true_band_A);
     for (i = 0; i < VI_CURVE_LEVELS; i++) {

@@ -181,6 +181,8 @@ typedef struct {
      * plant's dead time, source bus, drop, transition) */
     vi_fit_t vi;
     double vi_true_e_pole_V, vi_true_band_A;
+    double vi_i1_A;          /* the test's smaller current level (the retry's if it ran) */
+    int vi_retried;          /* 1: the test ran again with its levels beyond the band */
     /* adaptation (the adaptive sequence), telemetry at the end */
     uint16_t final_pass;            /* identification pass under way or last done */
     double Rs_dc_ohm;               /* standstill Rs; 0: none measured */

@@ -35,6 +35,17 @@ cmc_status_t current_model_check_init(current_model_check_t *c, float Ts_s, uint
     return CMC_OK;
 }
 
+cmc_status_t current_model_check_set_bridge(current_model_check_t *c, float e_pole_pu,
+                                            float k_bridge, float tau_r_s, float w_base_rad_s)
+{
+    const float a = k_bridge * e_pole_pu * tau_r_s * w_base_rad_s;
+    if (!(a >= 0.0f) || !(a <= CMC_BRIDGE_ALLOW_MAX)) {
+        return CMC_ERR_ARG;   /* also NaN; the allowance kept */
+    }
+    c->bridge_allow = _IQ(a);
+    return CMC_OK;
+}
+
 static void clear_state(current_model_check_t *c)
 {
     c->r_alpha = c->r_beta = _IQ(0.0);
@@ -130,10 +141,11 @@ static void sequences(current_model_check_t *c)
          * to 1, |i|^2 < 10 with the currents within 2.2 pu: n2 < 10) and
          * Rs d_max tau_r (< 4: kd < 4.5, kd^2 < 21) */
         const _iq leak = _IQmpy(_IQ(CMC_LEAK), _IQabs(c->pos_d) + _IQabs(c->pos_q));
+        const _iq leak_neg = leak + c->bridge_allow;   /* < 0.5 + 0.5 */
         const _iq kn = _IQsat(_IQmpy(sls, c->k_neg), _IQ(1.0), 0);
         const _iq kd = _IQmpy(rs, c->d_max_tau) + leak;
         const _iq n2 = _IQmpy(_IQmpy(kn, kn), _IQmpy(i_a, i_a) + _IQmpy(i_b, i_b));
-        if (c->neg2 > n2 + _IQmpy(leak, leak)) {
+        if (c->neg2 > n2 + _IQmpy(leak_neg, leak_neg)) {
             c->fault = 1u;
             c->cause |= CMC_UNBALANCE;
         }

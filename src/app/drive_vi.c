@@ -40,6 +40,13 @@
                                     bridge and the fit refused the curve); at most the
                                     magnetising current, its flux gone after the voltage
                                     levels and the rest */
+#define DRIVE_VI_RETRY_I1_OF_B 2.5f   /* a retry's i1: 2.5 b, 25 % beyond the transition's
+                                    2 b (the model's saturation, vi_curve_model_V) */
+#define DRIVE_VI_RETRY_E_SPLIT 0.02f  /* ... and only if the polarities' E agree within 2 %:
+                                    a band refused with E split (an offset the calibration
+                                    left: 2.9 % of full scale split the 15 kW motor's by
+                                    6 %) is not a wide bridge but a lying sensor, and its
+                                    refusal stands (healthy: below 0.1 %) */
 #define DRIVE_VI_WAIT_S 1.0f     /* longest wait for the background's fit */
 #define DRIVE_VI_E_FACTOR 2.0f   /* the measured E within this factor of the board's
                                     vdc td/Ts + v_drop: else the board's dead time or the
@@ -62,11 +69,16 @@ int16_t drive_vi_init(drive_t *d, const drive_config_t *c, float Ts_slow, float 
     d->vic_wait = 0u;
     d->vic_wait_max = (uint32_t)(DRIVE_VI_WAIT_S / Ts_slow + 0.5f);
     d->vic_dt_frac = c->board.dead_time_s * f_slow * (float)DRIVE_SLOTS;
+    d->vic_i1_0 = DRIVE_VI_I1_OF_IM * c->motor.magnetizing_current_A / b->I_base_A;
+    /* +-2 i1 within the torque-current limit (the current loops' own, at
+     * least i_M: the first test's 2 i1) */
+    d->vic_i1_max = 0.5f * fmaxf(c->control.max_torque_current_A, c->motor.magnetizing_current_A) /
+                    b->I_base_A;
+    d->vic_retried = 0u;
     if (c->board.dead_time_comp == 0u || c->ident.vi_test == 0u) {
         return 0;   /* no compensation, or on the set band (drive_init.c) */
     }
-    if (vi_curve_init(&d->vic, Ts_slow, DRIVE_VI_I1_OF_IM * c->motor.magnetizing_current_A /
-                      b->I_base_A, tr_s, kp, ki, u_max) != VI_CURVE_OK) {
+    if (vi_curve_init(&d->vic, Ts_slow, d->vic_i1_0, tr_s, kp, ki, u_max) != VI_CURVE_OK) {
         return 1;
     }
     d->seq.vi_test = 1u;
@@ -119,6 +131,27 @@ void drive_vi_modulate(drive_t *d, hal_pwm_compare_t *out)
     drive_test_voltage(d, out, d->vic.u_cmd, _IQ(0.0));
 }
 
+/* A band measured but the current levels inside it (2 b >= i1: a small
+ * motor's i_M against its bridge's transition, e.g. the family's 0.2 kW
+ * 150-sigma motors, i_M 0.40 A, on the simulated 0.1 A bridge: i1 0.200 A,
+ * b 0.101 A): once, the whole test again with i1 = 2.5 b, if +-2 i1 stays
+ * within the current limit (vic_i1_max) and the two polarities agree on E
+ * (DRIVE_VI_RETRY_E_SPLIT); else, or a second time, the refusal stands.  Returns 1 if the test was restarted (the ISR, waiting on
+ * the finished test, steps the new one from its first level). */
+static uint16_t drive_vi_retry(drive_t *d, const vi_fit_t *f)
+{
+    const float i1 = DRIVE_VI_RETRY_I1_OF_B * f->band_A / d->base.I_base_A;
+
+    if (d->vic_retried != 0u || f->n_band == 0u || !(i1 > d->vic.i1) ||
+        !(i1 <= d->vic_i1_max) || !(f->e_split <= DRIVE_VI_RETRY_E_SPLIT)) {
+        return 0u;   /* also NaN: refused */
+    }
+    d->vic_retried = 1u;
+    d->vic_fitted = 0u;
+    d->vic_wait = 0u;
+    return (uint16_t)(vi_curve_retry(&d->vic, i1) == VI_CURVE_OK);
+}
+
 void drive_vi_background(drive_t *d)
 {
     const base_values_t *b = &d->base;
@@ -132,7 +165,10 @@ void drive_vi_background(drive_t *d)
     if (d->seq.state == ID_IDLE || d->seq.calibrating != 0u) {
         /* stopped, or a failure's fault reset: the next start measures
          * afresh (the ISR runs the test only after the calibration) */
-        if (d->vic_fitted != 0u || d->vic.level != 0u || d->vic.n != 0u || d->vic.t != 0u) {
+        if (d->vic_fitted != 0u || d->vic.level != 0u || d->vic.n != 0u || d->vic.t != 0u ||
+            d->vic_retried != 0u) {
+            d->vic_retried = 0u;
+            d->vic.i1 = d->vic_i1_0;
             vi_curve_restart(&d->vic);
             d->vic_post = DRIVE_VI_NONE;
             d->vic_wait = 0u;
@@ -147,6 +183,9 @@ void drive_vi_background(drive_t *d)
     d->vic_fitted = 1u;
     vi_curve_fit(&d->vic, b->I_base_A, b->V_base_V, f);
     d->vic_status = (uint16_t)f->status;
+    if (f->status == VI_FIT_BAND && drive_vi_retry(d, f) != 0u) {
+        return;
+    }
     if (f->status != VI_FIT_OK) {
         d->vic_post = DRIVE_VI_REFUSED;
         return;

@@ -74,12 +74,22 @@ void vi_curve_restart(vi_curve_t *v)
 {
     pi_reset(&v->pi);
     v->u_cmd = _IQ(0.0);
-    v->done = 0u;
     v->fail = 0u;
     v->fail_level = 0u;
     v->ea_hat = 0.0f;
     v->mean_vdc = 0.0f;
     start_level(v, 0u, 0.0f);
+    v->done = 0u;   /* last (volatile): a finished test's ISR steps nothing until now */
+}
+
+vi_curve_status_t vi_curve_retry(vi_curve_t *v, float i1_pu)
+{
+    if (!(i1_pu > 0.0f) || !(2.0f * i1_pu <= VI_CURVE_I_MAX_PU)) {
+        return VI_CURVE_ERR_CURRENT;
+    }
+    v->i1 = i1_pu;
+    vi_curve_restart(v);
+    return VI_CURVE_OK;
 }
 
 uint32_t vi_curve_samples(const vi_curve_t *v)
@@ -239,6 +249,7 @@ void vi_curve_fit(const vi_curve_t *v, float I_base_A, float V_base_V, vi_fit_t 
     }
     f->rs_ohm = 0.5f * (rs[0] + rs[1]);
     f->e_pole_V = 0.75f * 0.5f * (ea[0] + ea[1]);
+    f->e_split = fabsf(ea[0] - ea[1]) / fmaxf(fabsf(0.5f * (ea[0] + ea[1])), 1e-30f);
     for (l = 0u; l < VI_CURVE_LEVELS; l++) {
         f->u_err_V[l] = v->mean_u[l] * V_base_V - f->rs_ohm * f->i_A[l];
     }

@@ -199,7 +199,8 @@ static void test_dead_phase_below_level(void **state)
  * deviation i_true - i_meas reaches the residual as the window integral
  * V_n = Rs int D_n + sigma Ls (change of D_n) through r(k) = lambda (r(k-1)
  * + v(k)): |r_n| = |lambda V_n / (1 - lambda e^{j w T})|. */
-static void unbalance(double e, double *neg_meas, double *neg_ref, uint16_t *fault)
+static void unbalance_allow(double e, double allow, double *neg_meas, double *neg_ref,
+                            uint16_t *fault)
 {
     current_model_check_t c;
     const double iamp = 0.5, w = 0.8;            /* pu current, pu speed */
@@ -215,6 +216,9 @@ static void unbalance(double e, double *neg_meas, double *neg_ref, uint16_t *fau
     const double complex dn = q * iamp;
     unsigned n, k;
     init(&c, 0.9f);
+    /* the bridge allowance as E = allow / tau_r (pu), k_bridge 1 */
+    assert_int_equal(current_model_check_set_bridge(&c, (float)(allow / (TAU_R * WB)), 1.0f,
+                                                    (float)TAU_R, (float)WB), CMC_OK);
     for (n = 0; n < 3000u; n++) {
         double complex u[SLOTS];
         double t1 = 0.0;
@@ -239,6 +243,48 @@ static void unbalance(double e, double *neg_meas, double *neg_ref, uint16_t *fau
     }
     *neg_meas = sqrt(to_d(c.neg2)) / SLS;
     *fault = (uint16_t)((c.cause & CMC_UNBALANCE) != 0u);
+}
+
+static void unbalance(double e, double *neg_meas, double *neg_ref, uint16_t *fault)
+{
+    unbalance_allow(e, 0.0, neg_meas, neg_ref, fault);
+}
+
+/* The bridge allowance (current_model_check_set_bridge): k E tau_r in pu
+ * flux, refused (kept) outside [0, CMC_BRIDGE_ALLOW_MAX] or NaN; added to
+ * UNBALANCE's level: the 0.2 gain error's negative sequence (|r_n| 0.042
+ * pu flux here) still trips with an allowance of half of it and not
+ * with one of twice it. */
+static void test_bridge_allowance(void **state)
+{
+    current_model_check_t c;
+    double m, r;
+    uint16_t f;
+    const double tw = TAU_R * WB;
+    (void)state;
+    init(&c, 0.9f);
+    assert_true(c.bridge_allow == _IQ(0.0));
+    assert_int_equal(current_model_check_set_bridge(&c, 0.1f, 0.01f, (float)TAU_R, (float)WB),
+                     CMC_OK);
+    assert_true(fabs(to_d(c.bridge_allow) - 0.01 * 0.1 * tw) < 1e-6);
+    assert_int_equal(current_model_check_set_bridge(&c, -0.1f, 0.01f, (float)TAU_R, (float)WB),
+                     CMC_ERR_ARG);
+    assert_int_equal(current_model_check_set_bridge(&c, nanf(""), 0.01f, (float)TAU_R,
+                                                    (float)WB), CMC_ERR_ARG);
+    assert_int_equal(current_model_check_set_bridge(&c, (float)(0.51 / tw), 1.0f, (float)TAU_R,
+                                                    (float)WB), CMC_ERR_ARG);
+    assert_true(fabs(to_d(c.bridge_allow) - 0.01 * 0.1 * tw) < 1e-6);   /* kept */
+
+    unbalance(0.2, &m, &r, &f);
+    assert_int_equal(f, 1u);
+    unbalance_allow(0.2, 0.5 * m * SLS, &m, &r, &f);
+    print_message("gain error 0.20, allowance half its negative sequence: %s\n",
+                  f ? "UNBALANCE" : "no trip");
+    assert_int_equal(f, 1u);
+    unbalance_allow(0.2, 2.0 * m * SLS, &m, &r, &f);
+    print_message("gain error 0.20, allowance twice its negative sequence: %s\n",
+                  f ? "UNBALANCE" : "no trip");
+    assert_int_equal(f, 0u);
 }
 
 static void test_unbalance(void **state)
@@ -373,6 +419,7 @@ int main(void)
         cmocka_unit_test(test_dead_phase_trips),
         cmocka_unit_test(test_dead_phase_below_level),
         cmocka_unit_test(test_unbalance),
+        cmocka_unit_test(test_bridge_allowance),
         cmocka_unit_test(test_offset),
         cmocka_unit_test(test_split_as_drive),
         cmocka_unit_test(test_args_and_rearm),

@@ -164,7 +164,7 @@ static void test_15kw(void **state)
 
 /* The whole start scenario with the simulated bridge's band at @p band_A
  * (the drive told nothing of it). */
-static void check_band(const char *ini, double band_A)
+static void check_band(const char *ini, double band_A, int retried)
 {
     sim_config_t cfg;
     static sim_result_t res;
@@ -180,6 +180,10 @@ static void check_band(const char *ini, double band_A)
            ini, band_A, (double)res.vi.band_A, 100.0 * ((double)res.vi.band_A / band_A - 1.0),
            res.error_pct.Rs_ohm, res.error_pct.Rr_ohm, res.error_pct.Tr_s);
     assert_int_equal(res.vi.status, VI_FIT_OK);
+    assert_int_equal(res.vi_retried, retried);
+    /* the levels beyond the transition, the retry's within the torque limit */
+    assert_true(res.vi_i1_A > 2.0 * (double)res.vi.band_A);
+    assert_true(2.0 * res.vi_i1_A <= cfg.controller.max_torque_current_A);
     assert_int_equal(res.n_faults_seen, 0);
     assert_true(fabs((double)res.vi.band_A / band_A - 1.0) < TOL);
     assert_int_equal(res.extracted, 1);
@@ -194,37 +198,74 @@ static void test_band_varied(void **state)
     unsigned k;
     (void)state;
     for (k = 0u; k < 3u; k++) {
-        check_band(MC_CONFIG_DIR "/motor_15kw.ini", bands[k]);
+        check_band(MC_CONFIG_DIR "/motor_15kw.ini", bands[k], 0);
     }
     for (k = 0u; k < 3u; k++) {
-        check_band(MC_CONFIG_DIR "/motor_1kw.ini", bands[k]);
+        check_band(MC_CONFIG_DIR "/motor_1kw.ini", bands[k], 0);
     }
+}
+
+/* A transition wider than the test's current levels reach: the 1.1 kW
+ * motor's i1 = i_M / 2 = 1.0 A against a bridge band of 0.55 A (2 b =
+ * 1.1 A: the levels inside it, the fit refuses them).  The drive runs the
+ * test once more with i1 = 2.5 b (1.4 A; +-2 i1 within its 3.2 A torque
+ * limit) and then measures the band within 5 % and identifies within 3 %
+ * (check_band), the retry in report.json.  With 0.7 A and the torque limit
+ * cut to 2.4 A the retry's i1 (2.5 times the first fit's b, 1.44 A) is
+ * beyond the limit's 1.2 A: no retry, the refusal stands, FAULT_VI_CURVE,
+ * the bridge off, nothing identified. */
+/* Run @p cfg for @p duration_s and expect the curve test refused: FAULT_VI_CURVE
+ * seen and latched, the bridge off, nothing identified, the fit's verdict
+ * @p status. */
+static void expect_vi_refused(sim_config_t *cfg, double duration_s, vi_fit_status_t status,
+                              sim_result_t *res)
+{
+    sim_options_t opt;
+    char err[256];
+    unsigned k, seen = 0u;
+    memset(&opt, 0, sizeof opt);
+    opt.quiet = 1u;
+    opt.duration_s = duration_s;
+    assert_int_equal(sim_run(cfg, &opt, res, err, sizeof err), 0);
+    for (k = 0u; k < res->n_faults_seen; k++) {
+        seen |= (unsigned)(res->fault_code[k] == FAULT_VI_CURVE);
+    }
+    printf("curve test: %s, i1 %.3f A, retried %d\n", vi_fit_str(res->vi.status), res->vi_i1_A,
+           res->vi_retried);
+    assert_true(seen);
+    assert_int_equal(res->final_fault, FAULT_VI_CURVE);
+    assert_int_equal(res->final_pwm_on, 0);
+    assert_int_equal(res->vi.status, status);
+    assert_int_equal(res->identified, 0);
+}
+
+static void test_band_wider_than_levels(void **state)
+{
+    sim_config_t cfg;
+    static sim_result_t res;
+    char err[256];
+    (void)state;
+    check_band(MC_CONFIG_DIR "/motor_1kw.ini", 0.55, 1);
+
+    assert_int_equal(sim_config_load(MC_CONFIG_DIR "/motor_1kw.ini", &cfg, err, sizeof err), 0);
+    cfg.inverter.dead_time_band_A = 0.7;
+    cfg.controller.max_torque_current_A = 2.4;
+    expect_vi_refused(&cfg, 2.0 * sim_vi_test_s(&cfg) + 0.5, VI_FIT_BAND, &res);
+    assert_int_equal(res.vi_retried, 0);   /* no admissible retry: not run */
+    assert_true(fabs(res.vi_i1_A - 1.0) < 1e-3);
 }
 
 static void test_board_disagrees(void **state)
 {
     sim_config_t cfg;
     static sim_result_t res;
-    sim_options_t opt;
     char err[256];
-    unsigned k, seen = 0u;
     (void)state;
     assert_int_equal(sim_config_load(MC_CONFIG_DIR "/paper_motor.ini", &cfg, err, sizeof err), 0);
     cfg.ident.vi_test = 1.0;
     cfg.inverter.dead_time_s = cfg.board.dead_time_s;   /* the bridge keeps its 1 us */
     cfg.board.dead_time_s = 3.0 * cfg.board.dead_time_s;
-    memset(&opt, 0, sizeof opt);
-    opt.quiet = 1u;
-    opt.duration_s = 2.5;
-    assert_int_equal(sim_run(&cfg, &opt, &res, err, sizeof err), 0);
-    for (k = 0u; k < res.n_faults_seen; k++) {
-        seen |= (unsigned)(res.fault_code[k] == FAULT_VI_CURVE);
-    }
-    assert_true(seen);
-    assert_int_equal(res.final_fault, FAULT_VI_CURVE);
-    assert_int_equal(res.final_pwm_on, 0);
-    assert_int_equal(res.vi.status, VI_FIT_ERROR);
-    assert_int_equal(res.identified, 0);
+    expect_vi_refused(&cfg, 2.5, VI_FIT_ERROR, &res);
 }
 
 int main(void)
@@ -234,6 +275,7 @@ int main(void)
         cmocka_unit_test(test_1kw),
         cmocka_unit_test(test_15kw),
         cmocka_unit_test(test_band_varied),
+        cmocka_unit_test(test_band_wider_than_levels),
         cmocka_unit_test(test_board_disagrees),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
