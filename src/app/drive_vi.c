@@ -136,8 +136,9 @@ void drive_vi_modulate(drive_t *d, hal_pwm_compare_t *out)
  * 150-sigma motors, i_M 0.40 A, on the simulated 0.1 A bridge: i1 0.200 A,
  * b 0.101 A): once, the whole test again with i1 = 2.5 b, if +-2 i1 stays
  * within the current limit (vic_i1_max) and the two polarities agree on E
- * (DRIVE_VI_RETRY_E_SPLIT); else, or a second time, the refusal stands.  Returns 1 if the test was restarted (the ISR, waiting on
- * the finished test, steps the new one from its first level). */
+ * (DRIVE_VI_RETRY_E_SPLIT); else, or a second time, the refusal stands.
+ * Returns 1 if the test was restarted (the ISR, waiting on the finished
+ * test, steps the new one from its first level). */
 static uint16_t drive_vi_retry(drive_t *d, const vi_fit_t *f)
 {
     const float i1 = DRIVE_VI_RETRY_I1_OF_B * f->band_A / d->base.I_base_A;
@@ -146,10 +147,13 @@ static uint16_t drive_vi_retry(drive_t *d, const vi_fit_t *f)
         !(i1 <= d->vic_i1_max) || !(f->e_split <= DRIVE_VI_RETRY_E_SPLIT)) {
         return 0u;   /* also NaN: refused */
     }
+    d->vic_wait = 0u;   /* before the restart: the ISR counts only while the test is done */
+    if (vi_curve_retry(&d->vic, i1) != VI_CURVE_OK) {
+        return 0u;   /* nothing restarted: the refusal stands */
+    }
     d->vic_retried = 1u;
     d->vic_fitted = 0u;
-    d->vic_wait = 0u;
-    return (uint16_t)(vi_curve_retry(&d->vic, i1) == VI_CURVE_OK);
+    return 1u;
 }
 
 void drive_vi_background(drive_t *d)
@@ -168,8 +172,7 @@ void drive_vi_background(drive_t *d)
         if (d->vic_fitted != 0u || d->vic.level != 0u || d->vic.n != 0u || d->vic.t != 0u ||
             d->vic_retried != 0u) {
             d->vic_retried = 0u;
-            d->vic.i1 = d->vic_i1_0;
-            vi_curve_restart(&d->vic);
+            (void)vi_curve_retry(&d->vic, d->vic_i1_0);   /* the first i1: init accepted it */
             d->vic_post = DRIVE_VI_NONE;
             d->vic_wait = 0u;
             d->vic_fitted = 0u;
