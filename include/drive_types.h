@@ -81,6 +81,7 @@ typedef struct {
                                    this (pu), where the voltage model dominates */
     _iq psi_min;                /* flux observer: below this |psi_r| (pu) its angle is
                                    noise; the frame follows the encoder angle instead */
+    uint32_t track_valid_updates;/* tracker updates before Rr_track is valid (tr_track_settle_s) */
     uint16_t conf_track_updates;/* fused set: tracker updates judged (DRIVE_CONF_TRACK_S) */
     uint32_t conf_track_wait;   /* ... RUN samples waited for them (DRIVE_CONF_TRACK_WAIT_S) */
     _iq conf_track_se;          /* Q24: the tracker's standard error per relative residual */

@@ -121,8 +121,9 @@ def rr_error_pct(tr_pct, lm_pct, lm_h, llr_h):
 def adaptive_duration_s(cfg):
     """Simulated time of an adaptive run: two passes (motor_sim's own
     default per pass: calibration, magnetisation, ramp, 3.2 s) and 6 s of
-    tracking for the fused set to be published (the tracker is valid 1 s
-    into RUN and starts from the RLS's Tr)."""
+    tracking for the fused set to be published (the tracker is valid 3 Tr +
+    2 memories into RUN, tr_track_settle_s: 2.1-2.8 s on the three motors,
+    and starts from the RLS's Tr)."""
     text = cfg.read_text()
     mag = float(ini_value(text, "ident", "magnetize_s") or 0.3)
     rated = float(ini_value(text, "nameplate", "rated_speed_rpm"))

@@ -265,8 +265,11 @@ static double default_duration_s(const sim_config_t *c, sim_scenario_t s)
                    c->ident.target_speed_rpm / c->controller.speed_ramp_rpm_s + 3.2;
     double d = ident * c->ident.passes + sim_vi_test_s(c);
     if (c->ident.track_rr != 0.0) {
-        /* the fused set: the tracker valid 1 s into RUN, then its fit judged */
-        d += 2.0;
+        /* the fused set: the tracker valid once it has forgotten RUN's start
+         * (tr_track_settle_s, as drive_init), then its fit judged for 0.5 s */
+        const sim_nameplate_t *n = &c->nameplate;
+        d += (double)tr_track_settle_s((float)c->ident.track_memory_s,
+                                       (float)((n->Lm_H + n->Llr_H) / n->Rr_ohm)) + 1.0;
     }
     if (s == SCEN_DRIFT) {
         return d + c->drift.start_s + c->drift.ramp_s + DRIFT_TAIL_S;

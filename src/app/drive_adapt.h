@@ -22,7 +22,6 @@
 #define DRIVE_ADAPT_BLEND_S 0.1f
 #define DRIVE_ADAPT_TR_RATE 0.2f       /* relative per second */
 #define DRIVE_ADAPT_TRACK_DECIM (16u >> DRIVE_SLOTS_LOG2)   /* tracker RLS at f_pwm / 16: 938 Hz */
-#define DRIVE_ADAPT_TRACK_VALID 1000u  /* 1 s of tracker updates before Rr_track is valid */
 #define DRIVE_ADAPT_WAIT_S 0.5f        /* longest wait of the sequence for the background's set */
 
 /* The model's members in drive_adapt_bg_t's arrays. */

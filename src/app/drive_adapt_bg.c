@@ -337,8 +337,8 @@ static void track(drive_t *d)
     tr = _IQ20div(_IQ(1.0), theta);
     t->Tr_track = tr;
     t->Rr_track = _IQmpy(g->lr, theta);   /* Rr = Lr / Tr; < 128 */
-    /* valid once the estimate has had 1 s of updates */
-    t->track_valid = (uint16_t)(n >= DRIVE_ADAPT_TRACK_VALID);
+    /* valid once the estimate has forgotten RUN's start (tr_track_settle_s) */
+    t->track_valid = (uint16_t)(n >= d->k.track_valid_updates);
     if (g->blending != 0u || g->pending != 0u) {
         return;   /* the next pass takes these updates too */
     }

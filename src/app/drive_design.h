@@ -52,7 +52,8 @@
 #define DRIVE_CONF_RES_REF 0.02f       /* a refusal with a larger residual: high_residual */
 #define DRIVE_CONF_EXC_REF 0.2f        /* ... with a smaller excitation: low_excitation */
 #define DRIVE_CONF_TRACK_S 0.5f        /* the tracker's fit judged over its first 0.5 s */
-#define DRIVE_CONF_TRACK_WAIT_S 3.0f   /* no tracker verdict 3 s into RUN: low_excitation */
+#define DRIVE_CONF_TRACK_WAIT_S 1.5f   /* no tracker verdict 1.5 s after its validity and the
+                                          judged window: low_excitation */
 /* Steady state (id_sequence.h): the net change of the filtered i_M and i_T
  * over the 0.2 s hold window, not the instantaneous di/dt.  The filtered
  * derivative carries the dead time's 6 f_e current ripple multiplied by

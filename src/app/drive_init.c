@@ -143,9 +143,17 @@ static int16_t init_identification(drive_t *d, const drive_config_t *c, const dr
     /* the tracker's judging window and the wait for it, in tracker updates and
      * slow-task samples (drive_adapt.c: the tracker every DRIVE_ADAPT_TRACK_DECIM slow
      * samples) */
-    d->k.conf_track_updates =
-        (uint16_t)(DRIVE_CONF_TRACK_S / (g->Ts_slow * (float)DRIVE_ADAPT_TRACK_DECIM) + 0.5f);
-    d->k.conf_track_wait = (uint32_t)(DRIVE_CONF_TRACK_WAIT_S / g->Ts_slow + 0.5f);
+    {
+        /* the believed Tr (the nameplate's; 30 % off changes the wait by at
+         * most 0.9 Tr) */
+        float valid_s = tr_track_settle_s(c->ident.track_memory_s, g->tr);
+        d->k.track_valid_updates =
+            (uint32_t)(valid_s / (g->Ts_slow * (float)DRIVE_ADAPT_TRACK_DECIM) + 0.5f);
+        d->k.conf_track_updates =
+            (uint16_t)(DRIVE_CONF_TRACK_S / (g->Ts_slow * (float)DRIVE_ADAPT_TRACK_DECIM) + 0.5f);
+        d->k.conf_track_wait = (uint32_t)((valid_s + DRIVE_CONF_TRACK_S + DRIVE_CONF_TRACK_WAIT_S) /
+                                          g->Ts_slow + 0.5f);
+    }
     /* the tracker's standard error per relative residual: (1 - lambda)/2 for a
      * forgetting RLS, c = f_upd / (2 B_n) samples per independent one for its
      * first-order 10 Hz low-pass (B_n = pi f / 2): sqrt(c (1 - lambda) / 2) =

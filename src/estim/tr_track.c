@@ -21,6 +21,15 @@ static inline _iq clamp(_iq x, _iq lo, _iq hi, uint32_t *count)
     return x;
 }
 
+float tr_track_settle_s(float memory_s, float tr_s)
+{
+    /* NaN fails every comparison; an infinity the last */
+    if (!(memory_s > 0.0f) || !(tr_s > 0.0f) || !(memory_s + tr_s < 1.0e30f)) {
+        return 0.0f;
+    }
+    return TR_TRACK_SETTLE_TR * tr_s + TR_TRACK_SETTLE_MEMORIES * memory_s;
+}
+
 tr_track_status_t tr_track_init(tr_track_t *t, float Ts_s, uint16_t decim, float lpf_Hz,
                                 float memory_s, float phi_min_pu, float theta_min,
                                 float theta_max, float theta0)

@@ -556,7 +556,9 @@ static void test_stale_dropped(void **state)
  *    rate)^10 in double within 10 LSB20 (one truncation per step);
  *  - a target within one step: reached exactly;
  *  - telemetry: Tr_track (Q20) = 1/theta within 1 LSB20 + 1e-7 relative, Rr_track
- *    = Lr theta, track_valid from 1000 updates on. */
+ *    = Lr theta, track_valid from k.track_valid_updates on: the updates
+ *    (f_pwm / 16) in tr_track_settle_s(track_memory_s, the nameplate's
+ *    Lr / Rr), recomputed here from the INI's SI values (1 update). */
 static void test_tracking(void **state)
 {
     drive_t *d = &g_d;
@@ -627,7 +629,20 @@ static void test_tracking(void **state)
     background(d);
     theta = _IQ20div(_IQ(1.0), g->cur[DRIVE_P_TR] + _IQmpy(g->cur[DRIVE_P_TR], _IQ(1e-5)));
     d->track.theta = theta;
-    d->track.n_updates = 1000u;
+    {
+        const drive_motor_t *m = &g_dc.motor;
+        double f_upd = (double)g_dc.board.pwm_freq_Hz / 16.0;
+        double want_n = (3.0 * (double)m->Lr_H / (double)m->Rr_ohm +
+                         2.0 * (double)g_dc.ident.track_memory_s) * f_upd;
+        print_message("tracking: valid after %u updates (want %.1f)\n",
+                      (unsigned)d->k.track_valid_updates, want_n);
+        assert_true(fabs((double)d->k.track_valid_updates - want_n) <= 1.0);
+    }
+    d->track.n_updates = d->k.track_valid_updates - 1u;
+    background(d);
+    assert_int_equal(d->telemetry.track_valid, 0u);
+    background(d);   /* the answer */
+    d->track.n_updates = d->k.track_valid_updates;
     background(d);
     assert_true(g->posted[DRIVE_P_TR] == _IQ20div(_IQ(1.0), theta));   /* Q24 / Q24 -> Q20 */
     assert_int_equal(d->telemetry.track_valid, 1u);

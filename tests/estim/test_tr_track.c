@@ -512,6 +512,55 @@ static void test_constants(void **state)
     assert_true(fabs(iq_to_d(t.p0) / ((1.0 - r.lam) / ((double)0.05f * (double)0.05f)) - 1.0) <= 5e-5);
 }
 
+/* (f) tr_track_settle_s: 3 Tr + 2 memories; 0 for a bad argument.  And
+ * what the memories part claims: after a step of the data (the end of a
+ * start transient, theta_true 0.3 -> 1/Tr with the estimate settled on 0.3
+ * for 10 memories), the estimate still holds exp(-2) of the step after
+ * 2 memories.  Reference: the two first-order stages of test_ramp (the RLS
+ * at steady P, time constant tau1 ~ memory; the low-pass tau2), whose step
+ * response leaves (tau1 e^{-t/tau1} - tau2 e^{-t/tau2}) / (tau1 - tau2) of
+ * the step: 14.8 % here.  Bound: 2 % of it (test_ramp's) + 2200 LSB; the
+ * double reference within 0.5 %. */
+static void test_settle(void **state)
+{
+    const double th_a = 0.3, th_b = TH_NOM, i_t = 0.25;
+    const double ts = (double)TS_S, kf = 1.0 - exp(-2.0 * PI_D * (double)LPF_HZ * ts);
+    const float settle = tr_track_settle_s(MEM_S, 0.0001f) - 3.0f * 0.0001f;
+    const uint32_t n0 = 75000u, n1 = n0 + (uint32_t)((double)settle / ts + 0.5);
+    const float inf = 1.0e30f * 1.0e30f;
+    tr_track_t t;
+    dref_t r;
+    uint32_t k;
+    (void)state;
+
+    assert_true(fabsf(tr_track_settle_s(0.5f, 0.1f) - 1.3f) <= 1e-6f);
+    assert_true(fabsf(tr_track_settle_s(1.0f, 0.6f) - 3.8f) <= 1e-6f);
+    assert_true(tr_track_settle_s(0.0f, 0.1f) == 0.0f);
+    assert_true(tr_track_settle_s(1.0f, -0.1f) == 0.0f);
+    assert_true(tr_track_settle_s(inf - inf, 0.1f) == 0.0f);   /* NaN */
+    assert_true(tr_track_settle_s(inf, 0.1f) == 0.0f);
+    assert_true(tr_track_settle_s(1.0f, inf) == 0.0f);
+
+    init_ok(&t, th_a);
+    dref_rig(&r, th_a);
+    t.enable = 1u;
+    for (k = 1u; k <= n1; k++) {
+        feed_motor(&t, &r, (k <= n0) ? th_a : th_b, i_t);
+    }
+    {
+        double tau1 = -(double)DECIM * ts / log(r.lam), tau2 = -ts / log(1.0 - kf);
+        double tt = (double)(n1 - n0) * ts;
+        double want = (tau1 * exp(-tt / tau1) - tau2 * exp(-tt / tau2)) / (tau1 - tau2);
+        double rest = (iq_to_d(t.theta) - th_b) / (th_a - th_b);
+        double rest_ref = (r.th - th_b) / (th_a - th_b);
+        print_message("settle: %.3f s after the step the estimate holds %.4f of it (ref %.4f,"
+                      " two stages %.4f, exp(-2) %.4f)\n", tt, rest, rest_ref, want, exp(-2.0));
+        assert_true(fabs(rest_ref / want - 1.0) <= 0.005);
+        assert_true(fabs(rest - want) <= 0.02 * want + 2200.0 * LSB24 / fabs(th_a - th_b));
+        assert_true(rest < 0.16);   /* e^-2 and the low-pass's 16 ms */
+    }
+}
+
 /* (e) Every init error code, the other arguments valid. */
 static void test_init_errors(void **state)
 {
@@ -573,6 +622,7 @@ int main(void)
         cmocka_unit_test(test_p_floor),
         cmocka_unit_test(test_constants),
         cmocka_unit_test(test_init_errors),
+        cmocka_unit_test(test_settle),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -126,7 +126,8 @@ def test_parameters_are_the_published_set():
     """With Rr tracking the drive publishes the fused set (tracked Rr, Tr): parameters()
     returns it, last_extraction() the RLS's own extraction, which differs."""
     from imfoc import example
-    r = example.run(PAPER, duration_s=3.5,
+    # (the tracker is valid 3 Tr + 2 memories = 2.1 s into RUN: tr_track_settle_s)
+    r = example.run(PAPER, duration_s=4.5,
                     overrides={"controller": {"orientation": 1}, "ident": {"track_rr": 1}})
     s = r["signals"]
     assert r["published"] and r["params_tracked"] and r["state"] == "RUN"
