@@ -44,7 +44,9 @@ paper's runs that published (null if none did).
 
 --check-bounds FILE (the CTest `family_subset`): the runs must match the
 expectations of FILE (JSON: per motor and sequence, "published" true/false,
-the bound on the worst published error, the reasons accepted); exit 1 with
+the bound on the worst published error, the reasons accepted, and
+"refused_bound_pct": a refusal must carry report.json's refused_set, within
+that bound); exit 1 with
 the failures listed otherwise.
 
 Exit status: 0 the sweep ran (a study: whatever the runs found), 1 bad
@@ -142,10 +144,12 @@ def run_one(job):
            "sigma": m.sigma, "Tr_s": round(m.Tr, 5), "wrTr": round(m.wrTr, 2),
            "dead_time_us": m.dead_time_s * 1e6, "op": op, "seq": seq, "build": build,
            "status": "", "reason": "", "message": "", "worst_pct": None, "worst_param": "",
+           "worst_of": "", "cmc_r": None, "cmc_neg": None, "cmc_dc": None,
            "t_published_s": None, "settle_timeout": None}
     for k in PARAMS:
         row["err_" + SHORT[k]] = None
         row["rls_" + SHORT[k]] = None
+        row["ref_" + SHORT[k]] = None
         row["conf_" + SHORT[k]] = None
     with tempfile.TemporaryDirectory(prefix="family_") as tmp:
         d = Path(keep) / f"{name}__{op}__{seq}__{build}" if keep else Path(tmp)
@@ -175,21 +179,33 @@ def run_one(job):
     row["faults"] = " ".join(f["name"] for f in rep.get("faults", []))
     pub = rep.get("published_end_error_pct") if rep["published"] else None
     rls = rep.get("last_extraction_error_pct")
+    # the adaptive sequence's refused fused set (standstill Rs, tracked Rr
+    # and Tr, the RLS's Lm, Lr, psi_r): what a refusal concerned
+    ref = None if rep["published"] else rep.get("refused_set_error_pct")
     conf = rep.get("confidence_pct") or {}
     for k in PARAMS:
         if pub:
             row["err_" + SHORT[k]] = pub[k]
         if rls:
             row["rls_" + SHORT[k]] = rls[k]
+        if ref:
+            row["ref_" + SHORT[k]] = ref[k]
         if conf.get(k) is not None:
             row["conf_" + SHORT[k]] = conf[k]
     # the worst error of what was published, or of what the drive refused to
-    # publish (the RLS's extraction), so that a refusal can be judged
-    src = pub or rls
+    # publish (the fused set, else the RLS's extraction), so that a refusal
+    # can be judged
+    src = pub or ref or rls
+    row["worst_of"] = ("published" if pub else "refused_set" if ref else
+                       "extraction" if rls else "")
     if src:
         w = max(PARAMS, key=lambda k: abs(src[k]))
         row["worst_pct"] = abs(src[w])
         row["worst_param"] = SHORT[w]
+    # the model check's healthy margins (fractions of its levels)
+    row["cmc_r"] = rep.get("max_cmc_util_r")
+    row["cmc_neg"] = rep.get("max_cmc_util_neg")
+    row["cmc_dc"] = rep.get("max_cmc_util_dc")
     c = rep.get("confidence") or {}
     row["residual_rel"] = c.get("residual_rel")
     row["amplification"] = c.get("amplification")
@@ -238,8 +254,8 @@ def fmt_pct(v, signed=False):
 
 def motor_rows_md(rows, motors, builds):
     """One line per motor, sequence and build: published? why not, worst
-    error (parameter), each parameter's error (of the published set; of the
-    refused extraction in brackets)."""
+    error (parameter), each parameter's error (of the published set; in
+    brackets of the refused set: the fused one, else the RLS's extraction)."""
     head = ("| motor | kW | poles | sigma | w_r Tr | sequence | build | published | worst % | " +
             " | ".join(SHORT[k] for k in PARAMS) + " |")
     out = [head, "|" + "---|" * (8 + len(PARAMS))]
@@ -259,7 +275,9 @@ def motor_rows_md(rows, motors, builds):
                     pubtxt = f"no: {r['reason'] or r['status']}"
                 errs = []
                 for k in PARAMS:
-                    v = r["err_" + SHORT[k]] if r["status"] == "published" else r["rls_" + SHORT[k]]
+                    v = (r["err_" + SHORT[k]] if r["status"] == "published" else
+                         r["ref_" + SHORT[k]] if r["ref_" + SHORT[k]] is not None else
+                         r["rls_" + SHORT[k]])
                     errs.append(fmt_pct(v, True) if r["status"] == "published"
                                 else (f"({fmt_pct(v, True)})" if v is not None else "-"))
                 worst = ("-" if r["worst_pct"] is None else
@@ -381,6 +399,13 @@ def check_bounds(rows, spec):
                          f"{e.get('bound_pct', spec['bound_pct'])} %")
         elif not want and r["reason"] not in e.get("reasons", [r["reason"]]):
             fails.append(f"{tag}: reason {r['reason']!r}, expected one of {e['reasons']}")
+        if r["status"] == "not_published" and "refused_bound_pct" in e:
+            # the set the refusal concerned (report.json's refused_set)
+            if r["worst_of"] != "refused_set":
+                fails.append(f"{tag}: refused without a refused_set in report.json")
+            elif r["worst_pct"] > e["refused_bound_pct"]:
+                fails.append(f"{tag}: the refused set's worst {r['worst_pct']:.3f} % "
+                             f"({r['worst_param']}) above {e['refused_bound_pct']} %")
         if r["status"] == "published" and r["worst_pct"] > spec["bound_pct"]:
             fails.append(f"{tag}: a published error of {r['worst_pct']:.3f} % "
                          f"({r['worst_param']}) above {spec['bound_pct']} %")

@@ -274,6 +274,14 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
                    "  \"published_end\": null,\n  \"published_end_error_pct\": null,\n"
                    "  \"params_tracked\": false,\n");
     }
+    if (r->refused_fused) {
+        /* the fused set the drive judged and refused (the adaptive sequence): the set the
+         * refusal concerned, to judge the verdict by, never a result */
+        json_params(&w, "refused_set", &r->refused_set, 0);
+        json_params(&w, "refused_set_error_pct", &r->refused_set_error_pct, 0);
+    } else {
+        fprintf(f, "  \"refused_set\": null,\n  \"refused_set_error_pct\": null,\n");
+    }
     if (r->extracted) {
         /* the RLS's last extraction as extracted (the paper's method), published or
          * refused: what the drive judged, not a result */

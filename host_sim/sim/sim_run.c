@@ -87,6 +87,37 @@ static void published_si(const base_values_t *b, const drive_telemetry_t *t, sim
     o->Tr_s = (double)_IQ20toF(t->Tr) * b->t_base_s;   /* Q20 */
 }
 
+static void errors_pct(const sim_params_t *v, const sim_params_t *truth, sim_params_t *e)
+{
+    e->Rs_ohm = pct(v->Rs_ohm, truth->Rs_ohm);
+    e->Rr_ohm = pct(v->Rr_ohm, truth->Rr_ohm);
+    e->Lm_H = pct(v->Lm_H, truth->Lm_H);
+    e->Lr_H = pct(v->Lr_H, truth->Lr_H);
+    e->psi_r_Wb = pct(v->psi_r_Wb, truth->psi_r_Wb);
+    e->Tr_s = pct(v->Tr_s, truth->Tr_s);
+}
+
+/* The fused set the drive judged and refused (nothing published): the
+ * values publish_tracked (drive_background.c) would have written, so that a
+ * refusal is judged on the set it concerned, not on the RLS's own Rr and Tr
+ * that the fused set does not use.  0 when there was no such set. */
+static uint16_t refused_fused_si(const drive_t *d, sim_params_t *o)
+{
+    const drive_telemetry_t *t = &d->telemetry;
+    const base_values_t *b = &d->base;
+    if (d->adapt.fused == 0u || d->fused_ready == 0u || t->Rs_dc == _IQ(0.0) ||
+        t->Tr_track == 0 || t->publish_reason == (uint16_t)DRIVE_PUB_PENDING) {
+        return 0u;
+    }
+    o->Rs_ohm = (double)_IQtoF(t->Rs_dc) * b->Z_base_ohm;
+    o->Rr_ohm = (double)_IQtoF(t->Rr_track) * b->Z_base_ohm;
+    o->Lm_H = (double)_IQtoF(d->fused_lm) * b->L_base_H;
+    o->Lr_H = (double)_IQtoF(d->fused_lr) * b->L_base_H;
+    o->psi_r_Wb = (double)_IQtoF(d->fused_psi) * b->psi_base_Wb;
+    o->Tr_s = (double)_IQ20toF(t->Tr_track) * b->t_base_s;   /* Q20 */
+    return 1u;
+}
+
 static void extreme(double v, double *lo, double *hi)
 {
     if (v < *lo) { *lo = v; }
@@ -125,9 +156,15 @@ static void observe_protection(const drive_t *d, sim_result_t *r, double t)
             r->t_max_cmc_r_s = t;
         }
         {
+            /* MISMATCH's two tests (current_model_check.c): abs(r) against the level
+             * with the back-EMF allowance, and at speed the part the positive
+             * sequence has not followed against the level without it */
             double thr = (double)_IQtoF(m->sigma_ls) * (double)_IQtoF(m->r_max) +
                          (double)_IQtoF(m->r_allow);
-            double u = sqrt((double)_IQtoF(m->r2)) / thr;
+            double u = sqrt((double)_IQtoF(m->r2)) / (thr + (double)_IQtoF(m->r_allow_emf));
+            if (m->at_speed >= m->seq_settle) {
+                u = fmax(u, sqrt((double)_IQtoF(m->q2)) / thr);
+            }
             if (m->active != 0u && u > r->max_cmc_util_r) {
                 r->max_cmc_util_r = u;
             }
@@ -137,7 +174,7 @@ static void observe_protection(const drive_t *d, sim_result_t *r, double t)
             double leak_neg = leak + (double)_IQtoF(m->bridge_allow);
             double kn = fmin(sls * (double)_IQtoF(m->k_neg), 1.0);
             double nthr = sqrt(kn * kn * imag * imag + leak_neg * leak_neg);
-            double dthr = rs * (double)_IQtoF(m->d_max_tau) + leak;
+            double dthr = rs * (double)_IQtoF(m->d_max_tau) + leak_neg;
             double un = sqrt((double)_IQtoF(m->neg2)) / nthr;
             double ud = sqrt((double)_IQtoF(m->dc2)) / dthr;
             if (un > r->max_cmc_util_neg) {
@@ -755,26 +792,20 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     res->vi_retried = (int)drive.vic_retried;
     drift_figures(&drift, res);
     if (res->identified) {
-        sim_params_t *e = &res->published_end_error_pct;
         published_si(b, &drive.telemetry, &res->published_end);
         res->params_tracked = drive.telemetry.params_tracked;
-        e->Rs_ohm = pct(res->published_end.Rs_ohm, res->truth.Rs_ohm);
-        e->Rr_ohm = pct(res->published_end.Rr_ohm, res->truth.Rr_ohm);
-        e->Lm_H = pct(res->published_end.Lm_H, res->truth.Lm_H);
-        e->Lr_H = pct(res->published_end.Lr_H, res->truth.Lr_H);
-        e->psi_r_Wb = pct(res->published_end.psi_r_Wb, res->truth.psi_r_Wb);
-        e->Tr_s = pct(res->published_end.Tr_s, res->truth.Tr_s);
+        errors_pct(&res->published_end, &res->truth, &res->published_end_error_pct);
+    } else {
+        res->refused_fused = refused_fused_si(&drive, &res->refused_set);
+        if (res->refused_fused != 0u) {
+            errors_pct(&res->refused_set, &res->truth, &res->refused_set_error_pct);
+        }
     }
     if (res->extracted) {
         /* the RLS's last extraction, published or refused (the paper's method) */
         to_si(b, &drive.pex, &res->ident);
         res->ident_valid = drive.pex.valid;
-        res->error_pct.Rs_ohm = pct(res->ident.Rs_ohm, res->truth.Rs_ohm);
-        res->error_pct.Rr_ohm = pct(res->ident.Rr_ohm, res->truth.Rr_ohm);
-        res->error_pct.Lm_H = pct(res->ident.Lm_H, res->truth.Lm_H);
-        res->error_pct.Lr_H = pct(res->ident.Lr_H, res->truth.Lr_H);
-        res->error_pct.psi_r_Wb = pct(res->ident.psi_r_Wb, res->truth.psi_r_Wb);
-        res->error_pct.Tr_s = pct(res->ident.Tr_s, res->truth.Tr_s);
+        errors_pct(&res->ident, &res->truth, &res->error_pct);
         if (res->t_accel_start_s >= 0.0 && drive.pex.valid != 0u) {
             res->converge_s = converge_time(rows, n_rows, &res->ident, res->t_accel_start_s);
         }

@@ -131,6 +131,11 @@ typedef struct {
                                        tracking, Rs standstill, Rr and Tr tracked) */
     sim_params_t published_end_error_pct;   /* against the truth at the start of RUN */
     uint16_t params_tracked;        /* the end set carries the tracked values */
+    uint16_t refused_fused;         /* nothing published, and the drive had judged a fused set
+                                       (the adaptive sequence): refused_set is that set */
+    sim_params_t refused_set;       /* ... the standstill Rs, the tracker's Rr and Tr, the RLS's
+                                       Lm, Lr, psi_r: what publish_tracked would have written */
+    sim_params_t refused_set_error_pct;   /* against the truth at the start of RUN */
     uint16_t params_withdrawn;      /* sets the publish guard withdrew (publish_guard.h) */
     uint16_t withdraw_reason;       /* the fault code of the last withdrawal */
     double max_pub_err_after_fault_pct;  /* the worst |error| of any published parameter

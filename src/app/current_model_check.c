@@ -139,11 +139,12 @@ static void sequences(current_model_check_t *c)
          * positive sequence, CMC_LEAK of its L1 size (between 1 and sqrt(2)
          * |pos|; |pos| <= 4: leak < 0.5): sigma Ls k_neg |i| (kn saturated
          * to 1, |i|^2 < 10 with the currents within 2.2 pu: n2 < 10) and
-         * Rs d_max tau_r (< 4: kd < 4.5, kd^2 < 21) */
+         * Rs d_max tau_r (< 4); both plus the bridge's allowance (< 0.5,
+         * current_model_check_set_bridge): kd < 5, kd^2 < 25 */
         const _iq leak = _IQmpy(_IQ(CMC_LEAK), _IQabs(c->pos_d) + _IQabs(c->pos_q));
         const _iq leak_neg = leak + c->bridge_allow;   /* < 0.5 + 0.5 */
         const _iq kn = _IQsat(_IQmpy(sls, c->k_neg), _IQ(1.0), 0);
-        const _iq kd = _IQmpy(rs, c->d_max_tau) + leak;
+        const _iq kd = _IQmpy(rs, c->d_max_tau) + leak_neg;
         const _iq n2 = _IQmpy(_IQmpy(kn, kn), _IQmpy(i_a, i_a) + _IQmpy(i_b, i_b));
         if (c->neg2 > n2 + _IQmpy(leak_neg, leak_neg)) {
             c->fault = 1u;

@@ -252,9 +252,12 @@ static void unbalance(double e, double *neg_meas, double *neg_ref, uint16_t *fau
 
 /* The bridge allowance (current_model_check_set_bridge): k E tau_r in pu
  * flux, refused (kept) outside [0, CMC_BRIDGE_ALLOW_MAX] or NaN; added to
- * UNBALANCE's level: the 0.2 gain error's negative sequence (|r_n| 0.042
- * pu flux here) still trips with an allowance of half of it and not
- * with one of twice it. */
+ * UNBALANCE's and OFFSET's levels: the 0.2 gain error's negative sequence
+ * (|r_n| 0.042 pu flux here), and a 0.05 pu offset's DC part, still trip
+ * with an allowance of half of it and not with one of twice it. */
+static void offset_allow(double d, double allow, double *dc_meas, double *dc_ref,
+                         uint16_t *fault);
+
 static void test_bridge_allowance(void **state)
 {
     current_model_check_t c;
@@ -285,6 +288,17 @@ static void test_bridge_allowance(void **state)
     print_message("gain error 0.20, allowance twice its negative sequence: %s\n",
                   f ? "UNBALANCE" : "no trip");
     assert_int_equal(f, 0u);
+
+    /* OFFSET's level takes the same allowance (offset_allow: dc in units of
+     * Rs tau_r w_base, the level's unit for the allowance) */
+    offset_allow(0.05, 0.0, &m, &r, &f);
+    assert_int_equal(f, 1u);
+    offset_allow(0.05, 0.5 * m * RS * TAU_R * WB, &m, &r, &f);
+    print_message("offset 0.05 pu, allowance half its DC part: %s\n", f ? "OFFSET" : "no trip");
+    assert_int_equal(f, 1u);
+    offset_allow(0.05, 2.0 * m * RS * TAU_R * WB, &m, &r, &f);
+    print_message("offset 0.05 pu, allowance twice its DC part: %s\n", f ? "OFFSET" : "no trip");
+    assert_int_equal(f, 0u);
 }
 
 static void test_unbalance(void **state)
@@ -308,7 +322,8 @@ static void test_unbalance(void **state)
  * measured current a balanced I e^{jwt}, the true one is that minus
  * (d, d/sqrt3), whose DC needs Rs times it: v = -Rs (d, d/sqrt3) T per
  * step, r_dc = lambda V / (1 - lambda). */
-static void offset(double d, double *dc_meas, double *dc_ref, uint16_t *fault)
+static void offset_allow(double d, double allow, double *dc_meas, double *dc_ref,
+                         uint16_t *fault)
 {
     current_model_check_t c;
     const double iamp = 0.5, w = 0.8, wr = w * WB, T = (double)SLOTS * TS;
@@ -316,6 +331,9 @@ static void offset(double d, double *dc_meas, double *dc_ref, uint16_t *fault)
     const double complex dv = d + I * d / sqrt(3.0);
     unsigned n, k;
     init(&c, 0.9f);
+    /* the bridge allowance as E = allow / tau_r (pu), k_bridge 1 */
+    assert_int_equal(current_model_check_set_bridge(&c, (float)(allow / (TAU_R * WB)), 1.0f,
+                                                    (float)TAU_R, (float)WB), CMC_OK);
     for (n = 0; n < 3000u; n++) {
         double complex u[SLOTS];
         double t1 = 0.0;
@@ -332,6 +350,11 @@ static void offset(double d, double *dc_meas, double *dc_ref, uint16_t *fault)
     *dc_ref = cabs(lambda * RS * dv * WB * T / (1.0 - lambda)) / (RS * TAU_R * WB);
     *dc_meas = sqrt(to_d(c.dc2)) / (RS * TAU_R * WB);
     *fault = (uint16_t)((c.cause & CMC_OFFSET) != 0u);
+}
+
+static void offset(double d, double *dc_meas, double *dc_ref, uint16_t *fault)
+{
+    offset_allow(d, 0.0, dc_meas, dc_ref, fault);
 }
 
 static void test_offset(void **state)
