@@ -155,7 +155,8 @@ typedef struct {
     _iq ws_min;               /* Q24 pu: the sequence tests run above this |w_s| */
     _iq bridge_allow;         /* Q24 pu flux, [0, CMC_BRIDGE_ALLOW_MAX]: the bridge's residual
                                  after the dead-time compensation, added to the UNBALANCE
-                                 level (current_model_check_set_bridge; 0 from init) */
+                                 and OFFSET levels (current_model_check_set_bridge; 0 from
+                                 init) */
     uint16_t seq_settle;      /* slow steps at speed before the sequence tests may trip */
     /* outputs */
     _iq r_alpha, r_beta;      /* Q24 pu flux: the residual r */
@@ -174,7 +175,10 @@ typedef struct {
     uint16_t at_speed;        /* slow steps with |w_s| > ws_min, saturating at seq_settle */
     uint16_t phase;           /* the sequence tests' half of the next window (0, 1) */
     uint16_t seq_due;         /* 1: the residual ran at speed, its half is still to run */
-    _iq thr;                  /* Q24 pu flux: the last residual's MISMATCH level (< 6) */
+    _iq thr;                  /* Q24 pu flux: the last residual's MISMATCH level (< 6): the
+                                 fast test's (at speed); abs(r)'s is thr + r_allow_emf */
+    _iq neg_level2, dc_level2;/* Q24 pu^2: the last sequence test's UNBALANCE and OFFSET
+                                 levels, squared as compared (< 11, < 25) */
     _iq i_alpha_prev, i_beta_prev, psi_alpha_prev, psi_beta_prev;
 } current_model_check_t;
 

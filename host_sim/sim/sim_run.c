@@ -156,32 +156,29 @@ static void observe_protection(const drive_t *d, sim_result_t *r, double t)
             r->t_max_cmc_r_s = t;
         }
         {
-            /* MISMATCH's two tests (current_model_check.c): abs(r) against the level
-             * with the back-EMF allowance, and at speed the part the positive
-             * sequence has not followed against the level without it */
-            double thr = (double)_IQtoF(m->sigma_ls) * (double)_IQtoF(m->r_max) +
-                         (double)_IQtoF(m->r_allow);
-            double u = sqrt((double)_IQtoF(m->r2)) / (thr + (double)_IQtoF(m->r_allow_emf));
+            /* each test against the level it was compared with (the check keeps
+             * them): abs(r) against MISMATCH's with the back-EMF allowance; at
+             * speed the part the positive sequence has not followed against the
+             * level without it, UNBALANCE, OFFSET */
+            double thr_all = (double)_IQtoF(m->thr) + (double)_IQtoF(m->r_allow_emf);
+            double u = (thr_all > 0.0) ? sqrt((double)_IQtoF(m->r2)) / thr_all : 0.0;
             if (m->at_speed >= m->seq_settle) {
-                u = fmax(u, sqrt((double)_IQtoF(m->q2)) / thr);
+                if (m->thr > 0) {
+                    u = fmax(u, sqrt((double)_IQtoF(m->q2)) / (double)_IQtoF(m->thr));
+                }
+                if (m->neg_level2 > 0 && m->dc_level2 > 0) {
+                    double un = sqrt((double)_IQtoF(m->neg2) / (double)_IQtoF(m->neg_level2));
+                    double ud = sqrt((double)_IQtoF(m->dc2) / (double)_IQtoF(m->dc_level2));
+                    if (un > r->max_cmc_util_neg) {
+                        r->max_cmc_util_neg = un;
+                    }
+                    if (ud > r->max_cmc_util_dc) {
+                        r->max_cmc_util_dc = ud;
+                    }
+                }
             }
             if (m->active != 0u && u > r->max_cmc_util_r) {
                 r->max_cmc_util_r = u;
-            }
-        }
-        if (m->at_speed >= m->seq_settle) {
-            double leak = (double)CMC_LEAK * (fabs((double)_IQtoF(m->pos_d)) + fabs((double)_IQtoF(m->pos_q)));
-            double leak_neg = leak + (double)_IQtoF(m->bridge_allow);
-            double kn = fmin(sls * (double)_IQtoF(m->k_neg), 1.0);
-            double nthr = sqrt(kn * kn * imag * imag + leak_neg * leak_neg);
-            double dthr = rs * (double)_IQtoF(m->d_max_tau) + leak_neg;
-            double un = sqrt((double)_IQtoF(m->neg2)) / nthr;
-            double ud = sqrt((double)_IQtoF(m->dc2)) / dthr;
-            if (un > r->max_cmc_util_neg) {
-                r->max_cmc_util_neg = un;
-            }
-            if (ud > r->max_cmc_util_dc) {
-                r->max_cmc_util_dc = ud;
             }
         }
         if (m->at_speed >= m->seq_settle && imag > 0.05) {

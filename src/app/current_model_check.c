@@ -146,11 +146,14 @@ static void sequences(current_model_check_t *c)
         const _iq kn = _IQsat(_IQmpy(sls, c->k_neg), _IQ(1.0), 0);
         const _iq kd = _IQmpy(rs, c->d_max_tau) + leak_neg;
         const _iq n2 = _IQmpy(_IQmpy(kn, kn), _IQmpy(i_a, i_a) + _IQmpy(i_b, i_b));
-        if (c->neg2 > n2 + _IQmpy(leak_neg, leak_neg)) {
+        /* kept for the caller's margins (the tests compare with these) */
+        c->neg_level2 = n2 + _IQmpy(leak_neg, leak_neg);
+        c->dc_level2 = _IQmpy(kd, kd);
+        if (c->neg2 > c->neg_level2) {
             c->fault = 1u;
             c->cause |= CMC_UNBALANCE;
         }
-        if (c->dc2 > _IQmpy(kd, kd)) {
+        if (c->dc2 > c->dc_level2) {
             c->fault = 1u;
             c->cause |= CMC_OFFSET;
         }
