@@ -8,7 +8,7 @@
  * buffer (a live CCS graph).  A sample is stored in 16 bits, as TI's DLOG_4CH
  * does: channel c as Q15 of the signal over its full scale 2^fs_exp[c] pu
  * (datalog_set_full_scale; default 2 pu), saturating at +-full scale, so that
- * 4 x DLOG_SIZE samples take 4 x 256 = 1024 words of RAM instead of 2048.  Armed, it keeps writing and watches channel 0
+ * 4 x DLOG_SIZE samples take 4 x 128 = 512 words of RAM instead of 1024.  Armed, it keeps writing and watches channel 0
  * for an upward crossing of `trig_level`; after the trigger it writes
  * DLOG_SIZE/2 more samples and freezes, so the frozen buffer holds half a
  * buffer before and half after the trigger, oldest first from `first`.
@@ -20,7 +20,11 @@
 #include "IQmathLib.h"
 
 #define DLOG_CHANNELS 4u
-#define DLOG_SIZE     256u   /* 4 x 256 x 16 bit = 1024 words of RAM; a power of two */
+/* 4 x 128 x 16 bit = 512 words of RAM; a power of two.  128, not 256: the
+ * on-chip RAM keeps 30 % of every block spare with it (linker/F2812_flash.cmd,
+ * tools/bench_size.py); `prescale` stretches the window (128 samples at the
+ * log slot's 1.875 kHz = 68 ms; prescale 8: 0.55 s) */
+#define DLOG_SIZE     128u
 #define DLOG_FS_EXP_DEFAULT 1   /* full scale 2^1 = 2 pu */
 #define DLOG_FS_EXP_MIN (15 - GLOBAL_Q)   /* full scale 2^-9 pu in Q24: a shift of 0 */
 #define DLOG_FS_EXP_MAX (29 - GLOBAL_Q)   /* full scale 32 pu in Q24: a shift of 14 */

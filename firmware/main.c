@@ -35,13 +35,14 @@
 static drive_t g_drive;
 #pragma DATA_SECTION(g_dlog, "dlog")
 static datalog_t g_dlog;
-/* The background's own state is in M0/M1 with the stack (`bgdata`): L0/L1,
- * which runs the ISR path, keeps its data part for the state the ISR uses. */
+/* The background's own state (`bgdata`) is in H0's data part beside the data
+ * log: L0/L1's data part keeps the state the ISR uses, M0/M1 the stack alone
+ * (linker/F2812_flash.cmd, 30 % of every block spare). */
 #pragma DATA_SECTION(g_bg, "bgdata")
 static bg_loop_t g_bg;   /* telemetry rings, frame timer, button edge */
 
-/* data log: every 2nd sample (7.5 kS/s, 34 ms of history), trigger when i_T
- * rises through 0.1 pu */
+/* data log: every 2nd slow ISR of the log slot (1.875 kHz / 2 = 938 S/s,
+ * DLOG_SIZE 128: 137 ms of history), trigger when i_T rises through 0.1 pu */
 #define DLOG_PRESCALE    2u
 
 static void halt_on_config_error(void)

@@ -19,7 +19,7 @@
  * the same name in two files is matched in both (a few words more in RAM).
  * The firmware's own ISR functions are in `ramfuncs` by #pragma CODE_SECTION
  * (checked by the same test); TI's IQmath functions by the IQmath section.
- * 71 functions.
+ * 61 functions.
  */
 *(.text:_angle_acc_pu)
 *(.text:_angle_acc_step)
@@ -39,9 +39,6 @@
 *(.text:_drive_isr)
 *(.text:_drive_safety_fast)
 *(.text:_drive_safety_modulate)
-*(.text:_drive_safety_test_period)
-*(.text:_drive_test_voltage)
-*(.text:_drive_vi_modulate)
 *(.text:_encoder_check_jump)
 *(.text:_frame_from_ifo)
 *(.text:_ident_in)
@@ -55,17 +52,12 @@
 *(.text:_iq_round_half)
 *(.text:_isr_body)
 *(.text:_isr_monitor_step)
-*(.text:_judge)
 *(.text:_modulate)
 *(.text:_orient)
 *(.text:_orient_ifo)
 *(.text:_park_rotate)
-*(.text:_pc_load_offset)
-*(.text:_phase_current_cal_start)
-*(.text:_phase_current_cal_step)
 *(.text:_phase_current_rail_bits)
 *(.text:_phase_current_step)
-*(.text:_phase_unit)
 *(.text:_pi_reset)
 *(.text:_pi_step_in)
 *(.text:_protect)
@@ -76,10 +68,8 @@
 *(.text:_qep_angle_step)
 *(.text:_qep_diff)
 *(.text:_qep_wrap)
-*(.text:_sat4)
 *(.text:_sat_in)
 *(.text:_sense)
-*(.text:_sensor_test_step)
 *(.text:_set_outputs_off)
 *(.text:_standstill_z_step)
 *(.text:_svgen_compare)
@@ -92,3 +82,24 @@
 *(.text:_volt_calc_step)
 *(.text:_volt_calc_zone)
 *(.text:_voltage_model)
+/*
+ * The control ISR's FLASH set: functions that run only in CALIBRATE, on a state
+ * change, after a fault, or once per slow period (tools/bench_size.py
+ * FLASH_ROOTS says why, each).
+ * The flash image runs them from flash (.text, not named here; their wait
+ * states costed by tools/bench_isr.py); the RAM image defines
+ * ISR_FLASH_SET_IN_RAM and keeps them on chip with the rest of this set.
+ * 10 functions.
+ */
+#ifdef ISR_FLASH_SET_IN_RAM
+*(.text:_drive_safety_test_period)
+*(.text:_drive_test_voltage)
+*(.text:_drive_vi_modulate)
+*(.text:_judge)
+*(.text:_pc_load_offset)
+*(.text:_phase_current_cal_start)
+*(.text:_phase_current_cal_step)
+*(.text:_phase_unit)
+*(.text:_sat4)
+*(.text:_sensor_test_step)
+#endif

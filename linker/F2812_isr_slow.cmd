@@ -16,13 +16,10 @@
  * name).  Symbol names: COFF ABI prefixes C names with '_', EABI does not
  * (SPRU514 "COFF ABI vs EABI").  This file: --abi=coffabi.  A static function of
  * the same name in two files is matched in both (a few words more in RAM).
- * 85 functions.
+ * 60 functions.
  */
-*(.text:_angle_acc_from_pu)
 *(.text:_bw_filter_step)
 *(.text:_bw_filter_update)
-*(.text:_calibrate_phase)
-*(.text:_capture)
 *(.text:_check_current)
 *(.text:_clamp)
 *(.text:_clear_state)
@@ -34,39 +31,27 @@
 *(.text:_drive_adapt_slow)
 *(.text:_drive_adapt_track)
 *(.text:_drive_get_log_signals)
-*(.text:_drive_ifo_frame)
 *(.text:_drive_log_due)
 *(.text:_drive_safety_latch_cmc)
 *(.text:_drive_safety_seq)
 *(.text:_drive_safety_slow)
 *(.text:_drive_safety_stall)
 *(.text:_drive_safety_state)
-*(.text:_drive_set_run_ifo)
 *(.text:_drive_slow_isr)
 *(.text:_drive_slow_task)
-*(.text:_drive_vi_slow)
 *(.text:_encoder_check_frozen)
-*(.text:_enter)
 *(.text:_estim_asr32)
 *(.text:_estim_count)
-*(.text:_flux_obs_apply_model)
-*(.text:_flux_obs_apply_seat)
-*(.text:_flux_obs_reset)
 *(.text:_flux_obs_step_a)
 *(.text:_flux_obs_step_b)
-*(.text:_id_sequence_step)
 *(.text:_ident_mean)
 *(.text:_ident_regressor_filter_a)
 *(.text:_ident_regressor_filter_b)
 *(.text:_ident_regressor_filter_c)
-*(.text:_ifo_align)
-*(.text:_ifo_apply_tr)
 *(.text:_ifo_update_slip_gain)
 *(.text:_low_pass)
 *(.text:_mismatch)
 *(.text:_model_inputs)
-*(.text:_model_ready)
-*(.text:_pi_apply_gains)
 *(.text:_pi_step)
 *(.text:_publish_guard_tick)
 *(.text:_qep_mean_speed)
@@ -80,15 +65,9 @@
 *(.text:_sequences)
 *(.text:_slow_run)
 *(.text:_speed_loop)
-*(.text:_stall_check_decide)
 *(.text:_stall_check_implausible)
 *(.text:_stall_check_window_step)
-*(.text:_standstill)
-*(.text:_standstill_z_samples)
-*(.text:_standstill_z_start)
-*(.text:_state_change)
 *(.text:_svgen_set_vdc)
-*(.text:_take_set)
 *(.text:_task_checks)
 *(.text:_task_filters_a)
 *(.text:_task_filters_c)
@@ -97,12 +76,44 @@
 *(.text:_task_sequence)
 *(.text:_task_speed)
 *(.text:_telemetry)
-*(.text:_tr_track_restart)
 *(.text:_tr_track_step)
+*(.text:_window_mean)
+/*
+ * The slow ISR's FLASH set: functions that run only in CALIBRATE, on a state
+ * change, after a fault, or once per slow period (tools/bench_size.py
+ * FLASH_ROOTS says why, each).
+ * The flash image runs them from flash (.text, not named here; their wait
+ * states costed by tools/bench_isr.py); the RAM image defines
+ * ISR_FLASH_SET_IN_RAM and keeps them on chip with the rest of this set.
+ * 25 functions.
+ */
+#ifdef ISR_FLASH_SET_IN_RAM
+*(.text:_angle_acc_from_pu)
+*(.text:_calibrate_phase)
+*(.text:_capture)
+*(.text:_drive_ifo_frame)
+*(.text:_drive_set_run_ifo)
+*(.text:_drive_vi_slow)
+*(.text:_enter)
+*(.text:_flux_obs_apply_model)
+*(.text:_flux_obs_apply_seat)
+*(.text:_flux_obs_reset)
+*(.text:_id_sequence_step)
+*(.text:_ifo_align)
+*(.text:_ifo_apply_tr)
+*(.text:_model_ready)
+*(.text:_pi_apply_gains)
+*(.text:_stall_check_decide)
+*(.text:_standstill)
+*(.text:_standstill_z_samples)
+*(.text:_standstill_z_start)
+*(.text:_state_change)
+*(.text:_take_set)
+*(.text:_tr_track_restart)
 *(.text:_vi_curve_step)
 *(.text:_volt_calc_apply_curve)
 *(.text:_window_add)
-*(.text:_window_mean)
+#endif
 /*
  * TI's IQmath functions the ISR reaches: the members of C2000Ware's
  * IQmath_coff.lib that hold them (one function per member, IQ<N><op>.obj).

@@ -22,7 +22,13 @@
  *   L0+L1 8K   ramfuncs (RAML0L1) and .ebss (RAML0L1_DATA)
  *   H0 8K      codestart (boot-to-H0 entry, 2 words), ramfuncs_slow
  *              (RAMH0) and dlog (RAMH0_DATA)
- *   M0+M1 2K   .stack (0x480), bgdata and .esysmem (no heap)
+ *   M0+M1 2K   .stack (0x500), bgdata and .esysmem (no heap)
+ * with one difference: the ISR path's FLASH set (the functions the flash
+ * image runs from flash: CALIBRATE-only, state changes, faults, the
+ * sequence's step; tools/bench_size.py FLASH_ROOTS) is on chip here too
+ * (ISR_FLASH_SET_IN_RAM, below): zone 6 at the XINTF's reset timing would
+ * cost far more than flash.  So this debug image keeps less than 30 % of its
+ * RAM blocks spare (CTest target_ram_fit_ram_image checks 10 %).
  *   XINTF 6    .text, IQmath, .cinit, .pinit, .switch, .econst
  * On a board without external RAM use the flash image.  How to load: CCS
  * "Load Program" of the FIRMWARE_IMAGE=ram build (the loader sets the PC to
@@ -34,8 +40,8 @@ MEMORY
 {
 PAGE 0 :
    BEGINH0    : origin = 0x3F8000, length = 0x000002   /* boot-to-H0 entry */
-   RAML0L1    : origin = 0x008000, length = 0x001340   /* L0 + first 832 words of L1: ramfuncs */
-   RAMH0      : origin = 0x3F8002, length = 0x001AFE   /* H0 after BEGINH0 up to 0x3F9AFF: ramfuncs_slow */
+   RAML0L1    : origin = 0x008000, length = 0x001200   /* L0 + first 512 words of L1: ramfuncs */
+   RAMH0      : origin = 0x3F8002, length = 0x001CFE   /* H0 after BEGINH0 up to 0x3F9CFF: ramfuncs_slow */
    XRAM6      : origin = 0x100000, length = 0x010000   /* external SRAM, XINTF zone 6 */
    CSM_PWL    : origin = 0x3F7FF8, length = 0x000008   /* CsmPwlFile (F2812_headers.cmd) */
    IQTABLES   : origin = 0x3FF000, length = 0x000B50
@@ -43,9 +49,12 @@ PAGE 0 :
 
 PAGE 1 :
    RAMM0M1    : origin = 0x000000, length = 0x000800   /* M0 + M1 SARAM */
-   RAML0L1_DATA : origin = 0x009340, length = 0x000CC0 /* rest of L1: .ebss */
-   RAMH0_DATA : origin = 0x3F9B00, length = 0x000500   /* last 1.25K of H0: dlog */
+   RAML0L1_DATA : origin = 0x009200, length = 0x000E00 /* rest of L1: .ebss */
+   RAMH0_DATA : origin = 0x3F9D00, length = 0x000300   /* last 0.75K of H0: dlog */
 }
+
+/* the ISR path's flash set on chip (the #ifdef blocks of the two includes) */
+#define ISR_FLASH_SET_IN_RAM
 
 SECTIONS
 {

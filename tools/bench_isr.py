@@ -25,7 +25,10 @@ board; BENCHMARKS.md section b states every assumption):
     attributed must cover every call the counted library saw (checked: more
     only where both arms of a ?: are costed); a line's executions are those
     of the basic block it is in (gcov -a), a statement over several lines is
-    costed once, on its first; plus
+    costed once, on its first; a line of the ISR path's FLASH set (the
+    functions the flash image runs from flash: the `#ifdef
+    ISR_FLASH_SET_IN_RAM` blocks of linker/F2812_isr_*.cmd) at FLASH_FACTOR
+    times that, and FLASH_ENTRY per entry into such a function; plus
     the fixed part
     that the host build does not run: the interrupt entry and exit, and the
     firmware's own ISR code and HAL (firmware/isr.c, hal_*_f2812.c,
@@ -103,6 +106,21 @@ ISR_ENTRY_EXIT = 80
 # peripheral frame 1/2 registers (ADC, EV, PIE, SCI): 2 wait states on a
 # read, 0 on a write (SPRS174, "Wait states"); every access charged as a read
 PERIPH_WAIT = 2
+
+# the ISR path's FLASH set runs from flash in the flash image (tools/bench_size.py
+# FLASH_ROOTS: only in CALIBRATE, on a state change, after a fault, or the
+# sequence's step once per slow period): the
+# functions named in the `#ifdef ISR_FLASH_SET_IN_RAM` blocks of the generated
+# linker includes.  Their lines cost FLASH_FACTOR times as much: TI measured
+# code from the F28x flash (5 wait states, pipeline on, 150 MHz) at 62 % of
+# the speed from SARAM (PID benchmark, TI's "Concerto control subsystem"
+# training, F05 flash as the F2812's): 1 / 0.62 = 1.61, rounded up to 2.
+# Each entry costs FLASH_ENTRY more: the prefetch starts cold, two random
+# 64-bit reads of 1 + RANDWAIT 5 cycles (firmware/flash.c's wait states).
+FLASH_FACTOR = 2.0
+FLASH_ENTRY = 12
+FLASH_SET_INCLUDES = ("linker/F2812_isr_path.cmd", "linker/F2812_isr_slow.cmd")
+FLASH_SET_BLOCK = re.compile(r"^#ifdef ISR_FLASH_SET_IN_RAM$(.*?)^#endif$", re.S | re.M)
 
 # the firmware's ISR path the host build does not run: (file, function)
 FIRMWARE_ISR = (("firmware/isr.c", "isr_control"), ("firmware/isr.c", "isr_elapsed"),
@@ -280,21 +298,57 @@ def inline_functions():
 
 def function_body(path, name):
     """The lines of C function `name` in `path` (comments blanked), or error."""
-    src = strip_comments((ROOT / path).read_text().splitlines())
-    text = "\n".join(src)
-    m = re.search(r"^[^\n;{}]*\b" + re.escape(name) + r"\s*\([^;{]*\)\s*\{", text, re.M)
-    if m is None:
+    spans = body_span(ROOT / path, name)
+    if not spans:
         raise BenchError(f"{path}: function {name} not found (update FIRMWARE_ISR)")
-    depth, i = 0, m.end() - 1
-    while i < len(text):
-        if text[i] == "{":
-            depth += 1
-        elif text[i] == "}":
-            depth -= 1
-            if depth == 0:
-                break
-        i += 1
-    return text[m.end():i].splitlines()
+    first, last = spans[0]
+    src = strip_comments((ROOT / path).read_text().splitlines())
+    # the body between the braces: the rest of the header's line after `{`,
+    # the lines between, the closing line before `}`
+    text = "\n".join(src[first - 1:last])
+    return text[text.index("{", text.index(name)) + 1:text.rindex("}")].splitlines()
+
+
+def body_span(path, name):
+    """[(first, last)] 1-based line numbers of every body of C function `name`
+    in `path` (a static function of the same name may be defined in several
+    files; the linker's input-section name matches them all)."""
+    src = strip_comments(Path(path).read_text().splitlines())
+    text = "\n".join(src)
+    spans = []
+    for m in re.finditer(r"^[^\n;{}]*\b" + re.escape(name) + r"\s*\([^;{]*\)\s*\{", text, re.M):
+        depth, i = 0, m.end() - 1
+        while i < len(text):
+            if text[i] == "{":
+                depth += 1
+            elif text[i] == "}":
+                depth -= 1
+                if depth == 0:
+                    break
+            i += 1
+        spans.append((text.count("\n", 0, m.start()) + 1, text.count("\n", 0, i) + 1))
+    return spans
+
+
+def flash_lines():
+    """{path: [(first, last)]}: the bodies of the flash set's functions, which
+    the flash image runs from flash (the linker includes name them)."""
+    names = set()
+    for inc in FLASH_SET_INCLUDES:
+        for blk in FLASH_SET_BLOCK.findall((ROOT / inc).read_text()):
+            names |= {n.lstrip("_") for n in re.findall(r"\(\.text:(\w+)\)", blk)}
+    out, found = {}, set()
+    for f in sorted(list((ROOT / "src").rglob("*.[ch]")) + list((ROOT / "include").glob("*.h"))):
+        text = f.read_text()
+        for n in names:
+            if n in text:
+                spans = body_span(f, n)
+                if spans:
+                    out.setdefault(str(f), []).extend(spans)
+                    found.add(n)
+    if names - found:
+        raise BenchError(f"flash-set functions not found in src/ or include/: {sorted(names - found)}")
+    return out, sorted(names)
 
 
 def firmware_cost(inl):
@@ -408,6 +462,7 @@ def parse_dump(args):
 class LineCoster:
     def __init__(self):
         self.inl = inline_functions()
+        self.flash, self.flash_names = flash_lines()
         self.src = {}
         self.cache = {}
         self.executable = {}   # path -> the lines gcov counts on their own
@@ -460,6 +515,15 @@ class LineCoster:
         total, mods, hot = 0.0, {}, []
         for path, d in lines.items():
             mod = STEM_MODULE.get(Path(path).stem, GLUE)
+            spans = self.flash.get(path, ())
+            for a, b in spans:
+                # entering a flash function: the count of its first executed line
+                run = [(ln, n) for ln, n in d.items() if a <= ln <= b and n]
+                if run:
+                    c = FLASH_ENTRY * min(run)[1]
+                    total += c
+                    mods[mod] = mods.get(mod, 0.0) + c
+                    hot.append((c, f"{Path(path).relative_to(ROOT)}:{a}", "(flash entry)"))
             for ln, n in d.items():
                 if n == 0:
                     continue
@@ -470,6 +534,8 @@ class LineCoster:
                     for op, k in ops.get("iq", {}).items():
                         iq_calls[op] = iq_calls.get(op, 0) + k * n
                 c = line_cycles(ops) * n
+                if any(a <= ln <= b for a, b in spans):
+                    c *= FLASH_FACTOR
                 if c:
                     total += c
                     mods[mod] = mods.get(mod, 0.0) + c

@@ -41,17 +41,19 @@ static int32_t sample_of(int16_t v)
 static void test_free_running_wraps(void **state)
 {
     int32_t k;
+    const int32_t n = (int32_t)DLOG_SIZE;
     (void)state;
     assert_int_equal(datalog_init(&s_d, 1u, _IQ(0.0)), 0);
     scale8(&s_d);
-    for (k = 0; k < 300; k++) {
+    for (k = 0; k < n + 44; k++) {
         feed(&s_d, k);
     }
-    /* 300 writes into 256 slots: slot i holds sample 256 + i for i < 44 */
+    /* n + 44 writes into n slots: slot i holds sample n + i for i < 44, the
+     * first pass's sample from slot 44 on */
     assert_int_equal(s_d.state, DLOG_FREE);
-    assert_int_equal(s_d.idx, 300 - 256);
-    assert_int_equal(sample_of(s_d.buf[0][0]), 256);
-    assert_int_equal(sample_of(s_d.buf[0][43]), 299);
+    assert_int_equal(s_d.idx, 44);
+    assert_int_equal(sample_of(s_d.buf[0][0]), n);
+    assert_int_equal(sample_of(s_d.buf[0][43]), n + 43);
     assert_int_equal(sample_of(s_d.buf[0][44]), 44);
     assert_int_equal(sample_of((int16_t)(s_d.buf[3][44] - 3 * 4096)), 44);
 }
@@ -59,6 +61,7 @@ static void test_free_running_wraps(void **state)
 static void test_trigger_centres_the_capture(void **state)
 {
     int32_t k, i;
+    const int32_t half = (int32_t)(DLOG_SIZE / 2u);
     (void)state;
     /* prescale 2, trigger when channel 0 rises through sample 600 / 1024 */
     assert_int_equal(datalog_init(&s_d, 2u, _IQmpyI32(_IQ(0.0009765625), 600)), 0);
@@ -72,16 +75,16 @@ static void test_trigger_centres_the_capture(void **state)
     }
     assert_int_equal(s_d.state, DLOG_DONE);
     /* writes happen at odd k (skip reaches 2 on the 2nd call); the first
-     * write >= 600 is k = 601; then 128 more writes: last k = 601 + 2*128 */
-    assert_int_equal(k, 601 + 2 * 128 + 1);
+     * write >= 600 is k = 601; then DLOG_SIZE/2 more writes: last k = 601 + 2*half */
+    assert_int_equal(k, 601 + 2 * half + 1);
     for (i = 0; i < (int32_t)DLOG_SIZE; i++) {
         uint16_t slot = (uint16_t)((s_d.first + (uint16_t)i) % DLOG_SIZE);
-        /* oldest first: 127 writes before the trigger, the trigger, 128 after */
-        assert_int_equal(sample_of(s_d.buf[0][slot]), 601 + 2 * (i - 127));
+        /* oldest first: half - 1 writes before the trigger, the trigger, half after */
+        assert_int_equal(sample_of(s_d.buf[0][slot]), 601 + 2 * (i - (half - 1)));
     }
     /* frozen: more input changes nothing */
     feed(&s_d, 5000);
-    assert_int_equal(sample_of(s_d.buf[0][s_d.first]), 601 - 2 * 127);
+    assert_int_equal(sample_of(s_d.buf[0][s_d.first]), 601 - 2 * (half - 1));
 }
 
 static void test_no_trigger_on_falling(void **state)
@@ -101,7 +104,7 @@ static void test_no_trigger_on_falling(void **state)
 static void test_sixteen_bits_saturate(void **state)
 {
     (void)state;
-    /* 1024 words of samples, not 2048 */
+    /* 16-bit samples: 4 x DLOG_SIZE words, not twice that */
     assert_int_equal(sizeof s_d.buf, DLOG_CHANNELS * DLOG_SIZE * sizeof(int16_t));
     assert_int_equal(datalog_init(&s_d, 1u, _IQ(0.5)), 0);
     assert_int_equal(s_d.fs_exp[2], DLOG_FS_EXP_DEFAULT);

@@ -140,7 +140,9 @@ RAM_CODE = {
 INPUT_SPEC = re.compile(r"^\*\(\.text:\w+\)$"
                         # TI's IQmath functions of the ISR path: members of the library
                         r"|^-l \w+\.lib<[\w. ]+> \(IQmath\)$|^\*\(IQmath\)$"
-                        r"|^#ifndef IQMATH_WHOLE_IN_RAM$|^#else$|^#endif$")
+                        r"|^#ifndef IQMATH_WHOLE_IN_RAM$|^#else$|^#endif$"
+                        # the flash set: on chip in the RAM image only (bench_size.py)
+                        r"|^#ifdef ISR_FLASH_SET_IN_RAM$")
 IQMATH_MEMBERS = re.compile(r"^-l \w+\.lib<[\w. ]+> \(IQmath\)$", re.M)
 
 
@@ -330,6 +332,20 @@ SECTIONS {
         print("%-24s %s" % (what, "rejected: " + e[0] if e else "NOT REJECTED"))
         if not e:
             return 1
+    # the flash set's block (on chip only where ISR_FLASH_SET_IN_RAM is defined)
+    inc_f = dict(inc)
+    inc_f["F2812_isr_path.cmd"] = (inc["F2812_isr_path.cmd"] + "#ifdef ISR_FLASH_SET_IN_RAM\n"
+                                   "*(.text:_sensor_test_step)\n#endif\n")
+    if check([("flash set", good)], inc_f):
+        print("self-test: the flash-set snippet was rejected:", check([("flash set", good)], inc_f))
+        return 1
+    inc_x = dict(inc_f)
+    inc_x["F2812_isr_path.cmd"] = inc_f["F2812_isr_path.cmd"].replace(
+        "ISR_FLASH_SET_IN_RAM", "SOMETHING_ELSE")
+    e = check([("other #ifdef", good)], inc_x)
+    print("%-24s %s" % ("other #ifdef", "rejected: " + e[0] if e else "NOT REJECTED"))
+    if not e:
+        return 1
     failed = 0
     for what, text in bad.items():
         e = check([(what, text)], inc)
