@@ -39,9 +39,9 @@
  *             named at the end of F2812_isr_slow.cmd; TI's IQmath examples
  *             run IQmath from RAM too: 2812_IQmath_lnk.cmd); the IQmath
  *             functions only the background calls stay in flash (IQmath).
- *             RAMH0_DATA: dlog (the data log, 16-bit samples, fixed
- *             address for the CCS graph window: 0x3F9A00) and bgdata (the
- *             background's state: telemetry rings, frame timer; main.c).
+ *             RAMH0_DATA: dlog (the data log, 16-bit samples; a CCS
+ *             graph takes its address from the symbol g_dlog) and bgdata
+ *             (the background's state: telemetry rings, frame timer; main.c).
  *   M0+M1 2K  .stack alone (--stack_size=0x500 in firmware/CMakeLists.txt:
  *             the estimate / 0.7; the stack pointer is 16 bits, so the stack
  *             must be in the low 64K words: M0/M1 or L0/L1, SPRU430; the
@@ -70,7 +70,7 @@ MEMORY
 {
 PAGE 0 :   /* program */
    RAML0L1    : origin = 0x008000, length = 0x001040   /* L0 + first 64 words of L1: ramfuncs RUN */
-   RAMH0      : origin = 0x3F8000, length = 0x001A00   /* first 6.5K of H0: ramfuncs_slow RUN */
+   RAMH0      : origin = 0x3F8000, length = 0x001A80   /* first 6.625K of H0: ramfuncs_slow RUN */
    OTP        : origin = 0x3D7800, length = 0x000400   /* 1K OTP, not used */
    FLASHJ     : origin = 0x3D8000, length = 0x002000
    FLASHI     : origin = 0x3DA000, length = 0x002000
@@ -91,7 +91,7 @@ PAGE 0 :   /* program */
 PAGE 1 :   /* data */
    RAMM0M1    : origin = 0x000000, length = 0x000800   /* M0 + M1 SARAM */
    RAML0L1_DATA : origin = 0x009040, length = 0x000FC0 /* rest of L1: .ebss */
-   RAMH0_DATA : origin = 0x3F9A00, length = 0x000600   /* last 1.5K of H0: dlog, bgdata */
+   RAMH0_DATA : origin = 0x3F9A80, length = 0x000580   /* last 1.375K of H0: dlog, bgdata */
 }
 
 SECTIONS

@@ -16,8 +16,9 @@
  * name).  Symbol names: COFF ABI prefixes C names with '_', EABI does not
  * (SPRU514 "COFF ABI vs EABI").  This file: --abi=coffabi.  A static function of
  * the same name in two files is matched in both (a few words more in RAM).
- * 60 functions.
+ * 61 functions.
  */
+*(.text:_at_voltage_limit)
 *(.text:_bw_filter_step)
 *(.text:_bw_filter_update)
 *(.text:_check_current)

@@ -21,5 +21,6 @@ current_check_status_t current_check_init(current_check_t *c, float Ts_s, float 
 void current_check_reset(current_check_t *c)
 {
     c->e_f = _IQ(0.0);
+    c->limited = 0u;
     c->fault = 0u;
 }

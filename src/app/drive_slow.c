@@ -126,8 +126,23 @@ static void telemetry(drive_t *d)
  * filter needs no more than this slot's rate).  A trip latches the fault,
  * and the bridge is off in this same period (drive_slow_isr switches it off
  * after the slow task). */
+/* The loops' voltage at the bus's limit: the vector the modulator got last
+ * (svgen's input, the dead-time feed-forward included) within 5 % of the
+ * hexagon's inscribed circle vdc / sqrt 3.  Below the circle the loops still
+ * have a few % to act with: the bus ripple and the feed-forward's pole error
+ * E move the limit by that much.  Scaling: _IQmag of svgen's input range
+ * (|.| <= 32 pu) <= 45.3 pu, vdc < 128 pu times 0.55: Q24, no overflow. */
+#define DRIVE_VLIM_OF_VDC (0.95 / 1.7320508075688772)   /* headroom 0.95 / sqrt 3 */
+static inline uint16_t at_voltage_limit(const svgen_t *s)
+{
+    return (uint16_t)(_IQmag(s->ualpha, s->ubeta) >= _IQmpy(s->vdc, _IQ(DRIVE_VLIM_OF_VDC)));
+}
+
 static void check_current(drive_t *d)
 {
+    /* at the voltage limit the check holds (current_check.h): clamped onto
+     * the hexagon in a control ISR since the last step, or no headroom now */
+    d->cur_chk.limited |= at_voltage_limit(&d->svgen);
     d->cur_chk.i_m_ref = d->pi_id.ref;
     d->cur_chk.i_m = d->park.ds;
     d->cur_chk.i_t_ref = d->pi_iq.ref;

@@ -313,6 +313,9 @@ static inline void modulate(drive_t *d, hal_pwm_compare_t *out)
     /* the bus for the duties changes at the slow rate (drive_slow.c), so
      * that svgen divides once per slow period */
     svgen_step(&d->svgen);
+    /* the voltage clamped onto the hexagon: the current-feedback check
+     * holds until its next step (current_check.h) */
+    d->cur_chk.limited |= d->svgen.overmod;
     out->cmpr[0] = d->svgen.cmpr[0];
     out->cmpr[1] = d->svgen.cmpr[1];
     out->cmpr[2] = d->svgen.cmpr[2];

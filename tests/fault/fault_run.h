@@ -22,15 +22,17 @@
 #define FAULT_T_AFTER (2.0 + FAULT_VI_S)
 #define FAULT_RUN_S (2.5 + FAULT_VI_S)
 
-static inline int fault_run(const char *ini, const sim_fault_t *faults, unsigned n_faults,
-                     const sim_cmd_t *cmds, unsigned n_cmds, double duration_s,
-                     sim_config_t *cfg, sim_result_t *res)
+/* One run of `scenario` (fault_run: the start scenario). */
+static inline int fault_run_scenario(const char *ini, sim_scenario_t scenario,
+                                     const sim_fault_t *faults, unsigned n_faults,
+                                     const sim_cmd_t *cmds, unsigned n_cmds, double duration_s,
+                                     sim_config_t *cfg, sim_result_t *res)
 {
     sim_options_t opt;
     char err[256];
     unsigned i;
     memset(&opt, 0, sizeof opt);
-    opt.scenario = SCEN_START;
+    opt.scenario = scenario;
     opt.quiet = 1u;
     opt.duration_s = duration_s;
     for (i = 0; i < n_faults && i < SIM_MAX_FAULTS; i++) {
@@ -47,6 +49,14 @@ static inline int fault_run(const char *ini, const sim_fault_t *faults, unsigned
         return -1;
     }
     return 0;
+}
+
+static inline int fault_run(const char *ini, const sim_fault_t *faults, unsigned n_faults,
+                     const sim_cmd_t *cmds, unsigned n_cmds, double duration_s,
+                     sim_config_t *cfg, sim_result_t *res)
+{
+    return fault_run_scenario(ini, SCEN_START, faults, n_faults, cmds, n_cmds, duration_s,
+                              cfg, res);
 }
 
 #endif

@@ -153,6 +153,39 @@ static void test_current_check(void **state)
         }
     }
     assert_int_equal(trip_k, 21u);
+    /* at the voltage limit it holds: the same error with `limited` set
+     * before each step never trips and leaves e_f where it was; each step
+     * clears the flag, and without it the filter goes on from there */
+    {
+        current_check_t h;
+        assert_int_equal(current_check_init(&h, TS, 0.002f, 0.15f), CURRENT_CHECK_OK);
+        h.active = 1u;
+        h.i_m_ref = c.i_m_ref;
+        h.i_m = c.i_m;
+        h.i_t_ref = c.i_t_ref;
+        h.i_t = c.i_t;
+        for (k = 0u; k < 10u; k++) {
+            current_check_step(&h);           /* 10 of the 21 steps to the trip */
+        }
+        {
+            const _iq held = h.e_f;
+            for (k = 0u; k < 1000u; k++) {
+                h.limited = 1u;
+                current_check_step(&h);
+                assert_int_equal(h.limited, 0u);
+            }
+            assert_int_equal(h.fault, 0u);
+            assert_true(h.e_f == held);
+        }
+        for (k = 11u; k <= 21u && h.fault == 0u; k++) {
+            current_check_step(&h);
+        }
+        assert_int_equal(h.fault, 1u);
+        assert_int_equal(k - 1u, 21u);        /* the 21st unheld step, as above */
+        h.limited = 1u;
+        current_check_reset(&h);
+        assert_int_equal(h.limited, 0u);
+    }
     /* latched; the reset re-arms; inactive keeps the filter at 0 */
     current_check_step(&c);
     assert_int_equal(c.fault, 1u);
