@@ -96,6 +96,12 @@ typedef struct {
     _iq conf_amp;            /* Q24: its largest amplification (excitation) */
 } drive_telemetry_t;
 
+/** A parameter set (per unit, Q GLOBAL_Q; Tr Q20). */
+typedef struct {
+    _iq Rs, Rr, Lm, Lr, psi_r;
+    _iq20 Tr;
+} drive_params_t;
+
 /** drive_init results: 0 or the first configuration field found bad. */
 typedef enum {
     DRIVE_CFG_OK = 0,
@@ -167,5 +173,12 @@ void drive_set_speed(drive_t *d, _iq speed_pu);
 _iq drive_frame_angle(const drive_t *d);
 /** Copy the telemetry snapshot (safe to call from the background loop). */
 void drive_get_telemetry(const drive_t *d, drive_telemetry_t *t);
+/** The adaptive sequence's fused set (drive_background.c): the standstill
+ *  Rs, the tracker's Rr and Tr, the RLS's Lm, Lr, psi_r: what the drive
+ *  publishes when its verdict allows, and what a refusal concerned.  1 and
+ *  *s when the set exists (fused mode, its magnetic part extracted, Rs
+ *  measured, the tracker has an estimate); 0 and *s untouched otherwise.
+ *  Background context. */
+uint16_t drive_fused_set(const drive_t *d, drive_params_t *s);
 
 #endif /* DRIVE_H */

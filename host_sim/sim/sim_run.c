@@ -38,7 +38,7 @@ const char *sim_scenario_name(sim_scenario_t s)
 
 unsigned sim_scenario_count(void) { return (unsigned)(sizeof k_scen / sizeof k_scen[0]); }
 
-static void to_si(const base_values_t *b, const param_extract_t *p, sim_params_t *o)
+static void params_si(const base_values_t *b, const drive_params_t *p, sim_params_t *o)
 {
     o->Rs_ohm = (double)_IQtoF(p->Rs) * b->Z_base_ohm;
     o->Rr_ohm = (double)_IQtoF(p->Rr) * b->Z_base_ohm;
@@ -46,6 +46,12 @@ static void to_si(const base_values_t *b, const param_extract_t *p, sim_params_t
     o->Lr_H = (double)_IQtoF(p->Lr) * b->L_base_H;
     o->psi_r_Wb = (double)_IQtoF(p->psi_r) * b->psi_base_Wb;
     o->Tr_s = (double)_IQ20toF(p->Tr) * b->t_base_s;   /* Q20 */
+}
+
+static void to_si(const base_values_t *b, const param_extract_t *p, sim_params_t *o)
+{
+    const drive_params_t q = {p->Rs, p->Rr, p->Lm, p->Lr, p->psi_r, p->Tr};
+    params_si(b, &q, o);
 }
 
 static double pct(double est, double truth) { return 100.0 * (est - truth) / truth; }
@@ -79,12 +85,8 @@ static double converge_time(const live_row_t *rows, size_t n, const sim_params_t
 
 static void published_si(const base_values_t *b, const drive_telemetry_t *t, sim_params_t *o)
 {
-    o->Rs_ohm = (double)_IQtoF(t->Rs) * b->Z_base_ohm;
-    o->Rr_ohm = (double)_IQtoF(t->Rr) * b->Z_base_ohm;
-    o->Lm_H = (double)_IQtoF(t->Lm) * b->L_base_H;
-    o->Lr_H = (double)_IQtoF(t->Lr) * b->L_base_H;
-    o->psi_r_Wb = (double)_IQtoF(t->psi_r) * b->psi_base_Wb;
-    o->Tr_s = (double)_IQ20toF(t->Tr) * b->t_base_s;   /* Q20 */
+    const drive_params_t p = {t->Rs, t->Rr, t->Lm, t->Lr, t->psi_r, t->Tr};
+    params_si(b, &p, o);
 }
 
 static void errors_pct(const sim_params_t *v, const sim_params_t *truth, sim_params_t *e)
@@ -98,23 +100,17 @@ static void errors_pct(const sim_params_t *v, const sim_params_t *truth, sim_par
 }
 
 /* The fused set the drive judged and refused (nothing published): the
- * values publish_tracked (drive_background.c) would have written, so that a
- * refusal is judged on the set it concerned, not on the RLS's own Rr and Tr
- * that the fused set does not use.  0 when there was no such set. */
+ * drive's own fused set (drive_fused_set, what it would have published), so
+ * that a refusal is judged on the set it concerned, not on the RLS's own Rr
+ * and Tr that the fused set does not use.  0 when there was no such set. */
 static uint16_t refused_fused_si(const drive_t *d, sim_params_t *o)
 {
-    const drive_telemetry_t *t = &d->telemetry;
-    const base_values_t *b = &d->base;
-    if (d->adapt.fused == 0u || d->fused_ready == 0u || t->Rs_dc == _IQ(0.0) ||
-        t->Tr_track == 0 || t->publish_reason == (uint16_t)DRIVE_PUB_PENDING) {
+    drive_params_t f;
+    if (d->telemetry.publish_reason == (uint16_t)DRIVE_PUB_PENDING ||
+        drive_fused_set(d, &f) == 0u) {
         return 0u;
     }
-    o->Rs_ohm = (double)_IQtoF(t->Rs_dc) * b->Z_base_ohm;
-    o->Rr_ohm = (double)_IQtoF(t->Rr_track) * b->Z_base_ohm;
-    o->Lm_H = (double)_IQtoF(d->fused_lm) * b->L_base_H;
-    o->Lr_H = (double)_IQtoF(d->fused_lr) * b->L_base_H;
-    o->psi_r_Wb = (double)_IQtoF(d->fused_psi) * b->psi_base_Wb;
-    o->Tr_s = (double)_IQ20toF(t->Tr_track) * b->t_base_s;   /* Q20 */
+    params_si(&d->base, &f, o);
     return 1u;
 }
 

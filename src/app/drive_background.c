@@ -213,21 +213,39 @@ static uint16_t judge_fused(drive_t *d)
  * by ~2 delta, against ~w_r Tr delta for the RLS's K3, w_r Tr = 81 on the
  * 15 kW motor), Lm, Lr, psi_r from the RLS (K2, K4: the large back-EMF
  * terms).  Each value is one aligned 32-bit word the ISR writes whole. */
+uint16_t drive_fused_set(const drive_t *d, drive_params_t *s)
+{
+    const drive_telemetry_t *t = &d->telemetry;
+    if (d->adapt.fused == 0u || d->fused_ready == 0u || t->Rs_dc == _IQ(0.0) ||
+        t->Tr_track == 0) {
+        return 0u;
+    }
+    s->Rs = t->Rs_dc;
+    s->Rr = t->Rr_track;
+    s->Lm = d->fused_lm;
+    s->Lr = d->fused_lr;
+    s->psi_r = d->fused_psi;
+    s->Tr = t->Tr_track;
+    return 1u;
+}
+
 static void publish_tracked(drive_t *d)
 {
     drive_telemetry_t *t = &d->telemetry;
+    drive_params_t f;
     if (t->track_valid == 0u) {
         return;
     }
     if (d->adapt.fused != 0u) {
         /* every value from its well-conditioned source, or nothing */
-        if (d->fused_ready == 0u || t->Rs_dc == _IQ(0.0) ||
+        if (drive_fused_set(d, &f) == 0u ||
             t->publish_reason != (uint16_t)DRIVE_PUB_PUBLISHED) {
             return;   /* not yet, or refused (fused_verdict): the last good set stays */
         }
-        t->Lm = d->fused_lm;
-        t->Lr = d->fused_lr;
-        t->psi_r = d->fused_psi;
+        t->Lm = f.Lm;
+        t->Lr = f.Lr;
+        t->psi_r = f.psi_r;
+        /* and, below, its Rs, Rr, Tr: the standstill and tracked ones */
     } else if (t->params_valid == 0u) {
         return;
     } else {

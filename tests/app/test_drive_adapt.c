@@ -753,9 +753,48 @@ static void test_large_tr(void **state)
     g_dc = keep;
 }
 
+/* drive_fused_set: the fused set exactly as its four sources hold it, and
+ * only when each exists (the set publish_tracked publishes and a refusal
+ * reports) */
+static void test_fused_set(void **state)
+{
+    drive_t *d = &g_d;
+    drive_params_t f;
+    const drive_params_t untouched = {_IQ(-1.0), _IQ(-2.0), _IQ(-3.0), _IQ(-4.0), _IQ(-5.0),
+                                      _IQ20(-6.0)};
+    (void)state;
+    fresh(d, ID_RUN, 2u);
+    assert_int_equal(d->adapt.fused, 1u);   /* the adaptive configuration fuses */
+    d->fused_ready = 1u;
+    d->fused_lm = _IQ(1.9);
+    d->fused_lr = _IQ(2.0);
+    d->fused_psi = _IQ(0.95);
+    d->telemetry.Rs_dc = _IQ(0.031);
+    d->telemetry.Rr_track = _IQ(0.027);
+    d->telemetry.Tr_track = _IQ20(74.5);
+    assert_int_equal(drive_fused_set(d, &f), 1u);
+    assert_true(f.Rs == _IQ(0.031) && f.Rr == _IQ(0.027) && f.Tr == _IQ20(74.5));
+    assert_true(f.Lm == _IQ(1.9) && f.Lr == _IQ(2.0) && f.psi_r == _IQ(0.95));
+    /* each source missing in turn: 0, the caller's set untouched */
+    {
+        unsigned i;
+        for (i = 0u; i < 4u; i++) {
+            fresh(d, ID_RUN, 2u);
+            d->fused_ready = (uint16_t)(i != 0u);
+            d->telemetry.Rs_dc = (i != 1u) ? _IQ(0.031) : _IQ(0.0);
+            d->telemetry.Tr_track = (i != 2u) ? _IQ20(74.5) : 0;
+            d->adapt.fused = (uint16_t)(i != 3u);
+            f = untouched;
+            assert_int_equal(drive_fused_set(d, &f), 0u);
+            assert_memory_equal(&f, &untouched, sizeof f);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_fused_set),
         cmocka_unit_test(test_set_equals_init),
         cmocka_unit_test(test_mailbox_whole_sets),
         cmocka_unit_test(test_preemption),
