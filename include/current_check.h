@@ -22,8 +22,9 @@
  * maximum measured over every scenario are in drive_init.c).
  *
  * At the voltage limit the test holds (e_f kept, no update): while the
- * modulator clamps the loops' voltage onto the hexagon (svgen's overmod, in
- * any control ISR since the last step: `limited`), the currents cannot
+ * loops' voltage is at the bus's limit (`limited`, set by the caller: the
+ * drive ORs in svgen's overmod in every control ISR and, in the step's own
+ * slot, a vector within 5 % of vdc / sqrt 3, drive_slow.c), the currents cannot
  * follow their references whatever the sensors do, and a tracking error is
  * the drive's own (measured: the paper's sequence on the 15 kW motor, whose
  * rotor warms by 40 % untracked, reaches 599 V / sqrt 3 and tripped here on
@@ -50,8 +51,8 @@ typedef struct {
     /* inputs (Q24, pu) */
     _iq i_m_ref, i_m, i_t_ref, i_t;
     uint16_t active;      /* 1 while the current loops run */
-    uint16_t limited;     /* sticky: OR-ed by the control ISR with svgen's overmod
-                             (the voltage on the hexagon); each step reads and clears it */
+    uint16_t limited;     /* sticky: the voltage was at the bus's limit since the last
+                             step (set by the caller, header); each step reads and clears it */
     /* parameters */
     _iq k_filt;           /* Q24: a = 1 - exp(-Ts/tau) */
     _iq e_max;            /* Q24, pu */

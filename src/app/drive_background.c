@@ -206,13 +206,6 @@ static uint16_t judge_fused(drive_t *d)
     return DRIVE_PUB_PUBLISHED;
 }
 
-/* With the tracker valid (RUN, track_rr), the published set takes the
- * estimates that are well conditioned for each parameter (the fused set): Rs
- * from the standstill test (independent of the frame), Rr and Tr from the
- * tracker (the slip in the observer's frame: an angle error delta moves it
- * by ~2 delta, against ~w_r Tr delta for the RLS's K3, w_r Tr = 81 on the
- * 15 kW motor), Lm, Lr, psi_r from the RLS (K2, K4: the large back-EMF
- * terms).  Each value is one aligned 32-bit word the ISR writes whole. */
 uint16_t drive_fused_set(const drive_t *d, drive_params_t *s)
 {
     const drive_telemetry_t *t = &d->telemetry;
@@ -229,6 +222,13 @@ uint16_t drive_fused_set(const drive_t *d, drive_params_t *s)
     return 1u;
 }
 
+/* With the tracker valid (RUN, track_rr), the published set takes the
+ * estimates that are well conditioned for each parameter (the fused set): Rs
+ * from the standstill test (independent of the frame), Rr and Tr from the
+ * tracker (the slip in the observer's frame: an angle error delta moves it
+ * by ~2 delta, against ~w_r Tr delta for the RLS's K3, w_r Tr = 81 on the
+ * 15 kW motor), Lm, Lr, psi_r from the RLS (K2, K4: the large back-EMF
+ * terms).  Each value is one aligned 32-bit word the ISR writes whole. */
 static void publish_tracked(drive_t *d)
 {
     drive_telemetry_t *t = &d->telemetry;

@@ -121,11 +121,6 @@ static void telemetry(drive_t *d)
     t->vdc = d->bus.vdc;
 }
 
-/* Current feedback check: the M-T currents against the references the
- * current loops followed in the last period (current_check.h; its 2 ms
- * filter needs no more than this slot's rate).  A trip latches the fault,
- * and the bridge is off in this same period (drive_slow_isr switches it off
- * after the slow task). */
 /* The loops' voltage at the bus's limit: the vector the modulator got last
  * (svgen's input, the dead-time feed-forward included) within 5 % of the
  * hexagon's inscribed circle vdc / sqrt 3.  Below the circle the loops still
@@ -138,6 +133,11 @@ static inline uint16_t at_voltage_limit(const svgen_t *s)
     return (uint16_t)(_IQmag(s->ualpha, s->ubeta) >= _IQmpy(s->vdc, _IQ(DRIVE_VLIM_OF_VDC)));
 }
 
+/* Current feedback check: the M-T currents against the references the
+ * current loops followed in the last period (current_check.h; its 2 ms
+ * filter needs no more than this slot's rate).  A trip latches the fault,
+ * and the bridge is off in this same period (drive_slow_isr switches it off
+ * after the slow task). */
 static void check_current(drive_t *d)
 {
     /* at the voltage limit the check holds (current_check.h): clamped onto
