@@ -2,7 +2,10 @@
  * @file isr.c
  * Interrupt glue.  Both ISRs and everything they call run from RAM (flash
  * has 5 wait states at 150 MHz): the control ISR's code in `ramfuncs`
- * (L0/L1), what only the slow ISR calls in `ramfuncs_slow` (H0).
+ * (L0/L1), what only the slow ISR calls in `ramfuncs_slow` (H0); except
+ * the ISR path's flash set, which runs only in CALIBRATE, once per state
+ * change or after a fault decision (tools/bench_size.py FLASH_ROOTS; its
+ * flash cycles are in tools/bench_isr.py's model).
  *
  * Two ISRs per PWM period, at two priorities (a multi-rate schedule,
  * drive_step.c / drive_slow.c):

@@ -5,9 +5,9 @@
  * Memory map: SPRS174, as in F2812_flash.cmd (checked by the same CI test).
  *
  * What fits: the on-chip RAM is 18K (M0 1K, M1 1K, L0 4K, L1 4K, H0 8K); the
- * firmware needs about 44K words (tools/bench_size.py --linker-cmd
+ * firmware needs about 39K words (tools/bench_size.py --linker-cmd
  * linker/F2812_ram.cmd, CTest target_ram_fit_ram_image): the ISR path, .ebss,
- * the data log and the stack on chip as in F2812_flash.cmd, and about 28K of
+ * the data log and the stack on chip as in F2812_flash.cmd, and about 30K of
  * other code and constants.  So a RAM-only image of the whole firmware does
  * NOT fit the F2812's internal RAM.  This image therefore needs a board with
  * external SRAM on XINTF zone 6 (0x100000, 64K words here, as the eZdsp

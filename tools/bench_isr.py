@@ -688,6 +688,8 @@ def main(argv=None):
                     help="with --hot: this slot's worst ISR instead of the state's worst slot")
     ap.add_argument("--hot-state", default=None,
                     help="with --hot: of this state's worst ISR instead (e.g. CALIBRATE)")
+    ap.add_argument("--hot-isr", choices=("worst", "control", "slow"), default="worst",
+                    help="with --hot: the slot's control or slow ISR (default: the costlier)")
     ap.add_argument("--slots", action="store_true", help="also list the worst ISR of every slot")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
     ap.add_argument("--markdown", action="store_true",
@@ -761,7 +763,10 @@ def main(argv=None):
             v = r["states"][worst_state]
             slot = v["worst_slot"] if a.hot_slot is None else a.hot_slot
             c2 = v["classes"][slot]
-            cl = c2["fast"] if c2["fast"]["worst"] >= c2["slow"]["worst"] else c2["slow"]
+            if a.hot_isr == "worst":
+                cl = c2["fast"] if c2["fast"]["worst"] >= c2["slow"]["worst"] else c2["slow"]
+            else:
+                cl = c2["fast"] if a.hot_isr == "control" else c2["slow"]
             which = "control" if cl is c2["fast"] else "slow"
             mods = ", ".join(f"{k} {c:.0f}" for k, c in
                              sorted(cl["modules"].items(), key=lambda kv: -kv[1]) if c >= 1)

@@ -589,7 +589,7 @@ def isr_cmd_texts(graph, abi="coffabi"):
         " * linker gathers .text and its subsections into .text unless one is placed by",
         " * name).  Symbol names: COFF ABI prefixes C names with '_', EABI does not",
         f" * (SPRU514 \"COFF ABI vs EABI\").  This file: --abi={abi}.  A static function of",
-        " * the same name in two files is matched in both (a few words more in RAM).",
+        " * the same name in two files would be matched in both: --check-isr-cmd refuses it.",
     ]
     fast_lines = [
         "/*",
@@ -672,6 +672,27 @@ def pragma_problems(graph):
     errs += [f"{f} ({p}) is in {sec} by #pragma but not on the ISR path "
              f"(add it to RAMFUNCS_NOT_ISR with a reason, or drop the pragma)"
              for f, (sec, p) in sorted(pr.items()) if f not in want and f not in RAMFUNCS_NOT_ISR]
+    return errs
+
+
+def name_clash_problems(graph):
+    """Functions of a .c file off the ISR path that share their name with an
+    ISR-path function of another .c file (two statics): the includes place
+    sections by name, `*(.text:_name)`, so both would land in RAM and the
+    off-path one is not counted in its block.  Each must be renamed.  (A
+    header's static inline emitted out of line in a background file is the
+    same code, a few words: not an error.)"""
+    fast, slow = isr_sets(graph)
+    on = {graph.func[t]["name"] for t in fast | slow
+          if rel(graph.func[t]["file"]).endswith(".c")} & src_names(graph, fast | slow)
+    errs = []
+    for t, f in sorted(graph.func.items()):
+        if (t in fast or t in slow or f["name"] not in on or is_iqmath(f)
+                or not rel(f["file"]).endswith(".c")):
+            continue
+        errs.append(f"{f['name']} ({rel(f['file'])}) is off the ISR path but shares its name "
+                    f"with an ISR-path function: its section would be placed in RAM too; "
+                    f"rename one of them")
     return errs
 
 
@@ -1033,7 +1054,7 @@ def main(argv=None):
     if a.write_isr_cmd or a.check_isr_cmd:
         _srcs, graph_g = measure(a, "graph")
         fast_text, slow_text = isr_cmd_texts(graph_g, a.abi)
-        errs = pragma_problems(graph_g)
+        errs = pragma_problems(graph_g) + name_clash_problems(graph_g)
         fast_file = a.write_isr_cmd or a.check_isr_cmd
         slow_file = a.slow_cmd or slow_cmd_path(fast_file)
         if a.write_isr_cmd:

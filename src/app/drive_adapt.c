@@ -272,10 +272,18 @@ static void take_set(drive_t *d)
     }
     if ((f & DRIVE_SET_ALIGN) != 0u && a->track_armed != 0u && d->run_ifo == 0u) {
         /* hand the control frame to ifo, now on the tracked Tr: the
-         * observer's flux angle and magnitude in magnetising-current pu,
-         * psi / Lm (|psi| limited to 7.9, 1/Lm <= 16: the product < 128;
-         * ifo_align clamps i_mr to [0, 4]) */
-        ifo_align(&d->ifo, d->fobs.theta,
+         * frame's angle of this period (obs_theta: the observer's flux
+         * angle carried forward every period, drive_step.c), against the
+         * rotor angle of the same period (ifo.theta_r), and the flux
+         * magnitude in magnetising-current pu, psi / Lm (|psi| limited to
+         * 7.9, 1/Lm <= 16: the product < 128; ifo_align clamps i_mr to
+         * [0, 4]).  Not fobs.theta: that is the angle at the observer's
+         * last sample, 7 periods before this slot's, and the rotor has
+         * turned since (at 50 Hz 0.15 rad: the hand-over put the flux 0.15
+         * off the M axis, a transient of Tr that the tracker's first fits
+         * saw; measured on the family's 30 kW 8-pole: max q/d in RUN
+         * 0.153, now 0.014) */
+        ifo_align(&d->ifo, d->obs_theta,
                   _IQmpy(_IQsat(d->fobs.psi_mag, _IQ(7.9), _IQ(0.0)), s->inv_lm));
         drive_set_run_ifo(d, 1u);
     }

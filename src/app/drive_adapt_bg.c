@@ -136,7 +136,7 @@ static uint16_t answer(drive_t *d)
  * DC part, sigma Ls from the injection (if valid), the new model and the
  * observer's DC re-seat; posted with READY either way (an implausible
  * result keeps the believed model, Rs_dc reads 0). */
-static void standstill(drive_t *d)
+static void standstill_set(drive_t *d)
 {
     drive_adapt_bg_t *g = &d->adapt_bg;
     drive_adapt_capture_t c = d->adapt_cap;
@@ -395,7 +395,7 @@ void drive_adapt_background(drive_t *d)
     if (answer(d) != 0u) {
         /* the mailbox is free: one post per pass of the loop, in order */
         if (d->adapt_cap.ready != 0u) {
-            standstill(d);
+            standstill_set(d);
         }
         if (g->pending == 0u && g->m_ready != 0u) {
             take_mail(d);

@@ -36,7 +36,7 @@ static void take_snapshot(drive_snapshot_t *snap, const drive_t *d, _iq i_mf)
 
 /* One sample: both rows (rls_step_row1, _row2: together rls_step), then
  * the guard's verdict on the completed estimate. */
-static void rls_update(drive_t *d, const drive_rls_sample_t *e)
+static void rls_update_queued(drive_t *d, const drive_rls_sample_t *e)
 {
     rls_t *r = &d->rls;
     uint16_t i;
@@ -83,7 +83,7 @@ void drive_rls_drain(drive_t *d)
             take_snapshot(&d->live_snap, d, e->i_mf);
         }
         if ((e->flags & DRIVE_RLSQ_UPDATE) != 0u) {
-            rls_update(d, e);
+            rls_update_queued(d, e);
             /* the a-posteriori residual of this sample, with its inputs
              * still in the RLS (ident_conf.h) */
             ident_conf_acc_step(&d->conf_acc, &d->rls);

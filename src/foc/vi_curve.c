@@ -149,8 +149,8 @@ void vi_curve_step(vi_curve_t *v)
     }
 }
 
-/* A window's mean, pu */
-static float window_mean(const vi_curve_t *v, _iq s)
+/* A window's mean, pu (float: the fit, off the ISR path; not drive_slow.c's window_mean) */
+static float level_mean_pu(const vi_curve_t *v, _iq s)
 {
 #if MATH_TYPE == IQ_MATH
     /* a Q16 sum; + half a Q16 LSB: the truncation's mean bias */
@@ -168,15 +168,15 @@ uint16_t vi_curve_next(vi_curve_t *v)
     if (v->done != 0u || v->n < ((uint16_t)1u << v->avg_shift)) {
         return 0u;
     }
-    u = window_mean(v, v->su);
-    i = window_mean(v, v->si);
+    u = level_mean_pu(v, v->su);
+    i = level_mean_pu(v, v->si);
     if (l >= VI_CURVE_LEVELS) {
         v->done = 1u;   /* the rest is over */
         return 1u;
     }
     v->mean_u[l] = u;
     v->mean_i[l] = i;
-    v->mean_vdc += window_mean(v, v->sv) / (float)VI_CURVE_LEVELS;
+    v->mean_vdc += level_mean_pu(v, v->sv) / (float)VI_CURVE_LEVELS;
     if (levels[l].current != 0u) {
         const float ref = levels[l].k * v->i1;
         if (!(fabsf(i - ref) <= 0.125f * fabsf(ref))) {

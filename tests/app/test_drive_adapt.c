@@ -597,7 +597,11 @@ static void test_tracking(void **state)
     d->track.n_updates = 1u;
     background(d);
     assert_int_equal(d->adapt_box.set.flags, DRIVE_SET_ALIGN);
-    d->fobs.theta = _IQ(0.37);
+    /* the hand-over takes the frame's angle of this period (obs_theta, carried
+     * forward every period), not the observer's last sample (fobs.theta, 7
+     * periods older: the rotor has turned since) */
+    d->fobs.theta = _IQ(0.21);
+    d->obs_theta = _IQ(0.37);
     d->fobs.psi_mag = _IQmpy(d->fobs.lm, _IQ(0.33));
     isr(d);
     tr1 = tr0 + _IQmpy(tr0, g->tr_rate);

@@ -45,11 +45,13 @@ static int run_paper_motor(void **state)
     return 0;
 }
 
-/* Identification accuracy: every parameter within 2 % of truth (the paper reports up to 4.3 %),
- * published: every confidence within the drive's 3 % (ident_conf.h). */
+/* Identification accuracy: every parameter within 1 % of truth, the paper motor's goal (the
+ * paper reports up to 4.3 %; measured: at most 0.30 %, Tr, in both builds: a factor 3 for
+ * another seed of the sensors' noise), published: every confidence within the drive's 3 %
+ * (ident_conf.h). */
 static void test_identification_accuracy(void **state)
 {
-    const double bound_pct = 2.0;
+    const double bound_pct = 1.0;
     int i;
     (void)state;
     assert_int_equal(g_res.identified, 1);

@@ -103,3 +103,18 @@ def test_cost_charges_flash_lines_and_entries_only():
               if coster.ops(ram, k) and bench_isr.line_cycles(coster.ops(ram, k)) > 0)
     cost, _m, _h = coster.cost({ram: {rl: runs}})
     assert cost == pytest.approx(runs * bench_isr.line_cycles(coster.ops(ram, rl)))
+
+
+def test_static_name_clash_with_the_isr_path_is_an_error():
+    """The includes place `.text:_name`: a static of a background file named as
+    an ISR-path static of another file would land in RAM uncounted."""
+    g = graph({"isr_control": ["drive_isr"], "isr_slow": ["drive_slow_task"],
+               "drive_isr": ["update"], "drive_slow_task": ["mean"],
+               "bg_loop": ["bg_update", "inline_helper"], "update": ["inline_helper"]},
+              files={"inline_helper": "include/helper.h"})
+    g.func["bg_update"]["name"] = "update"             # another file's static 'update'
+    g.func["bg_update"]["file"] = str(ROOT / "src/app/y.c")
+    errs = bench_size.name_clash_problems(g)
+    assert len(errs) == 1 and errs[0].startswith("update (src/app/y.c)")
+    g.func["bg_update"]["name"] = "update_queued"      # renamed: no clash
+    assert bench_size.name_clash_problems(g) == []
