@@ -16,7 +16,7 @@
  * linker gathers .text and its subsections into .text unless one is placed by
  * name).  Symbol names: COFF ABI prefixes C names with '_', EABI does not
  * (SPRU514 "COFF ABI vs EABI").  This file: --abi=coffabi.  A static function of
- * the same name in two files would be matched in both: --check-isr-cmd refuses it.
+ * the same name in two .c files would be matched in both: --check-isr-cmd refuses it.
  * The firmware's own ISR functions are in `ramfuncs` by #pragma CODE_SECTION
  * (checked by the same test); TI's IQmath functions by the IQmath section.
  * 61 functions.

@@ -15,7 +15,7 @@
  * linker gathers .text and its subsections into .text unless one is placed by
  * name).  Symbol names: COFF ABI prefixes C names with '_', EABI does not
  * (SPRU514 "COFF ABI vs EABI").  This file: --abi=coffabi.  A static function of
- * the same name in two files would be matched in both: --check-isr-cmd refuses it.
+ * the same name in two .c files would be matched in both: --check-isr-cmd refuses it.
  * 61 functions.
  */
 *(.text:_at_voltage_limit)

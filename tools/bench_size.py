@@ -589,7 +589,7 @@ def isr_cmd_texts(graph, abi="coffabi"):
         " * linker gathers .text and its subsections into .text unless one is placed by",
         " * name).  Symbol names: COFF ABI prefixes C names with '_', EABI does not",
         f" * (SPRU514 \"COFF ABI vs EABI\").  This file: --abi={abi}.  A static function of",
-        " * the same name in two files would be matched in both: --check-isr-cmd refuses it.",
+        " * the same name in two .c files would be matched in both: --check-isr-cmd refuses it.",
     ]
     fast_lines = [
         "/*",
