@@ -28,7 +28,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 KEYS = ["Rs_ohm", "Rr_ohm", "Lm_H", "Lr_H", "psi_r_Wb", "Tr_s"]
-MOTORS = [("paper_motor", 2.0), ("motor_1kw", 3.0), ("motor_15kw", 3.0)]
+MOTORS = [("paper_motor", 1.0), ("motor_1kw", 3.0), ("motor_15kw", 3.0)]
 LABELS = {"paper_motor": "paper, 250 W", "motor_1kw": "1.1 kW 400 V", "motor_15kw": "15 kW 400 V"}
 BUILDS = ("host-iq", "host-float")
 MATH = {"host-iq": "IQ_MATH", "host-float": "FLOAT_MATH"}
