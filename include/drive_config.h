@@ -66,6 +66,7 @@ typedef struct {
     float filter_wc_rad_s;     /* Butterworth cut-off, default 2 pi 10 */
     uint16_t euler_passes;     /* improved-Euler corrector passes N, default 10 */
     uint16_t paper_regressor;  /* 1: previous K2 as third regressor (eq. 9); 0: constant (eq. 7) */
+    uint16_t period_mean;      /* 1: the period-mean regression (ident_regressor.h; IFO only) */
     float rls_p0;              /* P(0) = p0 * I, per unit */
     float forgetting;          /* lambda in (0.9, 1]; 1 = none (paper) */
     float magnetize_time_s;    /* pre-magnetisation, >= 5 Tr */

@@ -116,6 +116,7 @@ typedef struct {
 typedef struct {
     _iq y1, y2;                     /* Q24 pu per pu time: rls_t's left-hand sides */
     _iq i_mf, u_mf, i_tf, u_tf, wr_f;   /* Q24 pu: its regressors */
+    _iq c1, d1, c2;                 /* Q24 pu: the period-mean form's (rls.h RLS_FORM_FLUX) */
     uint16_t flags;                 /* DRIVE_RLSQ_* */
 } drive_rls_sample_t;
 typedef struct {

@@ -47,6 +47,39 @@
  * filter, so the regression stays exact (method §7 point 2).  With decim =
  * 1, ident_regressor_step = accumulate + filter, the paper's 15 kHz path.
  *
+ * Period-mean form (ident_regressor_set_period_mean; the default is the
+ * paper's rows above): the rows of tools/study/regression_bias.md §5.1, the
+ * regression the data satisfy exactly over each PWM period, formed per
+ * window from what the window sums already hold (the trapezoid telescopes):
+ *   (a) u_bar = sinc(x) u, x the half step above: the period's exact mean
+ *       voltage, not its mid-angle value (sinc x = 1 - x^2/6);
+ *   (b) i_bar = trapezoid + K2^ c, c = j w_s u_bar Ts^2/12: the period's
+ *       mean current (the ripple's curvature), the trapezoid's window mean
+ *       = the samples' mean - (i_end - i_start) / 2N; w_s i_bar alike
+ *       (- w_s (i_end - i_start)/2N + w_s K2^ c, the frame speed's jitter
+ *       within the window times the current's step left out: second order);
+ *       K2^ the RLS's last K2 (input k2_hat) within [0.5, 2] of the
+ *       nameplate's, else the nameplate's;
+ *   (c) the rotor flux / Lm in the frame, m = (i_mr, 0) + Delta: ifo's
+ *       current model (input imr) corrected by Delta, the flux the mean
+ *       current makes beyond what the sampled current makes:
+ *         Delta += kf_N (i_bar - i_sampled - Delta) - j dtheta_sl Delta
+ *       per window (kf_N = 1 - exp(-N Ts/Tr), dtheta_sl the window's slip
+ *       angle; mean of i_bar - i_sampled over the window = (i_end -
+ *       i_start)/2N + K2^ c);
+ *   (d) m per pu of the nameplate's i_M (m_n = m / i_M,nom, near 1: the
+ *       columns as large as the constant form's), filtered in three more
+ *       filters (m_M, m_T, w_r m_T), w_r m_M in place of w_r, y1, y2 from
+ *       the derivative of the filtered i_bar:
+ *         y1 = [i_Mf, u_Mf, m_Mf, -(wr m_T)f] [K1 K2 K3n K4n]
+ *         y2 = [i_Tf, u_Tf, m_Tf,  (wr m_M)f] [K1 K2 K3n K4n]
+ *       (rls.h RLS_FORM_FLUX; K3n, K4n = K3, K4 at the nameplate's i_M:
+ *       K3n = K3 i_M,nom / i_M).
+ * Why: at high w_e Ts on a small-leakage motor the flux follows the mean,
+ * not the sampled current, by (w_e Ts)^2/(12 sigma) of i_M, and w_r Tr
+ * amplifies that 0.2 % into several % of Rr and Tr (regression_bias.md §4).
+ * Only for ifo's frame (the flux is ifo's model plus Delta).
+ *
  * Scaling and overflow of ident_regressor_step: products truncated
  * (_IQmpy; their -1/2 LSB mean bias reaches the regression as an offset
  * below 1e-6 of its smallest term: ident_regressor.c); |sin|, |cos| <= 1
@@ -61,6 +94,13 @@
 #include <stdint.h>
 #include "IQmathLib.h"
 #include "bw_filter.h"
+
+/* The period-mean form compiled in (1, the default) or out (0: a small
+ * target without the RAM for its three filters and state, the 8 KB AVR
+ * co-simulation; ident_regressor_set_period_mean then refuses). */
+#ifndef IDENT_PERIOD_MEAN
+#define IDENT_PERIOD_MEAN 1
+#endif
 
 typedef struct {
     /* inputs */
@@ -77,15 +117,37 @@ typedef struct {
     _iq y1, y2;            /* Q24 pu/pu time: left-hand sides, eq. 5 */
     _iq i_mf, u_mf;        /* Q24 pu: row 1 regressors */
     _iq i_tf, u_tf, wr_f;  /* Q24 pu: row 2 regressors */
+    /* inputs of the period-mean form, set before ident_regressor_filter_a */
+    _iq imr;               /* Q24 pu: ifo's magnetising current i_mr (its flux / Lm) */
+    _iq k2_hat;            /* Q24 pu: the RLS's latest K2 (0: none yet) */
+    /* outputs of the period-mean form (0 otherwise) */
+    _iq m_mf, m_tf;        /* Q24: rows 1 / 2, K3 column: the filtered flux / (Lm i_M,nom) */
+    _iq wm_tf;             /* Q24 pu: row 1, K4 column: -(w_r m_T)f */
     /* parameters */
     uint16_t decim_log2;   /* filter step every 2^decim_log2 samples (0..3) */
+    uint16_t period_mean;  /* 1: the period-mean form (ident_regressor_set_period_mean) */
     _iq k_half;            /* Q24: pi f_base Ts, the half step (rad) per pu of frame speed */
+    _iq k_im_nom;          /* Q24 pu: the nameplate's i_M (the period-mean form's flux unit) */
+#if IDENT_PERIOD_MEAN
+    _iq30 k_rip;           /* Q30: (w_base Ts)^2 / 12, c per pu of w_s u */
+    _iq k_slip;            /* Q24: 2^decim_log2 w_base Ts, the window's angle per pu speed */
+    _iq kf_win;            /* Q24: 1 - exp(-2^decim_log2 Ts / Tr) */
+    _iq k2_nom, k2_lo, k2_hi;   /* Q24 pu: the nameplate's K2, and K2^'s range (x0.5, x2) */
+    _iq k_inv_im;          /* Q24: 1 / k_im_nom: the flux columns are m / i_M,nom (near 1) */
+    /* state of the period-mean form */
+    _iq i0_m, i0_t;        /* Q24 pu: the last sample of the previous window */
+    _iq dl_m, dl_t;        /* Q24 pu: Delta, |.| < 0.1 pu (clamped) */
+#endif
     /* state: the sums of the decimation window (Q24, |.| < 8 x 7 pu: each
      * input saturated to +-BW_FILTER_U_MAX, at most 8 samples) */
     _iq s_im, s_it, s_um, s_ut, s_ws_it, s_ws_im, s_ws;
     /* the seven identical filters (only f_im and f_it compute their
      * .dy output; the other five leave it at 0: bw_filter_update) */
     bw_filter_t f_im, f_it, f_um, f_ut, f_ws_it, f_ws_im, f_wr;
+#if IDENT_PERIOD_MEAN
+    /* the period-mean form's three more (f_wr then filters w_r m_M) */
+    bw_filter_t f_mm, f_mt, f_wmt;
+#endif
 } ident_regressor_t;
 
 /** Largest decimation, log2 (8 samples: the sums stay inside Q24). */
@@ -98,6 +160,16 @@ typedef struct {
 bw_filter_status_t ident_regressor_init(ident_regressor_t *r, float wc_rad_s,
                                         uint16_t n_pass, float Ts_s,
                                         float w_base_rad_s, uint16_t decim_log2);
+
+/** Switch to the period-mean form (file comment) for ifo's frame with the
+ *  rotor time constant Tr_s, the nameplate's K2 in pu (k2_nom_pu =
+ *  V_base / (sigma Ls I_base w_base)) and its magnetising current in pu
+ *  (im_nom_pu); after ident_regressor_init, with the same Ts_s and w_base.
+ *  Float, once.  Returns 0, or 1 (nothing changed) for Tr_s not above
+ *  2^decim_log2 Ts_s, k2_nom_pu not in (0, 16) (the RLS's range) or
+ *  im_nom_pu not in [0.05, 4). */
+int16_t ident_regressor_set_period_mean(ident_regressor_t *r, float Tr_s, float k2_nom_pu,
+                                        float im_nom_pu, float Ts_s, float w_base_rad_s);
 
 /** Zero every filter state and sum (e.g. before a new identification run). */
 void ident_regressor_reset(ident_regressor_t *r);

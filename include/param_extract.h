@@ -9,7 +9,10 @@
  *     Rr = K3' Lr / (a i_M)       Rs = -K1/K2 - K3'/i_M
  *     Tr = Lr/Rr = -K4 / (K2 K3')  (pu time: Tr_pu = Tr w_base)
  * where K3' = theta3 (paper regressor, eq. 9) or theta3/K2 (constant
- * regressor, eq. 7: theta3 = K3 = K2 K3').
+ * regressor, eq. 7: theta3 = K3 = K2 K3').  The flux form (RLS_FORM_FLUX:
+ * theta3, theta4 = K3, K4 at the nameplate's i_M) takes i_m as the flux's
+ * m_M (pu current) and K3 = theta3 i_m / i_M,nom, K4 = theta4 i_m / i_M,nom
+ * (inv_im_nom = 1 / i_M,nom; regression_bias.md §5.1 (f)).
  *
  * Never a silent wrong answer: i_M below its minimum, K2 <= 0, a quotient
  * that would overflow Q24 (division by ~0), a negative square-root argument
@@ -73,7 +76,8 @@ typedef struct {
     /* inputs */
     _iq theta[RLS_N];   /* Q24 pu: K1, K2, theta3, K4 (rls_t.theta) */
     uint16_t form;      /* rls_form_t that produced theta3 */
-    _iq i_m;            /* Q24 pu: steady M current */
+    _iq i_m;            /* Q24 pu: steady M current (RLS_FORM_FLUX: the flux's m_M) */
+    _iq inv_im_nom;     /* Q24 1/pu: RLS_FORM_FLUX only, 1 / the nameplate's i_M (<= 20) */
     /* parameters (pu, Q24; Tr_lim Q20, pu time) */
     _iq Rs_lim[2], Rr_lim[2], Lm_lim[2], Lr_lim[2], psi_lim[2];
     _iq20 Tr_lim[2];

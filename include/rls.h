@@ -10,6 +10,15 @@
  *   RLS_FORM_CONST   c = 1 pu, theta3 = K3_pu (eq. 7)
  *   RLS_FORM_PAPER   c = previous estimate of K2 (theta2 before this
  *                    sample's update), theta3 = K3'_pu = K3/K2 (eqs. 8-9)
+ *   RLS_FORM_FLUX    the period-mean regression (tools/study/
+ *                    regression_bias.md §5.1 (d)): full rows with the
+ *                    rotor flux in the frame, m = psi_r / (Lm i_M,nom) =
+ *                    (m_M, m_T) (near (1, 0)),
+ *                        y1 = [i_Mf, u_Mf, m_Mf, -(wr m_T)f] theta
+ *                        y2 = [i_Tf, u_Tf, m_Tf,  (wr m_M)f] theta
+ *                    from the inputs c1 = m_Mf, d1 = -(wr m_T)f, c2 = m_Tf
+ *                    and wr_f = (wr m_M)f; theta3, theta4 = K3, K4 at the
+ *                    nameplate's i_M (K3 = theta3 m_M for the flux m_M)
  * Default: RLS_FORM_CONST (method §7 point 3: the paper's regressor is
  * poisoned by the early K2 estimates; measured again in tests/estim).
  *
@@ -151,7 +160,8 @@
 
 typedef enum {
     RLS_FORM_CONST = 0,   /* c = 1 pu, theta3 = K3_pu (eq. 7) */
-    RLS_FORM_PAPER = 1    /* c = previous K2 estimate, theta3 = K3'_pu (eqs. 8-9) */
+    RLS_FORM_PAPER = 1,   /* c = previous K2 estimate, theta3 = K3'_pu (eqs. 8-9) */
+    RLS_FORM_FLUX = 2     /* full rows with the flux in the frame (regression_bias.md §5) */
 } rls_form_t;
 
 typedef enum {
@@ -167,7 +177,9 @@ typedef struct {
     /* inputs (from ident_regressor) */
     _iq y1, y2;                  /* Q24 pu / pu time */
     _iq i_mf, u_mf;              /* Q24 pu: row 1 */
-    _iq i_tf, u_tf, wr_f;        /* Q24 pu: row 2 */
+    _iq i_tf, u_tf, wr_f;        /* Q24 pu: row 2 (RLS_FORM_FLUX: wr_f = (wr m_M)f) */
+    _iq c1, d1, c2;              /* Q24, RLS_FORM_FLUX only: row 1's m_Mf and
+                                    -(wr m_T)f, row 2's m_Tf */
     uint16_t enable;             /* 1: update this sample; 0: hold */
     /* parameters (rls_init) */
     uint16_t form;               /* rls_form_t */

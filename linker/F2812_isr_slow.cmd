@@ -86,7 +86,7 @@
  * The flash image runs them from flash (.text, not named here; their wait
  * states costed by tools/bench_isr.py); the RAM image defines
  * ISR_FLASH_SET_IN_RAM and keeps them on chip with the rest of this set.
- * 25 functions.
+ * 26 functions.
  */
 #ifdef ISR_FLASH_SET_IN_RAM
 *(.text:_angle_acc_from_pu)
@@ -103,6 +103,7 @@
 *(.text:_ifo_align)
 *(.text:_ifo_apply_tr)
 *(.text:_model_ready)
+*(.text:_period_mean_window)
 *(.text:_pi_apply_gains)
 *(.text:_stall_check_decide)
 *(.text:_standstill)

@@ -30,12 +30,49 @@ def strip_comments(text):
     return re.sub(r"//[^\n]*", " ", text)
 
 
+def resolve_conditionals(text, consts):
+    """Keep what the firmware build compiles of `#if NAME`, `#ifdef NAME`,
+    `#ifndef NAME` blocks (NAME's value from the headers' defaults, consts;
+    undefined: 0), e.g. a struct's fields under `#if IDENT_PERIOD_MEAN`;
+    any other condition (`#if MATH_TYPE == IQ_MATH`) keeps both branches,
+    as before.  The directive lines themselves go."""
+    out, stack = [], []   # stack: (this branch kept, condition known)
+    for line in text.split("\n"):
+        s = line.strip()
+        m = re.match(r"#\s*(if|ifdef|ifndef|elif|else|endif)\b\s*(.*)$", s)
+        if not m:
+            if all(k for k, _ in stack):
+                out.append(line)
+            continue
+        d, arg = m.group(1), m.group(2).strip()
+        if d in ("if", "ifdef", "ifndef"):
+            known = bool(re.fullmatch(r"\w+", arg))
+            if not known:
+                keep = True
+            elif d == "if":
+                keep = bool(consts.get(arg, 0))
+            else:
+                keep = (arg in consts) == (d == "ifdef")
+            stack.append((keep, known))
+        elif d == "else" and stack:
+            keep, known = stack.pop()
+            stack.append(((not keep) if known else True, known))
+        elif d == "elif" and stack:
+            stack.pop()
+            stack.append((True, False))   # a chain: every branch kept, as before
+        elif d == "endif" and stack:
+            stack.pop()
+    return "\n".join(out)
+
+
 def parse_headers(paths):
     structs, enums, consts = {}, set(), {}
-    for p in paths:
-        t = strip_comments(Path(p).read_text())
+    texts = [strip_comments(Path(p).read_text()) for p in paths]
+    for t in texts:
         for m in re.finditer(r"#define\s+(\w+)\s+\(?(\d+)[uU]?\)?\s*\n", t + "\n"):
             consts[m.group(1)] = int(m.group(2))
+    for t in texts:
+        t = resolve_conditionals(t, consts)
         for m in re.finditer(r"typedef\s+enum\s*\w*\s*\{[^}]*\}\s*(\w+)\s*;", t):
             enums.add(m.group(1))
         for m in re.finditer(r"typedef\s+struct\s*\w*\s*\{(.*?)\}\s*(\w+)\s*;", t, flags=re.S):

@@ -4,7 +4,8 @@ tools/family/motors.py (the CI subset of 8, the grid of 56) under a grid of
 operating choices, in both builds and both identification sequences.
 
     family_sweep.py [--subset ci|grid|all] [--motors NAME,...] [--ops nominal|all|OP,...]
-                    [--seq paper,adaptive] [--builds iq,float | --exe MOTOR_SIM] [--jobs N]
+                    [--seq paper,adaptive,paper_pm] [--plant realistic|ideal]
+                    [--builds iq,float | --exe MOTOR_SIM] [--jobs N]
                     [--out DIR] [--json] [--markdown [--summary-only]] [--no-plot]
                     [--check-bounds FILE] [--keep]
 
@@ -14,6 +15,11 @@ Sequences (`[controller]`/`[ident]` keys merged into each motor's file):
                (indirect orientation on the nameplate, one RLS pass)
     adaptive   orientation 1, standstill 1, passes 2, track_rr 1: the drive's
                default (docs/method.md "Beyond the paper"; host_sim/config/paper_motor.ini)
+    paper_pm   the paper's on the period-mean regression (period_mean 1,
+               include/ident_regressor.h; tools/study/regression_bias.md §5)
+
+Plants: `realistic` (default: the generator's bridge and sensors) or `ideal`
+(motors.py IDEAL_PLANT: no dead time, drop, ripple, sensor errors or noise).
 
 Operating choices (one at a time from the generator's nominal point; the same
 as tools/study/regression_bias.py's, scaled to each motor): `nominal`, `load0`
@@ -80,7 +86,11 @@ SEQUENCES = {
               ("ident", "passes"): 1, ("ident", "track_rr"): 0},
     "adaptive": {("controller", "orientation"): 1, ("ident", "standstill"): 1,
                  ("ident", "passes"): 2, ("ident", "track_rr"): 1},
+    # the paper's sequence on the period-mean regression (ident_regressor.h)
+    "paper_pm": {("controller", "orientation"): 0, ("ident", "standstill"): 0,
+                 ("ident", "passes"): 1, ("ident", "track_rr"): 0, ("ident", "period_mean"): 1},
 }
+PLANTS = {"realistic": {}, "ideal": fam.IDEAL_PLANT}
 BUILDS = {"iq": "host-iq", "float": "host-float"}
 # motor_sim's exit status (motor_sim --help)
 RC_PUBLISHED, RC_CONFIG, RC_RUN_FAILED, RC_NOT_PUBLISHED = 0, 1, 2, 3
@@ -133,13 +143,14 @@ OPS = {
 
 # ------------------------------------------------------------ one run
 def run_one(job):
-    """job: (motor name, op, sequence, build, keep dir or None, --exe map).
-    Returns a row dict (plain types: it crosses the process boundary)."""
-    name, op, seq, build, keep, exe = job
+    """job: (motor name, op, sequence, build, keep dir or None, --exe map,
+    plant).  Returns a row dict (plain types: it crosses the process boundary)."""
+    name, op, seq, build, keep, exe, plant = job
     EXE.update(exe)
     m = fam.by_name(name)
     extra = dict(OPS[op](m))
     extra.update(SEQUENCES[seq])
+    extra.update(PLANTS[plant])
     row = {"motor": name, "P_kW": m.P_kW, "poles": m.poles, "f_Hz": m.f_Hz, "V": m.V,
            "sigma": m.sigma, "Tr_s": round(m.Tr, 5), "wrTr": round(m.wrTr, 2),
            "dead_time_us": m.dead_time_s * 1e6, "op": op, "seq": seq, "build": build,
@@ -443,7 +454,12 @@ def parse_args(argv):
     ap.add_argument("--motors", help="comma-separated motor names (motors.py list)")
     ap.add_argument("--ops", default="nominal", help="operating choices: nominal (default), "
                     "all, or a list of " + ", ".join(OPS))
-    ap.add_argument("--seq", default="paper,adaptive")
+    ap.add_argument("--seq", default="paper,adaptive",
+                    help="sequences: paper, adaptive, paper_pm (the paper's on the "
+                    "period-mean regression, ident.period_mean 1)")
+    ap.add_argument("--plant", choices=tuple(PLANTS), default="realistic",
+                    help="ideal: no dead time, drop, ripple, sensor errors or noise "
+                    "(motors.py IDEAL_PLANT)")
     ap.add_argument("--builds", default="iq,float")
     ap.add_argument("--exe", metavar="MOTOR_SIM", help="run this motor_sim as the only build "
                     "(named after its report's math_type: the CTest runs its own build)")
@@ -479,7 +495,7 @@ def main(argv=None):
                              f"{BUILDS[b]})")
     a.out.mkdir(parents=True, exist_ok=True)
     keep = str(a.out / "runs") if a.keep else None
-    jobs = [(m, op, s, b, keep, dict(EXE)) for m in motors for op in ops for s in seqs
+    jobs = [(m, op, s, b, keep, dict(EXE), a.plant) for m in motors for op in ops for s in seqs
             for b in builds]
     if not a.json:
         print(f"family_sweep: {len(jobs)} runs ({len(motors)} motors x {len(ops)} operating "

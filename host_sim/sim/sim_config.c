@@ -93,6 +93,8 @@ static const key_spec_t k_keys[] = {
     D(ident, filter_cutoff_Hz, OPT, 10, DRIVE, "Butterworth corner of the regression signals"),
     D(ident, euler_passes, OPT, 10, DRIVE, "improved-Euler corrector passes"),
     D(ident, paper_regressor, OPT, 0, DRIVE, "1: previous K2 as third regressor (eq. 9)"),
+    D(ident, period_mean, OPT, 0, DRIVE,
+      "1: the period-mean regression (tools/study/regression_bias.md §5; orientation 0)"),
     D(ident, rls_p0, OPT, 1e5, DRIVE, "RLS P(0) = p0 I (large: no prior pulls a weakly excited direction)"),
     D(ident, forgetting, OPT, 1, DRIVE, "RLS forgetting factor (1: none)"),
     D(ident, magnetize_s, OPT, 0.3, DRIVE, "pre-magnetisation"),

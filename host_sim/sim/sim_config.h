@@ -63,7 +63,7 @@ typedef struct {
 
 /** [ident] (drive): the identification. */
 typedef struct {
-    double filter_cutoff_Hz, euler_passes, paper_regressor, rls_p0, forgetting;
+    double filter_cutoff_Hz, euler_passes, paper_regressor, period_mean, rls_p0, forgetting;
     double magnetize_s, rls_tail_s, target_speed_rpm;
     /* beyond the paper: each but the defaults needs orientation 1 */
     double passes;           /* identification passes 1..4 */

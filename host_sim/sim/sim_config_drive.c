@@ -79,6 +79,7 @@ void sim_config_to_drive(const sim_config_t *c, drive_config_t *d)
     d->ident.filter_wc_rad_s = f32(2.0 * M_PI * id->filter_cutoff_Hz);
     d->ident.euler_passes = u16(id->euler_passes);
     d->ident.paper_regressor = u16(id->paper_regressor);
+    d->ident.period_mean = u16(id->period_mean);
     d->ident.rls_p0 = f32(id->rls_p0);
     d->ident.forgetting = f32(id->forgetting);
     d->ident.magnetize_time_s = f32(id->magnetize_s);

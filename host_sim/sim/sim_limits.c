@@ -85,6 +85,9 @@ static const char *const k_why[DRIVE_LD_COUNT] = {
                             "the test with its pause in the second half of ident.magnetize_s",
     [DRIVE_LD_TRACKER] = "the Rr/Tr tracker (ident.track_rr = 1): its range Tr/4 .. 4 Tr within "
                          "30 pu of 1/Tr, and its guard",
+    [DRIVE_LD_PERIOD_MEAN] = "the period-mean regression (ident.period_mean = 1) regresses on "
+                             "ifo's rotor flux: it needs controller.orientation = 0 and "
+                             "ident.paper_regressor = 0",
     [DRIVE_LD_TARGET] = "what the identification can use: at least the largest of 20 % of "
                         "nameplate.rated_speed_rpm (the RLS's back-EMF excitation), 10 encoder "
                         "counts a time constant of the regression's filter (150 (2 pi "

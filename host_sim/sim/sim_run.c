@@ -261,7 +261,9 @@ static int trace_header(FILE *f)
                "rls_on,y1,y2,i_mf,u_mf,i_tf,u_tf,wr_f,"
                /* appended (adaptive sequence): the plant's Rr, the drive's tracking and
                 * adaptation telemetry */
-               "Rr_true_ohm,Rr_track_ohm,track_valid,pass,Rs_dc_ohm,Tr_track_s\n");
+               "Rr_true_ohm,Rr_track_ohm,track_valid,pass,Rs_dc_ohm,Tr_track_s,"
+               /* appended (ident.period_mean = 1; 0 otherwise): the rows' flux columns */
+               "m_mf,m_tf,wm_tf\n");
 }
 
 /* The appended columns of a trace row, and its end. */
@@ -269,9 +271,11 @@ static int trace_row_adaptation(FILE *f, const drive_t *d, const plant_t *p)
 {
     const drive_telemetry_t *t = &d->telemetry;
     double z = d->base.Z_base_ohm;
-    return fprintf(f, ",%.6g,%.6g,%u,%u,%.6g,%.6g\n", p->motor.p.Rr_ohm, (double)_IQtoF(t->Rr_track) * z,
-            t->track_valid, t->pass, (double)_IQtoF(t->Rs_dc) * z,
-            (double)_IQ20toF(t->Tr_track) * d->base.t_base_s);
+    return fprintf(f, ",%.6g,%.6g,%u,%u,%.6g,%.6g,%.9g,%.9g,%.9g\n", p->motor.p.Rr_ohm,
+                   (double)_IQtoF(t->Rr_track) * z, t->track_valid, t->pass,
+                   (double)_IQtoF(t->Rs_dc) * z, (double)_IQ20toF(t->Tr_track) * d->base.t_base_s,
+                   (double)_IQtoF(d->reg.m_mf), (double)_IQtoF(d->reg.m_tf),
+                   (double)_IQtoF(d->reg.wm_tf));
 }
 
 double sim_vi_test_s(const sim_config_t *c)

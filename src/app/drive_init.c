@@ -94,9 +94,12 @@ static int16_t init_speed_loop(drive_t *d, const drive_config_t *c, const drive_
 rls_status_t drive_rls_start(drive_t *d)
 {
     const drive_ident_t *id = &d->ident_cfg;
-    rls_status_t st = rls_init(&d->rls, (id->paper_regressor != 0u) ? RLS_FORM_PAPER
-                                                                    : RLS_FORM_CONST,
-                               id->rls_p0, id->forgetting, 0.0f, NULL);
+    rls_form_t form = (id->paper_regressor != 0u) ? RLS_FORM_PAPER : RLS_FORM_CONST;
+    rls_status_t st;
+    if (id->period_mean != 0u) {
+        form = RLS_FORM_FLUX;
+    }
+    st = rls_init(&d->rls, form, id->rls_p0, id->forgetting, 0.0f, NULL);
     d->rls_start = d->rls;   /* each further pass starts from this copy */
     return st;
 }
@@ -114,6 +117,16 @@ static int16_t init_identification(drive_t *d, const drive_config_t *c, const dr
                              b->w_base_rad_s, DRIVE_SLOTS_LOG2) != 0) {
         return 1;
     }
+    if (id->period_mean != 0u) {
+        /* the period-mean rows on ifo's flux (ident_regressor.h): its Tr, the
+         * nameplate's K2 for the ripple term until the RLS has one */
+        float k_nom[RLS_N];
+        drive_design_k_nominal(k_nom, c, b);
+        if (ident_regressor_set_period_mean(&d->reg, g->tr, k_nom[1], g->im_pu, Ts,
+                                            b->w_base_rad_s) != 0) {
+            return 1;
+        }
+    }
     d->ident_cfg = *id;
     if (drive_rls_start(d) != RLS_OK) {
         return 1;
@@ -125,6 +138,8 @@ static int16_t init_identification(drive_t *d, const drive_config_t *c, const dr
         if (param_extract_init(&d->pex, b, &lim) != PARAM_INIT_OK) {
             return 1;
         }
+        /* the period-mean rows' flux unit (rls.h RLS_FORM_FLUX); 0 otherwise */
+        d->pex.inv_im_nom = (id->period_mean != 0u) ? _IQ(1.0f / g->im_pu) : _IQ(0.0);
     }
     d->live = d->pex;
     /* estimator safeguard: K of the believed motor, accepted within a factor 8 */

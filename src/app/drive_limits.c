@@ -125,6 +125,7 @@ static const drive_limit_t k_limits[] = {
     FIELD_U("ident.euler_passes", ident.euler_passes, "-", DRIVE_CFG_IDENT, 1.0f,
             (float)BW_FILTER_N_MAX),
     FIELD_U("ident.paper_regressor", ident.paper_regressor, "0/1", DRIVE_CFG_IDENT, 0.0f, 1.0f),
+    FIELD_U("ident.period_mean", ident.period_mean, "0/1", DRIVE_CFG_IDENT, 0.0f, 1.0f),
     FIELD_F("ident.rls_p0", ident.rls_p0, "pu", DRIVE_CFG_IDENT, 1.0e-3f, 1.0e6f),
     FIELD_F("ident.forgetting", ident.forgetting, "-", DRIVE_CFG_IDENT, 0.9f, 1.0f),
     FIELD_U("ident.passes", ident.passes, "-", DRIVE_CFG_IDENT, 1.0f, (float)ID_PASSES_MAX),
@@ -198,6 +199,8 @@ static const drive_limit_t k_limits[] = {
                   0u, 1.0f, 1.0f),
     DERIVED("ident.standstill", "-", DRIVE_CFG_IDENT, DRIVE_LD_STANDSTILL),
     DERIVED("ident.track_rr", "-", DRIVE_CFG_IDENT, DRIVE_LD_TRACKER),
+    DERIVED_RANGE("ident.period_mean", "-", DRIVE_CFG_IDENT, DRIVE_LD_PERIOD_MEAN, 0u, 0.0f,
+                  0.0f),
     DERIVED("ident.target_speed_rpm", "r/min", DRIVE_CFG_SEQUENCE, DRIVE_LD_TARGET),
     DERIVED("ident.target_speed_rpm", "r/min", DRIVE_CFG_SEQUENCE, DRIVE_LD_TARGET_PU),
     DERIVED("board.dead_time_s", "s", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_HEADROOM),
@@ -620,6 +623,14 @@ static int16_t check_adaptation(const drive_limit_t *l, const limit_ctx_t *x,
                                  c->control.orientation == DRIVE_ORIENT_FLUX_OBS),
                        f, (float)c->control.orientation, 1.0f, 1.0f, 0u);
     }
+    if (which == DRIVE_LD_PERIOD_MEAN) {
+        /* the flux it regresses on is ifo's model plus its correction
+         * (ident_regressor.h), with the constant third column's rows */
+        return verdict((int16_t)(id->period_mean == 0u ||
+                                 (c->control.orientation != DRIVE_ORIENT_FLUX_OBS &&
+                                  id->paper_regressor == 0u)),
+                       f, (float)id->period_mean, 0.0f, 0.0f, 0u);
+    }
     if (which == DRIVE_LD_STANDSTILL && id->standstill != 0u) {
         standstill_z_t z;
         standstill_z_status_t st = drive_adapt_ssz_init(&z, c, b, Ts);
@@ -772,7 +783,7 @@ static int16_t check_derived(const drive_limit_t *l, const limit_ctx_t *x,
     if (w <= DRIVE_LD_PE_PSI) {
         return check_estimator(l, x, f);
     }
-    if (w <= DRIVE_LD_TRACKER) {
+    if (w <= DRIVE_LD_PERIOD_MEAN) {
         return check_adaptation(l, x, f);
     }
     return check_sequence_and_protection(l, x, f);

@@ -34,6 +34,14 @@ static void take_snapshot(drive_snapshot_t *snap, const drive_t *d, _iq i_mf)
     snap->ready = 1u;
 }
 
+/* The extraction's i_M: the filtered M current, or with the period-mean
+ * rows their flux current m_M (param_extract.h, RLS_FORM_FLUX), from their
+ * column m_M / i_M,nom (near 1: Q24 * Q24 -> Q24). */
+static _iq snapshot_im(const drive_t *d, const drive_rls_sample_t *e)
+{
+    return (d->rls.form == (uint16_t)RLS_FORM_FLUX) ? _IQmpy(e->c1, d->reg.k_im_nom) : e->i_mf;
+}
+
 /* One sample: both rows (rls_step_row1, _row2: together rls_step), then
  * the guard's verdict on the completed estimate. */
 static void rls_update_queued(drive_t *d, const drive_rls_sample_t *e)
@@ -47,6 +55,9 @@ static void rls_update_queued(drive_t *d, const drive_rls_sample_t *e)
     r->i_tf = e->i_tf;
     r->u_tf = e->u_tf;
     r->wr_f = e->wr_f;
+    r->c1 = e->c1;
+    r->d1 = e->d1;
+    r->c2 = e->c2;
     r->enable = 1u;
     rls_step_row1(r);
     rls_step_row2(r);
@@ -77,10 +88,10 @@ void drive_rls_drain(drive_t *d)
             rls_cov_save(&d->snap_cov, &d->rls);
             d->snap_acc = d->conf_acc;
             d->snap_pd = d->rls.pd_count;
-            take_snapshot(&d->snap, d, e->i_mf);
+            take_snapshot(&d->snap, d, snapshot_im(d, e));
         }
         if ((e->flags & DRIVE_RLSQ_LIVE) != 0u && d->live_snap.ready == 0u) {
-            take_snapshot(&d->live_snap, d, e->i_mf);
+            take_snapshot(&d->live_snap, d, snapshot_im(d, e));
         }
         if ((e->flags & DRIVE_RLSQ_UPDATE) != 0u) {
             rls_update_queued(d, e);

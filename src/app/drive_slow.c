@@ -260,6 +260,11 @@ static void task_filters_a(drive_t *d)
     /* the regression's rotor speed over exactly the window the other six
      * signals were summed over (the mean of its one-period speeds) */
     d->reg.wr = qep_mean_speed(&d->qep, &d->reg_count);
+    /* the period-mean form's flux and ripple term (ident_regressor.h): ifo's
+     * i_mr (one period ahead of the window's end: kf of a 0.25 % difference)
+     * and the RLS's latest K2 (a 32-bit word the background writes whole) */
+    d->reg.imr = d->ifo.imr;
+    d->reg.k2_hat = d->rls.theta[1];
     ident_regressor_filter_a(&d->reg);
 }
 
@@ -292,6 +297,9 @@ static void rls_push(drive_t *d, uint16_t update)
     e->i_tf = r->i_tf;
     e->u_tf = r->u_tf;
     e->wr_f = r->wr_f;
+    e->c1 = r->m_mf;     /* the period-mean form's columns (0 otherwise) */
+    e->d1 = r->wm_tf;
+    e->c2 = r->m_tf;
     e->flags = flags;
     q->pending = 0u;
     q->head = (uint16_t)((head + 1u) & (DRIVE_RLSQ_LEN - 1u));   /* the entry first, then head */

@@ -40,23 +40,32 @@ void ident_conf_acc_step(ident_conf_acc_t *a, const rls_t *r)
      * bounds are the RLS's own input ranges) */
     const _iq phi_max = _IQ(RLS_PHI_MAX);
     const _iq22 eps_max = _IQ22(0.7);     /* eps1^2 + eps2^2 < 1: one Q31 term */
-    _iq c, y1, y2;
+    _iq c, c2, d1, y1, y2;
     _iq22 e1, e2;
     _iq s1, s2;
 
     if (r->enable == 0u) {
         return;
     }
-    /* the RLS's third regressor: 1, or K2 (paper form; the updated one) */
+    /* the RLS's third regressor: 1, or K2 (paper form; the updated one), or
+     * the flux form's m_Mf, with its fourth column in row 1 (rls.h) */
     c = (r->form == (uint16_t)RLS_FORM_PAPER) ? r->theta[1] : _IQ(1.0);
+    c2 = _IQ(0.0);
+    d1 = _IQ(0.0);
+    if (r->form == (uint16_t)RLS_FORM_FLUX) {
+        c = _IQsat(r->c1, phi_max, -phi_max);
+        c2 = _IQsat(r->c2, phi_max, -phi_max);
+        d1 = _IQsat(r->d1, phi_max, -phi_max);
+    }
     y1 = _IQsat(r->y1, _IQ(64.0), -_IQ(64.0));
     y2 = _IQsat(r->y2, _IQ(64.0), -_IQ(64.0));
-    /* a-posteriori residuals in Q22 (Q24 * Q24 >> 26): |y| < 64 and three
-     * |phi theta| < 8 * 16: |sum| < 448, inside Q22's 512 */
+    /* a-posteriori residuals in Q22 (Q24 * Q24 >> 26): |y| < 64 and four
+     * |phi theta| < 4 * 16: |sum| < 320, inside Q22's 512 */
     e1 = _IQtoIQ22(y1) - _IQ26mpy(_IQsat(r->i_mf, phi_max, -phi_max), r->theta[0]) -
-         _IQ26mpy(_IQsat(r->u_mf, phi_max, -phi_max), r->theta[1]) - _IQ26mpy(c, r->theta[2]);
+         _IQ26mpy(_IQsat(r->u_mf, phi_max, -phi_max), r->theta[1]) - _IQ26mpy(c, r->theta[2]) -
+         _IQ26mpy(d1, r->theta[3]);
     e2 = _IQtoIQ22(y2) - _IQ26mpy(_IQsat(r->i_tf, phi_max, -phi_max), r->theta[0]) -
-         _IQ26mpy(_IQsat(r->u_tf, phi_max, -phi_max), r->theta[1]) -
+         _IQ26mpy(_IQsat(r->u_tf, phi_max, -phi_max), r->theta[1]) - _IQ26mpy(c2, r->theta[2]) -
          _IQ26mpy(_IQsat(r->wr_f, phi_max, -phi_max), r->theta[3]);
     e1 = _IQsat(e1, eps_max, -eps_max);
     e2 = _IQsat(e2, eps_max, -eps_max);

@@ -121,7 +121,7 @@ static void pe_check(_iq v, const _iq lim[2], param_status_t code, param_status_
 void param_extract_step(param_extract_t *p)
 {
     param_status_t st = PARAM_OK;
-    _iq K1 = p->theta[0], K2 = p->theta[1], K4 = p->theta[3];
+    _iq K1 = p->theta[0], K2 = p->theta[1], K3 = p->theta[2], K4 = p->theta[3];
     _iq inv_k2, a, k2im;
 
     p->Rs = _IQ(0.0); p->Rr = _IQ(0.0); p->Lm = _IQ(0.0);
@@ -134,9 +134,16 @@ void param_extract_step(param_extract_t *p)
         st = PARAM_ERR_K2;                  /* K2 = 1/(sigma Ls) > 0 */
     }
     inv_k2 = pe_div(_IQ(1.0), K2, PARAM_ERR_K2, &st);
+    if (p->form == (uint16_t)RLS_FORM_FLUX) {
+        /* K3, K4 at the flux i_m from theirs at the nameplate's i_M (rls.h;
+         * regression_bias.md §5.1 (f)) */
+        _iq ratio = pe_mul(p->i_m, p->inv_im_nom, &st);
+        K3 = pe_mul(K3, ratio, &st);
+        K4 = pe_mul(K4, ratio, &st);
+    }
     /* K3' = K3/K2 for the constant regressor (eq. 7 vs eq. 9) */
     p->K3p = (p->form == (uint16_t)RLS_FORM_PAPER) ? p->theta[2]
-                                                   : pe_div(p->theta[2], K2, PARAM_ERR_DIV, &st);
+                                                   : pe_div(K3, K2, PARAM_ERR_DIV, &st);
     if (st == PARAM_OK && p->K3p <= _IQ(0.0)) {
         st = PARAM_ERR_K3;                  /* K3' = Lm Rr psi_r / Lr^2 > 0 */
     }
@@ -185,6 +192,9 @@ void param_extract_magnetic(param_extract_t *p)
         st = PARAM_ERR_K2;
     }
     inv_k2 = pe_div(_IQ(1.0), K2, PARAM_ERR_K2, &st);
+    if (p->form == (uint16_t)RLS_FORM_FLUX) {
+        K4 = pe_mul(K4, pe_mul(p->i_m, p->inv_im_nom, &st), &st);   /* as param_extract_step */
+    }
     a = pe_div(-K4, pe_mul(K2, p->i_m, &st), PARAM_ERR_DIV, &st);
     if (st == PARAM_OK && a <= _IQ(0.0)) {
         st = PARAM_ERR_SQRT;

@@ -338,7 +338,9 @@ rls_status_t rls_init(rls_t *r, rls_form_t form, float p0, float lambda,
     int16_t i;
 
     memset(r, 0, sizeof *r);
-    if (form != RLS_FORM_CONST && form != RLS_FORM_PAPER) { return RLS_ERR_FORM; }
+    if (form != RLS_FORM_CONST && form != RLS_FORM_PAPER && form != RLS_FORM_FLUX) {
+        return RLS_ERR_FORM;
+    }
     if (!(p0 >= 1e-9f) || !(p0 <= 1e12f)) { return RLS_ERR_P0; }
     if (!(lambda >= 0.9f) || !(lambda <= 1.0f)) { return RLS_ERR_LAMBDA; }
     if (trace_max == 0.0f) {
@@ -753,7 +755,8 @@ _iq rls_update_row(rls_t *r, const _iq phi[RLS_N], _iq y)
     return e;
 }
 
-/* Row 1 (eq. 7 or eq. 9): [i_Mf, u_Mf, c, 0], c from theta2 as it is now */
+/* Row 1 (eq. 7 or eq. 9): [i_Mf, u_Mf, c, 0], c from theta2 as it is now;
+ * the flux form: [i_Mf, u_Mf, m_Mf, -(wr m_T)f] */
 static inline void rls_row1(rls_t *r)
 {
     _iq row[RLS_N];
@@ -761,16 +764,20 @@ static inline void rls_row1(rls_t *r)
     row[1] = r->u_mf;
     row[2] = (r->form == (uint16_t)RLS_FORM_PAPER) ? r->theta[1] : _IQ(1.0);
     row[3] = _IQ(0.0);
+    if (r->form == (uint16_t)RLS_FORM_FLUX) {
+        row[2] = r->c1;
+        row[3] = r->d1;
+    }
     r->innov[0] = rls_row_update(r, row, r->y1);
 }
 
-/* Row 2: [i_Tf, u_Tf, 0, wr_f] */
+/* Row 2: [i_Tf, u_Tf, 0, wr_f]; the flux form: [i_Tf, u_Tf, m_Tf, (wr m_M)f] */
 static inline void rls_row2(rls_t *r)
 {
     _iq row[RLS_N];
     row[0] = r->i_tf;
     row[1] = r->u_tf;
-    row[2] = _IQ(0.0);
+    row[2] = (r->form == (uint16_t)RLS_FORM_FLUX) ? r->c2 : _IQ(0.0);
     row[3] = r->wr_f;
     r->innov[1] = rls_row_update(r, row, r->y2);
 }

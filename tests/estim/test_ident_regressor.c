@@ -10,7 +10,10 @@
  *     identity (method §7 point 2), by comparison with the product of the
  *     filtered factors,
  *   - that every signal passes an identical filter (bit-equal to a lone
- *     bw_filter with the same input). */
+ *     bw_filter with the same input),
+ *   - the period-mean form's window (ident_regressor.h (a)-(c)) against its
+ *     equations in double on the same inputs, window by window. */
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -192,6 +195,154 @@ static void test_saturation(void **state)
     assert_true(fabs(iq_to_d(r.y2) + 7.0) <= 1e-4);
 }
 
+/* The period-mean form (ident_regressor.h (a)-(d); regression_bias.md
+ * §5.1), the drive's schedule (a filter step every 8 samples), against its
+ * equations written here in double on the same Q24 inputs: smooth,
+ * unrelated sinusoids for the currents, voltage, frame and rotor speeds and
+ * ifo's i_mr, and K2^ = 0 (none yet), then inside, then outside the
+ * nameplate's [0.5, 2] range.  Checked after every window: the ten filter
+ * inputs within 8 LSB24 (each is a window mean, rounded, plus at most six
+ * truncated products of factors below 8 pu, each within 1 LSB, and the
+ * Q30 ripple constant's 2^-30 relative rounding), and Delta within 32
+ * LSB24 (2e-6 pu; its own rounded recursion, whose +-1/2 LSB steps do not
+ * decay faster than kf_N = 0.15: at most ~1/kf_N of them add up).  The
+ * corrections are far above these bounds: |K2^ c| ~ 1e-4 pu, the
+ * trapezoid's half step ~ 1e-4 pu, sinc 1 - 3e-5. */
+static void test_period_mean_window(void **state)
+{
+    const uint16_t n = 3u;
+    const int32_t N = 8;
+    const double Ts = MD_TS_S, wb = MD_W_BASE, tr_s = 0.05, k2n = 1.2, imn = 0.5;
+    const double kf = 1.0 - exp(-(double)N * Ts / tr_s);
+    const double wt = wb * Ts;
+    ident_regressor_t r;
+    double theta = 0.0, s_im = 0.0, s_it = 0.0, s_um = 0.0, s_ut = 0.0, s_ws = 0.0;
+    double s_wsit = 0.0, s_wsim = 0.0, i0m = 0.0, i0t = 0.0, dlm = 0.0, dlt = 0.0;
+    double e_in = 0.0, e_dl = 0.0, dl_max = 0.0, ic_max = 0.0;
+    (void)state;
+    assert_int_equal(ident_regressor_init(&r, WC_RAD_S, 10u, (float)Ts, (float)wb, n),
+                     BW_FILTER_OK);
+    assert_int_equal(ident_regressor_set_period_mean(&r, (float)tr_s, (float)k2n, (float)imn,
+                                                     (float)Ts, (float)wb), 0);
+    for (int32_t k = 1; k <= 300 * N; k++) {
+        const double ws = 0.8 + 0.1 * sin(k * 1.3e-3);
+        const double ua = 0.9 * cos(k * 0.021 + 0.3), ub = 0.9 * sin(k * 0.021 + 0.3);
+        double sk, ck;
+        theta += ws * wt;
+        r.i_m = d_to_iq(0.5 + 0.05 * sin(k * 2.1e-3));
+        r.i_t = d_to_iq(0.3 + 0.04 * cos(k * 3.7e-3));
+        r.u_alpha = d_to_iq(ua);
+        r.u_beta = d_to_iq(ub);
+        r.sin_k = d_to_iq(sin(theta));
+        r.cos_k = d_to_iq(cos(theta));
+        r.ws = d_to_iq(ws);
+        ident_regressor_accumulate(&r);
+        sk = iq_to_d(r.sin_k);
+        ck = iq_to_d(r.cos_k);
+        s_im += iq_to_d(r.i_m);
+        s_it += iq_to_d(r.i_t);
+        s_um += iq_to_d(r.u_alpha) * ck + iq_to_d(r.u_beta) * sk;
+        s_ut += iq_to_d(r.u_beta) * ck - iq_to_d(r.u_alpha) * sk;
+        s_ws += iq_to_d(r.ws);
+        s_wsit += iq_to_d(r.ws) * iq_to_d(r.i_t);
+        s_wsim += iq_to_d(r.ws) * iq_to_d(r.i_m);
+        if (k % N != 0) {
+            continue;
+        }
+        {
+            const int32_t w = k / N;
+            const double wr = 0.76 + 0.1 * sin(w * 0.011);
+            const double imr = 0.49 + 0.01 * sin(w * 0.017);
+            const double k2h = (w < 100) ? 0.0 : (w < 200) ? 1.25 : 3.0;   /* none, in, out */
+            const double k2 = (k2h > 0.5 * k2n && k2h < 2.0 * k2n) ? k2h : k2n;
+            double wsm, x, um, ut, sinc, icm, ict, hm, ht, slip, dm, dt, mm, mt, ref[10], got[10];
+            r.wr = d_to_iq(wr);
+            r.imr = d_to_iq(imr);
+            r.k2_hat = d_to_iq(k2h);
+            ident_regressor_filter_a(&r);
+            /* (a) the mean voltage: back to the periods' middle, times sinc */
+            wsm = s_ws / N;
+            x = 0.5 * wt * wsm;
+            sinc = sin(x) / x;
+            um = sinc * (cos(x) * s_um / N - sin(x) * s_ut / N);
+            ut = sinc * (sin(x) * s_um / N + cos(x) * s_ut / N);
+            /* (b) K2^ c and the trapezoid */
+            icm = -k2 * wsm * ut * wt * wt / 12.0;
+            ict = k2 * wsm * um * wt * wt / 12.0;
+            hm = (iq_to_d(r.i_m) - i0m) / (2.0 * N);
+            ht = (iq_to_d(r.i_t) - i0t) / (2.0 * N);
+            /* (c) Delta and the flux per nameplate i_M */
+            dm = hm + icm;
+            dt = ht + ict;
+            slip = N * wt * (wsm - wr);
+            {
+                const double m0 = dlm, t0 = dlt;
+                dlm = m0 + kf * (dm - m0) + slip * t0;
+                dlt = t0 + kf * (dt - t0) - slip * m0;
+            }
+            mm = (imr + dlm) / imn;
+            mt = dlt / imn;
+            ref[0] = s_im / N + icm - hm;        got[0] = iq_to_d(r.f_im.u);
+            ref[1] = s_it / N + ict - ht;        got[1] = iq_to_d(r.f_it.u);
+            ref[2] = um;                         got[2] = iq_to_d(r.f_um.u);
+            ref[3] = ut;                         got[3] = iq_to_d(r.f_ut.u);
+            ref[4] = s_wsit / N + wsm * (ict - ht);   got[4] = iq_to_d(r.f_ws_it.u);
+            ref[5] = s_wsim / N + wsm * (icm - hm);   got[5] = iq_to_d(r.f_ws_im.u);
+            ref[6] = mm;                         got[6] = iq_to_d(r.f_mm.u);
+            ref[7] = mt;                         got[7] = iq_to_d(r.f_mt.u);
+            ref[8] = -wr * mt;                   got[8] = iq_to_d(r.f_wmt.u);
+            ref[9] = wr * mm;                    got[9] = iq_to_d(r.f_wr.u);
+            for (int i = 0; i < 10; i++) {
+                /* Delta's own error passes into m: judged with it, below */
+                double e = fabs(got[i] - ref[i]) - ((i >= 6) ? fabs(iq_to_d(r.dl_m) - dlm) / imn +
+                                                                   fabs(iq_to_d(r.dl_t) - dlt) / imn
+                                                             : 0.0);
+                if (e > e_in) { e_in = e; }
+            }
+            if (fabs(iq_to_d(r.dl_m) - dlm) > e_dl) { e_dl = fabs(iq_to_d(r.dl_m) - dlm); }
+            if (fabs(iq_to_d(r.dl_t) - dlt) > e_dl) { e_dl = fabs(iq_to_d(r.dl_t) - dlt); }
+            if (fabs(dlm) > dl_max) { dl_max = fabs(dlm); }
+            if (fabs(icm) > ic_max) { ic_max = fabs(icm); }
+            i0m = iq_to_d(r.i_m);
+            i0t = iq_to_d(r.i_t);
+            s_im = s_it = s_um = s_ut = s_ws = s_wsit = s_wsim = 0.0;
+            ident_regressor_filter_b(&r);
+            ident_regressor_filter_c(&r);
+        }
+    }
+    print_message("period-mean window: inputs within %.1f LSB24, Delta within %.1f LSB24 "
+                  "(|Delta| up to %.2e pu, |K2^ c| up to %.2e pu)\n", e_in / LSB24, e_dl / LSB24,
+                  dl_max, ic_max);
+    assert_true(e_in <= 8.0 * LSB24);
+    assert_true(e_dl <= 32.0 * LSB24);
+    assert_true(dl_max >= 1e-5 && ic_max >= 1e-5);   /* the corrections are exercised */
+    /* the filters' outputs reach the rows */
+    assert_true(r.m_mf == r.f_mm.y && r.m_tf == r.f_mt.y && r.wm_tf == r.f_wmt.y);
+    assert_true(r.wr_f == r.f_wr.y);
+}
+
+/* ident_regressor_set_period_mean refuses what it cannot represent and
+ * changes nothing then. */
+static void test_period_mean_rejects(void **state)
+{
+    ident_regressor_t r;
+    (void)state;
+    init_paper(&r);
+    assert_int_equal(ident_regressor_set_period_mean(&r, 1e-5f, 1.0f, 0.5f, (float)MD_TS_S,
+                                                     (float)MD_W_BASE), 1);   /* Tr < Ts */
+    assert_int_equal(ident_regressor_set_period_mean(&r, 0.05f, 0.0f, 0.5f, (float)MD_TS_S,
+                                                     (float)MD_W_BASE), 1);   /* K2 <= 0 */
+    assert_int_equal(ident_regressor_set_period_mean(&r, 0.05f, 16.0f, 0.5f, (float)MD_TS_S,
+                                                     (float)MD_W_BASE), 1);   /* K2 beyond the RLS */
+    assert_int_equal(ident_regressor_set_period_mean(&r, 0.05f, 1.0f, 0.01f, (float)MD_TS_S,
+                                                     (float)MD_W_BASE), 1);   /* i_M too small */
+    assert_int_equal(r.period_mean, 0);
+    assert_true(r.k_inv_im == _IQ(0.0));
+    assert_int_equal(ident_regressor_set_period_mean(&r, 0.05f, 1.0f, 0.5f, (float)MD_TS_S,
+                                                     (float)MD_W_BASE), 0);
+    assert_int_equal(r.period_mean, 1);
+}
+
 static void test_init_rejects(void **state)
 {
     ident_regressor_t r;
@@ -213,6 +364,8 @@ int main(void)
         cmocka_unit_test(test_regression_identity),
         cmocka_unit_test(test_regression_identity_decimated),
         cmocka_unit_test(test_saturation),
+        cmocka_unit_test(test_period_mean_window),
+        cmocka_unit_test(test_period_mean_rejects),
         cmocka_unit_test(test_init_rejects),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -116,6 +116,44 @@ static void test_reference_const_form(void **state)
     check_reference(0);
 }
 
+/* The flux form (RLS_FORM_FLUX): theta3, theta4 are K3, K4 at the
+ * nameplate's i_M, here 10 % above the flux current i_m the run had
+ * (theta = K x 1.1); with inv_im_nom = 1/(1.1 i_m) the extraction must give
+ * the constant form's parameters: within 16 LSB24 + 4e-6 relative of them
+ * (the constant form's own bound, doubled for the two rounded products
+ * that bring theta3, theta4 to the flux: m_M / i_M,nom and K x that), and
+ * the method's SI values as check_reference. */
+static void test_reference_flux_form(void **state)
+{
+    param_extract_t c, f;
+    const double wb = (double)fx.b.w_base_rad_s, Ib = (double)fx.b.I_base_A;
+    (void)state;
+    c = fx.p;
+    load(&c, 0, fx.K1, fx.K2, fx.K3p, fx.K4, fx.im);
+    param_extract_step(&c);
+    assert_int_equal(c.status, PARAM_OK);
+    f = c;
+    f.form = (uint16_t)RLS_FORM_FLUX;
+    f.theta[2] = d_to_iq(iq_to_d(c.theta[2]) * 1.1);
+    f.theta[3] = d_to_iq(iq_to_d(c.theta[3]) * 1.1);
+    f.inv_im_nom = d_to_iq(Ib / (1.1 * fx.im));
+    param_extract_step(&f);
+    assert_int_equal(f.status, PARAM_OK);
+    assert_int_equal(f.valid, 1);
+#define SAME(x) assert_true(fabs(iq_to_d(f.x) - iq_to_d(c.x)) <= 16.0 * LSB24 + 4e-6 * fabs(iq_to_d(c.x)))
+    SAME(Rs); SAME(Rr); SAME(Lm); SAME(Lr); SAME(psi_r); SAME(K3p);
+#undef SAME
+    assert_true(fabs(qn_to_d(f.Tr, 20) - qn_to_d(c.Tr, 20)) <=
+                2.0 * LSB20 + 4e-6 * qn_to_d(c.Tr, 20));
+    assert_true(fabs(iq_to_d(f.Rr) * (double)fx.b.Z_base_ohm / 0.465 - 1.0) <= 1e-3);
+    assert_true(fabs(qn_to_d(f.Tr, 20) / wb / 0.01978 - 1.0) <= 1e-3);
+    /* the same theta read as the constant form would be 10 % off: the
+     * flux unit matters */
+    f.form = (uint16_t)RLS_FORM_CONST;
+    param_extract_step(&f);
+    assert_true(fabs(iq_to_d(f.Lr) / iq_to_d(c.Lr) - 1.0) > 0.01);
+}
+
 /* Each rejection: status, valid = 0. */
 static void expect(param_status_t st)
 {
@@ -397,6 +435,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_reference_paper_form),
         cmocka_unit_test(test_reference_const_form),
+        cmocka_unit_test(test_reference_flux_form),
         cmocka_unit_test(test_rejections),
         cmocka_unit_test(test_init_rejects),
         cmocka_unit_test(test_large_tr),

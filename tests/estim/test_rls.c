@@ -6,8 +6,9 @@
  *   - a double-precision RLS (eq. 1, two sequential scalar rows) written
  *     here, on the same (quantised) data,
  * and checks P's symmetry and positive definiteness over 200 000 updates,
- * the forgetting factor's wind-up guard, both regressor forms, enable,
+ * the forgetting factor's wind-up guard, the three regressor forms, enable,
  * and the init rejections. */
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -206,6 +207,70 @@ static void test_converge_paper(void **state)
     print_message("paper form: max relative error %.3g, constant form %.3g\n", e_paper, e_const);
     assert_true(e_paper <= 1e-1);
     assert_true(e_paper >= 100.0 * e_const);
+}
+
+/* RLS_FORM_FLUX (rls.h): full rows with the flux in the frame, m = (m_M,
+ * m_T).  The synthetic motor's regressors, with a flux that moves (m_M = 1
+ * + 2 % sin over 0.2 s, m_T = 0.3 % cos over 0.13 s: the excursions of a
+ * flux build-up and an orientation error, larger than the period-mean
+ * effects it carries in the drive) and y from the rows and the true K
+ * (the constant form's: theta3, theta4 are K3, K4 at m_M = 1), so that the
+ * rows hold exactly up to the Q24 quantisation.  Against the true K and
+ * the double RLS on the same full rows: the bounds of test_converge_const
+ * (2e-4 relative; 2e-4 |K| + 2e-6), whose argument (the Q26 theta's dead
+ * zone over ~1e3 effective samples) holds for any row of this scale. */
+static void test_converge_flux(void **state)
+{
+    md_motor_t m;
+    rls_t r;
+    dls_t d;
+    double th[4], emax = 0.0;
+    (void)state;
+    md_motor(&m);
+    true_theta(&m, 0, th);
+    assert_int_equal(rls_init(&r, RLS_FORM_FLUX, 1e6f, 1.0f, 0.0f, NULL), RLS_OK);
+    dls_init(&d, 1e6, 0);
+    for (int32_t k = 1; k <= 15000; k++) {
+        md_sample_t s;
+        double row1[4], row2[4], y1 = 0.0, y2 = 0.0;
+        const double mm = 1.0 + 0.02 * sin(2.0 * MD_PI * k / 3000.0);
+        const double mt = 0.003 * cos(2.0 * MD_PI * k / 2000.0);
+        md_sample(&m, k, &s);
+        r.i_mf = d_to_iq(s.i_m);
+        r.u_mf = d_to_iq(s.u_m);
+        r.c1 = d_to_iq(mm);
+        r.d1 = d_to_iq(-s.wr * mt);
+        r.i_tf = d_to_iq(s.i_t);
+        r.u_tf = d_to_iq(s.u_t);
+        r.c2 = d_to_iq(mt);
+        r.wr_f = d_to_iq(s.wr * mm);
+        row1[0] = iq_to_d(r.i_mf); row1[1] = iq_to_d(r.u_mf);
+        row1[2] = iq_to_d(r.c1);   row1[3] = iq_to_d(r.d1);
+        row2[0] = iq_to_d(r.i_tf); row2[1] = iq_to_d(r.u_tf);
+        row2[2] = iq_to_d(r.c2);   row2[3] = iq_to_d(r.wr_f);
+        for (int i = 0; i < 4; i++) {
+            y1 += row1[i] * th[i];
+            y2 += row2[i] * th[i];
+        }
+        r.y1 = d_to_iq(y1);
+        r.y2 = d_to_iq(y2);
+        r.enable = 1u;
+        dls_row(&d, row1, iq_to_d(r.y1));
+        dls_row(&d, row2, iq_to_d(r.y2));
+        rls_step(&r);
+    }
+    for (int i = 0; i < 4; i++) {
+        double e = fabs(iq_to_d(r.theta[i]) - th[i]) / fabs(th[i]);
+        double ed = fabs(iq_to_d(r.theta[i]) - d.th[i]);
+        print_message("flux K%d: true %.6f  iq %.6f (%.2e rel)  double %.6f\n", i + 1, th[i],
+                      iq_to_d(r.theta[i]), e, d.th[i]);
+        assert_true(e <= 2e-4);
+        assert_true(ed <= 2e-4 * fabs(th[i]) + 2e-6);
+        if (e > emax) { emax = e; }
+    }
+    assert_int_equal(r.sat_count, 0);
+    assert_int_equal(r.pd_count, 0);
+    print_message("flux form: worst %.2e relative\n", emax);
 }
 
 /* rls_step_row: one row per call, alternating (row 1 on odd samples, row 2
@@ -533,7 +598,7 @@ static void test_init_rejects(void **state)
     rls_t r;
     const float bad_th[4] = {0.0f, 16.0f, 0.0f, 0.0f};
     (void)state;
-    assert_int_equal(rls_init(&r, (rls_form_t)2, 1e6f, 1.0f, 0.0f, NULL), RLS_ERR_FORM);
+    assert_int_equal(rls_init(&r, (rls_form_t)3, 1e6f, 1.0f, 0.0f, NULL), RLS_ERR_FORM);
     assert_int_equal(rls_init(&r, RLS_FORM_CONST, 0.0f, 1.0f, 0.0f, NULL), RLS_ERR_P0);
     assert_int_equal(rls_init(&r, RLS_FORM_CONST, 1e13f, 1.0f, 0.0f, NULL), RLS_ERR_P0);
     assert_int_equal(rls_init(&r, RLS_FORM_CONST, NAN, 1.0f, 0.0f, NULL), RLS_ERR_P0);
@@ -554,6 +619,7 @@ int main(void)
         cmocka_unit_test(test_converge_huge_p0),
         cmocka_unit_test(test_converge_paper),
         cmocka_unit_test(test_converge_split_rows),
+        cmocka_unit_test(test_converge_flux),
         cmocka_unit_test(test_noisy),
         cmocka_unit_test(test_long_run_pd),
         cmocka_unit_test(test_forgetting_windup_guard),

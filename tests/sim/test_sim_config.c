@@ -411,6 +411,34 @@ static void test_adaptation_keys(void **state)
     remove(path);
 }
 
+/* The period-mean regression (ident.period_mean) regresses on ifo's flux:
+ * refused with the observer's frame and with the paper's third regressor,
+ * naming the key and why; on the paper file (orientation 0) it loads and
+ * reaches the drive's configuration. */
+static void test_period_mean_key(void **state)
+{
+    sim_config_t cfg;
+    drive_config_t dc;
+    char err[SIM_CONFIG_ERR_LEN];
+    char path[] = "/tmp/mc_cfg_test_XXXXXX";
+    int fd;
+    (void)state;
+    expect_error(NULL, "[controller]\norientation = 1\n[ident]\nperiod_mean = 1",
+                 "key 'ident.period_mean' = 1");
+    expect_error(NULL, "[controller]\norientation = 1\n[ident]\nperiod_mean = 1",
+                 "controller.orientation = 0");
+    expect_error(NULL, "[ident]\nperiod_mean = 1\npaper_regressor = 1",
+                 "ident.paper_regressor = 0");
+    expect_error(NULL, "[ident]\nperiod_mean = 2", "period_mean");
+    fd = mkstemp(path);
+    assert_true(fd >= 0);
+    write_variant(path, NULL, "[ident]\nperiod_mean = 1");
+    assert_int_equal(sim_config_load(path, &cfg, err, sizeof err), 0);
+    sim_config_to_drive(&cfg, &dc);
+    assert_int_equal(dc.ident.period_mean, 1);
+    remove(path);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -421,6 +449,7 @@ int main(void)
         cmocka_unit_test(test_zero_pole_pairs),     cmocka_unit_test(test_fractional_pole_pairs),
         cmocka_unit_test(test_orientation_out_of_range), cmocka_unit_test(test_ratings),
         cmocka_unit_test(test_bus_too_low),         cmocka_unit_test(test_adaptation_keys),
+        cmocka_unit_test(test_period_mean_key),
         cmocka_unit_test(test_magnetisation_true_tr),
         cmocka_unit_test(test_plant_integration_limits),
         cmocka_unit_test(test_target_speed),

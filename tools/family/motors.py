@@ -511,6 +511,19 @@ def _fmt(v):
     return f"{v:.6g}"
 
 
+# The ideal plant for motor_sim: no dead time, device drop, bus ripple or
+# source resistance in the bridge, no sensor gain error, offset or noise
+# (the 12-bit ADC's quantisation and the encoder's remain), and a drive that
+# knows it (no dead-time feed-forward, no bridge test).  The overrides for
+# to_ini's `extra`.
+IDEAL_PLANT = {("inverter", "dead_time_s"): 0, ("inverter", "device_drop_V"): 0,
+               ("inverter", "ripple_V"): 0, ("inverter", "source_resistance_ohm"): 0,
+               ("sensors", "hall_gain_error_pct"): 0, ("sensors", "hall_offset_a_A"): 0,
+               ("sensors", "hall_offset_b_A"): 0, ("sensors", "hall_noise_A_rms"): 0,
+               ("sensors", "adc_noise_lsb"): 0, ("ident", "vi_test"): 0,
+               ("board", "dead_time_s"): 0, ("board", "device_drop_V"): 0}
+
+
 def to_ini(m: Motor, layout="split", extra=None):
     """The INI text of one motor.  extra: {(section, key): value} appended
     (e.g. an ideal plant for a study)."""

@@ -147,14 +147,36 @@ def _ini_float(cp, sec, key, default=None):
     return default
 
 
+def _from_split_layout(cp):
+    """The drive/plant split of today's files ([nameplate], [board], [plant])
+    read as the layout below: the nameplate's motor with the plant's J and B,
+    the board's bus and current range."""
+    if not cp.has_section("nameplate"):
+        return
+    cp.add_section("motor")
+    for k, v in cp.items("nameplate"):
+        cp.set("motor", k, v)
+    for k in ("J_kgm2", "B_Nm_s"):
+        if cp.has_option("plant", k):
+            cp.set("motor", k, cp.get("plant", k))
+    for sec, key, src in (("inverter", "vdc_V", "vdc_nominal_V"),
+                          ("sensors", "hall_full_scale_A", "current_full_scale_A")):
+        if not cp.has_section(sec):
+            cp.add_section(sec)
+        if not cp.has_option(sec, key):
+            cp.set(sec, key, cp.get("board", src))
+
+
 def case_from_ini(path, name=None, text=None, **over):
-    """A Case from a motor_sim INI file of today's layout ([motor], [load],
-    [inverter], [sensors], [controller], [ident]), or from its text."""
+    """A Case from a motor_sim INI file ([motor], [load], [inverter], [sensors],
+    [controller], [ident]; or the split layout, [nameplate] [board] [plant]),
+    or from its text."""
     cp = configparser.ConfigParser(inline_comment_prefixes=(";",))
     if text is not None:
         cp.read_string(text)
     else:
         cp.read(path)
+    _from_split_layout(cp)
     m = "motor"
     rated_rpm = _ini_float(cp, m, "rated_speed_rpm")
     tgt = _ini_float(cp, "ident", "target_speed_rpm", -1.0)

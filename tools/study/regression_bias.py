@@ -14,9 +14,13 @@ the findings and numbers are in tools/study/regression_bias.md.
     regression_bias.py isr        ...           ISR (PWM) rate 8..45 kHz
     regression_bias.py sensitivity              a voltage error (real-plant residue) against
                                                 the learning speed (not an ideal-plant result)
-    regression_bias.py motor_sim  ...           the fixed-point motor_sim, ideal sensors
-                                                (needs build/host-iq: tools/run_identification.sh
+    regression_bias.py motor_sim  ...           the fixed-point motor_sim, ideal sensors, with
+                                                the paper's rows and the firmware's period-mean
+                                                rows ([ident] period_mean = 1, regression_bias.md
+                                                §10) (needs build/host-iq: tools/run_identification.sh
                                                 or cmake --build --preset host-iq --target motor_sim)
+    regression_bias.py write-s077 FILE          the issue's motor on the ideal plant as an INI
+                                                (tests/sim/motor_1kw_s077_ideal.ini)
 
 Each prints a markdown table and writes DIR/<command>.json (default
 out/regression_bias).  Cases run vectorised in one closed loop per command
@@ -59,11 +63,7 @@ CONFIG = ROOT / "host_sim" / "config"
 SQRT3 = math.sqrt(3.0)
 
 # the ideal plant for motor_sim (and the meaning of "ideal" here)
-IDEAL_EXTRA = {("inverter", "dead_time_s"): 0, ("inverter", "device_drop_V"): 0,
-               ("inverter", "ripple_V"): 0, ("inverter", "source_resistance_ohm"): 0,
-               ("sensors", "hall_gain_error_pct"): 0, ("sensors", "hall_offset_a_A"): 0,
-               ("sensors", "hall_offset_b_A"): 0, ("sensors", "hall_noise_A_rms"): 0,
-               ("sensors", "adc_noise_lsb"): 0}
+IDEAL_EXTRA = fam.IDEAL_PLANT
 
 
 # --------------------------------------------------------------------------
@@ -495,7 +495,7 @@ def run_motor_sim(ini_text, tag, tmp):
     rep = json.loads((out / "report.json").read_text())
     bl = subprocess.run([sys.executable, str(ROOT / "tools" / "batch_ls.py"), str(out), "--json"],
                         check=True, capture_output=True, text=True)
-    b = json.loads(bl.stdout)
+    b = json.loads(bl.stdout)   # the paper's rows (eq. 7), whatever form the drive ran
     e = rep.get("last_extraction_error_pct") or {}   # the RLS's, published or not
     keymap = {"Rs": "Rs_ohm", "Rr": "Rr_ohm", "Lm": "Lm_H", "Lr": "Lr_H", "psi_r": "psi_r_Wb",
               "Tr": "Tr_s"}
@@ -516,7 +516,7 @@ def cmd_motor_sim(a):
         key = {"rls_tail_s": ("ident", "rls_tail_s"), "i_m": ("controller", "magnetizing_current_A"),
                "ramp_rpm_s": ("controller", "speed_ramp_rpm_s"), "load_const": ("load", "const_Nm"),
                "load_fan": ("load", "fan_Nm"), "target_rpm": ("ident", "target_speed_rpm"),
-               "vdc": ("inverter", "vdc_V")}
+               "vdc": ("board", "vdc_nominal_V")}
         for plant in ("ideal", "realistic"):
             for lab, over in (vs if plant == "ideal" else vs[:1]):
                 extra = dict(IDEAL_EXTRA) if plant == "ideal" else {}
@@ -525,29 +525,57 @@ def cmd_motor_sim(a):
                 if "vdc" in over:   # keep the trips and the sensor range around the raised bus
                     extra[("controller", "vdc_max_V")] = 1.25 * over["vdc"]
                     extra[("controller", "vdc_min_V")] = 0.75 * over["vdc"]
-                    extra[("sensors", "vdc_full_scale_V")] = 50 * math.ceil(over["vdc"] * 5 / 3 / 50)
+                    extra[("board", "vdc_full_scale_V")] = 50 * math.ceil(over["vdc"] * 5 / 3 / 50)
                 r = run_motor_sim(fam.to_ini(m, extra=extra), f"{plant}_{len(rows)}", tmp)
+                # the same with the firmware's period-mean regression (§10)
+                extra[("ident", "period_mean")] = 1
+                q = run_motor_sim(fam.to_ini(m, extra=extra), f"{plant}_{len(rows)}_pm", tmp)
+                worst = (max(q["rls"].items(), key=lambda kv: abs(kv[1])) if q["rls"] else None)
                 rows.append({"plant": plant, "choice": lab, "cond": round(r["cond"], 1),
                              "rls_Rr": None if not r["rls"] else round(r["rls"]["Rr"], 2),
                              "rls_Tr": None if not r["rls"] else round(r["rls"]["Tr"], 2),
                              "batch_Rr": None if not r["batch"] else round(r["batch"]["Rr"], 2),
-                             "rls": r["rls"], "batch": r["batch"]})
-    print(md_table(rows, ["plant", "choice", "cond", "rls_Rr", "rls_Tr", "batch_Rr"],
+                             "pm_Rr": None if not q["rls"] else round(q["rls"]["Rr"], 2),
+                             "pm_Tr": None if not q["rls"] else round(q["rls"]["Tr"], 2),
+                             "pm_worst": None if not worst else f"{worst[0]} {worst[1]:+.2f}",
+                             "rls": r["rls"], "batch": r["batch"], "pm": q["rls"]})
+    print(md_table(rows, ["plant", "choice", "cond", "rls_Rr", "rls_Tr", "batch_Rr", "pm_Rr",
+                          "pm_Tr", "pm_worst"],
                    ["plant", "operating choice", "cond (pu)", "RLS (fixed point) Rr %",
-                    "RLS Tr %", "batch LS of its trace Rr %"]))
+                    "RLS Tr %", "batch LS of its trace Rr %", "period_mean 1: RLS Rr %",
+                    "RLS Tr %", "worst %"]))
     save(a.out, "motor_sim", rows)
+
+
+S077_HEADER = """; The issue's small-leakage motor at high speed (docs/accuracy.md, tools/study/
+; regression_bias.md §3): 1 kW, 4 poles, 100 Hz, 400 V, sigma 0.077, Tr set to
+; 69 / (2 pi 100) s (w_r Tr = 69 at 3000 r/min), on the ideal plant (motors.py
+; IDEAL_PLANT: no dead time, drop, ripple, sensor errors or noise).  Written by
+;   tools/study/regression_bias.py write-s077 tests/sim/motor_1kw_s077_ideal.ini
+; for the CTest sim_period_mean; not a user's file.
+"""
+
+
+def cmd_write_s077(a):
+    """The issue's motor on the ideal plant as an INI file (the CTest's)."""
+    if a.target is None:
+        raise SystemExit("regression_bias.py write-s077 FILE")
+    Path(a.target).write_text(S077_HEADER + fam.to_ini(s077_motor(), extra=dict(IDEAL_EXTRA)))
+    print(f"wrote {a.target}")
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("command", choices=("diagnose", "validate", "swing", "rate", "isr", "motor_sim",
-                                        "sensitivity"))
+                                        "sensitivity", "write-s077"))
+    ap.add_argument("target", nargs="?", help="write-s077: the INI file to write")
     ap.add_argument("--grid", action="store_true", help="validate: the whole family grid")
     ap.add_argument("--quick", action="store_true", help="swing/rate: the 1 kW motor only")
     ap.add_argument("--out", type=Path, default=ROOT / "out" / "regression_bias")
     a = ap.parse_args(argv)
     {"diagnose": cmd_diagnose, "validate": cmd_validate, "swing": cmd_swing, "rate": cmd_rate,
-     "isr": cmd_isr, "motor_sim": cmd_motor_sim, "sensitivity": cmd_sensitivity}[a.command](a)
+     "isr": cmd_isr, "motor_sim": cmd_motor_sim, "sensitivity": cmd_sensitivity,
+     "write-s077": cmd_write_s077}[a.command](a)
     return 0
 
 

@@ -39,8 +39,11 @@ STRICT = ["-std=c99", "-Wall", "-Wextra", "-Wconversion", "-Wsign-conversion",
 # the RLS queue (drive_types.h) at 4 entries: the harnesses run the
 # background every 15 steps (2 entries at most); the limits' names off
 # (drive_limits.h: avr-gcc keeps every constant in RAM, and the 8 KB of the
-# atmega2560 must hold drive_t, the tables and the stack)
-DEFS = ["-DMATH_TYPE=IQ_MATH", "-DGLOBAL_Q=24", "-DDRIVE_RLSQ_LEN=4u", "-DDRIVE_LIMITS_NAMES=0"]
+# atmega2560 must hold drive_t, the tables and the stack); the period-mean
+# regression's filters and state out (ident_regressor.h: 194 bytes; with them
+# the stack met .bss and the harness never ended)
+DEFS = ["-DMATH_TYPE=IQ_MATH", "-DGLOBAL_Q=24", "-DDRIVE_RLSQ_LEN=4u", "-DDRIVE_LIMITS_NAMES=0",
+        "-DIDENT_PERIOD_MEAN=0"]
 
 
 def sources(root, dirs):

@@ -41,3 +41,21 @@ def test_c28x_rules_on_a_known_struct():
     assert L.struct_size("t_pack") == (3, 1)
     L.structs["t_mid"] = "uint16_t a; int32_t b[2]; uint16_t c;"
     assert L.struct_size("t_mid") == (8, 2)    # a, pad, b (4), c, pad
+
+
+def test_conditional_fields():
+    """A struct's fields under `#if NAME` count when the headers' default of
+    NAME is nonzero, not when it is 0 or undefined; `#else` takes the other
+    side; a condition that is not a bare name keeps both branches (as the
+    parse did before it read conditionals)."""
+    text = ("typedef struct {\n    int32_t a;\n#if ON\n    int32_t b;\n#else\n    uint16_t c;\n"
+            "#endif\n#if OFF\n    int32_t d;\n#endif\n#if MATH_TYPE == IQ_MATH\n    uint16_t e;\n"
+            "#endif\n} t_cond;\n")
+    kept = bench_ram.resolve_conditionals(text, {"ON": 1, "OFF": 0})
+    names = [n for _t, n, _c, _p in bench_ram.fields(
+        kept[kept.index("{") + 1:kept.index("}")], {})]
+    assert names == ["a", "b", "e"]
+    kept = bench_ram.resolve_conditionals(text, {})
+    names = [n for _t, n, _c, _p in bench_ram.fields(
+        kept[kept.index("{") + 1:kept.index("}")], {})]
+    assert names == ["a", "c", "e"]
