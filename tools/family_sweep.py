@@ -4,7 +4,7 @@ tools/family/motors.py (the CI subset of 8, the grid of 56) under a grid of
 operating choices, in both builds and both identification sequences.
 
     family_sweep.py [--subset ci|grid|all] [--motors NAME,...] [--ops nominal|all|OP,...]
-                    [--seq paper,adaptive,paper_pm] [--plant realistic|ideal]
+                    [--seq paper,adaptive,paper_pm] [--plant realistic|ideal|ideal_bridge]
                     [--builds iq,float | --exe MOTOR_SIM] [--jobs N]
                     [--out DIR] [--json] [--markdown [--summary-only]] [--no-plot]
                     [--check-bounds FILE] [--keep]
@@ -18,8 +18,9 @@ Sequences (`[controller]`/`[ident]` keys merged into each motor's file):
     paper_pm   the paper's on the period-mean regression (period_mean 1,
                include/ident_regressor.h; tools/study/regression_bias.md §5)
 
-Plants: `realistic` (default: the generator's bridge and sensors) or `ideal`
-(motors.py IDEAL_PLANT: no dead time, drop, ripple, sensor errors or noise).
+Plants: `realistic` (default: the generator's bridge and sensors), `ideal`
+(motors.py IDEAL_PLANT: no dead time, drop, ripple, sensor errors or noise) or
+`ideal_bridge` (the same with the sensors' noise, IDEAL_BRIDGE).
 
 Operating choices (one at a time from the generator's nominal point; the same
 as tools/study/regression_bias.py's, scaled to each motor): `nominal`, `load0`
@@ -90,7 +91,7 @@ SEQUENCES = {
     "paper_pm": {("controller", "orientation"): 0, ("ident", "standstill"): 0,
                  ("ident", "passes"): 1, ("ident", "track_rr"): 0, ("ident", "period_mean"): 1},
 }
-PLANTS = {"realistic": {}, "ideal": fam.IDEAL_PLANT}
+PLANTS = {"realistic": {}, "ideal": fam.IDEAL_PLANT, "ideal_bridge": fam.IDEAL_BRIDGE}
 BUILDS = {"iq": "host-iq", "float": "host-float"}
 # motor_sim's exit status (motor_sim --help)
 RC_PUBLISHED, RC_CONFIG, RC_RUN_FAILED, RC_NOT_PUBLISHED = 0, 1, 2, 3
@@ -459,7 +460,7 @@ def parse_args(argv):
                     "period-mean regression, ident.period_mean 1)")
     ap.add_argument("--plant", choices=tuple(PLANTS), default="realistic",
                     help="ideal: no dead time, drop, ripple, sensor errors or noise "
-                    "(motors.py IDEAL_PLANT)")
+                    "(motors.py IDEAL_PLANT); ideal_bridge: the same with the sensors' noise")
     ap.add_argument("--builds", default="iq,float")
     ap.add_argument("--exe", metavar="MOTOR_SIM", help="run this motor_sim as the only build "
                     "(named after its report's math_type: the CTest runs its own build)")

@@ -522,6 +522,12 @@ IDEAL_PLANT = {("inverter", "dead_time_s"): 0, ("inverter", "device_drop_V"): 0,
                ("sensors", "hall_offset_b_A"): 0, ("sensors", "hall_noise_A_rms"): 0,
                ("sensors", "adc_noise_lsb"): 0, ("ident", "vi_test"): 0,
                ("board", "dead_time_s"): 0, ("board", "device_drop_V"): 0}
+# The ideal bridge with the sensors' noise kept (no offsets or gain errors):
+# the noise dithers the ADC's and the encoder's quantisation, so that what a
+# regression's rows leave is seen as a mean over noise seeds, not as one
+# deterministic realisation of the quantisation.
+IDEAL_BRIDGE = {k: v for k, v in IDEAL_PLANT.items()
+                if k not in (("sensors", "hall_noise_A_rms"), ("sensors", "adc_noise_lsb"))}
 
 
 def to_ini(m: Motor, layout="split", extra=None):

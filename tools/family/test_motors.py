@@ -116,6 +116,17 @@ def test_motor_sim_accepts_the_ci_subset(tmp_path):
         assert r.returncode == 3, (m.name, r.stdout, r.stderr)
 
 
+def test_ideal_plants_name_keys_motor_sim_has():
+    """The ideal plant's and the ideal bridge's overrides are keys motor_sim
+    lists (a renamed key fails here, not as a refused run in a sweep); the
+    bridge keeps exactly the two noise keys the plant zeroes."""
+    listed = motor_sim_keys()
+    assert set(fam.IDEAL_PLANT) <= listed
+    assert set(fam.IDEAL_PLANT) - set(fam.IDEAL_BRIDGE) == {("sensors", "hall_noise_A_rms"),
+                                                             ("sensors", "adc_noise_lsb")}
+    assert all(v == 0 for v in fam.IDEAL_PLANT.values())
+
+
 @pytest.mark.skipif(not MOTOR_SIM.exists(), reason="motor_sim not built")
 def test_no_band_is_set():
     """Nobody sets the dead-time compensation's zone: the drive measures the

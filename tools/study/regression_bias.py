@@ -21,6 +21,8 @@ the findings and numbers are in tools/study/regression_bias.md.
                                                 or cmake --build --preset host-iq --target motor_sim)
     regression_bias.py write-s077 FILE          the issue's motor on the ideal plant as an INI
                                                 (tests/sim/motor_1kw_s077_ideal.ini)
+    regression_bias.py family-seeds [--seeds N] the paper's against the period-mean rows on the
+                                                grid, ideal bridge, N noise seeds (FLOAT build)
 
 Each prints a markdown table and writes DIR/<command>.json (default
 out/regression_bias).  Cases run vectorised in one closed loop per command
@@ -564,18 +566,70 @@ def cmd_write_s077(a):
     print(f"wrote {a.target}")
 
 
+def cmd_family_seeds(a):
+    """The paper's rows against the period-mean rows (`[ident] period_mean`)
+    on the 56-motor grid, ideal bridge with the sensors' noise (motors.py
+    IDEAL_BRIDGE), FLOAT_MATH motor_sim, noise seeds 1..N: per motor the mean
+    over the seeds of each parameter's error (the RLS's extraction), its
+    largest, and that parameter's standard deviation over the seeds."""
+    import statistics
+    from concurrent.futures import ProcessPoolExecutor
+    sys.path.insert(0, str(ROOT / "tools"))
+    import family_sweep as fs
+    names = [m.name for m in fam.grid()]
+    plants = []
+    for s in range(1, a.seeds + 1):
+        fs.PLANTS[f"ideal_bridge_seed{s}"] = {**fam.IDEAL_BRIDGE, ("sensors", "seed"): s}
+        plants.append(f"ideal_bridge_seed{s}")
+    jobs = [(n, "nominal", seq, "float", None, {}, pl) for n in names
+            for seq in ("paper", "paper_pm") for pl in plants]
+    with ProcessPoolExecutor(max_workers=a.jobs) as pool:
+        rows = list(pool.map(fs.run_one, jobs, chunksize=1))
+    keys = ("Rs", "Rr", "Lm", "Lr", "psi_r", "Tr")
+    per = {}
+    for r in rows:
+        if r["rls_Rr"] is None:
+            continue
+        per.setdefault((r["motor"], r["seq"]), []).append([r["rls_" + k] for k in keys])
+    out = {}
+    for (name, seq), errs in per.items():
+        means = [statistics.mean(e[i] for e in errs) for i in range(6)]
+        i = max(range(6), key=lambda j: abs(means[j]))
+        sd = statistics.stdev(e[i] for e in errs) if len(errs) > 1 else 0.0
+        out.setdefault(seq, []).append({"motor": name, "param": keys[i], "mean": means[i],
+                                        "sd": sd, "n": len(errs)})
+    lines = [f"| rows | motors | median of the worst mean % | 90th percentile | largest | "
+             f"within 0.5 % | within 1 % | median sd over the seeds % |", "|---|---|---|---|---|---|---|---|"]
+    for seq, label in (("paper", "paper's (eq. 7)"), ("paper_pm", "period-mean")):
+        v = sorted(abs(x["mean"]) for x in out.get(seq, []))
+        if not v:
+            continue
+        sds = sorted(x["sd"] for x in out[seq])
+        lines.append(f"| {label} | {len(v)} | {statistics.median(v):.2f} | "
+                     f"{v[min(len(v) - 1, int(0.9 * len(v)))]:.2f} | {v[-1]:.2f} | "
+                     f"{sum(x <= 0.5 for x in v)} | {sum(x <= 1.0 for x in v)} | "
+                     f"{statistics.median(sds):.2f} |")
+    print("\n".join(lines))
+    worst = sorted(out.get("paper_pm", []), key=lambda x: -abs(x["mean"]))[:6]
+    print("\nlargest means, period-mean rows: " +
+          ", ".join(f"{x['motor']} {x['param']} {x['mean']:+.2f} (sd {x['sd']:.2f})" for x in worst))
+    save(a.out, "family_seeds", out)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("command", choices=("diagnose", "validate", "swing", "rate", "isr", "motor_sim",
-                                        "sensitivity", "write-s077"))
+                                        "sensitivity", "write-s077", "family-seeds"))
     ap.add_argument("target", nargs="?", help="write-s077: the INI file to write")
+    ap.add_argument("--seeds", type=int, default=4, help="family-seeds: noise seeds per motor")
+    ap.add_argument("--jobs", type=int, default=2, help="family-seeds: motor_sim runs at a time")
     ap.add_argument("--grid", action="store_true", help="validate: the whole family grid")
     ap.add_argument("--quick", action="store_true", help="swing/rate: the 1 kW motor only")
     ap.add_argument("--out", type=Path, default=ROOT / "out" / "regression_bias")
     a = ap.parse_args(argv)
     {"diagnose": cmd_diagnose, "validate": cmd_validate, "swing": cmd_swing, "rate": cmd_rate,
      "isr": cmd_isr, "motor_sim": cmd_motor_sim, "sensitivity": cmd_sensitivity,
-     "write-s077": cmd_write_s077}[a.command](a)
+     "write-s077": cmd_write_s077, "family-seeds": cmd_family_seeds}[a.command](a)
     return 0
 
 
