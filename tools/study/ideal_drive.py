@@ -282,6 +282,8 @@ class Options:
     u_gain_err: float = 0.0
     u_dt_V: float = 0.0
     t_max: float | None = None   # default: end of the last case's RLS window + 0.05 s
+    enc_lines: int = 0           # 0: the exact rotor angle; else an encoder of this many lines
+    enc_offset: float = 0.5      # its edge grid's offset, fraction of a pitch (motor_sim's 0.5)
 
 
 class Recorder:
@@ -463,7 +465,11 @@ def simulate(cases, opt: Options = Options(), groups=None):
         t = k * Ts
         # ---- sample at t_k ---------------------------------------------
         i_ab = (Lr * psis - Lm * psir) / Dm
-        th_r = p * thm
+        # the encoder: exact, or counted (x4 lines per revolution, the count's
+        # floor, the edges offset by half a pitch from theta = 0 as motor_sim's)
+        th_r = p * (thm if opt.enc_lines <= 0 else
+                    (np.floor(thm * (4 * opt.enc_lines) / (2 * np.pi) - opt.enc_offset) + opt.enc_offset)
+                    * (2 * np.pi / (4 * opt.enc_lines)))
         w1 = (th_r - th_r_prev) / Ts                      # speed_1: over the period
         th_r_prev = th_r
         old = th_r_hist[hist_i].copy()
