@@ -98,6 +98,7 @@ int plant_init(plant_t *p, const sim_config_t *c, uint16_t t1pr, char *err, unsi
     encoder_params_default(&ep);
     ep.lines = (uint16_t)c->board.encoder_lines;
     ep.seed = seed * 7919u + 6u;
+    ep.theta_offset = c->sensors.encoder_offset;
     if (encoder_init(&p->enc, &ep, 0.0) != 0) {
         snprintf(err, err_len, "encoder model rejected board.encoder_lines");
         return 6;

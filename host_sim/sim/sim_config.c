@@ -148,6 +148,11 @@ static const key_spec_t k_keys[] = {
     K(sensors, hall_noise_A_rms, OPT, 0.02, NULL, 0, 100, 0, "A rms", SIM, "sensor noise"),
     K(sensors, adc_noise_lsb, OPT, 0.5, NULL, 0, 100, 0, "LSB rms", SIM, "ADC noise"),
     K(sensors, seed, OPT, 1, NULL, 0, 4294967295.0, 1, "-", SIM, "noise seed"),
+    /* where the rotor starts within an encoder count: the flux is built along
+     * the count's angle and meets the counted angle's half-count lag once the
+     * rotor turns (tools/study/regression_bias.md §10) */
+    K(sensors, encoder_offset, OPT, 0.5, NULL, 0, 0.999, 0, "pitch", SIM,
+      "encoder edges past the rotor's start angle (0.5: it starts mid-count)"),
     K(load, const_Nm, OPT, 0, NULL, 0, 1e4, 0, "N m", SIM, "constant load torque"),
     K(load, prop_Nm_s, OPT, 0, NULL, 0, 1e3, 0, "N m s", SIM, "load proportional to speed"),
     K(load, fan_Nm, OPT, 0, NULL, 0, 1e4, 0, "N m at rated speed", SIM, "quadratic (fan) load"),

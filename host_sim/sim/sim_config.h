@@ -93,6 +93,7 @@ typedef struct {
 typedef struct {
     double hall_gain_error_pct, hall_offset_a_A, hall_offset_b_A, hall_noise_A_rms;
     double adc_noise_lsb, seed;
+    double encoder_offset;   /* the encoder's edge grid past the rotor's start, pitch [0, 1) */
 } sim_sensors_t;
 
 /** [load] (sim): T_load = const + prop w_m + fan (w_m/w_rated)^2 (sign of w_m). */

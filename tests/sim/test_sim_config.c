@@ -411,6 +411,28 @@ static void test_adaptation_keys(void **state)
     remove(path);
 }
 
+/* [sensors] encoder_offset: the rotor's start within an encoder count, a
+ * fraction of a pitch in [0, 1): 0.5 by default (the encoder model's own
+ * default), 1 is the next edge and refused. */
+static void test_encoder_offset_key(void **state)
+{
+    sim_config_t cfg;
+    char err[SIM_CONFIG_ERR_LEN];
+    char path[] = "/tmp/mc_cfg_test_XXXXXX";
+    int fd;
+    (void)state;
+    assert_int_equal(sim_config_load(MC_CONFIG_DIR "/paper_motor.ini", &cfg, err, sizeof err), 0);
+    assert_true(cfg.sensors.encoder_offset == 0.5);
+    expect_error(NULL, "[sensors]\nencoder_offset = 1", "encoder_offset");
+    expect_error(NULL, "[sensors]\nencoder_offset = -0.1", "encoder_offset");
+    fd = mkstemp(path);
+    assert_true(fd >= 0);
+    write_variant(path, NULL, "[sensors]\nencoder_offset = 0");
+    assert_int_equal(sim_config_load(path, &cfg, err, sizeof err), 0);
+    assert_true(cfg.sensors.encoder_offset == 0.0);
+    remove(path);
+}
+
 /* The period-mean regression (ident.period_mean) regresses on ifo's flux:
  * refused with the observer's frame and with the paper's third regressor,
  * naming the key and why; on the paper file (orientation 0) it loads and
@@ -450,6 +472,7 @@ int main(void)
         cmocka_unit_test(test_orientation_out_of_range), cmocka_unit_test(test_ratings),
         cmocka_unit_test(test_bus_too_low),         cmocka_unit_test(test_adaptation_keys),
         cmocka_unit_test(test_period_mean_key),
+        cmocka_unit_test(test_encoder_offset_key),
         cmocka_unit_test(test_magnetisation_true_tr),
         cmocka_unit_test(test_plant_integration_limits),
         cmocka_unit_test(test_target_speed),
