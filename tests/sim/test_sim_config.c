@@ -67,6 +67,20 @@ static void expect_error(const char *key, const char *repl, const char *must_con
     remove(path);
 }
 
+/* The base file with @p repl appended, loaded into @p cfg (must load). */
+static void load_variant(const char *repl, sim_config_t *cfg)
+{
+    char path[] = "/tmp/mc_cfg_test_XXXXXX";
+    char err[SIM_CONFIG_ERR_LEN];
+    int fd = mkstemp(path);
+    assert_true(fd >= 0);
+    write_variant(path, NULL, repl);
+    if (sim_config_load(path, cfg, err, sizeof err) != 0) {
+        fail_msg("'%s' did not load: %s", repl, err);
+    }
+    remove(path);
+}
+
 static void test_default_file_loads(void **state)
 {
     sim_config_t cfg;
@@ -385,9 +399,6 @@ static int setup(void **state)
 static void test_adaptation_keys(void **state)
 {
     sim_config_t cfg;
-    char err[SIM_CONFIG_ERR_LEN];
-    char path[] = "/tmp/mc_cfg_test_XXXXXX";
-    int fd;
     (void)state;
     /* the table names controller.orientation, the key to change */
     expect_error(NULL, "[ident]\npasses = 2", "key 'controller.orientation' = 0 is outside [1, 1]");
@@ -401,14 +412,10 @@ static void test_adaptation_keys(void **state)
     expect_error(NULL, "[ident]\ntrack_memory_s = 0.1", "track_memory_s");
     expect_error(NULL, "[drift]\nrr_rise_pct = 150", "rr_rise_pct");
     expect_error(NULL, "[drift]\nramp_s = 0", "ramp_s");
-    fd = mkstemp(path);
-    assert_true(fd >= 0);
-    write_variant(path, NULL, "[controller]\norientation = 1\n[ident]\nstandstill = 1\n"
-                              "passes = 2\ntrack_rr = 1\ntrack_memory_s = 2");
-    assert_int_equal(sim_config_load(path, &cfg, err, sizeof err), 0);
+    load_variant("[controller]\norientation = 1\n[ident]\nstandstill = 1\n"
+                 "passes = 2\ntrack_rr = 1\ntrack_memory_s = 2", &cfg);
     assert_true(cfg.ident.passes == 2.0 && cfg.ident.standstill == 1.0 &&
                 cfg.ident.track_rr == 1.0 && cfg.ident.track_memory_s == 2.0);
-    remove(path);
 }
 
 /* [sensors] encoder_offset: the rotor's start within an encoder count, a
@@ -418,19 +425,13 @@ static void test_encoder_offset_key(void **state)
 {
     sim_config_t cfg;
     char err[SIM_CONFIG_ERR_LEN];
-    char path[] = "/tmp/mc_cfg_test_XXXXXX";
-    int fd;
     (void)state;
     assert_int_equal(sim_config_load(MC_CONFIG_DIR "/paper_motor.ini", &cfg, err, sizeof err), 0);
     assert_true(cfg.sensors.encoder_offset == 0.5);
     expect_error(NULL, "[sensors]\nencoder_offset = 1", "encoder_offset");
     expect_error(NULL, "[sensors]\nencoder_offset = -0.1", "encoder_offset");
-    fd = mkstemp(path);
-    assert_true(fd >= 0);
-    write_variant(path, NULL, "[sensors]\nencoder_offset = 0");
-    assert_int_equal(sim_config_load(path, &cfg, err, sizeof err), 0);
+    load_variant("[sensors]\nencoder_offset = 0", &cfg);
     assert_true(cfg.sensors.encoder_offset == 0.0);
-    remove(path);
 }
 
 /* The period-mean regression (ident.period_mean) regresses on ifo's flux:
@@ -441,9 +442,6 @@ static void test_period_mean_key(void **state)
 {
     sim_config_t cfg;
     drive_config_t dc;
-    char err[SIM_CONFIG_ERR_LEN];
-    char path[] = "/tmp/mc_cfg_test_XXXXXX";
-    int fd;
     (void)state;
     expect_error(NULL, "[controller]\norientation = 1\n[ident]\nperiod_mean = 1",
                  "key 'ident.period_mean' = 1");
@@ -452,13 +450,9 @@ static void test_period_mean_key(void **state)
     expect_error(NULL, "[ident]\nperiod_mean = 1\npaper_regressor = 1",
                  "ident.paper_regressor = 0");
     expect_error(NULL, "[ident]\nperiod_mean = 2", "period_mean");
-    fd = mkstemp(path);
-    assert_true(fd >= 0);
-    write_variant(path, NULL, "[ident]\nperiod_mean = 1");
-    assert_int_equal(sim_config_load(path, &cfg, err, sizeof err), 0);
+    load_variant("[ident]\nperiod_mean = 1", &cfg);
     sim_config_to_drive(&cfg, &dc);
     assert_int_equal(dc.ident.period_mean, 1);
-    remove(path);
 }
 
 int main(void)
