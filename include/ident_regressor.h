@@ -57,7 +57,8 @@
  *       mean current (the ripple's curvature), the trapezoid's window mean
  *       = the samples' mean - (i_end - i_start) / 2N; w_s i_bar alike
  *       (- w_s (i_end - i_start)/2N + w_s K2^ c, the frame speed's jitter
- *       within the window times the current's step left out: second order);
+ *       within the window times the current's step left out: second order;
+ *       the products taken per sample instead moved no result, §10);
  *       K2^ the RLS's last K2 (input k2_hat) within [0.5, 2] of the
  *       nameplate's, else the nameplate's;
  *   (c) the rotor flux / Lm in the frame, m = (i_mr, 0) + Delta: ifo's
@@ -78,7 +79,10 @@
  * Why: at high w_e Ts on a small-leakage motor the flux follows the mean,
  * not the sampled current, by (w_e Ts)^2/(12 sigma) of i_M, and w_r Tr
  * amplifies that 0.2 % into several % of Rr and Tr (regression_bias.md §4).
- * Only for ifo's frame (the flux is ifo's model plus Delta).
+ * Only for ifo's frame (the flux is ifo's model plus Delta).  Known limit:
+ * the flux model takes the encoder count's angle, and the rotor's start
+ * within its count (half a count at most) reaches Rr and Tr through w_r Tr
+ * while the flux re-aligns (regression_bias.md §10).
  *
  * Scaling and overflow of ident_regressor_step: products truncated
  * (_IQmpy; their -1/2 LSB mean bias reaches the regression as an offset
