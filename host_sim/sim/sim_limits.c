@@ -57,6 +57,9 @@ static const char *const k_why[DRIVE_LD_COUNT] = {
     [DRIVE_LD_BRIDGE_LOSS] = "2 board.device_drop_V + board.vdc_nominal_V board.dead_time_s "
                              "board.pwm_freq_Hz, the voltage the dead-time compensation adds, "
                              "below the linear modulation's 0.95 board.vdc_nominal_V / sqrt(3)",
+    [DRIVE_LD_VI_GAINS] = "the bridge test's current PI (ident.vi_test = 1): its gains within "
+                          "the PI's range (ki = 2 pi 50 Hz Ts_slow nameplate.Rs_ohm / Z_base "
+                          "at most 1, kp at most 100)",
     [DRIVE_LD_VI_HOLD] = "the believed Tr at most 65535 slow periods / 6 (the bridge's curve "
                          "test holds a level 6 Tr in a 16-bit count)",
     [DRIVE_LD_BAND] = "with ident.vi_test = 0: the fallback zone (3 codes of the current channel, "

@@ -14,6 +14,7 @@
 #include "drive.h"
 #include "drive_adapt.h"
 #include "drive_design.h"
+#include "drive_vi.h"
 
 #define LO_OPEN DRIVE_LIMIT_LO_OPEN
 #define HI_OPEN DRIVE_LIMIT_HI_OPEN
@@ -180,6 +181,7 @@ static const drive_limit_t k_limits[] = {
     DERIVED("board.device_drop_V", "V", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_DROP),
     DERIVED("bridge loss", "V", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_BRIDGE_LOSS),
     DERIVED("ident.vi_test", "s", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_VI_HOLD),
+    DERIVED("nameplate.Rs_ohm", "pu", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_VI_GAINS),
     DERIVED("board.dead_time_band_A", "A", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_BAND),
     DERIVED_RANGE("ident.filter_cutoff_Hz", "Hz", DRIVE_CFG_IDENT, DRIVE_LD_FILT, 0u, 0.5f, 500.0f),
     DERIVED("ident.filter_cutoff_Hz", "Hz", DRIVE_CFG_IDENT, DRIVE_LD_FILT_WB),
@@ -530,6 +532,19 @@ static int16_t check_voltage_model(const drive_limit_t *l, const limit_ctx_t *x,
         return verdict((int16_t)(x->c->ident.vi_test == 0u || bd->dead_time_comp == 0u ||
                                  x->g.tr <= v),
                        f, x->g.tr, 0.0f, v, LO_OPEN);
+    case DRIVE_LD_VI_GAINS: {
+        /* vi_curve_init's pi_init: the current levels' PI within PI_KP_MAX,
+         * PI_KI_MAX (a large Rs against Z_base makes ki large) */
+        float kp, ki;
+        if (x->c->ident.vi_test == 0u || bd->dead_time_comp == 0u) {
+            return 0;
+        }
+        drive_vi_gains(x->c, b, x->g.Ts_slow, x->g.sls, &kp, &ki);
+        if (!(kp <= PI_KP_MAX)) {
+            return verdict(0, f, kp, 0.0f, PI_KP_MAX, 0u);
+        }
+        return verdict((int16_t)(ki <= PI_KI_MAX), f, ki, 0.0f, PI_KI_MAX, 0u);
+    }
     case DRIVE_LD_BAND:
         if (x->c->ident.vi_test != 0u) {
             return 0;   /* passes: the fallback zone is unused, the test measures it */

@@ -52,15 +52,21 @@
                                     vdc td/Ts + v_drop: else the board's dead time or the
                                     test is wrong, refused */
 
+void drive_vi_gains(const drive_config_t *c, const base_values_t *b, float Ts_slow, float sls_H,
+                    float *kp, float *ki)
+{
+    const float wc = DRIVE_TWO_PI_F * fminf(DRIVE_VI_BW_HZ, 0.05f * (1.0f / Ts_slow));
+    /* the PI's zero on the stator pole, as the current loops (drive_init.c) */
+    *kp = wc * sls_H / b->Z_base_ohm;
+    *ki = wc * Ts_slow * c->motor.Rs_ohm / b->Z_base_ohm;
+}
+
 int16_t drive_vi_init(drive_t *d, const drive_config_t *c, float Ts_slow, float sls_H,
                       float tr_s)
 {
     const base_values_t *b = &d->base;
     const float f_slow = 1.0f / Ts_slow;
-    const float wc = DRIVE_TWO_PI_F * fminf(DRIVE_VI_BW_HZ, 0.05f * f_slow);
-    /* the PI's zero on the stator pole, as the current loops (drive_init.c) */
-    const float kp = wc * sls_H / b->Z_base_ohm;
-    const float ki = wc * Ts_slow * c->motor.Rs_ohm / b->Z_base_ohm;
+    float kp, ki;
     /* within half the linear modulation range vdc / sqrt(3) */
     const float u_max = 0.5f * c->board.vdc_nominal_V / 1.7320508f / b->V_base_V;
 
@@ -78,6 +84,7 @@ int16_t drive_vi_init(drive_t *d, const drive_config_t *c, float Ts_slow, float 
     if (c->board.dead_time_comp == 0u || c->ident.vi_test == 0u) {
         return 0;   /* no compensation, or on the set band (drive_init.c) */
     }
+    drive_vi_gains(c, b, Ts_slow, sls_H, &kp, &ki);
     if (vi_curve_init(&d->vic, Ts_slow, d->vic_i1_0, tr_s, kp, ki, u_max) != VI_CURVE_OK) {
         return 1;
     }

@@ -418,6 +418,24 @@ static void test_adaptation_keys(void **state)
                 cfg.ident.track_rr == 1.0 && cfg.ident.track_memory_s == 2.0);
 }
 
+/* The bridge test's current PI takes ki from Rs (drive_vi.c): a stator
+ * resistance of 6 Z_base makes ki beyond pi_init's range; the INI check names
+ * the key and why, drive_init is never reached (found by fuzz_sim_config;
+ * its input is in the corpus). */
+static void test_vi_gains_limit(void **state)
+{
+    sim_config_t cfg;
+    char err[SIM_CONFIG_ERR_LEN];
+    (void)state;
+    /* the 15 kW file with Rs_ohm = 21 (Rs 6 Z_base, ki 1.02) */
+    assert_int_not_equal(sim_config_load(MC_CORPUS_DIR "/vi_test_pi_gain_rs_large.ini", &cfg, err,
+                                         sizeof err), 0);
+    if (strstr(err, "the bridge test's current PI") == NULL ||
+        strstr(err, "nameplate.Rs_ohm") == NULL) {
+        fail_msg("message '%s' does not name the bridge test's PI and nameplate.Rs_ohm", err);
+    }
+}
+
 /* [sensors] encoder_offset: the rotor's start within an encoder count, a
  * fraction of a pitch in [0, 1): 0.5 by default (the encoder model's own
  * default), 1 is the next edge and refused. */
@@ -467,6 +485,7 @@ int main(void)
         cmocka_unit_test(test_bus_too_low),         cmocka_unit_test(test_adaptation_keys),
         cmocka_unit_test(test_period_mean_key),
         cmocka_unit_test(test_encoder_offset_key),
+        cmocka_unit_test(test_vi_gains_limit),
         cmocka_unit_test(test_magnetisation_true_tr),
         cmocka_unit_test(test_plant_integration_limits),
         cmocka_unit_test(test_target_speed),
