@@ -118,6 +118,14 @@ static void pe_check(_iq v, const _iq lim[2], param_status_t code, param_status_
     }
 }
 
+/* The flux form's K3, K4 are at the nameplate's i_M: the factor that takes
+ * them to the flux i_m, m_M / i_M,nom (rls.h RLS_FORM_FLUX;
+ * regression_bias.md §5.1 (f)). */
+static _iq pe_flux_ratio(const param_extract_t *p, param_status_t *st)
+{
+    return pe_mul(p->i_m, p->inv_im_nom, st);
+}
+
 void param_extract_step(param_extract_t *p)
 {
     param_status_t st = PARAM_OK;
@@ -135,9 +143,7 @@ void param_extract_step(param_extract_t *p)
     }
     inv_k2 = pe_div(_IQ(1.0), K2, PARAM_ERR_K2, &st);
     if (p->form == (uint16_t)RLS_FORM_FLUX) {
-        /* K3, K4 at the flux i_m from theirs at the nameplate's i_M (rls.h;
-         * regression_bias.md §5.1 (f)) */
-        _iq ratio = pe_mul(p->i_m, p->inv_im_nom, &st);
+        const _iq ratio = pe_flux_ratio(p, &st);
         K3 = pe_mul(K3, ratio, &st);
         K4 = pe_mul(K4, ratio, &st);
     }
@@ -193,7 +199,7 @@ void param_extract_magnetic(param_extract_t *p)
     }
     inv_k2 = pe_div(_IQ(1.0), K2, PARAM_ERR_K2, &st);
     if (p->form == (uint16_t)RLS_FORM_FLUX) {
-        K4 = pe_mul(K4, pe_mul(p->i_m, p->inv_im_nom, &st), &st);   /* as param_extract_step */
+        K4 = pe_mul(K4, pe_flux_ratio(p, &st), &st);
     }
     a = pe_div(-K4, pe_mul(K2, p->i_m, &st), PARAM_ERR_DIV, &st);
     if (st == PARAM_OK && a <= _IQ(0.0)) {
