@@ -45,6 +45,10 @@ typedef enum {
     DRIVE_PUB_FAULT,            /* a protection tripped before the set was complete */
     DRIVE_PUB_TIMEOUT,          /* steady state not confirmed within the SETTLE limit */
     DRIVE_PUB_STOPPED,          /* stopped by a command before the verdict */
+    DRIVE_PUB_BUS_LOW,          /* not started: the measured bus cannot carry the no-load
+                                   voltage at the least target speed (drive_target.h) */
+    DRIVE_PUB_ROTOR_TURNING,    /* not started, or ended at standstill: the rotor turned
+                                   while the drive needs it at rest (a coasting load) */
     DRIVE_PUB_N
 } drive_pub_reason_t;
 

@@ -42,13 +42,13 @@ typedef enum {
     DRIVE_LD_IMR, DRIVE_LD_TR, DRIVE_LD_FTS, DRIVE_LD_SLIP,
     DRIVE_LD_OBS_FBASE, DRIVE_LD_OBS_PWM, DRIVE_LD_OBS_RS, DRIVE_LD_OBS_LM, DRIVE_LD_OBS_LR,
     DRIVE_LD_OBS_LS, DRIVE_LD_OBS_SLS,
-    DRIVE_LD_DEAD, DRIVE_LD_DROP, DRIVE_LD_BRIDGE_LOSS, DRIVE_LD_VI_HOLD, DRIVE_LD_VI_GAINS,
+    DRIVE_LD_DEAD, DRIVE_LD_DROP, DRIVE_LD_VI_HOLD, DRIVE_LD_VI_GAINS,
     DRIVE_LD_BAND,
     DRIVE_LD_FILT, DRIVE_LD_FILT_WB, DRIVE_LD_FILT_STEP,
     DRIVE_LD_K1, DRIVE_LD_K2, DRIVE_LD_K3, DRIVE_LD_K4,
     DRIVE_LD_PE_RS, DRIVE_LD_PE_RR, DRIVE_LD_PE_LM, DRIVE_LD_PE_LR, DRIVE_LD_PE_PSI,
     DRIVE_LD_FEATURES, DRIVE_LD_STANDSTILL, DRIVE_LD_TRACKER, DRIVE_LD_PERIOD_MEAN,
-    DRIVE_LD_TARGET, DRIVE_LD_TARGET_PU, DRIVE_LD_HEADROOM,
+    DRIVE_LD_TARGET, DRIVE_LD_TARGET_PU, DRIVE_LD_BUS, DRIVE_LD_HEADROOM,
     DRIVE_LD_OC_FS, DRIVE_LD_TORQUE_OC, DRIVE_LD_VDC_MIN, DRIVE_LD_VDC_MAX, DRIVE_LD_ENC_JUMP,
     DRIVE_LD_COUNT
 } drive_derived_limit_t;
@@ -86,18 +86,6 @@ typedef struct {
     uint16_t open;
     int16_t status;      /* drive_cfg_status_t; 0 when nothing failed */
 } drive_limit_fail_t;
-
-/** The linear modulation's largest phase voltage, a fraction of the bus:
- *  space vector PWM reaches vdc/sqrt(3); 5 % are kept for the current
- *  loops. */
-#define DRIVE_LIMITS_LINEAR_OF_VDC 0.5484827557f   /* 0.95 / sqrt(3) */
-
-/** The phase voltage the bridge loses, which the dead-time compensation
- *  (volt_calc.h) asks the modulator for on top of the reference: two device
- *  drops and the dead time's vdc td f_pwm (tools/family/motors.py sizes its
- *  buses with the same).  Volts. */
-float drive_limits_bridge_loss_V(float vdc_V, float dead_time_s, float pwm_freq_Hz,
-                                 float device_drop_V);
 
 /** Number of entries; entry @p i (NULL beyond the end). */
 uint16_t drive_limits_count(void);

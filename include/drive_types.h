@@ -36,6 +36,7 @@
 #include "rls.h"
 #include "svgen.h"
 #include "theta_guard.h"
+#include "drive_target.h"
 #include "standstill_z.h"
 #include "tr_track.h"
 #include "vi_curve.h"
@@ -74,6 +75,8 @@ typedef struct {
     _iq three_half_step;/* 1.5 f_base Ts: pu angle per pu speed over 1.5 periods */
     _iq i_max;          /* torque-current limit, pu */
     _iq speed_tol;      /* steady state: |speed error| below, pu */
+    _iq rest_speed;     /* a start is refused while |speed| is above this, pu
+                           (DRIVE_REST_SPEED_OF_RATED) */
     uint16_t cal_samples;
     uint16_t live_period;       /* samples between live snapshots */
     uint16_t orientation;       /* DRIVE_ORIENT_IFO or DRIVE_ORIENT_FLUX_OBS */
@@ -296,6 +299,7 @@ struct drive {
                                    of each further pass (no float in the ISR) */
     param_extract_t pex;
     id_sequence_t seq;
+    drive_target_t target;      /* the identification's target within the bus (drive_target.h) */
     protect_t prot;
     encoder_check_t enc_chk;    /* encoder plausibility -> FAULT_ENCODER */
     current_check_t cur_chk;    /* current feedback plausibility -> FAULT_CURRENT_SENSOR */

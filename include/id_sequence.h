@@ -12,7 +12,10 @@
  *                      measured once per drive_init))
  *        -> MAGNETIZE (i_M to its reference, zero speed, >= 5 Tr)
  *        -> ACCELERATE (speed ramp to the target; RLS on: the transient that
- *                       excites the regression, method §2 "Excitation")
+ *                       excites the regression, method §2 "Excitation"; it
+ *                       ends early, at the speed reached, when the drive
+ *                       says the voltage has no headroom left (volt_limit),
+ *                       and that speed becomes the target)
  *        -> SETTLE (speed reached; the RLS runs on for rls_tail_s, then
  *                   stops; wait for steady state, the precondition of the
  *                   parameter formulas (method §4: di/dt = 0): the speed
@@ -22,6 +25,7 @@
  *                   not the instantaneous di/dt: see the tolerances below))
  *        -> RUN (parameters extracted and published; RLS off)
  *   any  -> FAULT (from the protections; PWM off) ; STOP -> IDLE
+ *   CALIBRATE, MAGNETIZE -> IDLE when the rotor turns (id_sequence_set_rest)
  *
  * Several passes (beyond the paper; passes > 1): the extraction at
  * the end of SETTLE then leads, while pass < passes, to
@@ -79,6 +83,11 @@ typedef struct {
                                  (vi_curve.h), or the drive gave up on it */
     _iq i_mf;                 /* i_M filtered (the regression's Butterworth), pu, Q24 */
     _iq i_tf;                 /* i_T filtered, pu, Q24 */
+    uint16_t volt_limit;      /* ACCELERATE: the voltage has no headroom left (drive_target.h):
+                                 the ramp ends here, at speed_ref, the new target */
+    _iq speed_ref;            /* the speed ramp's output, pu, Q24 */
+    uint16_t count;           /* the encoder's count (QEP, wraps): CALIBRATE and MAGNETIZE need
+                                 the rotor at rest */
     /* parameters (id_sequence_init) */
     uint32_t magnetize_samples;
     uint32_t settle_min_samples;   /* least time in SETTLE */
@@ -91,9 +100,13 @@ typedef struct {
     _iq im_ref;               /* magnetising current reference, pu */
     _iq speed_target;         /* pu */
     uint16_t passes;          /* 1 .. ID_PASSES_MAX (id_sequence_set_passes) */
-    _iq refine_speed;         /* REFINE speed, pu, as a fraction of speed_target (Q24) */
+    _iq refine_speed;         /* REFINE speed, pu: refine_fraction of speed_target */
+    _iq refine_fraction;      /* Q24, [0, 1] */
     uint16_t wait_magnetize;  /* 1: MAGNETIZE ends only with adapt_ready (id_sequence_set_wait) */
     uint32_t wait_max_samples;/* longest wait for adapt_ready (0: no limit) */
+    uint16_t rest_counts;     /* CALIBRATE, MAGNETIZE: the rotor is at rest while the count stays
+                                 within this of where the state began (0: not checked;
+                                 id_sequence_set_rest) */
     uint16_t sensor_test;     /* 1: CALIBRATE ends with the sensor test (0 after init) */
     uint16_t vi_test;         /* 1: then with the voltage-error test (0 after init) */
     /* outputs */
@@ -115,11 +128,16 @@ typedef struct {
     uint16_t magnetize_end;   /* one-sample pulse: the magnetisation time is over (flux settled;
                                  the last sample of MAGNETIZE unless it waits for adapt_ready) */
     uint16_t adapt_timeouts;  /* waits for adapt_ready that ran out (saturating; 0 at start) */
+    uint16_t target_lowered;  /* the acceleration ended at the voltage limit (volt_limit), below
+                                 the target it started with (0 at start) */
+    uint16_t rotor_moved;     /* the sequence went back to IDLE because the rotor turned in
+                                 CALIBRATE or MAGNETIZE (0 at start) */
     /* state */
     uint32_t t_state;         /* samples in the current state */
     uint32_t t_steady;        /* samples in the hold window (speed steady in each) (SETTLE);
                                  samples waited for adapt_ready (MAGNETIZE, REFINE) */
     _iq win_im, win_it;       /* i_mf, i_tf where the hold window began */
+    uint16_t count0;          /* the count where CALIBRATE or MAGNETIZE began */
     uint16_t start_req;
     uint16_t stop_req;
 } id_sequence_t;
@@ -139,12 +157,28 @@ int16_t id_sequence_init(id_sequence_t *s, float Ts_s, float magnetize_s,
  *  target speed (0 .. 1).  Returns 0, or 1 (nothing changed) if out of range.
  *  id_sequence_init sets 1 pass. */
 int16_t id_sequence_set_passes(id_sequence_t *s, uint16_t passes, _iq refine_fraction);
+/** The target speed (pu, Q24, |.| < 2) of the next identification, and the
+ *  REFINE speed with it.  Background, while the sequence is IDLE (a start
+ *  lowers the configured target to what the bus gives: drive_target.h). */
+void id_sequence_set_target(id_sequence_t *s, _iq speed_target);
 /** Wait for adapt_ready at the end of MAGNETIZE (@p at_magnetize 1) and at
  *  most @p max_samples for any wait (0: no limit).  Returns 0, or 1
  *  (nothing changed) if @p at_magnetize > 1.  id_sequence_init sets 0, 0. */
 int16_t id_sequence_set_wait(id_sequence_t *s, uint16_t at_magnetize, uint32_t max_samples);
-void id_sequence_start(id_sequence_t *s);   /* background context */
-void id_sequence_stop(id_sequence_t *s);    /* background context */
+/** The rotor at rest in CALIBRATE and MAGNETIZE: the encoder's count within
+ *  @p counts of where the state began (0: not checked; id_sequence_init sets
+ *  0).  Beyond, the sequence goes back to IDLE (bridge off) with
+ *  rotor_moved: the sensors' and the bridge's tests, the standstill Rs and
+ *  sigma Ls and the flux's build-up all assume w = 0, and a rotor still
+ *  coasting, or turned by its load, makes them wrong (a back-EMF the
+ *  models do not have). */
+void id_sequence_set_rest(id_sequence_t *s, uint16_t counts);
+/** Request a start (background context): taken by the next step in IDLE. */
+void id_sequence_start(id_sequence_t *s);
+/** Request a stop (background context): the next step goes to IDLE, and a
+ *  start requested before it and not yet taken is dropped (the later
+ *  command wins: a start then a stop within one slow period ends idle). */
+void id_sequence_stop(id_sequence_t *s);
 /** Leave FAULT for IDLE (the caller has checked the cause is gone). */
 void id_sequence_clear_fault(id_sequence_t *s);
 void id_sequence_step(id_sequence_t *s);

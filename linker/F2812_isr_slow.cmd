@@ -86,7 +86,7 @@
  * The flash image runs them from flash (.text, not named here; their wait
  * states costed by tools/bench_isr.py); the RAM image defines
  * ISR_FLASH_SET_IN_RAM and keeps them on chip with the rest of this set.
- * 26 functions.
+ * 29 functions.
  */
 #ifdef ISR_FLASH_SET_IN_RAM
 *(.text:_angle_acc_from_pu)
@@ -94,17 +94,20 @@
 *(.text:_capture)
 *(.text:_drive_ifo_frame)
 *(.text:_drive_set_run_ifo)
+*(.text:_drive_target_headroom_out)
 *(.text:_drive_vi_slow)
 *(.text:_enter)
 *(.text:_flux_obs_apply_model)
 *(.text:_flux_obs_apply_seat)
 *(.text:_flux_obs_reset)
+*(.text:_id_sequence_set_target)
 *(.text:_id_sequence_step)
 *(.text:_ifo_align)
 *(.text:_ifo_apply_tr)
 *(.text:_model_ready)
 *(.text:_period_mean_window)
 *(.text:_pi_apply_gains)
+*(.text:_rotor_turned)
 *(.text:_stall_check_decide)
 *(.text:_standstill)
 *(.text:_standstill_z_samples)

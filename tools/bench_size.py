@@ -164,6 +164,8 @@ FLASH_ROOTS = {
     "standstill": "slot SEQUENCE, the adaptive sequence's MAGNETIZE (the standstill test)",
     "take_set": "slot SEQUENCE, once per adapted set (adapt_box.ready)",
     "stall_check_decide": "slot FILTERS_C, only after the encoder's frozen test tripped",
+    "drive_target_headroom_out": "slot SEQUENCE, ACCELERATE only: the voltage's headroom "
+                                 "that ends the ramp (drive_target.h)",
     "period_mean_window": "slot FILTERS_A, only with [ident] period_mean = 1 (an option of "
                           "the paper's sequence, off by default): the period-mean rows' window",
 }

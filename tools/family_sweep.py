@@ -27,7 +27,7 @@ as tools/study/regression_bias.py's, scaled to each motor): `nominal`, `load0`
 and `load100` (0 % and 100 % of rated torque at rated speed, a quarter constant
 and three quarters fan), `ramp0.5` and `ramp2` (the speed ramp x0.5, x2),
 `target0.5` (half the rated speed), `im0.8` and `im1.2` (the magnetising
-current x0.8, x1.2; the bus raised where the rated point then needs it).
+current x0.8, x1.2, on the motor's own bus).
 
 Each run is `motor_sim --config <file> --out <tmp>` of build/host-iq or
 build/host-float, in parallel on --jobs processes (default: the machine's
@@ -112,22 +112,9 @@ def _load(m, frac):
 
 
 def _im(m, k):
-    """i_M x k, with the bus raised if the rated point then needs more (as
-    motors.design sizes it) and the trips and the bus reading's range with it."""
-    over = {("controller", "magnetizing_current_A"): k * m.i_m}
-    w_r = 2.0 * math.pi * m.n_N / 60.0 * m.p
-    i_m = k * m.i_m
-    ud = m.Rs * i_m - w_r * m.sigma * m.Ls * m.i_t_rated / k
-    uq = m.Rs * m.i_t_rated / k + w_r * m.Ls * i_m
-    need = (math.hypot(ud, uq) + 2.0 * m.device_drop_V) / (
-        0.95 / math.sqrt(3.0) - m.dead_time_s * fam.PWM_HZ)
-    if need > m.vdc:
-        vdc = 10.0 * math.ceil(need / 10.0)
-        over.update({("board", "vdc_nominal_V"): vdc,
-                     ("board", "vdc_full_scale_V"): 50.0 * math.ceil(vdc * 5.0 / 3.0 / 50.0),
-                     ("controller", "vdc_max_V"): 1.25 * vdc,
-                     ("controller", "vdc_min_V"): 0.75 * vdc})
-    return over
+    """i_M x k on the motor's own bus (motors.py note 7: the rectified mains,
+    no boost; the drive's target speed follows the voltage it has)."""
+    return {("controller", "magnetizing_current_A"): k * m.i_m}
 
 
 OPS = {

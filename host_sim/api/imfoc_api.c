@@ -117,7 +117,7 @@ imfoc_t *imfoc_create_ini(const char *path, char *err, size_t err_len)
         set_err(err, err_len, imfoc_status_str(IMFOC_ERR_NULL), NULL);
         return NULL;
     }
-    if (sim_config_load(path, &sc, msg, sizeof msg) != 0) {
+    if (sim_config_load_drive(path, &sc, msg, sizeof msg) != 0) {
         set_err(err, err_len, msg, NULL);
         return NULL;
     }

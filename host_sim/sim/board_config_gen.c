@@ -3,8 +3,10 @@
  *
  *   board_config_gen CONFIG.ini [-o OUT.c]      (default: standard output)
  *
- * The file is read by the simulator's own parser and checks (sim_config_load:
- * the drive's table of limits, drive_init, the simulated world), then the
+ * The file is read by the simulator's own parser and checks
+ * (sim_config_load_drive: every key's range, the drive's table of limits,
+ * drive_init; the simulated world's sections may be absent and never block
+ * a board), then the
  * drive side is converted by sim_config_to_drive, the very drive_config_t
  * motor_sim runs the firmware with, and written as the board's
  * `const drive_config_t g_board_config`.  Floats are printed with 9
@@ -86,7 +88,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: board_config_gen CONFIG.ini [-o OUT.c]\n");
         return 1;
     }
-    if (sim_config_load(ini, &cfg, err, sizeof err) != 0) {
+    if (sim_config_load_drive(ini, &cfg, err, sizeof err) != 0) {
         fprintf(stderr, "board_config_gen: %s\n", err);
         return 1;
     }

@@ -296,6 +296,9 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
     jw_field(&w, "max_speed_err_rpm_ramp", r->max_speed_err_rpm_ramp);
     jw_field(&w, "max_flux_q_over_d", r->max_flux_q_over_d);
     jw_field(&w, "final_speed_rpm", r->final_speed_rpm);
+    jw_field(&w, "target_rpm", r->target_rpm);
+    fprintf(f, "  \"target_lowered\": %s,\n", r->target_lowered ? "true" : "false");
+    jw_field(&w, "max_volt_head", r->max_volt_head);
     jw_field(&w, "max_true_phase_A", r->max_true_phase_A);
     jw_field(&w, "max_true_leg_A", r->max_true_leg_A);
     jw_field(&w, "over_trip_s", r->over_trip_s);

@@ -18,7 +18,6 @@
 #include "sim_config_check.h"
 #include "sim_limits.h"
 
-#define TARGET_RATED (-1.0)  /* ident.target_speed_rpm: the nameplate's rated speed */
 
 #define REQ 1  /* the key must be present */
 #define OPT 0  /* the key may be omitted: its default applies */
@@ -99,11 +98,14 @@ static const key_spec_t k_keys[] = {
     D(ident, forgetting, OPT, 1, DRIVE, "RLS forgetting factor (1: none)"),
     D(ident, magnetize_s, OPT, 0.3, DRIVE, "pre-magnetisation"),
     D(ident, rls_tail_s, OPT, 0.3, DRIVE, "the RLS runs this long after the ramp"),
-    /* -1: the nameplate's rated speed (resolved before the drive's check);
-     * any other value must be a speed (> 0), then the drive's limits (the
-     * identification's floor and 1.2 rated: DRIVE_LD_TARGET) */
-    K(ident, target_speed_rpm, OPT, TARGET_RATED, NULL, TARGET_RATED, 1e5, 0,
-      "r/min (-1: rated)", DRIVE, "speed the sequence accelerates to"),
+    /* -1: the nameplate's rated speed, or less where the bus the drive
+     * measures at the start cannot carry it (drive_target.h; the drive
+     * gets 0); any other value must be a speed (> 0), then the drive's
+     * limits (the identification's floor and 1.2 rated: DRIVE_LD_TARGET;
+     * the bus at no load: DRIVE_LD_BUS) */
+    K(ident, target_speed_rpm, OPT, SIM_TARGET_RATED, NULL, SIM_TARGET_RATED, 1e5, 0,
+      "r/min (-1: rated)", DRIVE,
+      "speed the sequence accelerates to (at most; the drive lowers it to what the bus gives)"),
     D(ident, passes, OPT, 1, DRIVE, "identification passes (> 1: orientation 1)"),
     D(ident, standstill, OPT, 0, DRIVE, "1: Rs and sigma Ls at standstill (orientation 1)"),
     D(ident, track_rr, OPT, 0, DRIVE, "1: Rr/Tr tracked in RUN (orientation 1)"),
@@ -172,6 +174,7 @@ static const key_spec_t k_keys[] = {
 
 typedef struct {
     sim_config_t *cfg;
+    int drive_only;   /* sim_config_load_drive: the simulated world's keys not required */
     unsigned char seen[N_KEYS];
     char err[SIM_CONFIG_ERR_LEN];
 } parse_ctx_t;
@@ -226,7 +229,7 @@ static int check_value(const key_spec_t *k, double v, char *err, size_t len)
 {
     const drive_limit_t *l = drive_limit_of(k);
     if (strcmp(k->section, "ident") == 0 && strcmp(k->key, "target_speed_rpm") == 0 &&
-        v != TARGET_RATED && !(v > 0.0)) {
+        v != SIM_TARGET_RATED && !(v > 0.0)) {
         /* 0 and negative speeds once meant "rated" without a word */
         sim_config_set_err(err, len, "key 'ident.target_speed_rpm' = %g r/min is not a speed "
                            "the identification can run at: give the target (r/min, > 0) or "
@@ -354,7 +357,7 @@ static int apply_defaults(parse_ctx_t *ctx, char *err, size_t len)
         if (ctx->seen[i]) {
             continue;
         }
-        if (k->required) {
+        if (k->required && !(ctx->drive_only && strcmp(k->side, SIM) == 0)) {
             sim_config_set_err(err, len, "missing key '%s.%s' (%s)", k->section, k->key,
                                unit_of(k));
             return 1;
@@ -373,9 +376,6 @@ static int apply_defaults(parse_ctx_t *ctx, char *err, size_t len)
             *field(ctx->cfg, k) = k->def;
         }
     }
-    if (ctx->cfg->ident.target_speed_rpm == TARGET_RATED) {
-        ctx->cfg->ident.target_speed_rpm = ctx->cfg->nameplate.rated_speed_rpm;
-    }
     if (ctx->cfg->inverter.overcurrent_hw_A < 0.0) {
         ctx->cfg->inverter.overcurrent_hw_A =
             SIM_HW_OC_OF_TRIP * ctx->cfg->controller.overcurrent_A;
@@ -383,7 +383,8 @@ static int apply_defaults(parse_ctx_t *ctx, char *err, size_t len)
     return 0;
 }
 
-int sim_config_load(const char *path, sim_config_t *cfg, char *err, size_t err_len)
+static int load(const char *path, sim_config_t *cfg, int drive_only, char *err,
+                size_t err_len)
 {
     parse_ctx_t ctx;
     line_reader_t rd;
@@ -396,6 +397,7 @@ int sim_config_load(const char *path, sim_config_t *cfg, char *err, size_t err_l
     memset(&ctx, 0, sizeof ctx);
     memset(&rd, 0, sizeof rd);
     ctx.cfg = cfg;
+    ctx.drive_only = drive_only;
     rd.f = fopen(path, "r");
     if (rd.f == NULL) {
         sim_config_set_err(err, err_len, "%s%s: cannot open (%s)", ell, shown, strerror(errno));
@@ -431,12 +433,23 @@ int sim_config_load(const char *path, sim_config_t *cfg, char *err, size_t err_l
     }
     rc = apply_defaults(&ctx, ctx.err, sizeof ctx.err);
     if (rc == 0) {
-        rc = sim_config_cross_check(cfg, ctx.err, sizeof ctx.err);
+        rc = drive_only ? sim_config_drive_check(cfg, ctx.err, sizeof ctx.err)
+                        : sim_config_cross_check(cfg, ctx.err, sizeof ctx.err);
     }
     if (rc != 0) {
         sim_config_set_err(err, err_len, "%s%s: %s", ell, shown, ctx.err);
     }
     return rc;
+}
+
+int sim_config_load(const char *path, sim_config_t *cfg, char *err, size_t err_len)
+{
+    return load(path, cfg, 0, err, err_len);
+}
+
+int sim_config_load_drive(const char *path, sim_config_t *cfg, char *err, size_t err_len)
+{
+    return load(path, cfg, 1, err, err_len);
 }
 
 void sim_config_print_keys(void)
@@ -476,4 +489,10 @@ void sim_config_print_keys(void)
     }
     printf("\n");
     sim_limits_print(stdout);
+}
+
+double sim_config_target_rpm(const sim_config_t *c)
+{
+    return (c->ident.target_speed_rpm == SIM_TARGET_RATED) ? c->nameplate.rated_speed_rpm
+                                                           : c->ident.target_speed_rpm;
 }

@@ -130,6 +130,16 @@ typedef struct {
  *  can; low enough for the devices' short-circuit rating. */
 #define SIM_HW_OC_OF_TRIP 1.25
 
+/** ident.target_speed_rpm's default: the rated speed, which the drive lowers
+ *  to what the bus it measures gives (drive_target.h; the drive gets 0). */
+#define SIM_TARGET_RATED (-1.0)
+
+/** The configured identification target, r/min: ident.target_speed_rpm, or
+ *  the rated speed for SIM_TARGET_RATED.  An upper bound: the drive lowers
+ *  it to what the bus gives at the start and in the acceleration
+ *  (sim_result_t.target_rpm: the one it ran at). */
+double sim_config_target_rpm(const sim_config_t *c);
+
 /** Error text buffer size for sim_config_load. */
 #define SIM_CONFIG_ERR_LEN 512
 
@@ -142,6 +152,13 @@ typedef struct {
  *  SIM_CONFIG_ERR_UNLISTED) with a message naming the file, the line or key,
  *  the value and the limit in @p err. */
 int sim_config_load(const char *path, sim_config_t *cfg, char *err, size_t err_len);
+
+/** Load the drive side only (board_config_gen, the co-simulation API): every
+ *  key is still parsed and range-checked, but the simulated world's
+ *  sections may be absent (their required keys are not required) and the
+ *  world is not checked against the drive: [plant], [inverter], [sensors],
+ *  [load] never block a board's configuration. */
+int sim_config_load_drive(const char *path, sim_config_t *cfg, char *err, size_t err_len);
 
 /** Set key @p key ("section.key") of a loaded configuration, unchecked (for
  *  tests and studies; a default that follows another key is not redone).

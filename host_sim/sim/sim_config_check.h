@@ -18,4 +18,8 @@ void sim_config_set_err(char *buf, size_t len, const char *fmt, ...);
  *  SIM_CONFIG_ERR_UNLISTED (sim_config.h). */
 int sim_config_cross_check(const sim_config_t *c, char *err, size_t len);
 
+/** The same without the simulated world: the ratings and the drive side
+ *  (sim_config_load_drive: board_config_gen, the co-simulation API). */
+int sim_config_drive_check(const sim_config_t *c, char *err, size_t len);
+
 #endif /* SIM_CONFIG_CHECK_H */

@@ -83,7 +83,9 @@ void sim_config_to_drive(const sim_config_t *c, drive_config_t *d)
     d->ident.rls_p0 = f32(id->rls_p0);
     d->ident.forgetting = f32(id->forgetting);
     d->ident.magnetize_time_s = f32(id->magnetize_s);
-    d->ident.target_speed_rpm = f32(id->target_speed_rpm);
+    /* the default, the rated speed within the bus: the drive's 0 (drive_target.h) */
+    d->ident.target_speed_rpm =
+        (id->target_speed_rpm == SIM_TARGET_RATED) ? 0.0f : f32(id->target_speed_rpm);
     d->ident.rls_tail_s = f32(id->rls_tail_s);
     d->ident.passes = u16(id->passes);
     d->ident.standstill = u16(id->standstill);

@@ -54,9 +54,6 @@ static const char *const k_why[DRIVE_LD_COUNT] = {
                          "(0, 4 L_base]",
     [DRIVE_LD_DEAD] = "at most a quarter of the PWM period",
     [DRIVE_LD_DROP] = "at most V_base = board.vdc_nominal_V / sqrt(3)",
-    [DRIVE_LD_BRIDGE_LOSS] = "2 board.device_drop_V + board.vdc_nominal_V board.dead_time_s "
-                             "board.pwm_freq_Hz, the voltage the dead-time compensation adds, "
-                             "below the linear modulation's 0.95 board.vdc_nominal_V / sqrt(3)",
     [DRIVE_LD_VI_GAINS] = "the bridge test's current PI (ident.vi_test = 1): its gains within "
                           "the PI's range (ki = 2 pi 50 Hz Ts_slow nameplate.Rs_ohm / Z_base "
                           "at most 1, kp at most 100)",
@@ -97,9 +94,15 @@ static const char *const k_why[DRIVE_LD_COUNT] = {
                         "ident.filter_cutoff_Hz) / board.encoder_lines r/min) and, with "
                         "controller.orientation = 1, the RLS's 30 Hz stator-frequency gate "
                         "(1800 / nameplate.pole_pairs r/min); at most 1.2 "
-                        "nameplate.rated_speed_rpm (-1 in the INI: the rated speed)",
+                        "nameplate.rated_speed_rpm (-1 in the INI: the rated speed, or less "
+                        "where the bus cannot carry it)",
     [DRIVE_LD_TARGET_PU] = "within the speed reference's 2 pu "
                            "(60 nameplate.rated_freq_Hz / nameplate.pole_pairs r/min a pu)",
+    [DRIVE_LD_BUS] = "the no-load voltage |Rs + j w Ls| controller.magnetizing_current_A at "
+                     "the target plus the bridge's loss (2 board.device_drop_V + vdc "
+                     "board.dead_time_s board.pwm_freq_Hz) within 92 % of "
+                     "board.vdc_nominal_V / sqrt(3); by default (-1) at the least target: the "
+                     "drive lowers its target to what the bus it measures gives",
     [DRIVE_LD_HEADROOM] = "the dead time against the voltage at the target speed: what the "
                           "bridge loses per leg, board.vdc_nominal_V board.dead_time_s "
                           "board.pwm_freq_Hz + board.device_drop_V, at most 30 % of the "

@@ -199,6 +199,13 @@ static void observe_protection(const drive_t *d, sim_result_t *r, double t)
 static void observe_soak(const drive_t *d, sim_result_t *r, double t)
 {
     uint16_t i;
+    if (d->seq.state == ID_ACCELERATE && d->bus.vdc > 0) {
+        double head = sqrt((double)_IQtoF(d->target.u2_f)) /
+                      ((double)_IQtoF(d->bus.vdc) / sqrt(3.0));
+        if (head > r->max_volt_head) {
+            r->max_volt_head = head;
+        }
+    }
     if (d->seq.state == ID_ACCELERATE || d->seq.state == ID_SETTLE || d->seq.state == ID_RUN) {
         if (d->svgen.overmod != 0u) {
             if (r->n_overmod == 0u) {
@@ -296,7 +303,7 @@ double sim_vi_test_s(const sim_config_t *c)
 static double default_duration_s(const sim_config_t *c, sim_scenario_t s)
 {
     double ident = 0.1 + c->ident.magnetize_s +
-                   c->ident.target_speed_rpm / c->controller.speed_ramp_rpm_s + 3.2;
+                   sim_config_target_rpm(c) / c->controller.speed_ramp_rpm_s + 3.2;
     double d = ident * c->ident.passes + sim_vi_test_s(c);
     if (c->ident.track_rr != 0.0) {
         /* the fused set: the tracker valid once it has forgotten RUN's start
@@ -629,6 +636,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                 res->t_published_s = t;
                 res->truth.psi_r_Wb = sqrt(pd * pd + pq * pq);
                 res->settle_timeout = drive.seq.settle_timeout;
+                res->target_rpm = (double)_IQtoF(drive.seq.speed_target) * b->n_base_rpm;
             }
             if (drive.telemetry.fault != 0u && drive.telemetry.fault != last_fault &&
                 res->n_faults_seen < SIM_MAX_FAULTS) {
@@ -758,6 +766,10 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
         res->i_mag_steady_A /= (double)res->n_v_err;
     }
     res->final_speed_rpm = plant.motor.n_rpm;
+    if (t_run < 0.0) {
+        res->target_rpm = (double)_IQtoF(drive.seq.speed_target) * b->n_base_rpm;
+    }
+    res->target_lowered = drive.seq.target_lowered;
     res->max_true_phase_A = plant.i_phase_peak_A;
     res->max_true_leg_A = plant.i_leg_peak_A;
     res->hw_trips = plant.hw_trips;

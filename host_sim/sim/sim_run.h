@@ -114,6 +114,13 @@ typedef struct {
     double max_speed_err_rpm_ramp;  /* |ref - true| during ACCELERATE (after 0.2 s) */
     double max_flux_q_over_d;       /* |psi_rq/psi_rd| after magnetisation */
     double final_speed_rpm;
+    double target_rpm;              /* the identification's target as the drive ran it (the
+                                       configured one, lowered to what the bus gives:
+                                       drive_target.h), at RUN or at the end */
+    uint16_t target_lowered;        /* the acceleration ended at the voltage limit */
+    double max_volt_head;           /* the largest commanded voltage in ACCELERATE as
+                                       drive_target.h low-passes it, per unit of
+                                       vdc / sqrt(3) (its limit: 0.95) */
     uint16_t final_state, final_fault, final_pwm_on;
     uint16_t n_faults_seen;
     uint16_t fault_code[SIM_MAX_FAULTS];

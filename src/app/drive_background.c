@@ -12,6 +12,7 @@
 #include "drive_design.h"
 #include "drive_internal.h"
 #include "drive_safety.h"
+#include "drive_target.h"
 #include "drive_vi.h"
 
 /* the telemetry's confidences are ident_conf's parameters, in its order */
@@ -22,7 +23,8 @@ const char *drive_pub_reason_str(uint16_t reason)
 {
     static const char *const names[DRIVE_PUB_N] = {
         "pending", "published", "not_converged", "low_excitation", "high_residual",
-        "low_confidence", "implausible", "fault", "timeout", "stopped"};
+        "low_confidence", "implausible", "fault", "timeout", "stopped", "bus_low",
+        "rotor_turning"};
     return (reason < (uint16_t)DRIVE_PUB_N) ? names[reason] : "unknown";
 }
 
@@ -305,6 +307,50 @@ static void after_extraction(drive_t *d)
     drive_adapt_post(d, p, full);   /* the next pass (or the tracker) starts from it */
 }
 
+/* A start, from IDLE: refused with its reason while the rotor still turns
+ * (the standstill phases need it at rest: id_sequence_set_rest) or when the
+ * bus cannot carry the least target at no load (drive_target.h); else the
+ * target within the bus, and the identification's state afresh. */
+static void start_identification(drive_t *d)
+{
+    drive_telemetry_t *t = &d->telemetry;
+    float target = drive_target_at_start(&d->target, _IQtoF(d->bus.vdc));
+    uint16_t refused = DRIVE_PUB_PENDING;
+
+    if (_IQabs(d->qep.speed) > d->k.rest_speed) {
+        refused = DRIVE_PUB_ROTOR_TURNING;
+    } else if (!(target > 0.0f)) {
+        refused = DRIVE_PUB_BUS_LOW;
+    } else {
+        /* start */
+    }
+    /* a new verdict is owed for this run */
+    d->conf_run = 1u;
+    t->publish_reason = refused;
+    if (refused != (uint16_t)DRIVE_PUB_PENDING) {
+        count_reject(t);
+        return;
+    }
+    id_sequence_set_target(&d->seq, _IQ(target));
+    /* same parameters as drive_init: cannot fail here */
+    (void)drive_rls_start(d);
+    d->seq.cal_done = 0u;
+    /* the published set stays (last good values) until a new
+     * plausible one replaces it; the guard starts afresh */
+    theta_guard_reset(&d->guard);
+    d->fused_ready = 0u;
+    d->conf_judged = 0u;
+    d->conf_mid = 0u;
+    d->conf_pass = 0u;
+    tracker_reset(d);
+    /* this run's standstill test decides (an old measurement must
+     * not stand in for one that fails now); the ISR writes them
+     * only at the end of the magnetisation, not in IDLE */
+    t->Rs_dc = _IQ(0.0);
+    t->sigma_ls_dc = _IQ(0.0);
+    id_sequence_start(&d->seq);
+}
+
 static void handle_command(drive_t *d, drive_cmd_t cmd)
 {
     switch (cmd) {
@@ -313,26 +359,7 @@ static void handle_command(drive_t *d, drive_cmd_t cmd)
          * the ISR: only from IDLE */
         if (d->seq.state == ID_IDLE && d->config_status == DRIVE_CFG_OK &&
             d->prot.fault == FAULT_NONE) {
-            /* same parameters as drive_init: cannot fail here */
-            (void)drive_rls_start(d);
-            d->seq.cal_done = 0u;
-            /* the published set stays (last good values) until a new
-             * plausible one replaces it; the guard starts afresh */
-            theta_guard_reset(&d->guard);
-            d->fused_ready = 0u;
-            /* a new verdict is owed for this run */
-            d->telemetry.publish_reason = (uint16_t)DRIVE_PUB_PENDING;
-            d->conf_run = 1u;
-            d->conf_judged = 0u;
-            d->conf_mid = 0u;
-            d->conf_pass = 0u;
-            tracker_reset(d);
-            /* this run's standstill test decides (an old measurement must
-             * not stand in for one that fails now); the ISR writes them
-             * only at the end of the magnetisation, not in IDLE */
-            d->telemetry.Rs_dc = _IQ(0.0);
-            d->telemetry.sigma_ls_dc = _IQ(0.0);
-            id_sequence_start(&d->seq);
+            start_identification(d);
         }
         break;
     case DRIVE_CMD_STOP:
@@ -428,6 +455,10 @@ static void handle_requests(drive_t *d, uint16_t req)
     }
     if ((req & DRIVE_CMD_BIT(DRIVE_CMD_STOP)) != 0u) {
         handle_command(d, DRIVE_CMD_STOP);
+    } else if ((req & DRIVE_CMD_BIT(DRIVE_CMD_START_IDENT)) != 0u && d->bus.vdc == _IQ(0.0)) {
+        /* no ISR has measured the bus yet (a start right after drive_init:
+         * any reading is above 0, dc_bus.h): the start waits for it */
+        d->cmd_requests = (uint16_t)(d->cmd_requests | DRIVE_CMD_BIT(DRIVE_CMD_START_IDENT));
     } else if ((req & DRIVE_CMD_BIT(DRIVE_CMD_START_IDENT)) != 0u) {
         handle_command(d, DRIVE_CMD_START_IDENT);
     } else {
@@ -459,6 +490,21 @@ void drive_background(drive_t *d)
     fused_verdict(d);
     publish_tracked(d);
     drive_safety_background(d);   /* nothing learned while a fault developed stays published */
+    /* the voltage ended the acceleration below the least target (a bus far
+     * below nominal, a load the voltage cannot carry at speed): what the
+     * identification would learn there cannot be trusted; the bridge off */
+    if (d->conf_run != 0u && d->telemetry.publish_reason == (uint16_t)DRIVE_PUB_PENDING &&
+        d->seq.target_lowered != 0u && _IQtoF(d->seq.speed_target) < d->target.least_pu) {
+        id_sequence_stop(&d->seq);
+        d->telemetry.publish_reason = (uint16_t)DRIVE_PUB_BUS_LOW;
+        count_reject(&d->telemetry);
+    }
+    /* the rotor turned in a standstill phase: the sequence went back to IDLE */
+    if (d->conf_run != 0u && d->telemetry.publish_reason == (uint16_t)DRIVE_PUB_PENDING &&
+        d->seq.state == ID_IDLE && d->seq.rotor_moved != 0u) {
+        d->telemetry.publish_reason = (uint16_t)DRIVE_PUB_ROTOR_TURNING;
+        count_reject(&d->telemetry);
+    }
     /* a protection that trips before the verdict: the set was never complete */
     if (d->conf_run != 0u && d->telemetry.publish_reason == (uint16_t)DRIVE_PUB_PENDING &&
         d->seq.state == ID_FAULT) {

@@ -32,6 +32,15 @@
 #define DRIVE_SPEED_REF_MAX_PU 2.0f    /* the speed reference ramp's limits, +-pu */
 #define DRIVE_ENC_FROZEN_S 0.05f       /* encoder check: counts frozen this long ... */
 #define DRIVE_ENC_SPEED_MAX_PU 4.0f    /* ... or a jump above this speed in one sample */
+/* The rotor at rest (id_sequence_set_rest): within 1 electrical degree of
+ * where CALIBRATE and MAGNETIZE began.  The standstill Rs is u_M / i_M at
+ * DC: a rotor turning at w_r puts w_r Ls i_M into u_M, and at 1 % of the
+ * rated speed that is 1 % of the rated voltage, 20-50 % of Rs i_M; a
+ * coasting rotor crosses 1 degree within milliseconds.  A start is refused
+ * at once above DRIVE_REST_SPEED_OF_RATED (the speed the QEP resolves over
+ * its window at least). */
+#define DRIVE_REST_ELEC_DEG 1.0f
+#define DRIVE_REST_SPEED_OF_RATED 0.01f
 /* The publication (ident_conf.h; drive_background.c), from the motor family
  * (tools/family_sweep.py --subset all --ops all: 64 motors x 8 operating
  * choices x 2 sequences x 2 builds, 1 528 runs the firmware accepts):

@@ -14,6 +14,7 @@
 #include "drive.h"
 #include "drive_adapt.h"
 #include "drive_design.h"
+#include "drive_target.h"
 #include "drive_vi.h"
 
 #define LO_OPEN DRIVE_LIMIT_LO_OPEN
@@ -28,26 +29,11 @@
 #define Q24_HEADROOM 127.0f        /* a pu value converted to Q24 (< 128) */
 #define NO_UPPER FLT_MAX           /* a limit with a lower bound only */
 
-/* The identification's target speed (drive_limits.h, DRIVE_LD_TARGET), at
- * least the largest of:
- *  - TARGET_MIN_OF_RATED of the rated speed: the RLS separates the back-EMF
- *    term K4 w_r from the resistive and dead-time voltages only with enough
- *    speed; measured (motor_sim, IQ_MATH) the worst published error rises
- *    below it: paper 50 r/min 2.3 %, 1.1 kW 100 r/min 3.8 %, 15 kW 100 r/min
- *    3.2 %; from 20 % (280-290 r/min) all three stay within 1.3 %;
- *  - TARGET_COUNTS_PER_TAU encoder counts a time constant 1/w_c of the
- *    regression's Butterworth filter: the rotor speed w_r it filters comes
- *    from the count, whose quantisation the filter averages only over that
- *    many counts (n >= 10 x 60 w_c / (4 lines) r/min: 9.4 r/min for the
- *    paper's 1000 lines at 10 Hz, 590 r/min for 16 lines);
- *  - with orientation 1, the RLS's gate: it learns only while the stator
- *    frequency is above FOBS_RLS_WS_OVER_WC FOBS_WC_HZ = 30 Hz
- *    (drive_slow.c), i.e. 60 x 30 / p r/min (900 r/min at p = 2: at
- *    700 r/min the paper motor's adaptive sequence published 14.8 % off).
- * and at most TARGET_MAX_OF_RATED of the rated speed. */
-#define TARGET_MIN_OF_RATED 0.2f
+/* The identification's target speed (drive_limits.h, DRIVE_LD_TARGET): at
+ * least drive_target_least_rpm (drive_target.c says why each floor), at most
+ * TARGET_MAX_OF_RATED of the rated speed; and the bus must carry its
+ * no-load voltage (DRIVE_LD_BUS: drive_target.h). */
 #define TARGET_MAX_OF_RATED 1.2f
-#define TARGET_COUNTS_PER_TAU 10.0f
 
 /* The dead time against the voltage the identification runs on
  * (DRIVE_LD_HEADROOM): what the bridge loses per leg, vdc td f_pwm + the
@@ -179,7 +165,6 @@ static const drive_limit_t k_limits[] = {
     DERIVED("sigma Ls", "H", DRIVE_CFG_ORIENTATION, DRIVE_LD_OBS_SLS),
     DERIVED("board.dead_time_s", "s", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_DEAD),
     DERIVED("board.device_drop_V", "V", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_DROP),
-    DERIVED("bridge loss", "V", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_BRIDGE_LOSS),
     DERIVED("ident.vi_test", "s", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_VI_HOLD),
     DERIVED("nameplate.Rs_ohm", "pu", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_VI_GAINS),
     DERIVED("board.dead_time_band_A", "A", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_BAND),
@@ -205,6 +190,7 @@ static const drive_limit_t k_limits[] = {
                   0.0f),
     DERIVED("ident.target_speed_rpm", "r/min", DRIVE_CFG_SEQUENCE, DRIVE_LD_TARGET),
     DERIVED("ident.target_speed_rpm", "r/min", DRIVE_CFG_SEQUENCE, DRIVE_LD_TARGET_PU),
+    DERIVED("board.vdc_nominal_V", "V", DRIVE_CFG_SEQUENCE, DRIVE_LD_BUS),
     DERIVED("board.dead_time_s", "s", DRIVE_CFG_VOLTAGE_MODEL, DRIVE_LD_HEADROOM),
     DERIVED("controller.overcurrent_A", "A", DRIVE_CFG_PROTECTION, DRIVE_LD_OC_FS),
     DERIVED("controller.max_torque_current_A", "A", DRIVE_CFG_PROTECTION, DRIVE_LD_TORQUE_OC),
@@ -221,12 +207,6 @@ typedef struct {
     base_values_t b;
     drive_design_t g;
 } limit_ctx_t;
-
-float drive_limits_bridge_loss_V(float vdc_V, float dead_time_s, float pwm_freq_Hz,
-                                 float device_drop_V)
-{
-    return 2.0f * device_drop_V + vdc_V * dead_time_s * pwm_freq_Hz;
-}
 
 uint16_t drive_limits_count(void)
 {
@@ -287,6 +267,13 @@ static int16_t report_as(drive_limit_fail_t *f, const char *key, const char *uni
     f->key = key;
     f->unit = unit;
     return report(f, value, lo, hi, open);
+}
+
+/* 0 if @p ok, else report_as. */
+static int16_t report_as_if(int16_t ok, drive_limit_fail_t *f, const char *key, const char *unit,
+                            float value, float lo, float hi, uint16_t open)
+{
+    return (ok != 0) ? 0 : report_as(f, key, unit, value, lo, hi, open);
 }
 
 /* 0 if @p ok, else 1 with the limit reported. */
@@ -519,11 +506,6 @@ static int16_t check_voltage_model(const drive_limit_t *l, const limit_ctx_t *x,
         v = bd->device_drop_V / b->V_base_V;
         return verdict((int16_t)(v >= 0.0f && v <= VOLT_CALC_DROP_MAX_PU), f, bd->device_drop_V,
                        0.0f, VOLT_CALC_DROP_MAX_PU * b->V_base_V, 0u);
-    case DRIVE_LD_BRIDGE_LOSS:   /* the compensation's voltage must fit the modulation */
-        v = drive_limits_bridge_loss_V(bd->vdc_nominal_V, bd->dead_time_s, bd->pwm_freq_Hz,
-                                       bd->device_drop_V);
-        return verdict((int16_t)(v < DRIVE_LIMITS_LINEAR_OF_VDC * bd->vdc_nominal_V), f, v, 0.0f,
-                       DRIVE_LIMITS_LINEAR_OF_VDC * bd->vdc_nominal_V, HI_OPEN);
     case DRIVE_LD_VI_HOLD:
         /* the zone is measured (drive_vi.c) and checked when it is
          * (volt_calc_curve_design); vi_curve_init holds a current level
@@ -713,10 +695,7 @@ static int16_t check_sequence_and_protection(const drive_limit_t *l, const limit
         float floor_obs = (c->control.orientation == DRIVE_ORIENT_FLUX_OBS)
                               ? 60.0f * FOBS_RLS_WS_OVER_WC * FOBS_WC_HZ / (float)c->motor.pole_pairs
                               : 0.0f;
-        float floor_enc = TARGET_COUNTS_PER_TAU * 60.0f * c->ident.filter_wc_rad_s /
-                          (4.0f * (float)bd->encoder_lines);
-        float lo = fmaxf(fmaxf(TARGET_MIN_OF_RATED * c->motor.rated_speed_rpm, floor_enc),
-                         floor_obs);
+        float lo = drive_target_least_rpm(c);
         v = TARGET_MAX_OF_RATED * c->motor.rated_speed_rpm;
         if (lo > v && floor_obs >= lo) {
             /* no target can reach the observer's gate: the motor's rated
@@ -724,6 +703,25 @@ static int16_t check_sequence_and_protection(const drive_limit_t *l, const limit
             return report_as(f, DRIVE_LT("controller.orientation"), DRIVE_LT("-"), 1.0f, 0.0f, 0.0f, 0u);
         }
         return verdict((int16_t)(target >= lo && target <= v), f, target, lo, v, 0u);
+    }
+    case DRIVE_LD_BUS: {
+        /* the start's no-load limit at the nominal bus (drive_target.h): a
+         * configured target must fit, and by default (0: rated, lowered to
+         * what the bus gives) at least the least target */
+        drive_target_t t;
+        float need = (c->ident.target_speed_rpm > 0.0f) ? target : drive_target_least_rpm(c);
+        float w;
+        (void)drive_target_init(&t, c, b, x->g.Ts_slow);
+        w = drive_target_noload_max_pu(&t, DRIVE_SQRT3_F, DRIVE_TARGET_NOLOAD_OF_VLIN) *
+            b->n_base_rpm;
+        if (c->ident.target_speed_rpm > 0.0f) {
+            return report_as_if((int16_t)(need <= w), f, DRIVE_LT("ident.target_speed_rpm"),
+                                DRIVE_LT("r/min"), need, 0.0f, w, 0u);
+        }
+        return verdict((int16_t)(need <= w), f, c->board.vdc_nominal_V,
+                       drive_target_bus_for_pu(&t, need / b->n_base_rpm,
+                                               DRIVE_TARGET_NOLOAD_OF_VLIN) * b->V_base_V,
+                       NO_UPPER, 0u);
     }
     case DRIVE_LD_TARGET_PU:
         return verdict((int16_t)(g->target_pu <= DRIVE_SPEED_REF_MAX_PU), f, target, 0.0f,

@@ -52,6 +52,7 @@
 #include "angle.h"
 #include "drive_adapt.h"
 #include "drive_safety.h"
+#include "drive_target.h"
 #include "drive_vi.h"
 
 static void sequence(drive_t *d)
@@ -62,6 +63,16 @@ static void sequence(drive_t *d)
     s->speed_err = _IQabs(d->speed_ramp.out - d->qep.speed);
     s->i_mf = d->reg.i_mf;
     s->i_tf = d->reg.i_tf;
+    s->count = d->qep.count;
+    s->speed_ref = d->speed_ramp.out;
+    /* the acceleration ends where the voltage's headroom does (drive_target.h) */
+    if (s->state == ID_ACCELERATE) {
+        s->volt_limit = drive_target_headroom_out(&d->target, d->svgen.ualpha, d->svgen.ubeta,
+                                                  d->bus.vdc);
+    } else {
+        s->volt_limit = 0u;
+        drive_target_headroom_reset(&d->target);
+    }
     if (d->seq.vi_test != 0u) {
         drive_vi_slow(d);   /* the bridge's voltage-error test in CALIBRATE (drive_vi.c);
                                the test off (the default), not even the call */

@@ -44,9 +44,16 @@ int16_t id_sequence_set_passes(id_sequence_t *s, uint16_t passes, _iq refine_fra
         return 1;
     }
     s->passes = passes;
-    /* Q24 * Q24 -> Q24, |speed_target| < 2 pu: no overflow */
-    s->refine_speed = _IQmpy(s->speed_target, refine_fraction);
+    s->refine_fraction = refine_fraction;
+    id_sequence_set_target(s, s->speed_target);
     return 0;
+}
+
+void id_sequence_set_target(id_sequence_t *s, _iq speed_target)
+{
+    s->speed_target = speed_target;
+    /* Q24 * Q24 -> Q24, |speed_target| < 2 pu: no overflow */
+    s->refine_speed = _IQmpy(speed_target, s->refine_fraction);
 }
 
 int16_t id_sequence_set_wait(id_sequence_t *s, uint16_t at_magnetize, uint32_t max_samples)
@@ -59,8 +66,18 @@ int16_t id_sequence_set_wait(id_sequence_t *s, uint16_t at_magnetize, uint32_t m
     return 0;
 }
 
+void id_sequence_set_rest(id_sequence_t *s, uint16_t counts) { s->rest_counts = counts; }
+
 void id_sequence_start(id_sequence_t *s) { s->start_req = 1u; }
-void id_sequence_stop(id_sequence_t *s) { s->stop_req = 1u; }
+
+void id_sequence_stop(id_sequence_t *s)
+{
+    /* the start first, then the stop (16-bit stores, in order): a step that
+     * runs between them sees neither or the stop alone, never the start
+     * after the stop */
+    s->start_req = 0u;
+    s->stop_req = 1u;
+}
 
 /* The outputs that follow from the state alone, looked up once per state
  * change instead of recomputed from the state in every step: the bridge on,
@@ -89,6 +106,7 @@ static void enter(id_sequence_t *s, id_state_t next)
     s->state = next;
     s->t_state = 0u;
     s->t_steady = 0u;
+    s->count0 = s->count;
     s->pwm_on = (uint16_t)(f & OUT_PWM);
     s->speed_loop_on = (uint16_t)((f & OUT_SPEED) >> 1);
     s->rls_on = (uint16_t)((f & OUT_RLS) >> 2);
@@ -134,6 +152,17 @@ static uint16_t model_ready(id_sequence_t *s)
     return 0u;
 }
 
+/* The rotor left its rest in a state that needs it (CALIBRATE, MAGNETIZE):
+ * |count - count0| as a 16-bit difference (the count wraps). */
+static uint16_t rotor_turned(const id_sequence_t *s)
+{
+    uint16_t moved = (uint16_t)(s->count - s->count0);
+    if (moved > 0x8000u) {
+        moved = (uint16_t)(0u - moved);   /* backwards: the modulo-2^16 negation */
+    }
+    return (uint16_t)(s->rest_counts != 0u && moved > s->rest_counts);
+}
+
 void id_sequence_step(id_sequence_t *s)
 {
     s->extract_now = 0u;
@@ -151,11 +180,18 @@ void id_sequence_step(id_sequence_t *s)
         s->t_state++;
     }
 
+    if ((s->state == ID_CALIBRATE || s->state == ID_MAGNETIZE) && rotor_turned(s) != 0u) {
+        s->rotor_moved = 1u;
+        enter(s, ID_IDLE);
+    }
+
     switch (s->state) {
     case ID_IDLE:
         if (s->start_req != 0u) {
             s->pass = 1u;
             s->adapt_timeouts = 0u;
+            s->target_lowered = 0u;
+            s->rotor_moved = 0u;
             enter(s, ID_CALIBRATE);
         }
         break;
@@ -183,8 +219,16 @@ void id_sequence_step(id_sequence_t *s)
         }
         break;
     case ID_ACCELERATE:
-        if (s->ramp_done != 0u) {
+        if (s->volt_limit != 0u && s->ramp_done == 0u) {
+            /* the voltage's headroom is gone: the speed reached is the target
+             * (this pass's and the next ones'); the ramp stands there */
+            id_sequence_set_target(s, s->speed_ref);
+            s->target_lowered = 1u;
             enter(s, ID_SETTLE);
+        } else if (s->ramp_done != 0u) {
+            enter(s, ID_SETTLE);
+        } else {
+            /* accelerating */
         }
         break;
     case ID_SETTLE: {

@@ -82,7 +82,9 @@ static void inputs(uint32_t k, int variant, imfoc_phys_in_t *in)
     in->ia_A = sgn * 0.3 * sin((double)k / 40.0);
     in->ib_A = 0.2 * cos((double)k / 33.0);
     in->vdc_V = variant ? 55.0 : 60.0;
-    in->theta_m_rad = sgn * 3.0 * t * t;
+    /* the rotor at rest within a count or so (CALIBRATE and MAGNETIZE send a
+     * turning rotor back to IDLE: id_sequence_set_rest) */
+    in->theta_m_rad = sgn * 0.002 * sin(60.0 * t);
     in->trip = 0u;
 }
 

@@ -35,7 +35,7 @@ static void test_no_false_trip_at_the_limit(void **state)
     assert_int_equal(drift_run(NULL, 0u, &cfg, &r), 0);
     print_message("drift, paper's sequence: faults %u, final %.1f r/min (target %.0f), "
                   "max |psi_q/psi_d| %.3f, max true phase current %.1f A (trip %.0f A)\n",
-                  r.n_faults_seen, r.final_speed_rpm, cfg.ident.target_speed_rpm,
+                  r.n_faults_seen, r.final_speed_rpm, r.target_rpm,
                   r.max_flux_q_over_d, r.max_true_phase_A, cfg.controller.overcurrent_A);
     /* it did reach the limit's regime: the frame turned as before (q/d 0.15
      * when it tripped; a frame that stayed aligned would not test the hold) */
@@ -45,8 +45,7 @@ static void test_no_false_trip_at_the_limit(void **state)
     assert_int_equal(r.final_pwm_on, 1);
     /* the motor still turns at its target (within 2 %), its true currents
      * below the trip */
-    assert_true(fabs(r.final_speed_rpm - cfg.ident.target_speed_rpm) <
-                0.02 * cfg.ident.target_speed_rpm);
+    assert_true(fabs(r.final_speed_rpm - r.target_rpm) < 0.02 * r.target_rpm);
     assert_true(r.max_true_phase_A < cfg.controller.overcurrent_A);
 }
 

@@ -68,7 +68,7 @@ static void test_paper_sequence_settles(void **state)
     assert_int_equal(r.final_pass, 1);
     assert_int_equal(r.extracted, 1);
     /* SETTLE at most 1 s: the verdict within 1 s of the ramp's end */
-    assert_true(r.t_decided_s < r.t_accel_start_s + c.ident.target_speed_rpm /
+    assert_true(r.t_decided_s < r.t_accel_start_s + r.target_rpm /
                                                         c.controller.speed_ramp_rpm_s + 1.0);
 }
 

@@ -60,15 +60,19 @@ where a published figure is used):
 7. Inverter by voltage class (typical datasheet values, reasoned, not one
    source): up to 240 V: 600 V IGBTs, dead time 1.0 us, device drop 1.0 V;
    up to 480 V: 1200 V IGBTs, 2.0 us, 1.5 V; up to 690 V: 1700 V IGBTs,
-   3.5 us, 2.0 V.  PWM 15 kHz (the F2812 firmware's ISR rate).  DC bus: a
-   diode front end gives 1.35 x V_line; the bus must cover the rated point's
-   phase-voltage peak (the one motor_sim checks) plus two device drops and
-   the dead-time voltage vdc td f_pwm within 95 % of vdc / sqrt(3)
-   (linear SVPWM).  1.35 x V_line never does for a motor wound for the line
-   voltage (it gives 0.96 x the rated peak): the bus is then raised to what
-   the rated point needs (an active front end / boost, `front_end` says
-   which), rounded up to 10 V.  Bus sensor full scale ~1.67 x vdc (rounded
-   up to 50 V), trips at 1.25 and 0.75 x vdc (as the project's INI files).
+   3.5 us, 2.0 V.  PWM 15 kHz (the F2812 firmware's ISR rate).  DC bus: the
+   one a drive on the motor's own mains has, the peak of the line voltage
+   behind a diode rectifier, sqrt(2) x V_line (230 V: 325 V, 400 V: 566 V,
+   460 V: 651 V, 575 V: 813 V, 690 V: 976 V); no boost.  A motor wound for
+   its line voltage then needs about all of the linear modulation's
+   vdc / sqrt(3) at rated speed, more at rated load once the bridge's dead
+   time and drops are paid (`vdc_need`, the bus the rated point would need
+   in linear modulation, is reported): the drive identifies below the
+   voltage limit (its target speed within the measured bus) and runs beyond
+   it by over-modulation and field weakening, as real drives do.  Bus sensor
+   full scale ~1.67 x vdc (rounded up to 50 V), trips at 1.25 x vdc
+   (mains +10 % and regeneration) and 0.70 x vdc (mains -15 % with the
+   ripple under load).
 8. Current sensors: full scale = the smallest standard Hall size of at least
    2.5 x the rated peak current; noise 0.1 % of full scale rms; offsets
    +0.25 % and -0.15 % of full scale; gain residual 0.1 %; trip at 0.8 x full
@@ -115,6 +119,9 @@ LOSS_SPLIT = {"stator_cu": 0.37, "rotor_cu": 0.22, "core": 0.17, "fw": 0.10, "st
 I0_A = {2: 0.50, 4: 0.58, 6: 0.64, 8: 0.70}
 HALL_SIZES = (5, 6, 10, 15, 20, 25, 32, 40, 50, 75, 100, 150, 200, 250, 300, 400, 500, 600)
 PWM_HZ = 15000.0
+# the bus trips per unit of the nominal bus (note 7)
+VDC_MAX_OF_NOMINAL = 1.25
+VDC_MIN_OF_NOMINAL = 0.70
 SYSCLK_HZ = 150e6
 # The bridge's dead-time linear zone is set by nobody: the simulated bridge's
 # stays at motor_sim's default ([inverter] dead_time_band_A) and the drive
@@ -208,6 +215,7 @@ class Motor:
     ramp_rpm_s: float
     magnetize_s: float
     target_rpm: float
+    target_given: bool = False   # False: the INI says -1 (rated, lowered to what the bus gives)
     extra: dict = field(default_factory=dict)
 
     @property
@@ -293,12 +301,7 @@ def design(P_kW, poles, f_Hz, V, sigma, cls=None, name=None, Tr=None, target_rpm
     need = math.hypot(ud, uq)
     td, vd, dev = voltage_class(V)
     vdc_req = (need + 2.0 * vd) / (0.95 / SQRT3 - td * PWM_HZ)
-    vdc_diode = 1.35 * V
-    if vdc_diode >= vdc_req:
-        vdc, fe = round(vdc_diode, 1), "diode 1.35 x V_line"
-    else:
-        vdc, fe = 10.0 * math.ceil(vdc_req / 10.0), "boosted (rated point needs %.2f x V_line)" % (
-            vdc_req / V)
+    vdc, fe = round(SQRT2 * V, 1), "diode rectifier, sqrt(2) x V_line"
     vdc_fs = 50.0 * math.ceil(vdc * 5.0 / 3.0 / 50.0)
     hall = next(h for h in HALL_SIZES if h >= 2.5 * I_pk) if 2.5 * I_pk <= HALL_SIZES[-1] \
         else 100.0 * math.ceil(2.5 * I_pk / 100.0)
@@ -317,7 +320,7 @@ def design(P_kW, poles, f_Hz, V, sigma, cls=None, name=None, Tr=None, target_rpm
         speed_bw_Hz=round(min(8.0, max(4.0, 8.0 - 2.0 * lg)), 1),
         max_torque_current=min(1.2 * i_t, 0.8 * hall * 0.95),
         overcurrent=0.8 * hall, ramp_rpm_s=ramp_rpm_s(n_N, T_N, 2.0 * J_m), magnetize_s=round(max(0.3, 6.0 * Tr_d), 2),
-        target_rpm=tgt)
+        target_rpm=tgt, target_given=target_rpm is not None)
     return m
 
 
@@ -426,9 +429,12 @@ def ini_values(m: Motor):
         "current_bw_Hz": m.current_bw_Hz, "speed_bw_Hz": m.speed_bw_Hz, "inertia_kgm2": m.J,
         "max_torque_current_A": m.max_torque_current, "speed_ramp_rpm_s": m.ramp_rpm_s,
         "magnetizing_current_A": m.i_m, "overcurrent_A": m.overcurrent,
-        "vdc_max_V": 1.25 * m.vdc, "vdc_min_V": 0.75 * m.vdc,
+        "vdc_max_V": VDC_MAX_OF_NOMINAL * m.vdc, "vdc_min_V": VDC_MIN_OF_NOMINAL * m.vdc,
         # identification
-        "magnetize_s": m.magnetize_s, "target_speed_rpm": m.target_rpm,
+        # the default: the rated speed, which the drive lowers to what its bus
+        # carries (drive_target.h); a target given to design() is written
+        "magnetize_s": m.magnetize_s,
+        "target_speed_rpm": m.target_rpm if m.target_given else -1,
         # simulation
         "pwm_freq_Hz": PWM_HZ, "sysclk_Hz": SYSCLK_HZ,
     }

@@ -165,7 +165,8 @@ class Drive:
         """Why the last identification's set is or is not published, and how far each
         parameter can be trusted (ident_conf.h): {"reason": name ("pending",
         "published", "not_converged", "low_excitation", "high_residual",
-        "low_confidence", "implausible", "fault", "timeout", "stopped"), "published":
+        "low_confidence", "implausible", "fault", "timeout", "stopped", "bus_low",
+        "rotor_turning"), "published":
         bool, "confidence_pct": {Rs_ohm: %, ...} (None where not available),
         "residual_rel", "amplification", "excitation"}."""
         s = self.signals()
