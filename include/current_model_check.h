@@ -107,6 +107,21 @@
 /** Input and state bounds (pu), see the file comment. */
 #define CMC_IN_MAX 4.0f
 #define CMC_R_MAX 4.0f
+/** What the sequence low-passes let through of the part of r the positive
+ *  sequence has not followed, which a transient of the model's error makes
+ *  large (the low-passed positive sequence lags its change by tau_seq): the
+ *  negative sequence's first-order low-pass passes 1/(2 |w_s| tau_seq) of
+ *  it (it turns at 2 w_s there), the DC's 1/(|w_s| tau_seq).  Its size is
+ *  taken in the positive sequence's own frame, low-passed (lag_d, lag_q):
+ *  there a model's transient is slow and stays, while what a sensor adds
+ *  (a negative sequence at 2 w_e, an offset at w_e) is filtered out, so the
+ *  allowance does not grow with a fault.  Added to the UNBALANCE and
+ *  OFFSET levels as CMC_Q_LEAK times that gain (at the gate, times
+ *  ws_min / |w_s|) times |lag|.  Without it a healthy 4 kW 2-pole with the
+ *  believed Tr 30 % off latched UNBALANCE 80 ms into its second pass's
+ *  acceleration (the torque's step after REFINE: |r - pos| 0.025 pu, the
+ *  level 0.003). */
+#define CMC_Q_LEAK 1.0f
 /** What the sequence low-passes let through of the positive sequence that
  *  is left after its removal (its phasor lags the residual while the model
  *  error changes with the speed): added to the UNBALANCE and OFFSET levels
@@ -144,6 +159,11 @@ typedef struct {
     _iq r_allow_emf;          /* Q24 pu flux: added too (>= 0, at most 2), but only to the
                                  test of |r|, not of the part the positive sequence has not
                                  followed: the model's back-EMF error (slow, fundamental) */
+    uint16_t rebase;          /* 1 (a pulse, cleared here): the model the inputs come from
+                                 changed since the last step (a pass's blend, the frame's
+                                 hand-over): this window's flux step is the model's, not the
+                                 motor's; the window is not summed, and the test of r - pos
+                                 waits 3 tau_seq for the positive sequence to follow */
     /* parameters (current_model_check_init) */
     _iq ts;                   /* Q24 pu time: one PWM period */
     _iq lambda;               /* Q24: exp(-Ts_slow / tau_r) */
@@ -153,6 +173,8 @@ typedef struct {
     _iq d_max_tau;            /* Q24 pu current x pu time: OFFSET level d_max tau_r
                                  (times Rs) */
     _iq ws_min;               /* Q24 pu: the sequence tests run above this |w_s| */
+    _iq k_qneg, k_qdc;        /* Q24: CMC_Q_LEAK / (2 ws_min tau_seq), CMC_Q_LEAK / (ws_min
+                                 tau_seq) (pu time), each at most 1 */
     _iq bridge_allow;         /* Q24 pu flux, [0, CMC_BRIDGE_ALLOW_MAX]: the bridge's residual
                                  after the dead-time compensation, added to the UNBALANCE
                                  and OFFSET levels (current_model_check_set_bridge; 0 from
@@ -165,6 +187,8 @@ typedef struct {
     _iq dc_alpha, dc_beta;    /* Q24 pu flux: DC part of r, low-passed */
     _iq r2, neg2, dc2;        /* Q24 pu^2: |r|^2, |neg|^2, |dc|^2 (diagnostic) */
     _iq q2;                   /* Q24 pu^2: |r - pos|^2, the fast MISMATCH's (at speed) */
+    _iq lag_d, lag_q;         /* Q24 pu flux: r - pos in the positive sequence's frame,
+                                 low-passed (tau_seq): its lag in a transient (|.| < 8) */
     uint16_t fault;           /* 1 once tripped, until current_model_check_reset */
     uint16_t cause;           /* CMC_x bits */
     /* state */
@@ -173,6 +197,8 @@ typedef struct {
     uint16_t n_off;           /* periods of the window with the bridge off */
     uint16_t primed;          /* the previous sample below is valid */
     uint16_t at_speed;        /* slow steps with |w_s| > ws_min, saturating at seq_settle */
+    uint16_t model_n;         /* sequence steps since the model last stepped (rebase),
+                                 saturating at seq_settle: the fast MISMATCH waits for it */
     uint16_t phase;           /* the sequence tests' half of the next window (0, 1) */
     uint16_t seq_due;         /* 1: the residual ran at speed, its half is still to run */
     _iq thr;                  /* Q24 pu flux: the last residual's MISMATCH level (< 6): the

@@ -252,8 +252,11 @@ typedef struct {
     uint16_t allow_n_max;        /* the frozen count is taken at most this (k_allow n <= 2) */
     _iq k_emf;                   /* Q24: k_emf tau_r (pu time): the allowance for the model's
                                     back-EMF error per pu of |w_s| |psi_e| */
-    _iq k_emf_ident;             /* Q24: the same once the model is identified (pass >= 2) */
+    _iq k_emf_ident;             /* Q24: the same once the model is identified (the tracker
+                                    valid) */
     _iq psi_e;                   /* Q24 pu: the model's back-EMF flux of the last slow step */
+    uint16_t model_step;         /* SEQUENCE slot -> SAFETY slot: the model stepped (a pass's
+                                    blend, the frame's hand-over; drive_adapt.c take_set) */
 } drive_safety_t;
 
 struct drive {
@@ -300,6 +303,7 @@ struct drive {
     param_extract_t pex;
     id_sequence_t seq;
     drive_target_t target;      /* the identification's target within the bus (drive_target.h) */
+    uint16_t target_at_limit;   /* its low-passed voltage at the limit (FILTERS_C -> SEQUENCE) */
     protect_t prot;
     encoder_check_t enc_chk;    /* encoder plausibility -> FAULT_ENCODER */
     current_check_t cur_chk;    /* current feedback plausibility -> FAULT_CURRENT_SENSOR */

@@ -86,8 +86,8 @@ typedef struct {
     uint16_t volt_limit;      /* ACCELERATE: the voltage has no headroom left (drive_target.h):
                                  the ramp ends here, at speed_ref, the new target */
     _iq speed_ref;            /* the speed ramp's output, pu, Q24 */
-    uint16_t count;           /* the encoder's count (QEP, wraps): CALIBRATE and MAGNETIZE need
-                                 the rotor at rest */
+    _iq speed;                /* the rotor's speed, pu, Q24: CALIBRATE and MAGNETIZE need the
+                                 rotor at rest */
     /* parameters (id_sequence_init) */
     uint32_t magnetize_samples;
     uint32_t settle_min_samples;   /* least time in SETTLE */
@@ -104,9 +104,8 @@ typedef struct {
     _iq refine_fraction;      /* Q24, [0, 1] */
     uint16_t wait_magnetize;  /* 1: MAGNETIZE ends only with adapt_ready (id_sequence_set_wait) */
     uint32_t wait_max_samples;/* longest wait for adapt_ready (0: no limit) */
-    uint16_t rest_counts;     /* CALIBRATE, MAGNETIZE: the rotor is at rest while the count stays
-                                 within this of where the state began (0: not checked;
-                                 id_sequence_set_rest) */
+    _iq rest_speed;           /* CALIBRATE, MAGNETIZE: the rotor is at rest while |speed| stays
+                                 within this, pu (0: not checked; id_sequence_set_rest) */
     uint16_t sensor_test;     /* 1: CALIBRATE ends with the sensor test (0 after init) */
     uint16_t vi_test;         /* 1: then with the voltage-error test (0 after init) */
     /* outputs */
@@ -137,7 +136,6 @@ typedef struct {
     uint32_t t_steady;        /* samples in the hold window (speed steady in each) (SETTLE);
                                  samples waited for adapt_ready (MAGNETIZE, REFINE) */
     _iq win_im, win_it;       /* i_mf, i_tf where the hold window began */
-    uint16_t count0;          /* the count where CALIBRATE or MAGNETIZE began */
     uint16_t start_req;
     uint16_t stop_req;
 } id_sequence_t;
@@ -165,14 +163,16 @@ void id_sequence_set_target(id_sequence_t *s, _iq speed_target);
  *  most @p max_samples for any wait (0: no limit).  Returns 0, or 1
  *  (nothing changed) if @p at_magnetize > 1.  id_sequence_init sets 0, 0. */
 int16_t id_sequence_set_wait(id_sequence_t *s, uint16_t at_magnetize, uint32_t max_samples);
-/** The rotor at rest in CALIBRATE and MAGNETIZE: the encoder's count within
- *  @p counts of where the state began (0: not checked; id_sequence_init sets
- *  0).  Beyond, the sequence goes back to IDLE (bridge off) with
- *  rotor_moved: the sensors' and the bridge's tests, the standstill Rs and
- *  sigma Ls and the flux's build-up all assume w = 0, and a rotor still
- *  coasting, or turned by its load, makes them wrong (a back-EMF the
- *  models do not have). */
-void id_sequence_set_rest(id_sequence_t *s, uint16_t counts);
+/** The rotor at rest in CALIBRATE and MAGNETIZE: |speed| within
+ *  @p rest_speed (pu; 0: not checked; id_sequence_init sets 0).  Beyond, the
+ *  sequence goes back to IDLE (bridge off) with rotor_moved: the bridge's
+ *  test and the sensors' pulses at DC, the standstill sigma Ls and the
+ *  flux's build-up on the encoder angle assume w = 0, and a rotor still
+ *  coasting, or turned by its load, puts a back-EMF into them that their
+ *  models do not have.  (A speed, not a displacement: a rotor on a free,
+ *  frictionless shaft creeps under the current's noise torque, 0.3 r/min
+ *  on the family's 4 kW 2-pole, harmless to every standstill test.) */
+void id_sequence_set_rest(id_sequence_t *s, _iq rest_speed);
 /** Request a start (background context): taken by the next step in IDLE. */
 void id_sequence_start(id_sequence_t *s);
 /** Request a stop (background context): the next step goes to IDLE, and a

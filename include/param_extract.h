@@ -26,7 +26,9 @@
  * by _IQdiv (< 1 LSB, truncating) only after checking |num| < 127 |den|
  * (Tr: _IQ20div after |num| < 2047 |den|);
  * products by _IQrsmpy (rounded, saturating) and a product >= 127 pu is
- * reported as PARAM_ERR_OVERFLOW; sqrt by _IQsqrt (<= 0.5 LSB).  Not in the
+ * reported as PARAM_ERR_OVERFLOW; sqrt by _IQsqrt (<= 0.5 LSB), Lm as
+ * sqrt(a) sqrt(Lr) (Lm^2 itself would leave Q24 from Lm = 11.3 pu: a small
+ * motor on a high bus with sensors of several times its current).  Not in the
  * ISR (runs in the background once the RLS has converged).
  */
 #ifndef PARAM_EXTRACT_H

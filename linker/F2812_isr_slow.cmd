@@ -16,14 +16,11 @@
  * name).  Symbol names: COFF ABI prefixes C names with '_', EABI does not
  * (SPRU514 "COFF ABI vs EABI").  This file: --abi=coffabi.  A static function of
  * the same name in two .c files would be matched in both: --check-isr-cmd refuses it.
- * 61 functions.
+ * 58 functions.
  */
-*(.text:_at_voltage_limit)
 *(.text:_bw_filter_step)
 *(.text:_bw_filter_update)
 *(.text:_check_current)
-*(.text:_clamp)
-*(.text:_clear_state)
 *(.text:_correct_axis)
 *(.text:_current_check_abs_err)
 *(.text:_current_check_step)
@@ -40,9 +37,9 @@
 *(.text:_drive_safety_state)
 *(.text:_drive_slow_isr)
 *(.text:_drive_slow_task)
+*(.text:_drive_target_step)
 *(.text:_encoder_check_frozen)
 *(.text:_estim_asr32)
-*(.text:_estim_count)
 *(.text:_flux_obs_step_a)
 *(.text:_flux_obs_step_b)
 *(.text:_ident_mean)
@@ -53,6 +50,7 @@
 *(.text:_low_pass)
 *(.text:_mismatch)
 *(.text:_model_inputs)
+*(.text:_pi_set_limits)
 *(.text:_pi_step)
 *(.text:_publish_guard_tick)
 *(.text:_qep_mean_speed)
@@ -60,7 +58,6 @@
 *(.text:_ramp_clamp)
 *(.text:_ramp_gen_step)
 *(.text:_rls_push)
-*(.text:_rls_update)
 *(.text:_sat_sym)
 *(.text:_sequence)
 *(.text:_sequences)
@@ -77,7 +74,7 @@
 *(.text:_task_sequence)
 *(.text:_task_speed)
 *(.text:_telemetry)
-*(.text:_tr_track_step)
+*(.text:_voltage_limits)
 *(.text:_window_mean)
 /*
  * The slow ISR's FLASH set: functions that run only in CALIBRATE, on a state
@@ -86,17 +83,19 @@
  * The flash image runs them from flash (.text, not named here; their wait
  * states costed by tools/bench_isr.py); the RAM image defines
  * ISR_FLASH_SET_IN_RAM and keeps them on chip with the rest of this set.
- * 29 functions.
+ * 34 functions.
  */
 #ifdef ISR_FLASH_SET_IN_RAM
 *(.text:_angle_acc_from_pu)
 *(.text:_calibrate_phase)
 *(.text:_capture)
+*(.text:_clamp)
+*(.text:_clear_state)
 *(.text:_drive_ifo_frame)
 *(.text:_drive_set_run_ifo)
-*(.text:_drive_target_headroom_out)
 *(.text:_drive_vi_slow)
 *(.text:_enter)
+*(.text:_estim_count)
 *(.text:_flux_obs_apply_model)
 *(.text:_flux_obs_apply_seat)
 *(.text:_flux_obs_reset)
@@ -107,6 +106,8 @@
 *(.text:_model_ready)
 *(.text:_period_mean_window)
 *(.text:_pi_apply_gains)
+*(.text:_restart_sequences)
+*(.text:_rls_update)
 *(.text:_rotor_turned)
 *(.text:_stall_check_decide)
 *(.text:_standstill)
@@ -115,6 +116,7 @@
 *(.text:_state_change)
 *(.text:_take_set)
 *(.text:_tr_track_restart)
+*(.text:_tr_track_step)
 *(.text:_vi_curve_step)
 *(.text:_volt_calc_apply_curve)
 *(.text:_window_add)

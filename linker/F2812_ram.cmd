@@ -41,7 +41,7 @@ MEMORY
 PAGE 0 :
    BEGINH0    : origin = 0x3F8000, length = 0x000002   /* boot-to-H0 entry */
    RAML0L1    : origin = 0x008000, length = 0x001200   /* L0 + first 512 words of L1: ramfuncs */
-   RAMH0      : origin = 0x3F8002, length = 0x001CFE   /* H0 after BEGINH0 up to 0x3F9CFF: ramfuncs_slow */
+   RAMH0      : origin = 0x3F8002, length = 0x001D9E   /* H0 after BEGINH0 up to 0x3F9D9F: ramfuncs_slow */
    XRAM6      : origin = 0x100000, length = 0x010000   /* external SRAM, XINTF zone 6 */
    CSM_PWL    : origin = 0x3F7FF8, length = 0x000008   /* CsmPwlFile (F2812_headers.cmd) */
    IQTABLES   : origin = 0x3FF000, length = 0x000B50
@@ -50,7 +50,7 @@ PAGE 0 :
 PAGE 1 :
    RAMM0M1    : origin = 0x000000, length = 0x000800   /* M0 + M1 SARAM */
    RAML0L1_DATA : origin = 0x009200, length = 0x000E00 /* rest of L1: .ebss */
-   RAMH0_DATA : origin = 0x3F9D00, length = 0x000300   /* last 0.75K of H0: dlog */
+   RAMH0_DATA : origin = 0x3F9DA0, length = 0x000260   /* last 608 words of H0: dlog (538) */
 }
 
 /* the ISR path's flash set on chip (the #ifdef blocks of the two includes) */

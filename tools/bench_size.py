@@ -164,8 +164,12 @@ FLASH_ROOTS = {
     "standstill": "slot SEQUENCE, the adaptive sequence's MAGNETIZE (the standstill test)",
     "take_set": "slot SEQUENCE, once per adapted set (adapt_box.ready)",
     "stall_check_decide": "slot FILTERS_C, only after the encoder's frozen test tripped",
-    "drive_target_headroom_out": "slot SEQUENCE, ACCELERATE only: the voltage's headroom "
-                                 "that ends the ramp (drive_target.h)",
+    "tr_track_step": "slot OBSERVER_B, the adaptive sequence's RUN only (the Rr/Tr tracker), in "
+                     "a slot with room in every state",
+    "restart_sequences": "slot SAFETY, when the frame's speed crosses the model check's "
+                         "sequence gate (0.3 pu) or the model steps",
+    "clear_state": "slot SAFETY, when the model check re-arms (the bridge off, a window with "
+                   "the bridge off in it)",
     "period_mean_window": "slot FILTERS_A, only with [ident] period_mean = 1 (an option of "
                           "the paper's sequence, off by default): the period-mean rows' window",
 }

@@ -144,7 +144,8 @@ def run_one(job):
            "dead_time_us": m.dead_time_s * 1e6, "op": op, "seq": seq, "build": build,
            "status": "", "reason": "", "message": "", "worst_pct": None, "worst_param": "",
            "worst_of": "", "cmc_r": None, "cmc_neg": None, "cmc_dc": None,
-           "t_published_s": None, "settle_timeout": None}
+           "t_published_s": None, "settle_timeout": None, "target_rpm": None,
+           "target_of_rated": None}
     for k in PARAMS:
         row["err_" + SHORT[k]] = None
         row["rls_" + SHORT[k]] = None
@@ -175,6 +176,11 @@ def run_one(job):
     row["reason"] = rep.get("publish_reason", "")
     row["settle_timeout"] = rep.get("settle_timeout")
     row["t_published_s"] = rep.get("t_published_s")
+    # the identification's target as the drive ran it (drive_target.h: lowered
+    # where the voltage ran out), and per unit of the rated speed
+    row["target_rpm"] = rep.get("target_rpm")
+    if row["target_rpm"]:
+        row["target_of_rated"] = round(row["target_rpm"] / m.n_N, 4)
     row["faults"] = " ".join(f["name"] for f in rep.get("faults", []))
     pub = rep.get("published_end_error_pct") if rep["published"] else None
     rls = rep.get("last_extraction_error_pct")

@@ -41,6 +41,7 @@ int plant_init(plant_t *p, const sim_config_t *c, uint16_t t1pr, char *err, unsi
     mp.Llr_H = c->plant.Llr_H;
     mp.pole_pairs = (uint16_t)c->nameplate.pole_pairs;
     mp.J_kgm2 = c->plant.J_kgm2;
+    p->J_kgm2 = c->plant.J_kgm2;
     mp.B_Nm_s = c->plant.B_Nm_s;
     if (motor_init(&p->motor, &mp) != MOTOR_OK) {
         snprintf(err, err_len, "motor model rejected the [plant] parameters");
@@ -112,6 +113,35 @@ double plant_load_Nm(const plant_t *p, double w_m)
     double r = w_m / p->w_rated_m_rad_s;
     return sgn * p->load_const_Nm + p->load_prop_Nm_s * w_m + sgn * p->load_fan_Nm * r * r +
            p->extra_load_Nm;
+}
+
+/* The load over the next period, held constant over it.  [load] const_Nm is
+ * Coulomb friction with stiction (a conveyor, a gearbox, a pump's seals):
+ * it opposes the motion and, at rest, holds the rotor while the motor's
+ * torque net of the other loads stays within it.  Never a torque source: as
+ * sgn(w) const_Nm held over a period it overshot through zero on every
+ * period (const_Nm / J Ts of speed a period) and a large one turned the
+ * rotor backwards (const_Nm 10000 on the paper motor).  So the rotor
+ * sticks (its speed held at 0 for the period) when it would cross zero
+ * within a period anyway, |w| <= const_Nm Ts / J, and the torque cannot
+ * break it free; it breaks free in the direction of the net torque. */
+static double plant_period_load_Nm(plant_t *p)
+{
+    motor_t *m = &p->motor;
+    const double w = m->w_m_rad_s;
+    const double tc = p->load_const_Nm;
+    const double other = plant_load_Nm(p, w) - ((w > 0.0) ? tc : ((w < 0.0) ? -tc : 0.0));
+    const double net = m->Te_Nm - other;
+    if (tc > 0.0 && fabs(w) <= tc * p->Ts_s / p->J_kgm2 && fabs(net) <= tc) {
+        motor_set_speed(m, 0.0);
+        motor_lock_speed(m, 1u);
+        return other + net;   /* what holds it: the torque, balanced */
+    }
+    motor_lock_speed(m, 0u);
+    if (w == 0.0) {
+        return other + ((net > 0.0) ? tc : -tc);   /* breaking free */
+    }
+    return plant_load_Nm(p, w);
 }
 
 void plant_inject(plant_t *p, plant_fault_t kind, double value)
@@ -278,7 +308,7 @@ void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_
     load_t l;
 
     p->hw_fired = 0u;
-    (void)load_init_constant(&l, plant_load_Nm(p, m->w_m_rad_s));
+    (void)load_init_constant(&l, plant_period_load_Nm(p));
     motor_set_load(m, &l);
     if (outputs_enabled != 0u) {
         double duty[3], i_abc[3];

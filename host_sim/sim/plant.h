@@ -66,6 +66,7 @@ typedef struct {
     encoder_t enc;
     load_t load;
     double Ts_s;
+    double J_kgm2;            /* the rotor's and load's inertia (stiction: plant.c) */
     double i_per_V;           /* the motor's current change over a period per phase volt
                                  (inverter_current_gain: the implicit bridge) */
     uint16_t t1pr;

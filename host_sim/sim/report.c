@@ -2,6 +2,8 @@
 #include "report.h"
 
 #include "IQmathLib.h"
+#include "current_model_check.h"
+#include "protect.h"
 
 #include <math.h>
 #include <string.h>
@@ -192,6 +194,13 @@ static void json_confidence(jw_t *w, const sim_result_t *r)
     fprintf(w->f, "},\n");
 }
 
+static const char *state_name(uint16_t state)
+{
+    static const char *const names[] = {"idle", "calibrate", "magnetize", "accelerate", "settle",
+                                        "run", "fault", "refine"};
+    return (state < sizeof names / sizeof names[0]) ? names[state] : "unknown";
+}
+
 static const char *fault_name(uint16_t code)
 {
     static const char *const names[] = {"none", "overcurrent", "bus_overvoltage",
@@ -330,6 +339,14 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
         fprintf(f, "%s{\"code\": %u, \"name\": \"%s\", \"time_s\": ", i ? ", " : "",
                 r->fault_code[i], fault_name(r->fault_code[i]));
         jw_num(&w, "%.7g", which, "time_s", r->fault_time_s[i]);
+        fprintf(f, ", \"state\": \"%s\", \"pass\": %u", state_name(r->fault_state[i]),
+                r->fault_pass[i]);
+        if (r->fault_code[i] == FAULT_CURRENT_SENSOR) {
+            const uint16_t c = r->fault_cause[i];
+            fprintf(f, ", \"checks\": \"%s%s%s%s\"", (c & 8u) ? "feedback " : "",
+                    (c & CMC_MISMATCH) ? "mismatch " : "", (c & CMC_UNBALANCE) ? "unbalance " : "",
+                    (c & CMC_OFFSET) ? "offset" : "");
+        }
         fputc('}', f);
     }
     fprintf(f, "],\n");

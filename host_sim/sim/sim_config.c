@@ -155,7 +155,8 @@ static const key_spec_t k_keys[] = {
      * rotor turns (tools/study/regression_bias.md §10) */
     K(sensors, encoder_offset, OPT, 0.5, NULL, 0, 0.999, 0, "pitch", SIM,
       "encoder edges past the rotor's start angle (0.5: it starts mid-count)"),
-    K(load, const_Nm, OPT, 0, NULL, 0, 1e4, 0, "N m", SIM, "constant load torque"),
+    K(load, const_Nm, OPT, 0, NULL, 0, 1e4, 0, "N m", SIM,
+      "Coulomb friction with stiction: opposes the motion, holds the rotor at rest"),
     K(load, prop_Nm_s, OPT, 0, NULL, 0, 1e3, 0, "N m s", SIM, "load proportional to speed"),
     K(load, fan_Nm, OPT, 0, NULL, 0, 1e4, 0, "N m at rated speed", SIM, "quadratic (fan) load"),
     /* the thermal-drift scenario (--scenario drift), times after publication */

@@ -142,7 +142,13 @@ static void observe_protection(const drive_t *d, sim_result_t *r, double t)
         r->max_cur_check_pu = e;
         r->t_max_cur_check_s = t;
     }
-    if (sls > 0.0 && d->slot == 1u) {   /* right after the SPEED slot's step */
+    /* right after each of the sequence tests' halves (the SPEED and the
+     * FILTERS_B slot: a trip in either is seen before the SAFETY slot's next
+     * residual clears the state with the bridge off), under the conditions
+     * the check judges them in */
+    const uint16_t judged = (uint16_t)(m->at_speed >= m->seq_settle &&
+                                       m->model_n >= m->seq_settle);
+    if (sls > 0.0 && (d->slot == 1u || d->slot == 3u)) {
         double ib = d->base.I_base_A;
         double rr = sqrt((double)_IQtoF(m->r2)) / sls * ib;
         double ia = (double)_IQtoF(m->i_alpha), ibt = (double)_IQtoF(m->i_beta);
@@ -158,7 +164,7 @@ static void observe_protection(const drive_t *d, sim_result_t *r, double t)
              * level without it, UNBALANCE, OFFSET */
             double thr_all = (double)_IQtoF(m->thr) + (double)_IQtoF(m->r_allow_emf);
             double u = (thr_all > 0.0) ? sqrt((double)_IQtoF(m->r2)) / thr_all : 0.0;
-            if (m->at_speed >= m->seq_settle) {
+            if (judged) {
                 if (m->thr > 0) {
                     u = fmax(u, sqrt((double)_IQtoF(m->q2)) / (double)_IQtoF(m->thr));
                 }
@@ -177,7 +183,7 @@ static void observe_protection(const drive_t *d, sim_result_t *r, double t)
                 r->max_cmc_util_r = u;
             }
         }
-        if (m->at_speed >= m->seq_settle && imag > 0.05) {
+        if (judged && imag > 0.05) {
             double neg = sqrt((double)_IQtoF(m->neg2)) / sls / imag;
             if (neg > r->max_cmc_neg) {
                 r->max_cmc_neg = neg;
@@ -200,8 +206,7 @@ static void observe_soak(const drive_t *d, sim_result_t *r, double t)
 {
     uint16_t i;
     if (d->seq.state == ID_ACCELERATE && d->bus.vdc > 0) {
-        double head = sqrt((double)_IQtoF(d->target.u2_f)) /
-                      ((double)_IQtoF(d->bus.vdc) / sqrt(3.0));
+        double head = (double)_IQtoF(d->target.u_f) / ((double)_IQtoF(d->bus.vdc) / sqrt(3.0));
         if (head > r->max_volt_head) {
             r->max_volt_head = head;
         }
@@ -642,6 +647,11 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                 res->n_faults_seen < SIM_MAX_FAULTS) {
                 res->fault_code[res->n_faults_seen] = drive.telemetry.fault;
                 res->fault_time_s[res->n_faults_seen] = t;
+                res->fault_state[res->n_faults_seen] = prev_state;
+                res->fault_pass[res->n_faults_seen] = drive.seq.pass;
+                /* the model check's cause bits, and the feedback check as 8 */
+                res->fault_cause[res->n_faults_seen] =
+                    (uint16_t)(drive.safety.cmc.cause | ((drive.cur_chk.fault != 0u) ? 8u : 0u));
                 res->n_faults_seen++;
             }
             last_fault = drive.telemetry.fault;

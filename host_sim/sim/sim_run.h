@@ -120,11 +120,14 @@ typedef struct {
     uint16_t target_lowered;        /* the acceleration ended at the voltage limit */
     double max_volt_head;           /* the largest commanded voltage in ACCELERATE as
                                        drive_target.h low-passes it, per unit of
-                                       vdc / sqrt(3) (its limit: 0.95) */
+                                       vdc / sqrt(3) (the limit: 0.95) */
     uint16_t final_state, final_fault, final_pwm_on;
     uint16_t n_faults_seen;
     uint16_t fault_code[SIM_MAX_FAULTS];
     double fault_time_s[SIM_MAX_FAULTS];
+    uint16_t fault_state[SIM_MAX_FAULTS];   /* the sequence's state when it latched (id_state_t) */
+    uint16_t fault_pass[SIM_MAX_FAULTS];    /* ... and its pass */
+    uint16_t fault_cause[SIM_MAX_FAULTS];   /* current_sensor: which check (report.c) */
     double t_injected_s[SIM_MAX_FAULTS];   /* when each --fault was applied (-1: never) */
     double t_state_s[SIM_STATES];   /* the sequence's first entry into each id_state_t (-1) */
     /* protection figures */

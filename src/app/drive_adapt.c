@@ -263,6 +263,10 @@ static void take_set(drive_t *d)
     d->k.sigma_ls = s->fobs.sigma_ls;
     d->k.lm2_lr = s->lm2_lr;
     a->blending = (uint16_t)((f & DRIVE_SET_BLENDING) != 0u);
+    /* a step of the model the protections compare with (not the tracker's
+     * rate-limited Tr in RUN): the model check rebases (drive_safety.c) */
+    d->safety.model_step |= (uint16_t)((f & (DRIVE_SET_BLENDING | DRIVE_SET_READY | DRIVE_SET_SEAT |
+                                             DRIVE_SET_ALIGN)) != 0u);
     if ((f & DRIVE_SET_SEAT) != 0u) {
         flux_obs_apply_seat(&d->fobs, &s->seat);
     }

@@ -308,30 +308,22 @@ static void after_extraction(drive_t *d)
 }
 
 /* A start, from IDLE: refused with its reason while the rotor still turns
- * (the standstill phases need it at rest: id_sequence_set_rest) or when the
- * bus cannot carry the least target at no load (drive_target.h); else the
- * target within the bus, and the identification's state afresh. */
+ * (the standstill phases need it at rest: id_sequence_set_rest); else the
+ * configured target (a run before may have lowered it: drive_target.h) and
+ * the identification's state afresh. */
 static void start_identification(drive_t *d)
 {
     drive_telemetry_t *t = &d->telemetry;
-    float target = drive_target_at_start(&d->target, _IQtoF(d->bus.vdc));
-    uint16_t refused = DRIVE_PUB_PENDING;
 
-    if (_IQabs(d->qep.speed) > d->k.rest_speed) {
-        refused = DRIVE_PUB_ROTOR_TURNING;
-    } else if (!(target > 0.0f)) {
-        refused = DRIVE_PUB_BUS_LOW;
-    } else {
-        /* start */
-    }
     /* a new verdict is owed for this run */
     d->conf_run = 1u;
-    t->publish_reason = refused;
-    if (refused != (uint16_t)DRIVE_PUB_PENDING) {
+    if (_IQabs(d->qep.speed) > d->k.rest_speed) {
+        t->publish_reason = (uint16_t)DRIVE_PUB_ROTOR_TURNING;
         count_reject(t);
         return;
     }
-    id_sequence_set_target(&d->seq, _IQ(target));
+    t->publish_reason = (uint16_t)DRIVE_PUB_PENDING;
+    id_sequence_set_target(&d->seq, d->target.target);
     /* same parameters as drive_init: cannot fail here */
     (void)drive_rls_start(d);
     d->seq.cal_done = 0u;
@@ -455,10 +447,6 @@ static void handle_requests(drive_t *d, uint16_t req)
     }
     if ((req & DRIVE_CMD_BIT(DRIVE_CMD_STOP)) != 0u) {
         handle_command(d, DRIVE_CMD_STOP);
-    } else if ((req & DRIVE_CMD_BIT(DRIVE_CMD_START_IDENT)) != 0u && d->bus.vdc == _IQ(0.0)) {
-        /* no ISR has measured the bus yet (a start right after drive_init:
-         * any reading is above 0, dc_bus.h): the start waits for it */
-        d->cmd_requests = (uint16_t)(d->cmd_requests | DRIVE_CMD_BIT(DRIVE_CMD_START_IDENT));
     } else if ((req & DRIVE_CMD_BIT(DRIVE_CMD_START_IDENT)) != 0u) {
         handle_command(d, DRIVE_CMD_START_IDENT);
     } else {
@@ -494,7 +482,7 @@ void drive_background(drive_t *d)
      * below nominal, a load the voltage cannot carry at speed): what the
      * identification would learn there cannot be trusted; the bridge off */
     if (d->conf_run != 0u && d->telemetry.publish_reason == (uint16_t)DRIVE_PUB_PENDING &&
-        d->seq.target_lowered != 0u && _IQtoF(d->seq.speed_target) < d->target.least_pu) {
+        d->seq.target_lowered != 0u && _IQabs(d->seq.speed_target) < d->target.least) {
         id_sequence_stop(&d->seq);
         d->telemetry.publish_reason = (uint16_t)DRIVE_PUB_BUS_LOW;
         count_reject(&d->telemetry);

@@ -14,6 +14,15 @@
 
 #define DRIVE_TWO_PI_F 6.28318530717958647692f
 #define DRIVE_SQRT3_F 1.73205080756887729353f
+#define DRIVE_SQRT3 1.7320508075688772   /* in constant _IQ() expressions */
+/* The current loops' voltage limit per unit of vdc / sqrt(3) of the bus
+ * measured, each axis (drive_slow.c voltage_limits): the inscribed circle,
+ * as 1 pu was at the nominal bus.  One axis at its limit stays in the
+ * modulator's linear range (the magnetisation's step: at 1.10 the
+ * modulator's over-modulation, a division in the control ISR, made
+ * MAGNETIZE's worst control ISR 3 032 cycles); both at theirs reach the
+ * hexagon (over-modulation, the current check holds). */
+#define DRIVE_VMAX_OF_VLIN 1.0
 
 /* Rotor-flux observer (orientation 1).  Crossover 3 Hz: the current model's
  * weight is 3 (w_c/w_e)^2, 3 % at 10 w_c (flux_obs.h), and an offset of
@@ -32,14 +41,12 @@
 #define DRIVE_SPEED_REF_MAX_PU 2.0f    /* the speed reference ramp's limits, +-pu */
 #define DRIVE_ENC_FROZEN_S 0.05f       /* encoder check: counts frozen this long ... */
 #define DRIVE_ENC_SPEED_MAX_PU 4.0f    /* ... or a jump above this speed in one sample */
-/* The rotor at rest (id_sequence_set_rest): within 1 electrical degree of
- * where CALIBRATE and MAGNETIZE began.  The standstill Rs is u_M / i_M at
- * DC: a rotor turning at w_r puts w_r Ls i_M into u_M, and at 1 % of the
- * rated speed that is 1 % of the rated voltage, 20-50 % of Rs i_M; a
- * coasting rotor crosses 1 degree within milliseconds.  A start is refused
- * at once above DRIVE_REST_SPEED_OF_RATED (the speed the QEP resolves over
- * its window at least). */
-#define DRIVE_REST_ELEC_DEG 1.0f
+/* The rotor at rest (id_sequence_set_rest): a start, CALIBRATE and
+ * MAGNETIZE need |speed| below 1 % of the rated speed (at least two counts
+ * of the QEP's speed window, its resolution).  There the back-EMF is 1 % of
+ * the rated voltage, and in the frame that follows the rotor (the flux's
+ * build-up) it stands on the T axis, not on u_M that gives the standstill
+ * Rs; a rotor coasting after a stop is far above it. */
 #define DRIVE_REST_SPEED_OF_RATED 0.01f
 /* The publication (ident_conf.h; drive_background.c), from the motor family
  * (tools/family_sweep.py --subset all --ops all: 64 motors x 8 operating

@@ -270,19 +270,16 @@ int16_t drive_init(drive_t *d, const drive_config_t *c)
             return DRIVE_CFG_IDENT;
         }
         /* the target within the measured bus, and the rotor at rest for the
-         * standstill phases: DRIVE_REST_ELEC_DEG of electrical angle in
-         * counts (4 per line), at least 2 (an edge's jitter is one) */
+         * standstill phases (and at a start): DRIVE_REST_SPEED_OF_RATED, at
+         * least two counts of the QEP's speed window */
         if (drive_target_init(&d->target, c, &d->base, g.Ts_slow) != 0) {
             d->config_status = DRIVE_CFG_SEQUENCE;
             return DRIVE_CFG_SEQUENCE;
         }
         d->k.rest_speed = _IQ(fmaxf(DRIVE_REST_SPEED_OF_RATED * m->rated_speed_rpm /
                                         d->base.n_base_rpm,
-                                    2.0f * _IQtoF(d->qep.k_speed)));   /* 2 counts a window */
-        id_sequence_set_rest(&d->seq,
-                             (uint16_t)fmaxf(2.0f, DRIVE_REST_ELEC_DEG / 360.0f * 4.0f *
-                                                       (float)c->board.encoder_lines /
-                                                       (float)m->pole_pairs + 0.5f));
+                                    2.0f * _IQtoF(d->qep.k_speed)));
+        id_sequence_set_rest(&d->seq, d->k.rest_speed);
         if (drive_adapt_init(d, c, Ts) != 0) {
             return DRIVE_CFG_IDENT;
         }

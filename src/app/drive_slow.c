@@ -51,6 +51,7 @@
 
 #include "angle.h"
 #include "drive_adapt.h"
+#include "drive_design.h"
 #include "drive_safety.h"
 #include "drive_target.h"
 #include "drive_vi.h"
@@ -63,16 +64,11 @@ static void sequence(drive_t *d)
     s->speed_err = _IQabs(d->speed_ramp.out - d->qep.speed);
     s->i_mf = d->reg.i_mf;
     s->i_tf = d->reg.i_tf;
-    s->count = d->qep.count;
+    s->speed = d->qep.speed;
     s->speed_ref = d->speed_ramp.out;
-    /* the acceleration ends where the voltage's headroom does (drive_target.h) */
-    if (s->state == ID_ACCELERATE) {
-        s->volt_limit = drive_target_headroom_out(&d->target, d->svgen.ualpha, d->svgen.ubeta,
-                                                  d->bus.vdc);
-    } else {
-        s->volt_limit = 0u;
-        drive_target_headroom_reset(&d->target);
-    }
+    /* the acceleration ends where the voltage's headroom does (drive_target.h;
+     * the low-pass in check_current) */
+    s->volt_limit = (uint16_t)(s->state == ID_ACCELERATE && d->target_at_limit != 0u);
     if (d->seq.vi_test != 0u) {
         drive_vi_slow(d);   /* the bridge's voltage-error test in CALIBRATE (drive_vi.c);
                                the test off (the default), not even the call */
@@ -138,11 +134,7 @@ static void telemetry(drive_t *d)
  * have a few % to act with: the bus ripple and the feed-forward's pole error
  * E move the limit by that much.  Scaling: _IQmag of svgen's input range
  * (|.| <= 32 pu) <= 45.3 pu, vdc < 128 pu times 0.55: Q24, no overflow. */
-#define DRIVE_VLIM_OF_VDC (0.95 / 1.7320508075688772)   /* headroom 0.95 / sqrt 3 */
-static inline uint16_t at_voltage_limit(const svgen_t *s)
-{
-    return (uint16_t)(_IQmag(s->ualpha, s->ubeta) >= _IQmpy(s->vdc, _IQ(DRIVE_VLIM_OF_VDC)));
-}
+#define DRIVE_VLIM_OF_VDC (0.95 / DRIVE_SQRT3)   /* headroom 0.95 / sqrt 3 */
 
 /* Current feedback check: the M-T currents against the references the
  * current loops followed in the last period (current_check.h; its 2 ms
@@ -153,7 +145,12 @@ static void check_current(drive_t *d)
 {
     /* at the voltage limit the check holds (current_check.h): clamped onto
      * the hexagon in a control ISR since the last step, or no headroom now */
-    d->cur_chk.limited |= at_voltage_limit(&d->svgen);
+    const svgen_t *sv = &d->svgen;
+    const _iq u = _IQmag(sv->ualpha, sv->ubeta);
+    const _iq lim = _IQmpy(sv->vdc, _IQ(DRIVE_VLIM_OF_VDC));
+    d->cur_chk.limited |= (uint16_t)(u >= lim);
+    /* low-passed, the acceleration's end (drive_target.h) */
+    d->target_at_limit = drive_target_step(&d->target, u, lim);
     d->cur_chk.i_m_ref = d->pi_id.ref;
     d->cur_chk.i_m = d->park.ds;
     d->cur_chk.i_t_ref = d->pi_iq.ref;
@@ -179,6 +176,26 @@ static void task_checks(drive_t *d)
     drive_safety_stall(d);   /* a frozen trip: locked rotor or dead encoder (drive_safety.c) */
 }
 
+/* The current loops' voltage limits from the bus measured now, the one the
+ * modulator divides by (not the nominal: a bus 10 % high left the loops
+ * clamped at the nominal's 1 pu while the modulator, and the current
+ * check's hold at its limit, had 10 % more; the healthy motor at rated
+ * load tripped CURRENT_SENSOR): each axis within DRIVE_VMAX_OF_VLIN of
+ * vdc / sqrt(3).  A vector beyond vdc / sqrt(3) the modulator clamps onto
+ * its hexagon, its angle kept (over-modulation), and the current check
+ * holds there (current_check.h).  A bus below 5 % of nominal keeps the last limits
+ * (the modulator's vdc_fault; the undervoltage trip).  Scaling: vdc
+ * saturated to 8 pu, vmax < 5.1: within the PI's +-16. */
+static void voltage_limits(drive_t *d)
+{
+    const _iq vmax = _IQmpy(_IQsat(d->bus.vdc, _IQ(8.0), _IQ(0.0)), _IQ(DRIVE_VMAX_OF_VLIN /
+                                                                        DRIVE_SQRT3));
+    if (vmax >= _IQ(0.05 * DRIVE_VMAX_OF_VLIN)) {
+        (void)pi_set_limits(&d->pi_id, -vmax, vmax);
+        (void)pi_set_limits(&d->pi_iq, -vmax, vmax);
+    }
+}
+
 static void task_speed(drive_t *d)
 {
     drive_safety_seq(d, 0u);   /* the model check's positive sequence (drive_safety.h) */
@@ -193,6 +210,7 @@ static void task_speed(drive_t *d)
         ifo_update_slip_gain(&d->ifo);
     }
     svgen_set_vdc(&d->svgen, d->bus.vdc);   /* and 1/vdc, here, not in the control ISR */
+    voltage_limits(d);
 }
 
 static void task_sequence(drive_t *d)

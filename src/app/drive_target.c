@@ -64,35 +64,14 @@ int16_t drive_target_init(drive_target_t *t, const drive_config_t *c, const base
     float target_rpm = (c->ident.target_speed_rpm > 0.0f) ? c->ident.target_speed_rpm
                                                           : m->rated_speed_rpm;
     float im_pu = m->magnetizing_current_A / b->I_base_A;
-    float k = DRIVE_TARGET_HEAD_OF_VLIN / DRIVE_SQRT3_F;
 
     t->rs_im = m->Rs_ohm / b->Z_base_ohm * im_pu;
     t->ls_im = m->Ls_H / b->L_base_H * im_pu;
     t->loss_drop = 2.0f * c->board.device_drop_V / b->V_base_V;
     t->loss_per_vdc = c->board.dead_time_s * c->board.pwm_freq_Hz;
-    t->target_pu = target_rpm / b->n_base_rpm;
-    t->least_pu = drive_target_least_rpm(c) / b->n_base_rpm;
-    t->k_head2 = _IQ(k * k);
+    t->target = _IQ(target_rpm / b->n_base_rpm);
+    t->least = _IQ(drive_target_least_rpm(c) / b->n_base_rpm);
     t->k_lpf = _IQ(1.0f - expf(-Ts_slow_s / DRIVE_TARGET_TAU_S));
-    t->u2_f = _IQ(0.0);
-    return (int16_t)(!(t->target_pu > 0.0f) || !(t->ls_im > 0.0f));
-}
-
-float drive_target_at_start(const drive_target_t *t, float vdc_pu)
-{
-    float w = drive_target_noload_max_pu(t, vdc_pu, DRIVE_TARGET_NOLOAD_OF_VLIN);
-    return (w >= t->least_pu) ? t->target_pu : 0.0f;
-}
-
-uint16_t drive_target_headroom_out(drive_target_t *t, _iq u_alpha, _iq u_beta, _iq vdc)
-{
-    /* Q24: each component within +-4 pu, so |u|^2 < 32; vdc^2 k_head2 < 64
-     * while vdc < 13 pu (the bus reading's range is below 64 V_base, the
-     * trips far below 13: an overvoltage trips first) */
-    const _iq ua = _IQsat(u_alpha, _IQ(4.0), _IQ(-4.0));
-    const _iq ub = _IQsat(u_beta, _IQ(4.0), _IQ(-4.0));
-    const _iq u2 = _IQmpy(ua, ua) + _IQmpy(ub, ub);
-    const _iq v = _IQsat(vdc, _IQ(13.0), _IQ(0.0));
-    t->u2_f += _IQmpy(t->k_lpf, u2 - t->u2_f);   /* |difference| < 32: no overflow */
-    return (uint16_t)(t->u2_f >= _IQmpy(_IQmpy(v, v), t->k_head2));
+    t->u_f = _IQ(0.0);
+    return (int16_t)(!(target_rpm > 0.0f) || !(t->ls_im > 0.0f));
 }

@@ -66,7 +66,7 @@ int16_t id_sequence_set_wait(id_sequence_t *s, uint16_t at_magnetize, uint32_t m
     return 0;
 }
 
-void id_sequence_set_rest(id_sequence_t *s, uint16_t counts) { s->rest_counts = counts; }
+void id_sequence_set_rest(id_sequence_t *s, _iq rest_speed) { s->rest_speed = rest_speed; }
 
 void id_sequence_start(id_sequence_t *s) { s->start_req = 1u; }
 
@@ -106,7 +106,6 @@ static void enter(id_sequence_t *s, id_state_t next)
     s->state = next;
     s->t_state = 0u;
     s->t_steady = 0u;
-    s->count0 = s->count;
     s->pwm_on = (uint16_t)(f & OUT_PWM);
     s->speed_loop_on = (uint16_t)((f & OUT_SPEED) >> 1);
     s->rls_on = (uint16_t)((f & OUT_RLS) >> 2);
@@ -152,15 +151,10 @@ static uint16_t model_ready(id_sequence_t *s)
     return 0u;
 }
 
-/* The rotor left its rest in a state that needs it (CALIBRATE, MAGNETIZE):
- * |count - count0| as a 16-bit difference (the count wraps). */
+/* The rotor left its rest in a state that needs it (CALIBRATE, MAGNETIZE). */
 static uint16_t rotor_turned(const id_sequence_t *s)
 {
-    uint16_t moved = (uint16_t)(s->count - s->count0);
-    if (moved > 0x8000u) {
-        moved = (uint16_t)(0u - moved);   /* backwards: the modulo-2^16 negation */
-    }
-    return (uint16_t)(s->rest_counts != 0u && moved > s->rest_counts);
+    return (uint16_t)(s->rest_speed > _IQ(0.0) && _IQabs(s->speed) > s->rest_speed);
 }
 
 void id_sequence_step(id_sequence_t *s)

@@ -195,9 +195,11 @@ static void test_rejections(void **state)
     p->theta[1] = d_to_iq(0.0100);           /* 1/K2 = 100 pu: representable */
     p->theta[3] = d_to_iq(-2.0);             /* a = 2/(0.01*0.328) = 610 pu */
     expect(PARAM_ERR_DIV);
-    /* a product beyond Q24: a Lr = (a)(1/K2 + a) with a = 12, 1/K2 = 100 */
+    /* a product beyond Q24: K3' Lr = 2 x 112 with a = 12, 1/K2 = 100 (Lm^2 =
+     * a Lr = 1344 is not formed: Lm = sqrt(a) sqrt(Lr) = 36.7 pu) */
     load(p, 1, fx.K1, fx.K2, fx.K3p, fx.K4, fx.im);
     p->theta[1] = d_to_iq(0.0100);
+    p->theta[2] = d_to_iq(2.0);              /* K3' = 2 pu (paper form) */
     p->theta[3] = d_to_iq(-0.01 * 0.328125 * 12.0);
     expect(PARAM_ERR_OVERFLOW);
     /* results outside their ranges (one at a time, from the check):
@@ -411,10 +413,13 @@ static void test_magnetic(void **state)
     EXPECT_MAG(PARAM_ERR_SQRT);
     load(p, 1, fx.K1, fx.K2, fx.K3p, 0.0, fx.im);                 /* a = 0 */
     EXPECT_MAG(PARAM_ERR_SQRT);
-    load(p, 1, fx.K1, fx.K2, fx.K3p, fx.K4, fx.im);               /* a Lr = 12 x 112 */
+    /* a Lr = 12 x 112 = 1344 is beyond Q24, but Lm = sqrt(a) sqrt(Lr) = 36.7 pu
+     * is formed without it (a small motor on a high bus: Lm 11.8 pu) and is
+     * then outside its range */
+    load(p, 1, fx.K1, fx.K2, fx.K3p, fx.K4, fx.im);
     p->theta[1] = d_to_iq(0.0100);
     p->theta[3] = d_to_iq(-0.01 * 0.328125 * 12.0);
-    EXPECT_MAG(PARAM_ERR_OVERFLOW);
+    EXPECT_MAG(PARAM_ERR_LM);
     /* K4 / 100: Lm 0.46 mH < 1 mH (Lr 4.8 mH in range; K3' irrelevant) */
     load(p, 1, fx.K1, fx.K2, -1.0, fx.K4 / 100.0, fx.im);
     EXPECT_MAG(PARAM_ERR_LM);
