@@ -52,12 +52,17 @@
 #define DRIVE_TARGET_NOLOAD_OF_VLIN 0.92f
 #define DRIVE_TARGET_TAU_S 0.003f
 
+/** The believed motor's no-load voltage (the configuration's check,
+ *  drive_limits.c DRIVE_LD_BUS; pu of the drive's bases). */
 typedef struct {
-    /* parameters (drive_target_init; pu of the drive's bases) */
     float rs_im;          /* Rs i_M of the believed motor, pu voltage */
     float ls_im;          /* Ls i_M, pu flux: the no-load voltage per pu speed */
     float loss_drop;      /* 2 device drops, pu voltage */
     float loss_per_vdc;   /* dead time td f_pwm: the loss per pu of bus */
+} drive_target_noload_t;
+
+typedef struct {
+    /* parameters (drive_target_init) */
     _iq target;           /* Q24 pu: the configured target (the rated speed when 0) */
     _iq least;            /* Q24 pu: the least target the identification can use */
     _iq k_lpf;            /* Q24: 1 - exp(-Ts_slow / DRIVE_TARGET_TAU_S) */
@@ -74,13 +79,17 @@ float drive_target_least_rpm(const drive_config_t *c);
  *  the bridge's loss is @p k_vlin of vdc / sqrt(3), on a bus of @p vdc_pu
  *  (pu of V_base; sqrt(3) at the nominal bus); 0 when even standstill does
  *  not fit.  Float: configuration and background only. */
-float drive_target_noload_max_pu(const drive_target_t *t, float vdc_pu, float k_vlin);
+float drive_target_noload_max_pu(const drive_target_noload_t *t, float vdc_pu, float k_vlin);
 
 /** The bus (pu of V_base) on which the believed motor's no-load voltage at
  *  @p w_pu plus the loss is @p k_vlin of vdc / sqrt(3): the inverse of
  *  drive_target_noload_max_pu; FLT_MAX when the dead time alone takes
  *  that much.  Float. */
-float drive_target_bus_for_pu(const drive_target_t *t, float w_pu, float k_vlin);
+float drive_target_bus_for_pu(const drive_target_noload_t *t, float w_pu, float k_vlin);
+
+/** The believed motor's no-load figures from the configuration (float). */
+void drive_target_noload_init(drive_target_noload_t *t, const drive_config_t *c,
+                              const base_values_t *b);
 
 /** The constants from the configuration (float, once); @p Ts_slow_s: the
  *  period drive_target_headroom_out is called at.  Returns 0, or 1 if the

@@ -77,6 +77,8 @@ typedef struct {
     _iq speed_tol;      /* steady state: |speed error| below, pu */
     _iq rest_speed;     /* a start is refused while |speed| is above this, pu
                            (DRIVE_REST_SPEED_OF_RATED) */
+    _iq ramp_step;      /* Q24 pu: the speed ramp's step a slow period, configured ... */
+    _iq excite_step;    /* ... and in RUN's excitation (drive_adapt.h) */
     uint16_t cal_samples;
     uint16_t live_period;       /* samples between live snapshots */
     uint16_t orientation;       /* DRIVE_ORIENT_IFO or DRIVE_ORIENT_FLUX_OBS */
@@ -145,6 +147,8 @@ typedef struct {
     uint16_t track_armed;     /* the tracker has its start value (final pass in) */
     uint16_t prev_state;      /* id_state_t of the last sample */
     uint16_t ticks;           /* SEQUENCE-slot ticks (wraps): the background's clock for the blend */
+    uint16_t starved;         /* SEQUENCE-slot ticks in RUN with the tracker held (saturating) */
+    uint16_t starve_ticks;    /* ... that start the excitation (DRIVE_EXCITE_STARVE_S) */
 } drive_adapt_t;
 
 /** Background -> ISR: one complete model set, computed by the background

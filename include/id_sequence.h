@@ -23,7 +23,10 @@
  *                   i_T each within its tolerance of where they stood when
  *                   the hold window began (the net change over the window,
  *                   not the instantaneous di/dt: see the tolerances below))
- *        -> RUN (parameters extracted and published; RLS off)
+ *        -> RUN (parameters extracted and published; RLS off; while the drive
+ *               asks for torque, excite, the speed swings between the target
+ *               and excite_low: a free shaft's acceleration and deceleration
+ *               are its only torque)
  *   any  -> FAULT (from the protections; PWM off) ; STOP -> IDLE
  *   CALIBRATE, MAGNETIZE -> IDLE when the rotor turns (id_sequence_set_rest)
  *
@@ -88,6 +91,8 @@ typedef struct {
     _iq speed_ref;            /* the speed ramp's output, pu, Q24 */
     _iq speed;                /* the rotor's speed, pu, Q24: CALIBRATE and MAGNETIZE need the
                                  rotor at rest */
+    uint16_t excite;          /* RUN: the drive asks for torque (a free shaft gives its tracker
+                                 none): the speed swings between the target and excite_low */
     /* parameters (id_sequence_init) */
     uint32_t magnetize_samples;
     uint32_t settle_min_samples;   /* least time in SETTLE */
@@ -106,6 +111,7 @@ typedef struct {
     uint32_t wait_max_samples;/* longest wait for adapt_ready (0: no limit) */
     _iq rest_speed;           /* CALIBRATE, MAGNETIZE: the rotor is at rest while |speed| stays
                                  within this, pu (0: not checked; id_sequence_set_rest) */
+    _iq excite_floor;         /* the lowest excite_low, pu (id_sequence_set_excite) */
     uint16_t sensor_test;     /* 1: CALIBRATE ends with the sensor test (0 after init) */
     uint16_t vi_test;         /* 1: then with the voltage-error test (0 after init) */
     /* outputs */
@@ -131,11 +137,15 @@ typedef struct {
                                  the target it started with (0 at start) */
     uint16_t rotor_moved;     /* the sequence went back to IDLE because the rotor turned in
                                  CALIBRATE or MAGNETIZE (0 at start) */
+    uint16_t exciting;        /* RUN with excite: the speed swings (the drive's faster ramp) */
+    _iq excite_low;           /* its lower speed, pu: EXCITE_LOW_OF_TARGET of the target, at
+                                 least excite_floor, at most EXCITE_HIGH_OF_TARGET of it */
     /* state */
     uint32_t t_state;         /* samples in the current state */
     uint32_t t_steady;        /* samples in the hold window (speed steady in each) (SETTLE);
                                  samples waited for adapt_ready (MAGNETIZE, REFINE) */
     _iq win_im, win_it;       /* i_mf, i_tf where the hold window began */
+    uint16_t excite_down;     /* the swing is on its way to excite_low */
     uint16_t start_req;
     uint16_t stop_req;
 } id_sequence_t;
@@ -173,6 +183,15 @@ int16_t id_sequence_set_wait(id_sequence_t *s, uint16_t at_magnetize, uint32_t m
  *  frictionless shaft creeps under the current's noise torque, 0.3 r/min
  *  on the family's 4 kW 2-pole, harmless to every standstill test.) */
 void id_sequence_set_rest(id_sequence_t *s, _iq rest_speed);
+/** The swing of RUN's excitation (excite): from the target down to
+ *  EXCITE_LOW_OF_TARGET of it, not below @p floor (pu: where the drive's
+ *  frame and tracker still hold, drive_adapt.c), not above
+ *  EXCITE_HIGH_OF_TARGET of it, and back, while excite lasts.
+ *  id_sequence_init sets floor 0. */
+void id_sequence_set_excite(id_sequence_t *s, _iq floor);
+#define EXCITE_LOW_OF_TARGET 0.6
+#define EXCITE_HIGH_OF_TARGET 0.9
+
 /** Request a start (background context): taken by the next step in IDLE. */
 void id_sequence_start(id_sequence_t *s);
 /** Request a stop (background context): the next step goes to IDLE, and a

@@ -83,7 +83,7 @@
  * The flash image runs them from flash (.text, not named here; their wait
  * states costed by tools/bench_isr.py); the RAM image defines
  * ISR_FLASH_SET_IN_RAM and keeps them on chip with the rest of this set.
- * 34 functions.
+ * 36 functions.
  */
 #ifdef ISR_FLASH_SET_IN_RAM
 *(.text:_angle_acc_from_pu)
@@ -96,6 +96,8 @@
 *(.text:_drive_vi_slow)
 *(.text:_enter)
 *(.text:_estim_count)
+*(.text:_excite)
+*(.text:_excite_step)
 *(.text:_flux_obs_apply_model)
 *(.text:_flux_obs_apply_seat)
 *(.text:_flux_obs_reset)

@@ -19,9 +19,10 @@
  * in the flash image (F2812_flash.cmd describes them), loaded in place
  * (LOAD = RUN: flash_copy_ramfuncs copies each section onto itself, a
  * no-op, so main.c is the same for both images):
- *   L0+L1 8K   ramfuncs (RAML0L1) and .ebss (RAML0L1_DATA)
+ *   L0+L1 8K   ramfuncs (RAML0L1), .ebss (RAML0L1_DATA) and, unlike the
+ *              flash image, dlog (RAML1_DLOG): H0 holds the flash set too
  *   H0 8K      codestart (boot-to-H0 entry, 2 words), ramfuncs_slow
- *              (RAMH0) and dlog (RAMH0_DATA)
+ *              (RAMH0)
  *   M0+M1 2K   .stack (0x500), bgdata and .esysmem (no heap)
  * with one difference: the ISR path's FLASH set (the functions the flash
  * image runs from flash: CALIBRATE-only, state changes, faults, the
@@ -40,8 +41,8 @@ MEMORY
 {
 PAGE 0 :
    BEGINH0    : origin = 0x3F8000, length = 0x000002   /* boot-to-H0 entry */
-   RAML0L1    : origin = 0x008000, length = 0x001200   /* L0 + first 512 words of L1: ramfuncs */
-   RAMH0      : origin = 0x3F8002, length = 0x001D9E   /* H0 after BEGINH0 up to 0x3F9D9F: ramfuncs_slow */
+   RAML0L1    : origin = 0x008000, length = 0x001000   /* L0: ramfuncs */
+   RAMH0      : origin = 0x3F8002, length = 0x001FFE   /* H0 after BEGINH0: ramfuncs_slow */
    XRAM6      : origin = 0x100000, length = 0x010000   /* external SRAM, XINTF zone 6 */
    CSM_PWL    : origin = 0x3F7FF8, length = 0x000008   /* CsmPwlFile (F2812_headers.cmd) */
    IQTABLES   : origin = 0x3FF000, length = 0x000B50
@@ -49,8 +50,8 @@ PAGE 0 :
 
 PAGE 1 :
    RAMM0M1    : origin = 0x000000, length = 0x000800   /* M0 + M1 SARAM */
-   RAML0L1_DATA : origin = 0x009200, length = 0x000E00 /* rest of L1: .ebss */
-   RAMH0_DATA : origin = 0x3F9DA0, length = 0x000260   /* last 608 words of H0: dlog (538) */
+   RAML0L1_DATA : origin = 0x009000, length = 0x000C80 /* L1 up to 0x9C7F: .ebss */
+   RAML1_DLOG : origin = 0x009C80, length = 0x000380   /* last 0.875K of L1: dlog */
 }
 
 /* the ISR path's flash set on chip (the #ifdef blocks of the two includes) */
@@ -93,6 +94,6 @@ SECTIONS
    .stack           : > RAMM0M1,    PAGE = 1
    bgdata           : > RAMM0M1,    PAGE = 1   /* the background's state (main.c) */
    .ebss            : > RAML0L1_DATA, PAGE = 1
-   dlog             : > RAMH0_DATA, PAGE = 1
+   dlog             : > RAML1_DLOG, PAGE = 1
    .esysmem         : > RAMM0M1,    PAGE = 1
 }

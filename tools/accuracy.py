@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
 """Identification accuracy on the three motors, IQ_MATH and FLOAT_MATH.
 
-Runs motor_sim (default scenario) for each config in host_sim/config and
-each build in build/host-iq and build/host-float, and prints the error of
-every parameter of the RLS's extraction (the paper's method: what the drive
-judged), the convergence time, the drive's verdict (published, or why not:
+Runs motor_sim (default scenario) for each config in host_sim/config, with
+the paper's sequence (the motor files' own is the adaptive one), and each build
+in build/host-iq and build/host-float, and prints the error of every parameter
+of the RLS's extraction (the paper's method: what the drive judged), the convergence time, the drive's verdict (published, or why not:
 report.json's publish_reason) and the IQ-vs-FLOAT difference.
 Usage: tools/accuracy.py [--markdown] [--seeds N]   (after `cmake --build --preset host-iq` and host-float)
   --markdown  print the table of docs/accuracy.md instead (the same runs; the
@@ -27,6 +27,8 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "tools"))
+from sweep_start_errors import PAPER, ini_merge  # noqa: E402
 KEYS = ["Rs_ohm", "Rr_ohm", "Lm_H", "Lr_H", "psi_r_Wb", "Tr_s"]
 MOTORS = [("paper_motor", 1.0), ("motor_1kw", 3.0), ("motor_15kw", 3.0)]
 LABELS = {"paper_motor": "paper, 250 W", "motor_1kw": "1.1 kW 400 V", "motor_15kw": "15 kW 400 V"}
@@ -48,12 +50,10 @@ def with_seed(text, seed):
 
 def run(build, config, seed=None):
     exe = ROOT / "build" / build / "host_sim" / "sim" / "motor_sim"
-    ini = ROOT / "host_sim" / "config" / f"{config}.ini"
+    text = ini_merge((ROOT / "host_sim" / "config" / f"{config}.ini").read_text(), PAPER)
     with tempfile.TemporaryDirectory() as d:
-        if seed is not None:
-            seeded = Path(d) / f"{config}.ini"
-            seeded.write_text(with_seed(ini.read_text(), seed))
-            ini = seeded
+        ini = Path(d) / f"{config}.ini"
+        ini.write_text(with_seed(text, seed) if seed is not None else text)
         p = subprocess.run([str(exe), "--config", str(ini), "--quiet", "--out", d])
         if p.returncode not in (0, 3):   # 3: the run completed, nothing published
             raise SystemExit(f"accuracy: motor_sim failed ({p.returncode}) on {config}")

@@ -164,6 +164,8 @@ FLASH_ROOTS = {
     "standstill": "slot SEQUENCE, the adaptive sequence's MAGNETIZE (the standstill test)",
     "take_set": "slot SEQUENCE, once per adapted set (adapt_box.ready)",
     "stall_check_decide": "slot FILTERS_C, only after the encoder's frozen test tripped",
+    "excite": "slot SEQUENCE, the adaptive sequence's RUN while its verdict is owed (a free "
+              "shaft's excitation, drive_adapt.c)",
     "tr_track_step": "slot OBSERVER_B, the adaptive sequence's RUN only (the Rr/Tr tracker), in "
                      "a slot with room in every state",
     "restart_sequences": "slot SAFETY, when the frame's speed crosses the model check's "

@@ -497,3 +497,12 @@ double sim_config_target_rpm(const sim_config_t *c)
     return (c->ident.target_speed_rpm == SIM_TARGET_RATED) ? c->nameplate.rated_speed_rpm
                                                            : c->ident.target_speed_rpm;
 }
+
+void sim_config_set_sequence(sim_config_t *c, sim_sequence_t seq)
+{
+    const double a = (seq == SIM_SEQ_ADAPTIVE) ? 1.0 : 0.0;
+    c->controller.orientation = a;
+    c->ident.standstill = a;
+    c->ident.passes = 1.0 + a;
+    c->ident.track_rr = a;
+}

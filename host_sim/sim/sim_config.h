@@ -140,6 +140,16 @@ typedef struct {
  *  (sim_result_t.target_rpm: the one it ran at). */
 double sim_config_target_rpm(const sim_config_t *c);
 
+/** The identification sequences (the keys each implies: docs/method.md). */
+typedef enum {
+    SIM_SEQ_PAPER = 0,   /* orientation 0, standstill 0, passes 1, track_rr 0: the paper's */
+    SIM_SEQ_ADAPTIVE     /* orientation 1, standstill 1, passes 2, track_rr 1: the default */
+} sim_sequence_t;
+
+/** Set the keys of sequence @p seq in a loaded configuration (for tests and
+ *  studies that run a shipped motor file with the other sequence). */
+void sim_config_set_sequence(sim_config_t *c, sim_sequence_t seq);
+
 /** Error text buffer size for sim_config_load. */
 #define SIM_CONFIG_ERR_LEN 512
 

@@ -173,6 +173,7 @@ int16_t drive_adapt_init(drive_t *d, const drive_config_t *c, float Ts)
         return 1;
     }
     a->ssz_gap = drive_adapt_ssz_gap(Ts);
+    a->starve_ticks = (uint16_t)(DRIVE_EXCITE_STARVE_S / Ts_slow + 0.5f);
     if (id->standstill != 0u &&
         (drive_adapt_ssz_init(&d->ssz, c, b, Ts) != STANDSTILL_Z_OK ||
          /* the test and the gap fit in the second half of the magnetisation */
@@ -339,6 +340,30 @@ static void state_change(drive_t *d, uint16_t st)
     a->prev_state = st;
 }
 
+/* A free shaft: in RUN of the fused sequence, its verdict still owed, a
+ * tracker held for want of torque for DRIVE_EXCITE_STARVE_S makes the speed
+ * swing (id_sequence.h excite) until the verdict comes (the background's
+ * publish_reason, one 16-bit word) or RUN ends.  The load's torque, when
+ * there is one, comes first: a loaded drive never swings. */
+static void excite(drive_t *d)
+{
+    drive_adapt_t *a = &d->adapt;
+    id_sequence_t *s = &d->seq;
+    const uint16_t owed = (uint16_t)(a->fused != 0u && s->state == ID_RUN &&
+                                     d->telemetry.publish_reason == (uint16_t)DRIVE_PUB_PENDING);
+    if (owed == 0u) {
+        a->starved = 0u;
+        s->excite = 0u;
+        return;
+    }
+    if (s->excite == 0u) {
+        /* held throughout, not now and then */
+        a->starved = (a->track_armed != 0u && d->track.held != 0u) ? (uint16_t)(a->starved + 1u)
+                                                                  : 0u;
+        s->excite = (uint16_t)(a->starved >= a->starve_ticks);
+    }
+}
+
 void drive_adapt_slow(drive_t *d)
 {
     drive_adapt_t *a = &d->adapt;
@@ -368,4 +393,5 @@ void drive_adapt_slow(drive_t *d)
     if (d->adapt_box.ready != 0u) {
         take_set(d);
     }
+    excite(d);
 }

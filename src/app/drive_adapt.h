@@ -23,6 +23,15 @@
 #define DRIVE_ADAPT_TR_RATE 0.2f       /* relative per second */
 #define DRIVE_ADAPT_TRACK_DECIM (16u >> DRIVE_SLOTS_LOG2)   /* tracker RLS at f_pwm / 16: 938 Hz */
 #define DRIVE_ADAPT_WAIT_S 0.5f        /* longest wait of the sequence for the background's set */
+/* A free shaft (drive_adapt.c excite): the tracker held for want of torque
+ * this long in RUN makes the speed swing (id_sequence.h excite), its ramp's
+ * torque DRIVE_EXCITE_OF_IMAX of the torque-current limit on the believed
+ * inertia (the configured ramp when that is faster), the swing's low end at
+ * least DRIVE_EXCITE_FLOOR_OF_LEAST of the least target (the frame the
+ * tracker learns in, above the observer's crossover). */
+#define DRIVE_EXCITE_STARVE_S 0.3f
+#define DRIVE_EXCITE_OF_IMAX 0.4f
+#define DRIVE_EXCITE_FLOOR_OF_LEAST 1.1
 
 /* The model's members in drive_adapt_bg_t's arrays. */
 enum { DRIVE_P_RS = 0, DRIVE_P_LM, DRIVE_P_LR, DRIVE_P_LS, DRIVE_P_TR };

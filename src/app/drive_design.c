@@ -64,6 +64,7 @@ void drive_design(drive_design_t *g, const drive_config_t *c, const base_values_
     g->spd_ki = g->spd_kp * g->Ts_slow * wsc / 4.0f;   /* the speed loop runs at Ts_slow */
     g->i_max = c->control.max_torque_current_A / b->I_base_A;
     g->ramp = c->control.speed_ramp_rpm_s / b->n_base_rpm;        /* pu per second */
+    g->accel_per_it = gain;
     g->tr = m->Lr_H / m->Rr_ohm;
     g->im_pu = m->magnetizing_current_A / b->I_base_A;
     g->target_pu = ((c->ident.target_speed_rpm > 0.0f) ? c->ident.target_speed_rpm

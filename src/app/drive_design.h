@@ -113,6 +113,7 @@ typedef struct {
     float spd_ki;      /* Kp Ts_slow w_sc / 4 */
     float i_max;       /* torque-current limit, pu of I_base */
     float ramp;        /* speed reference ramp, pu per second */
+    float accel_per_it;/* the believed acceleration, pu speed per second per pu i_T */
     float tr;          /* believed rotor time constant Lr / Rr, s */
     float im_pu;       /* i_M reference, pu */
     float target_pu;   /* the sequence's target speed (rated when not set), pu */

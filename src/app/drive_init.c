@@ -89,6 +89,11 @@ static int16_t init_speed_loop(drive_t *d, const drive_config_t *c, const drive_
                       DRIVE_SPEED_REF_MAX_PU) != 0) {
         return 1;
     }
+    /* the excitation's ramp (drive_adapt.h): DRIVE_EXCITE_OF_IMAX of the
+     * torque current's acceleration, at most 1 pu a slow period */
+    d->k.ramp_step = d->speed_ramp.step;
+    d->k.excite_step = _IQ(fminf(fmaxf(g->ramp, DRIVE_EXCITE_OF_IMAX * imax * g->accel_per_it) *
+                                     g->Ts_slow, 1.0f));
     return 0;
 }
 
@@ -167,8 +172,10 @@ static int16_t init_identification(drive_t *d, const drive_config_t *c, const dr
             (uint32_t)(valid_s / (g->Ts_slow * (float)DRIVE_ADAPT_TRACK_DECIM) + 0.5f);
         d->k.conf_track_updates =
             (uint16_t)(DRIVE_CONF_TRACK_S / (g->Ts_slow * (float)DRIVE_ADAPT_TRACK_DECIM) + 0.5f);
-        d->k.conf_track_wait = (uint32_t)((valid_s + DRIVE_CONF_TRACK_S + DRIVE_CONF_TRACK_WAIT_S) /
-                                          g->Ts_slow + 0.5f);
+        /* (twice the tracker's time: a free shaft's tracker learns only while
+         * the excitation's ramps give it torque) */
+        d->k.conf_track_wait = (uint32_t)((2.0f * (valid_s + DRIVE_CONF_TRACK_S) +
+                                           DRIVE_CONF_TRACK_WAIT_S) / g->Ts_slow + 0.5f);
     }
     /* the tracker's standard error per relative residual: (1 - lambda)/2 for a
      * forgetting RLS, c = f_upd / (2 B_n) samples per independent one for its
@@ -280,6 +287,7 @@ int16_t drive_init(drive_t *d, const drive_config_t *c)
                                         d->base.n_base_rpm,
                                     2.0f * _IQtoF(d->qep.k_speed)));
         id_sequence_set_rest(&d->seq, d->k.rest_speed);
+        id_sequence_set_excite(&d->seq, _IQmpy(d->target.least, _IQ(DRIVE_EXCITE_FLOOR_OF_LEAST)));
         if (drive_adapt_init(d, c, Ts) != 0) {
             return DRIVE_CFG_IDENT;
         }

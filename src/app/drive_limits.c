@@ -708,10 +708,10 @@ static int16_t check_sequence_and_protection(const drive_limit_t *l, const limit
         /* the start's no-load limit at the nominal bus (drive_target.h): a
          * configured target must fit, and by default (0: rated, lowered to
          * what the bus gives) at least the least target */
-        drive_target_t t;
+        drive_target_noload_t t;
         float need = (c->ident.target_speed_rpm > 0.0f) ? target : drive_target_least_rpm(c);
         float w;
-        (void)drive_target_init(&t, c, b, x->g.Ts_slow);
+        drive_target_noload_init(&t, c, b);
         w = drive_target_noload_max_pu(&t, DRIVE_SQRT3_F, DRIVE_TARGET_NOLOAD_OF_VLIN) *
             b->n_base_rpm;
         if (c->ident.target_speed_rpm > 0.0f) {

@@ -97,6 +97,8 @@ static void speed_loop(drive_t *d)
     const id_sequence_t *s = &d->seq;
 
     d->speed_ramp.target = s->speed_cmd;
+    /* RUN's excitation ramps faster (drive_adapt.h): a torque the tracker sees */
+    d->speed_ramp.step = (s->exciting != 0u) ? d->k.excite_step : d->k.ramp_step;
     ramp_gen_step(&d->speed_ramp);
     if (s->speed_loop_on != 0u && d->prot.fault == FAULT_NONE) {
         d->pi_speed.ref = d->speed_ramp.out;

@@ -35,7 +35,7 @@ float drive_target_least_rpm(const drive_config_t *c)
     return fmaxf(fmaxf(TARGET_MIN_OF_RATED * c->motor.rated_speed_rpm, floor_enc), floor_obs);
 }
 
-float drive_target_noload_max_pu(const drive_target_t *t, float vdc_pu, float k_vlin)
+float drive_target_noload_max_pu(const drive_target_noload_t *t, float vdc_pu, float k_vlin)
 {
     /* the phase voltage left for the motor: k vdc / sqrt(3) less the loss
      * (which grows with the bus: the dead time takes td f_pwm of it) */
@@ -47,7 +47,7 @@ float drive_target_noload_max_pu(const drive_target_t *t, float vdc_pu, float k_
     return sqrtf(x2) / t->ls_im;
 }
 
-float drive_target_bus_for_pu(const drive_target_t *t, float w_pu, float k_vlin)
+float drive_target_bus_for_pu(const drive_target_noload_t *t, float w_pu, float k_vlin)
 {
     float x = w_pu * t->ls_im;
     float per_vdc = k_vlin / DRIVE_SQRT3_F - t->loss_per_vdc;
@@ -57,21 +57,28 @@ float drive_target_bus_for_pu(const drive_target_t *t, float w_pu, float k_vlin)
     return (sqrtf(t->rs_im * t->rs_im + x * x) + t->loss_drop) / per_vdc;
 }
 
-int16_t drive_target_init(drive_target_t *t, const drive_config_t *c, const base_values_t *b,
-                          float Ts_slow_s)
+void drive_target_noload_init(drive_target_noload_t *t, const drive_config_t *c,
+                              const base_values_t *b)
 {
     const drive_motor_t *m = &c->motor;
-    float target_rpm = (c->ident.target_speed_rpm > 0.0f) ? c->ident.target_speed_rpm
-                                                          : m->rated_speed_rpm;
     float im_pu = m->magnetizing_current_A / b->I_base_A;
 
     t->rs_im = m->Rs_ohm / b->Z_base_ohm * im_pu;
     t->ls_im = m->Ls_H / b->L_base_H * im_pu;
     t->loss_drop = 2.0f * c->board.device_drop_V / b->V_base_V;
     t->loss_per_vdc = c->board.dead_time_s * c->board.pwm_freq_Hz;
+}
+
+int16_t drive_target_init(drive_target_t *t, const drive_config_t *c, const base_values_t *b,
+                          float Ts_slow_s)
+{
+    const drive_motor_t *m = &c->motor;
+    float target_rpm = (c->ident.target_speed_rpm > 0.0f) ? c->ident.target_speed_rpm
+                                                          : m->rated_speed_rpm;
+
     t->target = _IQ(target_rpm / b->n_base_rpm);
     t->least = _IQ(drive_target_least_rpm(c) / b->n_base_rpm);
     t->k_lpf = _IQ(1.0f - expf(-Ts_slow_s / DRIVE_TARGET_TAU_S));
     t->u_f = _IQ(0.0);
-    return (int16_t)(!(target_rpm > 0.0f) || !(t->ls_im > 0.0f));
+    return (int16_t)(!(target_rpm > 0.0f) || !(m->Ls_H > 0.0f));
 }

@@ -68,6 +68,8 @@ int16_t id_sequence_set_wait(id_sequence_t *s, uint16_t at_magnetize, uint32_t m
 
 void id_sequence_set_rest(id_sequence_t *s, _iq rest_speed) { s->rest_speed = rest_speed; }
 
+void id_sequence_set_excite(id_sequence_t *s, _iq floor) { s->excite_floor = floor; }
+
 void id_sequence_start(id_sequence_t *s) { s->start_req = 1u; }
 
 void id_sequence_stop(id_sequence_t *s)
@@ -155,6 +157,30 @@ static uint16_t model_ready(id_sequence_t *s)
 static uint16_t rotor_turned(const id_sequence_t *s)
 {
     return (uint16_t)(s->rest_speed > _IQ(0.0) && _IQabs(s->speed) > s->rest_speed);
+}
+
+/* RUN's excitation: down to excite_low and back up, turning at each end
+ * the ramp reaches (Q24 * Q24 -> Q24, |speed_target| < 2 pu). */
+static void excite_step(id_sequence_t *s)
+{
+    if (s->exciting == 0u) {
+        _iq low = _IQmpy(s->speed_target, _IQ(EXCITE_LOW_OF_TARGET));
+        const _iq high = _IQmpy(s->speed_target, _IQ(EXCITE_HIGH_OF_TARGET));
+        if (_IQabs(low) < s->excite_floor) {
+            low = (s->speed_target < 0) ? -s->excite_floor : s->excite_floor;
+        }
+        if (_IQabs(low) > _IQabs(high)) {
+            low = high;
+        }
+        s->excite_low = low;
+        s->exciting = 1u;
+        s->excite_down = 1u;
+    } else if (s->ramp_done != 0u) {
+        s->excite_down ^= 1u;
+    } else {
+        /* on its way */
+    }
+    s->speed_cmd = (s->excite_down != 0u) ? s->excite_low : s->speed_target;
 }
 
 void id_sequence_step(id_sequence_t *s)
@@ -283,7 +309,12 @@ void id_sequence_step(id_sequence_t *s)
      * speed target may change in RUN (drive_set_speed) */
     if (s->speed_loop_on == 0u) {
         s->speed_cmd = _IQ(0.0);
+    } else if (s->state == ID_REFINE) {
+        s->speed_cmd = s->refine_speed;
+    } else if (s->state == ID_RUN && s->excite != 0u) {
+        excite_step(s);
     } else {
-        s->speed_cmd = (s->state == ID_REFINE) ? s->refine_speed : s->speed_target;
+        s->exciting = 0u;
+        s->speed_cmd = s->speed_target;
     }
 }

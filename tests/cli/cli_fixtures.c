@@ -5,7 +5,7 @@
  * identified set the drive refuses (one per reason).  Everything is deterministic
  * (a fixed LCG, no /dev/urandom), so a failure reproduces.
  *
- *   cli_fixtures OUT_DIR BASE_CONFIG
+ *   cli_fixtures OUT_DIR BASE_CONFIG MOTOR_15KW
  *
  * Re-runnable: existing files are overwritten, existing directories kept.
  */
@@ -302,13 +302,45 @@ static void write_reasons(void)
     base_plus("reason_timeout.ini", "\n[load]\nprop_Nm_s = 0.02\n");
 }
 
+/* The 15 kW motor's file with the paper's sequence instead of its own (the
+ * adaptive one): w_r Tr 81, Tr's bound above 3 %, low_confidence (each key
+ * line of the adaptive sequence replaced). */
+static void write_paper_15kw(const char *path)
+{
+    static char text[BASE_MAX];
+    static const char *const from[4] = {"orientation = 1", "standstill = 1", "passes = 2",
+                                        "track_rr = 1"};
+    static const char *const to[4] = {"orientation = 0", "standstill = 0", "passes = 1",
+                                      "track_rr = 0"};
+    FILE *f = fopen(path, "rb");
+    size_t n;
+    unsigned i;
+    if (f == NULL) {
+        die("cannot open", path);
+    }
+    n = fread(text, 1, sizeof text - 1, f);
+    fclose(f);
+    text[n] = '\0';
+    for (i = 0; i < 4u; i++) {
+        char *m = strstr(text, from[i]);
+        if (m == NULL) {
+            fprintf(stderr, "cli_fixtures: no '%s' line in %s\n", from[i], path);
+            exit(1);
+        }
+        memcpy(m, to[i], strlen(to[i]));   /* the same length */
+    }
+    f = create("reason_low_confidence.ini");
+    fputs(text, f);
+    finish(f, "reason_low_confidence.ini");
+}
+
 int main(int argc, char **argv)
 {
     FILE *f;
     size_t n;
 
-    if (argc != 3) {
-        fprintf(stderr, "usage: cli_fixtures OUT_DIR BASE_CONFIG\n");
+    if (argc != 4) {
+        fprintf(stderr, "usage: cli_fixtures OUT_DIR BASE_CONFIG MOTOR_15KW\n");
         return 2;
     }
     g_dir = argv[1];
@@ -332,5 +364,6 @@ int main(int argc, char **argv)
     write_outputs();
     write_unusable_values();
     write_reasons();
+    write_paper_15kw(argv[3]);
     return 0;
 }

@@ -22,8 +22,9 @@
 #define FAULT_T_AFTER (2.0 + FAULT_VI_S)
 #define FAULT_RUN_S (2.5 + FAULT_VI_S)
 
-/* One run of `scenario` (fault_run: the start scenario). */
-static inline int fault_run_scenario(const char *ini, sim_scenario_t scenario,
+/* One run of `scenario` (fault_run: the start scenario), with the file's
+ * sequence (seq < 0) or sim_sequence_t seq. */
+static inline int fault_run_scenario(const char *ini, sim_scenario_t scenario, int seq,
                                      const sim_fault_t *faults, unsigned n_faults,
                                      const sim_cmd_t *cmds, unsigned n_cmds, double duration_s,
                                      sim_config_t *cfg, sim_result_t *res)
@@ -43,8 +44,14 @@ static inline int fault_run_scenario(const char *ini, sim_scenario_t scenario,
         opt.cmds[i] = cmds[i];
     }
     opt.n_cmds = (uint16_t)i;
-    if (sim_config_load(ini, cfg, err, sizeof err) != 0 ||
-        sim_run(cfg, &opt, res, err, sizeof err) != 0) {
+    if (sim_config_load(ini, cfg, err, sizeof err) != 0) {
+        fprintf(stderr, "%s\n", err);
+        return -1;
+    }
+    if (seq >= 0) {
+        sim_config_set_sequence(cfg, (sim_sequence_t)seq);
+    }
+    if (sim_run(cfg, &opt, res, err, sizeof err) != 0) {
         fprintf(stderr, "%s\n", err);
         return -1;
     }
@@ -55,7 +62,7 @@ static inline int fault_run(const char *ini, const sim_fault_t *faults, unsigned
                      const sim_cmd_t *cmds, unsigned n_cmds, double duration_s,
                      sim_config_t *cfg, sim_result_t *res)
 {
-    return fault_run_scenario(ini, SCEN_START, faults, n_faults, cmds, n_cmds, duration_s,
+    return fault_run_scenario(ini, SCEN_START, -1, faults, n_faults, cmds, n_cmds, duration_s,
                               cfg, res);
 }
 

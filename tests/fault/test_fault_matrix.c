@@ -381,12 +381,10 @@ int main(int argc, char **argv)
     }
     if (strcmp(m->seq, "adaptive") == 0) {
         /* the adaptive sequence on this motor (its nameplate as it is) */
-        (void)sim_config_set(&m->cfg, "controller.orientation", 1.0);
-        (void)sim_config_set(&m->cfg, "ident.standstill", 1.0);
-        (void)sim_config_set(&m->cfg, "ident.passes", 2.0);
-        (void)sim_config_set(&m->cfg, "ident.track_rr", 1.0);
+        sim_config_set_sequence(&m->cfg, SIM_SEQ_ADAPTIVE);
         m->accuracy_pct = 3.0;
     } else if (strcmp(m->seq, "paper") == 0) {
+        sim_config_set_sequence(&m->cfg, SIM_SEQ_PAPER);
         /* sim_closed_loop's bounds: 2 % on the paper motor, 3 % on the others */
         m->accuracy_pct = (m->cfg.nameplate.rated_power_W > 0.0 &&
                            m->cfg.nameplate.rated_power_W < 500.0) ? 2.0 : 3.0;

@@ -64,6 +64,7 @@ static void test_paper_sequence_settles(void **state)
     sim_config_t c = g_cfg;
     sim_result_t r;
     (void)state;
+    sim_config_set_sequence(&c, SIM_SEQ_PAPER);
     run(&c, &r, "paper's sequence");
     assert_int_equal(r.final_pass, 1);
     assert_int_equal(r.extracted, 1);
@@ -81,10 +82,7 @@ static void test_adaptive_sequence_settles_and_publishes(void **state)
     sim_result_t r;
     const sim_params_t *e = &r.published_end_error_pct;
     (void)state;
-    c.controller.orientation = 1.0;
-    c.ident.standstill = 1.0;
-    c.ident.passes = 2.0;
-    c.ident.track_rr = 1.0;
+    sim_config_set_sequence(&c, SIM_SEQ_ADAPTIVE);
     run(&c, &r, "adaptive sequence");
     assert_int_equal(r.final_pass, 2);
     assert_int_equal(r.identified, 1);

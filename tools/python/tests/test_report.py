@@ -3,6 +3,7 @@ it from the telemetry), the RLS's last extraction is `last_extraction`."""
 import json
 import os
 import subprocess
+import sys
 from pathlib import Path
 
 from imfoc import CONFIG_DIR
@@ -61,7 +62,11 @@ def test_refused_set_reports_why_and_its_extraction(tmp_path):
     within 1 % but the data cannot bound Tr within 3 %, so nothing is published: the
     report says why, gives the confidence of the refused set and its extraction, and
     no published numbers; motor_sim exits 3."""
-    rep, table = run(CONFIG_DIR / "motor_15kw.ini", tmp_path, rc=3)
+    sys.path.insert(0, str(ROOT / "tools"))
+    from sweep_start_errors import PAPER, ini_merge
+    paper = tmp_path / "motor_15kw_paper.ini"   # the file's own sequence is the adaptive one
+    paper.write_text(ini_merge((CONFIG_DIR / "motor_15kw.ini").read_text(), PAPER))
+    rep, table = run(paper, tmp_path, rc=3)
     assert rep["published"] is False and rep["publish_reason"] == "low_confidence"
     assert rep["identified"] is None and rep["published_end"] is None
     conf = rep["confidence_pct"]
