@@ -423,6 +423,18 @@ static int size_trace(const sim_config_t *cfg, sim_options_t *opt, double max_mb
     return 0;
 }
 
+/* An earlier run's file in --out: removed when it is a plain file (a
+ * directory or a link there is the user's, and the write reports it). */
+static void remove_stale(const char *dir, const char *name)
+{
+    char path[4200];
+    struct stat st;
+    int n = snprintf(path, sizeof path, "%s/%s", dir, name);
+    if (n > 0 && (size_t)n < sizeof path && lstat(path, &st) == 0 && S_ISREG(st.st_mode)) {
+        (void)remove(path);
+    }
+}
+
 int main(int argc, char **argv)
 {
     const char *config = "host_sim/config/paper_motor.ini";
@@ -541,6 +553,13 @@ int main(int argc, char **argv)
     if (ser.link_path == NULL && (ser.keep_open != 0u || ser.realtime_factor != 1.0)) {
         fprintf(stderr, "motor_sim: --realtime-factor and --serial-keep-open need --serial\n");
         return 1;
+    }
+    if (out_dir != NULL) {
+        /* what an earlier run left there must not pass for this run's, whatever
+         * makes this one fail (the INI, the options, the run itself): both
+         * files are written anew only by a run that completes */
+        remove_stale(out_dir, "report.json");
+        remove_stale(out_dir, "trace.csv");
     }
     if (sim_config_load(config, &cfg, err, sizeof err) != 0) {
         fprintf(stderr, "motor_sim: %s\n", err);

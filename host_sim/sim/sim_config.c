@@ -427,6 +427,10 @@ static int load(const char *path, sim_config_t *cfg, int drive_only, char *err,
                            rd.line + 1u);
         return 1;
     }
+    if (rd.status == RD_SYNTAX) {
+        sim_config_set_err(err, err_len, "%s%s:%u: %s", ell, shown, rd.line, rd.syntax);
+        return 1;
+    }
     if (rd.status == RD_ERROR) {
         sim_config_set_err(err, err_len, "%s%s: read error (%s)", ell, shown,
                            strerror(rd.err_no));

@@ -152,6 +152,15 @@ static int check_world(const sim_config_t *c, char *err, size_t len)
                            c->controller.vdc_min_V, c->controller.vdc_max_V);
         return 1;
     }
+    if (!(c->controller.vdc_min_V < inv->vdc_V - inv->ripple_V &&
+          inv->vdc_V + inv->ripple_V < c->controller.vdc_max_V)) {
+        sim_config_set_err(err, len, "key 'inverter.ripple_V' = %g V takes the bus (%g V) "
+                           "outside the drive's trip levels (controller.vdc_min_V, "
+                           "controller.vdc_max_V) = (%g, %g) V at its troughs or peaks",
+                           inv->ripple_V, inv->vdc_V, c->controller.vdc_min_V,
+                           c->controller.vdc_max_V);
+        return 1;
+    }
     if (inv->overcurrent_hw_A > 0.0 && !(inv->overcurrent_hw_A > c->controller.overcurrent_A)) {
         sim_config_set_err(err, len, "key 'inverter.overcurrent_hw_A' = %g A is not above the "
                            "firmware's trip controller.overcurrent_A = %g A (the comparator "

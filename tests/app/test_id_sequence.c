@@ -742,10 +742,143 @@ static void test_vi_test_in_calibrate(void **state)
     check_outputs(&s);
 }
 
+/* A start then a stop before the next step: the later command wins, IDLE
+ * with the bridge off (the stop drops the start still pending; before, the
+ * step took the stop, then the start, and ran CALIBRATE).  A stop then a
+ * start from IDLE: the start. */
+static void test_start_then_stop_before_a_step(void **state)
+{
+    id_sequence_t s;
+    pulses_t p;
+    (void)state;
+    memset(&p, 0, sizeof p);
+    seq_init(&s);
+    id_sequence_start(&s);
+    id_sequence_stop(&s);
+    step(&s, &p);
+    assert_int_equal(s.state, ID_IDLE);
+    assert_int_equal(s.pwm_on, 0u);
+    step(&s, &p);
+    assert_int_equal(s.state, ID_IDLE);
+    id_sequence_stop(&s);
+    id_sequence_start(&s);
+    step(&s, &p);
+    assert_int_equal(s.state, ID_CALIBRATE);
+}
+
+/* The rotor at rest in CALIBRATE and MAGNETIZE: |speed| above rest_speed
+ * sends the sequence back to IDLE (bridge off) with rotor_moved; at the
+ * limit it stays; ACCELERATE ignores it; a new start clears rotor_moved. */
+static void test_rotor_must_rest(void **state)
+{
+    id_sequence_t s;
+    pulses_t p;
+    (void)state;
+    memset(&p, 0, sizeof p);
+    seq_init(&s);
+    id_sequence_set_rest(&s, _IQ(0.01));
+    id_sequence_start(&s);
+    step(&s, &p);
+    assert_int_equal(s.state, ID_CALIBRATE);
+    s.speed = _IQ(0.01);   /* at the limit: at rest */
+    step(&s, &p);
+    assert_int_equal(s.state, ID_CALIBRATE);
+    s.speed = -_IQ(0.0101);
+    step(&s, &p);
+    assert_int_equal(s.state, ID_IDLE);
+    assert_int_equal(s.rotor_moved, 1u);
+    assert_int_equal(s.pwm_on, 0u);
+    /* MAGNETIZE */
+    s.speed = _IQ(0.0);
+    id_sequence_start(&s);
+    step(&s, &p);
+    assert_int_equal(s.rotor_moved, 0u);
+    s.cal_done = 1u;
+    step(&s, &p);
+    assert_int_equal(s.state, ID_MAGNETIZE);
+    s.speed = _IQ(0.02);
+    step(&s, &p);
+    assert_int_equal(s.state, ID_IDLE);
+    assert_int_equal(s.rotor_moved, 1u);
+}
+
+/* The voltage's headroom ends ACCELERATE: SETTLE at once, the ramp's output
+ * the new target (and the REFINE speed with it), target_lowered; without
+ * volt_limit the target stays. */
+static void test_volt_limit_ends_acceleration(void **state)
+{
+    id_sequence_t s;
+    pulses_t p;
+    (void)state;
+    memset(&p, 0, sizeof p);
+    seq_init(&s);
+    assert_int_equal(id_sequence_set_passes(&s, 2u, _IQ(0.4)), 0);
+    run_to_accelerate(&s, &p);
+    s.speed_ref = _IQ(0.7);
+    step(&s, &p);
+    assert_int_equal(s.state, ID_ACCELERATE);
+    assert_true(s.speed_target == _IQ(0.9333));
+    s.volt_limit = 1u;
+    step(&s, &p);
+    assert_int_equal(s.state, ID_SETTLE);
+    assert_true(s.speed_target == _IQ(0.7));
+    assert_true(s.speed_cmd == _IQ(0.7));
+    assert_true(fabs(to_d(s.refine_speed) - 0.28) <= 2.0 * LSB);
+    assert_int_equal(s.target_lowered, 1u);
+    /* the target set afresh (the drive's start) */
+    id_sequence_set_target(&s, _IQ(0.9333));
+    assert_true(fabs(to_d(s.refine_speed) - 0.4 * 0.9333) <= 2.0 * LSB);
+}
+
+/* RUN's excitation: the speed command swings from the target to
+ * EXCITE_LOW_OF_TARGET of it (at least the floor, at most
+ * EXCITE_HIGH_OF_TARGET) and back at each end the ramp reaches; without
+ * excite, the target. */
+static void test_excitation_swings(void **state)
+{
+    id_sequence_t s;
+    pulses_t p;
+    unsigned k;
+    (void)state;
+    memset(&p, 0, sizeof p);
+    seq_init(&s);
+    id_sequence_set_excite(&s, _IQ(0.3));
+    run_to_accelerate(&s, &p);
+    run_pass(&s, &p, 10u, 0u);
+    assert_int_equal(s.state, ID_RUN);
+    s.excite = 1u;
+    s.ramp_done = 0u;
+    step(&s, &p);
+    assert_int_equal(s.exciting, 1u);
+    assert_true(fabs(to_d(s.speed_cmd) - 0.6 * 0.9333) <= 2.0 * LSB);   /* 0.56 > floor 0.3 */
+    for (k = 0u; k < 3u; k++) {
+        step(&s, &p);
+        assert_true(s.speed_cmd == s.excite_low);   /* on its way */
+    }
+    s.ramp_done = 1u;
+    step(&s, &p);
+    assert_true(s.speed_cmd == s.speed_target);     /* turned at the low end */
+    step(&s, &p);
+    assert_true(s.speed_cmd == s.excite_low);       /* and at the high one */
+    s.excite = 0u;
+    step(&s, &p);
+    assert_int_equal(s.exciting, 0u);
+    assert_true(s.speed_cmd == s.speed_target);
+    /* a floor above the high end: the swing's low end is EXCITE_HIGH_OF_TARGET */
+    id_sequence_set_excite(&s, _IQ(0.92));
+    s.excite = 1u;
+    step(&s, &p);
+    assert_true(fabs(to_d(s.excite_low) - 0.9 * 0.9333) <= 2.0 * LSB);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sensor_test_in_calibrate),
+        cmocka_unit_test(test_start_then_stop_before_a_step),
+        cmocka_unit_test(test_rotor_must_rest),
+        cmocka_unit_test(test_volt_limit_ends_acceleration),
+        cmocka_unit_test(test_excitation_swings),
         cmocka_unit_test(test_vi_test_in_calibrate),
         cmocka_unit_test(test_three_passes),
         cmocka_unit_test(test_one_pass),

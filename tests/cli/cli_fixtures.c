@@ -139,6 +139,7 @@ static void write_unusable_values(void)
     base_with_line("magnetize_s", "target_1rpm.ini", "magnetize_s = 0.3\ntarget_speed_rpm = 1");
     base_with_line("magnetize_s", "target_0rpm.ini", "magnetize_s = 0.3\ntarget_speed_rpm = 0");
     base_with_line("Rs_ohm", "subnormal_rs.ini", "Rs_ohm = 1e-320");
+    base_with_line("Rs_ohm", "colon_key.ini", "Rs_ohm : 1.031");
 }
 
 static void write_garbage(void)
@@ -241,6 +242,14 @@ static void write_outputs(void)
 
     f = create("empty.ini");
     finish(f, "empty.ini");
+    /* an earlier run's results in the --out of a run that fails */
+    make_dir(in_dir("out_stale"));
+    f = create("out_stale/report.json");
+    fputs("{\"config\": \"an earlier run\"}\n", f);
+    finish(f, "out_stale/report.json");
+    f = create("out_stale/trace.csv");
+    fputs("t_s\n0\n", f);
+    finish(f, "out_stale/trace.csv");
     f = create("regular_file");
     fputs("not a directory\n", f);
     finish(f, "regular_file");

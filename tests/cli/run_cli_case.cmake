@@ -14,6 +14,8 @@
 #     holds (booleans read ON / OFF).
 #   - TRACE_ROWS_MAX, when given: the trace.csv next to JSON has at most
 #     that many lines.
+#   - ABSENT, when given ("|" between files): none of these exists after the run
+#     (an earlier run's report.json and trace.csv in the --out of one that fails).
 #   - the report's "publish_reason" is JSON_REASON when given ("published" then
 #     also needs "published": true, any other reason "published": false).
 cmake_minimum_required(VERSION 3.25)
@@ -42,6 +44,14 @@ if(DEFINED OUT AND NOT out MATCHES "${OUT}")
 endif()
 if((RC STREQUAL "1" OR RC STREQUAL "2") AND NOT out STREQUAL "")
   string(APPEND problems "an error must not print to stdout\n")
+endif()
+if(DEFINED ABSENT)
+  string(REPLACE "|" ";" absent "${ABSENT}")
+  foreach(a ${absent})
+    if(EXISTS "${a}")
+      string(APPEND problems "${a} is still there\n")
+    endif()
+  endforeach()
 endif()
 if(DEFINED JSON)
   if(NOT EXISTS "${JSON}")

@@ -11,6 +11,7 @@
 #include <cmocka.h>
 
 #include "drive.h"
+#include "drive_rig.h"
 #include "fault_run.h"
 #include "id_sequence.h"
 #include "protect.h"
@@ -170,6 +171,64 @@ static void test_stop_wins_over_start_in_the_same_period(void **state)
     }
 }
 
+/* A start then a stop within one slow period (both taken by the background
+ * before the sequence's next step): the later command wins, the drive stays
+ * IDLE with the bridge off and says it was stopped.  Before, the step took
+ * the stop first and then the start, which was still pending: CALIBRATE ran
+ * the sensor test's pulses, reporting "stopped". */
+static void test_start_then_stop_in_one_slow_period(void **state)
+{
+    static drive_rig_t rig;
+    drive_rig_t *r = &rig;
+    uint32_t k, switched = 0u;
+    (void)state;
+    assert_int_equal(drive_rig_start(r, PAPER), 0);   /* the start: requested and taken */
+    drive_command(&r->drive, DRIVE_CMD_STOP);
+    drive_background(&r->drive);
+    for (k = 0; k < 3000u; k++) {   /* 0.2 s */
+        drive_rig_sample(r);
+        (void)drive_isr(&r->drive);
+        drive_slow_isr(&r->drive);
+        switched += r->port.outputs_enabled;
+        assert_int_equal(r->drive.seq.state, ID_IDLE);
+        drive_rig_period(r);
+    }
+    drive_background(&r->drive);
+    assert_int_equal(switched, 0u);
+    assert_int_equal(r->drive.telemetry.publish_reason, DRIVE_PUB_STOPPED);
+    assert_int_equal(r->drive.telemetry.fault, FAULT_NONE);
+}
+
+/* A start while the rotor still coasts after a stop: refused with the reason
+ * rotor_turning, the bridge off, no fault (the standstill phases would meet a
+ * back-EMF their models do not have); once the rotor has stopped a start
+ * runs the identification again.  The paper motor stopped at 2.0 s +
+ * FAULT_VI_S from 1400 r/min coasts against its load for about 0.4 s. */
+static void test_start_while_coasting(void **state)
+{
+    sim_config_t cfg;
+    sim_result_t r;
+    const double t_stop = 2.0 + FAULT_VI_S;
+    const sim_cmd_t early[2] = {{t_stop, DRIVE_CMD_STOP}, {t_stop + 0.1, DRIVE_CMD_START_IDENT}};
+    const sim_cmd_t late[2] = {{t_stop, DRIVE_CMD_STOP}, {t_stop + 1.5, DRIVE_CMD_START_IDENT}};
+    (void)state;
+    assert_int_equal(fault_run(PAPER, NULL, 0u, early, 2u, t_stop + 0.6, &cfg, &r), 0);
+    print_message("start 0.1 s after the stop: reason %s, state %u, PWM %u, %.0f r/min\n",
+                  drive_pub_reason_str(r.publish_reason), r.final_state, r.final_pwm_on,
+                  r.final_speed_rpm);
+    assert_int_equal(r.publish_reason, DRIVE_PUB_ROTOR_TURNING);
+    assert_int_equal(r.n_faults_seen, 0);
+    assert_int_equal(r.final_state, ID_IDLE);
+    assert_int_equal(r.final_pwm_on, 0);
+    assert_int_equal(fault_run(PAPER, NULL, 0u, late, 2u, t_stop + 1.5 + 3.0 + FAULT_VI_S, &cfg,
+                               &r), 0);
+    print_message("start 1.5 s after the stop: reason %s, state %u\n",
+                  drive_pub_reason_str(r.publish_reason), r.final_state);
+    assert_int_equal(r.n_faults_seen, 0);
+    assert_int_equal(r.publish_reason, DRIVE_PUB_PUBLISHED);
+    assert_int_equal(r.final_state, ID_RUN);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -178,6 +237,8 @@ int main(void)
         cmocka_unit_test(test_no_restart_without_reset),
         cmocka_unit_test(test_reset_and_start_at_the_same_instant),
         cmocka_unit_test(test_stop_wins_over_start_in_the_same_period),
+        cmocka_unit_test(test_start_then_stop_in_one_slow_period),
+        cmocka_unit_test(test_start_while_coasting),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

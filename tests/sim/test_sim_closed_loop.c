@@ -14,6 +14,8 @@
 
 #include <cmocka.h>
 
+#include "drive.h"
+#include "id_sequence.h"
 #include "sim_config.h"
 #include "sim_run.h"
 
@@ -168,6 +170,33 @@ static void test_identification_15kw(void **state)
     check_other_motor(MC_CONFIG_DIR "/motor_15kw.ini", "15 kW motor");
 }
 
+/* The constant load is Coulomb friction with stiction (plant.c), never a
+ * torque source: a 10 000 N m one holds the paper motor's rotor through the
+ * calibration and the magnetisation (no torque), exactly at rest (before:
+ * held over each period as sgn(w) const, it overshot through zero and
+ * turned the rotor backwards; the rest check now calls that rotor_turning);
+ * and the ordinary 0.15 N m one lets the drive accelerate (test above). */
+static void test_load_holds_never_drives(void **state)
+{
+    sim_config_t cfg = g_cfg;
+    sim_result_t res;
+    sim_options_t opt;
+    char err[256];
+    (void)state;
+    memset(&opt, 0, sizeof opt);
+    opt.quiet = 1u;
+    opt.duration_s = 2.0;   /* calibration (the bridge's test) and magnetisation */
+    cfg.load.const_Nm = 10000.0;
+    assert_int_equal(sim_run(&cfg, &opt, &res, err, sizeof err), 0);
+    print_message("const_Nm 10000: final speed %g r/min, state %u, faults %u, reason %s\n",
+                  res.final_speed_rpm, res.final_state, res.n_faults_seen,
+                  drive_pub_reason_str(res.publish_reason));
+    assert_true(res.final_speed_rpm == 0.0);
+    assert_int_equal(res.n_faults_seen, 0);
+    assert_int_not_equal(res.publish_reason, DRIVE_PUB_ROTOR_TURNING);
+    assert_true(res.t_state_s[ID_MAGNETIZE] > 0.0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -178,6 +207,7 @@ int main(void)
         cmocka_unit_test(test_current_limits),
         cmocka_unit_test(test_identification_1kw),
         cmocka_unit_test(test_identification_15kw),
+        cmocka_unit_test(test_load_holds_never_drives),
     };
     return cmocka_run_group_tests(tests, run_paper_motor, NULL);
 }

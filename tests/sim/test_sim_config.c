@@ -256,8 +256,10 @@ static void test_bus_too_low(void **state)
     }
     remove(path);
     expect_error(NULL, "[inverter]\nvdc_V = 39", "key 'inverter.vdc_V' = 39 V");
-    /* the simulated bus outside the drive's trip levels */
+    /* the simulated bus outside the drive's trip levels, at its ripple's peaks too
+     * (paper motor: trips 40 and 80 V) */
     expect_error(NULL, "[inverter]\nvdc_V = 85", "key 'inverter.vdc_V' = 85 V");
+    expect_error("ripple_V", "ripple_V = 20.5", "key 'inverter.ripple_V' = 20.5 V takes the bus");
     /* the drive's own bus: 12 V cannot carry the least target (280 r/min)
      * at no load (16 V can) */
     expect_error("vdc_nominal_V", "vdc_nominal_V = 12",
@@ -386,6 +388,13 @@ static void test_malformed_line(void **state)
 {
     (void)state;
     expect_error(NULL, "this is not a key", "malformed");
+    /* what inih accepts but a file of ours never means (ini_lines.h) */
+    expect_error(NULL, "[load\nconst_Nm = 0.1", "section header without its ']'");
+    expect_error(NULL, "[load] fan\nconst_Nm = 0.1", "text after the section header's ']'");
+    expect_error(NULL, "[load]\nconst_Nm : 0.1",
+                 "key and value separated by ':' (write key = value)");
+    /* a comment after the header is a comment */
+    load_variant("[load] ; the shaft's\nprop_Nm_s = 0.001", &(sim_config_t){0});
 }
 
 static void test_missing_file(void **state)
