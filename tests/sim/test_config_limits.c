@@ -411,7 +411,7 @@ static void test_derived_limits(void **state)
         CASE("torque current below trip", "controller.max_torque_current_A", 18.0, 1,
              "controller.max_torque_current_A", NONE),
         CASE("undervoltage below nominal", "controller.vdc_min_V", 60.0, 1,
-             "controller.vdc_min_V", NONE),
+             "controller.vdc_min_V", {"inverter.ripple_V", 0.0}),
         CASE("overvoltage above nominal", "controller.vdc_max_V", 60.0, 0,
              "controller.vdc_max_V", {"inverter.vdc_V", 59.0}),
         CASE("overvoltage below full scale", "controller.vdc_max_V", 100.0, 1,
