@@ -35,7 +35,8 @@
  * measurement is not to be believed):
  *
  *   MISMATCH   |r| > sigma Ls r_max + r_allow + r_allow_emf, every slow
- *              step; and, at speed (the sequence tests armed), the part of
+ *              step; and, at any speed once the positive sequence's
+ *              low-pass has followed r for 3 tau_seq, the part of
  *              r the positive sequence's low-pass has not followed,
  *              |r - pos| > sigma Ls r_max + r_allow: a sensor that fails is
  *              a step, a model error of the back-EMF a slow fundamental,
@@ -186,7 +187,7 @@ typedef struct {
     _iq neg_alpha, neg_beta;  /* Q24 pu flux: negative-sequence part of r, low-passed */
     _iq dc_alpha, dc_beta;    /* Q24 pu flux: DC part of r, low-passed */
     _iq r2, neg2, dc2;        /* Q24 pu^2: |r|^2, |neg|^2, |dc|^2 (diagnostic) */
-    _iq q2;                   /* Q24 pu^2: |r - pos|^2, the fast MISMATCH's (at speed) */
+    _iq q2;                   /* Q24 pu^2: |r - pos|^2, the fast MISMATCH's */
     _iq lag_d, lag_q;         /* Q24 pu flux: r - pos in the positive sequence's frame,
                                  low-passed (tau_seq): its lag in a transient (|.| < 8) */
     uint16_t fault;           /* 1 once tripped, until current_model_check_reset */
@@ -200,9 +201,11 @@ typedef struct {
     uint16_t model_n;         /* sequence steps since the model last stepped (rebase),
                                  saturating at seq_settle: the fast MISMATCH waits for it */
     uint16_t phase;           /* the sequence tests' half of the next window (0, 1) */
-    uint16_t seq_due;         /* 1: the residual ran at speed, its half is still to run */
+    uint16_t seq_due;         /* 1: the residual ran, its half is still to run */
+    uint16_t slow;            /* the last residual's |w_s| was within ws_min: UNBALANCE and
+                                 OFFSET wait (the positive sequence runs on) */
     _iq thr;                  /* Q24 pu flux: the last residual's MISMATCH level (< 6): the
-                                 fast test's (at speed); abs(r)'s is thr + r_allow_emf */
+                                 fast test's; abs(r)'s is thr + r_allow_emf */
     _iq neg_level2, dc_level2;/* Q24 pu^2: the last sequence test's UNBALANCE and OFFSET
                                  levels, squared as compared (< 11, < 25) */
     _iq i_alpha_prev, i_beta_prev, psi_alpha_prev, psi_beta_prev;
@@ -266,9 +269,10 @@ void current_model_check_residual(current_model_check_t *c);
 
 /** ... and, before the next residual, the sequence tests' half `phase`
  *  (0: the positive sequence's low-pass; 1: the negative sequence, the DC
- *  and their tests) on that residual: it runs only when the residual was at
- *  speed and `phase` is the half due in this window (the halves alternate
- *  from window to window), otherwise returns at once.  A caller that calls
+ *  and their tests, these only while the residual's |w_s| was above ws_min)
+ *  on that residual: it runs only when `phase` is the half due in this
+ *  window (the halves alternate from window to window), otherwise returns
+ *  at once.  A caller that calls
  *  both halves, each in its own ISR, has each ISR carry one half at most. */
 void current_model_check_half(current_model_check_t *c, uint16_t phase);
 

@@ -49,6 +49,9 @@ typedef enum {
                                    voltage at the least target speed (drive_target.h) */
     DRIVE_PUB_ROTOR_TURNING,    /* not started, or ended at standstill: the rotor turned
                                    while the drive needs it at rest (a coasting load) */
+    DRIVE_PUB_TORQUE_LIMIT,     /* SETTLE's limit ran out with the speed loop at its torque
+                                   current's limit: the load needs more torque than
+                                   controller.max_torque_current_A gives at the target */
     DRIVE_PUB_N
 } drive_pub_reason_t;
 

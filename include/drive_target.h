@@ -24,9 +24,15 @@
  *    below the least target the identification can use, the drive stops
  *    it there (DRIVE_PUB_BUS_LOW: the bus cannot carry the identification);
  *  - the table of limits (drive_limits.c, DRIVE_LD_BUS) refuses only what
- *    cannot work with the motor the user gives: a configured target (or,
- *    by default, the least target) whose no-load voltage is beyond
- *    DRIVE_TARGET_NOLOAD_OF_VLIN of vdc / sqrt(3) at the nominal bus.
+ *    cannot work with the motor the user gives: a configured target whose
+ *    no-load voltage is beyond DRIVE_TARGET_NOLOAD_OF_VLIN of vdc / sqrt(3)
+ *    at the nominal bus; by default, the least target even with the
+ *    believed Ls at its low end, Ls / (1 + DRIVE_TARGET_LS_TOL): the drive
+ *    measures the true motor's voltage at each start (above), so a
+ *    nameplate whose Lm is high must not refuse a motor that runs (the
+ *    37 kW 690 V motor on its 976 V bus, nameplate Lm +30 %: refused, while
+ *    the true motor reaches its least target at 0.65 of the bus's linear
+ *    range).
  */
 #ifndef DRIVE_TARGET_H
 #define DRIVE_TARGET_H
@@ -51,6 +57,10 @@
  * end): their target does not move. */
 #define DRIVE_TARGET_NOLOAD_OF_VLIN 0.92f
 #define DRIVE_TARGET_TAU_S 0.003f
+/* How far the nameplate's Ls may be high when the default target is checked
+ * (the nuisance sweep's nameplate errors, tools/nuisance_sweep.py: Lm -30 %
+ * to +30 %). */
+#define DRIVE_TARGET_LS_TOL 0.3f
 
 /** The believed motor's no-load voltage (the configuration's check,
  *  drive_limits.c DRIVE_LD_BUS; pu of the drive's bases). */

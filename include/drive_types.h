@@ -258,6 +258,9 @@ typedef struct {
                                     back-EMF error per pu of |w_s| |psi_e| */
     _iq k_emf_ident;             /* Q24: the same once the model is identified (the tracker
                                     valid) */
+    _iq ws_slip_max;             /* Q24 pu: the frame speed's bound above the encoder's rotor
+                                    speed, CMC_SLIP_MARGIN times the believed slip at the
+                                    torque-current limit (<= 2) */
     _iq psi_e;                   /* Q24 pu: the model's back-EMF flux of the last slow step */
     uint16_t model_step;         /* SEQUENCE slot -> SAFETY slot: the model stepped (a pass's
                                     blend, the frame's hand-over; drive_adapt.c take_set) */
@@ -328,6 +331,14 @@ struct drive {
     float vic_i1_0;             /* the test's first i1, pu (background) */
     float vic_i1_max;           /* the largest i1 of a retry, pu: 2 i1 within the current
                                    limit (background) */
+    float vic_rs;               /* background: the curve test's Rs (pu of Z_base; 0: none), the
+                                   standstill Rs's confidence (drive_background.c) */
+    float sensor_gain;          /* background: the current sensors' possible gain error at
+                                   the verdict (drive_safety_sensor_gain), relative */
+    float sg_neg_a, sg_neg_b;   /* background: the model check's negative sequence summed over
+                                   the last pass's SETTLE and RUN (pu flux) */
+    float sg_den;               /* ... and CMC_NEG_PER_GAIN sigma Ls |i|, summed alike */
+    uint32_t sg_n;              /* background passes summed (0: none yet) */
     uint16_t vic_retried;       /* background: the test was run again with a larger i1 */
 
     /* PWM pipeline: duties computed at sample k apply during period k+1 and

@@ -91,6 +91,7 @@ typedef struct {
     _iq speed_ref;            /* the speed ramp's output, pu, Q24 */
     _iq speed;                /* the rotor's speed, pu, Q24: CALIBRATE and MAGNETIZE need the
                                  rotor at rest */
+    uint16_t torque_limit;    /* the speed loop's output (the torque current) is at its limit */
     uint16_t excite;          /* RUN: the drive asks for torque (a free shaft gives its tracker
                                  none): the speed swings between the target and excite_low */
     /* parameters (id_sequence_init) */
@@ -126,6 +127,8 @@ typedef struct {
     uint16_t rls_on;          /* the RLS may update */
     uint16_t extract_now;     /* one-sample pulse: take the steady i_M, extract */
     uint16_t settle_timeout;  /* SETTLE ended by its time limit, not by steadiness */
+    uint16_t torque_limited;  /* ... with the speed loop at its torque limit then (a load the
+                                 torque current cannot carry at the target) */
     _iq im_cmd;               /* i_M reference to apply, pu */
     _iq speed_cmd;            /* speed target for the ramp, pu */
     uint16_t pass;            /* 1 .. passes: the pass under way (or last done) */

@@ -70,7 +70,7 @@ MEMORY
 {
 PAGE 0 :   /* program */
    RAML0L1    : origin = 0x008000, length = 0x001000   /* L0: ramfuncs RUN */
-   RAMH0      : origin = 0x3F8000, length = 0x001A80   /* first 6.625K of H0: ramfuncs_slow RUN */
+   RAMH0      : origin = 0x3F8000, length = 0x001AA0   /* first 6816 words of H0: ramfuncs_slow RUN */
    OTP        : origin = 0x3D7800, length = 0x000400   /* 1K OTP, not used */
    FLASHJ     : origin = 0x3D8000, length = 0x002000
    FLASHI     : origin = 0x3DA000, length = 0x002000
@@ -91,7 +91,7 @@ PAGE 0 :   /* program */
 PAGE 1 :   /* data */
    RAMM0M1    : origin = 0x000000, length = 0x000800   /* M0 + M1 SARAM */
    RAML0L1_DATA : origin = 0x009000, length = 0x001000 /* L1: .ebss */
-   RAMH0_DATA : origin = 0x3F9A80, length = 0x000580   /* last 1.375K of H0: dlog, bgdata */
+   RAMH0_DATA : origin = 0x3F9AA0, length = 0x000560   /* last 1376 words of H0: dlog, bgdata */
 }
 
 SECTIONS

@@ -83,7 +83,7 @@
  * The flash image runs them from flash (.text, not named here; their wait
  * states costed by tools/bench_isr.py); the RAM image defines
  * ISR_FLASH_SET_IN_RAM and keeps them on chip with the rest of this set.
- * 36 functions.
+ * 35 functions.
  */
 #ifdef ISR_FLASH_SET_IN_RAM
 *(.text:_angle_acc_from_pu)
@@ -108,7 +108,6 @@
 *(.text:_model_ready)
 *(.text:_period_mean_window)
 *(.text:_pi_apply_gains)
-*(.text:_restart_sequences)
 *(.text:_rls_update)
 *(.text:_rotor_turned)
 *(.text:_stall_check_decide)

@@ -168,8 +168,6 @@ FLASH_ROOTS = {
               "shaft's excitation, drive_adapt.c)",
     "tr_track_step": "slot OBSERVER_B, the adaptive sequence's RUN only (the Rr/Tr tracker), in "
                      "a slot with room in every state",
-    "restart_sequences": "slot SAFETY, when the frame's speed crosses the model check's "
-                         "sequence gate (0.3 pu) or the model steps",
     "clear_state": "slot SAFETY, when the model check re-arms (the bridge off, a window with "
                    "the bridge off in it)",
     "period_mean_window": "slot FILTERS_A, only with [ident] period_mean = 1 (an option of "

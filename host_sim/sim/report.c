@@ -97,6 +97,7 @@ static void json_adaptation(jw_t *w, const sim_result_t *r)
 {
     fprintf(w->f, "  \"pass\": %u,\n", r->final_pass);
     json_num_or_null(w, "Rs_dc_ohm", r->Rs_dc_ohm, r->Rs_dc_ohm != 0.0);
+    jw_field(w, "sensor_gain_pct", r->sensor_gain_pct);
     fprintf(w->f, "  \"adapt_timeouts\": %u,\n", r->adapt_timeouts);
     json_num_or_null(w, "drift_t_start_s", r->drift_t_start_s, r->drift_t_start_s >= 0.0);
     fprintf(w->f, "  \"track_samples\": %u,\n", (unsigned)r->track_samples);

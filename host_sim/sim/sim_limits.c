@@ -101,8 +101,9 @@ static const char *const k_why[DRIVE_LD_COUNT] = {
     [DRIVE_LD_BUS] = "the no-load voltage |Rs + j w Ls| controller.magnetizing_current_A at "
                      "the target plus the bridge's loss (2 board.device_drop_V + vdc "
                      "board.dead_time_s board.pwm_freq_Hz) within 92 % of "
-                     "board.vdc_nominal_V / sqrt(3); by default (-1) at the least target: the "
-                     "drive lowers its target to what the bus it measures gives",
+                     "board.vdc_nominal_V / sqrt(3); by default (-1) at the least target with Ls / "
+                     "1.3 (a nameplate's Lm may be 30 % high): the drive lowers its target to "
+                     "what the bus it measures gives",
     [DRIVE_LD_HEADROOM] = "the dead time against the voltage at the target speed: what the "
                           "bridge loses per leg, board.vdc_nominal_V board.dead_time_s "
                           "board.pwm_freq_Hz + board.device_drop_V, at most 30 % of the "

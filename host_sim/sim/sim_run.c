@@ -800,6 +800,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     res->final_pass = drive.telemetry.pass;
     conf_figures(&drive, res);
     res->Rs_dc_ohm = (double)_IQtoF(drive.telemetry.Rs_dc) * b->Z_base_ohm;
+    res->sensor_gain_pct = 100.0 * (double)drive.sensor_gain;
     res->adapt_timeouts = drive.seq.adapt_timeouts;
     vi_curve_fit(&drive.vic, b->I_base_A, b->V_base_V, &res->vi);
     if (res->vi.status == VI_FIT_OK) {

@@ -201,6 +201,8 @@ typedef struct {
     /* adaptation (the adaptive sequence), telemetry at the end */
     uint16_t final_pass;            /* identification pass under way or last done */
     double Rs_dc_ohm;               /* standstill Rs; 0: none measured */
+    double sensor_gain_pct;         /* the current sensors' possible gain error the verdict
+                                       counted (drive_safety_sensor_gain), % */
     uint16_t adapt_timeouts;        /* waits for the background's model that ran out (the
                                        sequence went on with the model in use) */
     /* drift scenario (SCEN_DRIFT), over the window from the drift start to the

@@ -194,20 +194,28 @@ static int16_t init_identification(drive_t *d, const drive_config_t *c, const dr
 
 int16_t drive_init(drive_t *d, const drive_config_t *c)
 {
-    const drive_motor_t *m = &c->motor;
-    drive_design_t g;
-    float Ts, Tr;
     int16_t st;
 
     memset(d, 0, sizeof *d);
     d->telemetry.fault = FAULT_CONFIG;   /* until init completes */
     /* every limit in one table (drive_limits.h), which names what failed;
-     * each module below still checks its own arguments */
+     * each module below still checks its own arguments.  The check's frame
+     * (its own design of the gains) is gone before drive_init_checked's
+     * (drive_internal.h) is made: the two are never on the stack together */
     st = drive_config_check(c, NULL);
     if (st != DRIVE_CFG_OK) {
         d->config_status = (uint16_t)st;
         return st;
     }
+    return drive_init_checked(d, c);
+}
+
+int16_t drive_init_checked(drive_t *d, const drive_config_t *c)
+{
+    const drive_motor_t *m = &c->motor;
+    drive_design_t g;
+    float Ts, Tr;
+
     d->config_status = DRIVE_CFG_BASES;
     if (drive_design_bases(&d->base, c) != BASE_OK) {
         return DRIVE_CFG_BASES;

@@ -36,6 +36,12 @@ static inline void drive_set_run_ifo(drive_t *d, uint16_t on)
     d->frame_ifo = drive_ifo_frame(d);
 }
 
+/** drive_init after the table of limits passed (drive_init.c): the
+ *  modules' constants.  Its own function so that its frame and the check's
+ *  are not on the stack together (an 8 KB AVR stand-in's stack met its
+ *  .bss). */
+int16_t drive_init_checked(drive_t *d, const drive_config_t *c);
+
 /** The frame speed for decoupling and the modulation angle (pu): ifo's w_s,
  *  or the observer's low-passed ws_f (ws carries the current noise through
  *  sigma Ls i), or the rotor speed while the frame is held on the encoder. */

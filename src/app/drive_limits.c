@@ -273,7 +273,10 @@ static int16_t report_as(drive_limit_fail_t *f, const char *key, const char *uni
 static int16_t report_as_if(int16_t ok, drive_limit_fail_t *f, const char *key, const char *unit,
                             float value, float lo, float hi, uint16_t open)
 {
-    return (ok != 0) ? 0 : report_as(f, key, unit, value, lo, hi, open);
+    if (ok != 0) {
+        return 0;
+    }
+    return report_as(f, key, unit, value, lo, hi, open);
 }
 
 /* 0 if @p ok, else 1 with the limit reported. */
@@ -707,11 +710,15 @@ static int16_t check_sequence_and_protection(const drive_limit_t *l, const limit
     case DRIVE_LD_BUS: {
         /* the start's no-load limit at the nominal bus (drive_target.h): a
          * configured target must fit, and by default (0: rated, lowered to
-         * what the bus gives) at least the least target */
+         * what the bus gives) at least the least target, with the believed
+         * Ls at its low end (the drive measures the true one) */
         drive_target_noload_t t;
         float need = (c->ident.target_speed_rpm > 0.0f) ? target : drive_target_least_rpm(c);
         float w;
         drive_target_noload_init(&t, c, b);
+        if (!(c->ident.target_speed_rpm > 0.0f)) {
+            t.ls_im /= 1.0f + DRIVE_TARGET_LS_TOL;
+        }
         w = drive_target_noload_max_pu(&t, DRIVE_SQRT3_F, DRIVE_TARGET_NOLOAD_OF_VLIN) *
             b->n_base_rpm;
         if (c->ident.target_speed_rpm > 0.0f) {

@@ -61,6 +61,11 @@
                                   at 1 % (OFFSET 1.0 of its level on the 55 kW 6-pole 690 V
                                   at i_M x0.8 without it; 0.43 nominal, 0.68 at most) */
 
+/* A gain error e on one sensor gives the model check's negative sequence
+ * about CMC_NEG_PER_GAIN e sigma Ls |i| (e / sqrt(3) through the leaky
+ * residual; CMC_K_NEG's note): drive_safety_sensor_gain's inverse. */
+#define CMC_NEG_PER_GAIN 0.65f
+
 /* The sensor test (sensor_test.h): each half-pulse to 10 % of the sensors'
  * full scale; the direction within 5 % (a gain error e on one sensor turns
  * the response by up to e / sqrt(3): found from |e| ~ 0.09; healthy: the
@@ -105,6 +110,17 @@
  * still runs the believed Tr). */
 #define CMC_EMF_TOL_IDENT 0.15f
 #define CMC_EMF_TOL_NAMEPLATE 0.6f
+/* The back-EMF allowance's frame speed: the orientation's |w_s|, but at
+ * most the encoder's rotor speed plus this many times the believed slip at
+ * the torque-current limit, i_T,max / (i_M Tr) (a believed Tr 30 % high
+ * makes the true slip 1.43 times it).  The frame's speed comes from the
+ * currents, so a current sensor that fails corrupts it first: phase b lost
+ * 0.05 s into the adaptive first pass's acceleration turned the observer's
+ * w_s from +0.03 to -0.76 pu in 4 ms, the allowance grew with it to 6 times
+ * the MISMATCH level, and the true current reached the comparator (1.25 x
+ * the trip) on 5 of 8 of the family's CI motors before the firmware saw
+ * anything; the encoder, another sensor, bounds what the motor can do. */
+#define CMC_SLIP_MARGIN 2.0f
 
 /* The publish guard's window: at least the slowest detection of a fault
  * that corrupts what is learned, counted from its onset: the encoder's
@@ -147,6 +163,9 @@ int16_t drive_safety_init(drive_t *d, const drive_config_t *c)
         s->k_allow = _IQ(k);
         s->k_emf = _IQ(k_emf);
         s->k_emf_ident = _IQ(fminf(CMC_EMF_TOL_IDENT * tau_r_pu, 16.0f));
+        s->ws_slip_max = _IQ(fminf(CMC_SLIP_MARGIN * c->control.max_torque_current_A * m->Rr_ohm /
+                                       (m->magnetizing_current_A * m->Lr_H * b->w_base_rad_s),
+                                   2.0f));
         s->allow_n_max = (uint16_t)((k * 65535.0f > 1.0f) ? 1.0f / k : 65535.0f);
     }
     if (current_model_check_init(&s->cmc, Ts, DRIVE_SLOTS, b->w_base_rad_s, CMC_TAU_R_S,
@@ -288,10 +307,13 @@ void drive_safety_slow(drive_t *d)
             m->r_allow = _IQmpy(_IQmpyI32(s->k_allow, (int32_t)n), psi);
         }
         /* and the model's back-EMF error: k_emf |w_s| |psi_e| (k_emf < 16,
-         * |w_s| saturated to 2 pu, |psi_e| to 2: < 64), saturated to 2 pu,
-         * the contract */
+         * |w_s| at most the encoder's |w_r| + ws_slip_max (CMC_SLIP_MARGIN)
+         * and saturated to 2 pu, |psi_e| to 2: < 64), saturated to 2 pu,
+         * the contract.  (|w_r| < 2 pu + 2: the sum fits) */
+        const _iq ws_enc = _IQabs(_IQsat(d->qep.speed, _IQ(2.0), _IQ(-2.0))) + s->ws_slip_max;
+        const _iq ws_abs = _IQabs(_IQsat(d->ws_ctl, _IQ(2.0), _IQ(-2.0)));
         m->r_allow_emf = _IQsat(
-            _IQmpy(_IQmpy(k_emf, _IQsat(_IQabs(d->ws_ctl), _IQ(2.0), _IQ(0.0))), psi), _IQ(2.0), 0);
+            _IQmpy(_IQmpy(k_emf, (ws_abs < ws_enc) ? ws_abs : ws_enc), psi), _IQ(2.0), 0);
     }
     current_model_check_residual(m);   /* the sequence tests' halves: drive_safety_seq */
     drive_safety_latch_cmc(d);
@@ -329,10 +351,51 @@ void drive_safety_reset(drive_t *d)
     publish_guard_rearm(&d->safety.pguard);
 }
 
+void drive_safety_sensor_gain_reset(drive_t *d)
+{
+    d->sg_neg_a = d->sg_neg_b = d->sg_den = 0.0f;
+    d->sg_n = 0u;
+}
+
+void drive_safety_sensor_gain_sample(drive_t *d)
+{
+    const current_model_check_t *m = &d->safety.cmc;
+    const id_sequence_t *s = &d->seq;
+    if ((s->state != ID_SETTLE && s->state != ID_RUN) || s->pass < s->passes ||
+        m->at_speed < m->seq_settle || m->model_n < m->seq_settle || d->sg_n >= 0x7FFFFFFFu) {
+        return;
+    }
+    /* (each 32-bit value read whole; the ISR may move them between two
+     * reads: the low-passes move by k_seq of a step, far below the result's
+     * own accuracy) */
+    d->sg_neg_a += _IQtoF(m->neg_alpha);
+    d->sg_neg_b += _IQtoF(m->neg_beta);
+    d->sg_den += CMC_NEG_PER_GAIN * _IQtoF(m->sigma_ls) *
+                 hypotf(_IQtoF(m->i_alpha_prev), _IQtoF(m->i_beta_prev));
+    d->sg_n++;
+}
+
+float drive_safety_sensor_gain(const drive_t *d)
+{
+    if (d->sg_n == 0u) {
+        /* UNBALANCE never armed: only the sensor test has looked */
+        return STEST_TOL_DIR * DRIVE_SQRT3_F;
+    }
+    if (!(d->sg_den > 0.0f)) {
+        return 0.0f;
+    }
+    /* all of the negative sequence taken as a gain error: an upper bound
+     * (what the bridge and the model add to it is not told apart: the
+     * level's allowances for them are larger than a 3-5 % gain error's
+     * share, which they would have hidden) */
+    return hypotf(d->sg_neg_a, d->sg_neg_b) / d->sg_den;
+}
+
 void drive_safety_background(drive_t *d)
 {
     drive_telemetry_t *t = &d->telemetry;
     publish_set_t s;
+    drive_safety_sensor_gain_sample(d);
     s.Rs = t->Rs;
     s.Rr = t->Rr;
     s.Lm = t->Lm;

@@ -70,6 +70,22 @@ void drive_safety_stall(drive_t *d);
  *  trips again once the drive runs). */
 void drive_safety_reset(drive_t *d);
 
+/** Background: the gain error (relative, >= 0) one current sensor may
+ *  carry that the model check has not found: its negative sequence, all
+ *  of it, per unit of the one a gain error gives (CMC_NEG_PER_GAIN sigma
+ *  Ls |i|), as the mean vector over the last pass's steady states (a gain
+ *  error's is constant there; the bridge's harmonics turn and average
+ *  out): an upper bound; where the sequence tests were never armed (below
+ *  their speed gate), the sensor test's bound (sensor_test.h).  For the
+ *  confidences (drive_background.c). */
+float drive_safety_sensor_gain(const drive_t *d);
+
+/** Background, each pass: the sums drive_safety_sensor_gain averages (the
+ *  last pass's SETTLE and RUN, the sequence tests armed); and their reset
+ *  (each start). */
+void drive_safety_sensor_gain_sample(drive_t *d);
+void drive_safety_sensor_gain_reset(drive_t *d);
+
 /** Background, last in each pass: the publish guard (publish_guard.h) on
  *  the telemetry's published set. */
 void drive_safety_background(drive_t *d);

@@ -62,6 +62,7 @@ static void sequence(drive_t *d)
     s->fault = (uint16_t)(d->prot.fault != FAULT_NONE);
     s->ramp_done = d->speed_ramp.done;
     s->speed_err = _IQabs(d->speed_ramp.out - d->qep.speed);
+    s->torque_limit = d->pi_speed.sat;
     s->i_mf = d->reg.i_mf;
     s->i_tf = d->reg.i_tf;
     s->speed = d->qep.speed;

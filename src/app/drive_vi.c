@@ -179,6 +179,7 @@ void drive_vi_background(drive_t *d)
         if (d->vic_fitted != 0u || d->vic.level != 0u || d->vic.n != 0u || d->vic.t != 0u ||
             d->vic_retried != 0u) {
             d->vic_retried = 0u;
+            d->vic_rs = 0.0f;
             (void)vi_curve_retry(&d->vic, d->vic_i1_0);   /* the first i1: init accepted it */
             d->vic_post = DRIVE_VI_NONE;
             d->vic_wait = 0u;
@@ -212,6 +213,7 @@ void drive_vi_background(drive_t *d)
         d->vic_post = DRIVE_VI_REFUSED;
         return;
     }
+    d->vic_rs = f->rs_ohm / b->Z_base_ohm;
     dt = d->vic_dt_frac;
     drop = e_pu - vdc_pu * dt;
     if (drop < 0.0f) {

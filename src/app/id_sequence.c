@@ -211,6 +211,8 @@ void id_sequence_step(id_sequence_t *s)
             s->pass = 1u;
             s->adapt_timeouts = 0u;
             s->target_lowered = 0u;
+            s->settle_timeout = 0u;
+            s->torque_limited = 0u;
             s->rotor_moved = 0u;
             enter(s, ID_CALIBRATE);
         }
@@ -276,9 +278,11 @@ void id_sequence_step(id_sequence_t *s)
         }
         if (s->t_state >= s->settle_min_samples && held != 0u) {
             s->settle_timeout = 0u;
+            s->torque_limited = 0u;
             s->extract_now = 1u;
         } else if (s->t_state >= s->settle_max_samples) {
             s->settle_timeout = 1u;
+            s->torque_limited = s->torque_limit;
             s->extract_now = 1u;
         } else {
             /* still waiting */

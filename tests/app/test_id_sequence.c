@@ -354,6 +354,36 @@ static void test_settle_timeout(void **state)
     assert_int_equal(s.state, ID_RUN);
     assert_int_equal(s.extract_now, 1u);
     assert_int_equal(s.settle_timeout, 1u);
+    assert_int_equal(s.torque_limited, 0u);   /* the speed loop was not at its limit */
+}
+
+/* The same with the speed loop at its torque limit when the time runs out
+ * (a load the torque current cannot carry at the target): flagged
+ * torque_limited, the verdict's torque_limit; a loop that was at its limit
+ * earlier in SETTLE but not at the end is a plain timeout. */
+static void test_settle_timeout_torque_limited(void **state)
+{
+    uint16_t at_end;
+    (void)state;
+    for (at_end = 0u; at_end <= 1u; at_end++) {
+        id_sequence_t s;
+        pulses_t p = {0u, 0u, 0u};
+        uint32_t k;
+        seq_init(&s);
+        run_to_accelerate(&s, &p);
+        s.ramp_done = 1u;
+        set_steady(&s, 0);
+        s.torque_limit = 1u;
+        step(&s, &p);
+        for (k = 1u; k < N_SMAX; k++) {
+            step(&s, &p);
+        }
+        s.torque_limit = at_end;
+        step(&s, &p);
+        assert_int_equal(s.state, ID_RUN);
+        assert_int_equal(s.settle_timeout, 1u);
+        assert_int_equal(s.torque_limited, at_end);
+    }
 }
 
 /* Steady state is the net change of the filtered currents over the hold
@@ -823,11 +853,11 @@ static void test_volt_limit_ends_acceleration(void **state)
     assert_int_equal(s.state, ID_SETTLE);
     assert_true(s.speed_target == _IQ(0.7));
     assert_true(s.speed_cmd == _IQ(0.7));
-    assert_true(fabs(to_d(s.refine_speed) - 0.28) <= 2.0 * LSB);
+    assert_true(fabs(to_d(s.refine_speed) - 0.28) <= 2.0 * LSB + 1e-7);
     assert_int_equal(s.target_lowered, 1u);
     /* the target set afresh (the drive's start) */
     id_sequence_set_target(&s, _IQ(0.9333));
-    assert_true(fabs(to_d(s.refine_speed) - 0.4 * 0.9333) <= 2.0 * LSB);
+    assert_true(fabs(to_d(s.refine_speed) - 0.4 * 0.9333) <= 2.0 * LSB + 1e-7);
 }
 
 /* RUN's excitation: the speed command swings from the target to
@@ -850,7 +880,7 @@ static void test_excitation_swings(void **state)
     s.ramp_done = 0u;
     step(&s, &p);
     assert_int_equal(s.exciting, 1u);
-    assert_true(fabs(to_d(s.speed_cmd) - 0.6 * 0.9333) <= 2.0 * LSB);   /* 0.56 > floor 0.3 */
+    assert_true(fabs(to_d(s.speed_cmd) - 0.6 * 0.9333) <= 2.0 * LSB + 1e-7);   /* 0.56 > floor 0.3 */
     for (k = 0u; k < 3u; k++) {
         step(&s, &p);
         assert_true(s.speed_cmd == s.excite_low);   /* on its way */
@@ -868,7 +898,7 @@ static void test_excitation_swings(void **state)
     id_sequence_set_excite(&s, _IQ(0.92));
     s.excite = 1u;
     step(&s, &p);
-    assert_true(fabs(to_d(s.excite_low) - 0.9 * 0.9333) <= 2.0 * LSB);
+    assert_true(fabs(to_d(s.excite_low) - 0.9 * 0.9333) <= 2.0 * LSB + 1e-7);
 }
 
 int main(void)
@@ -883,6 +913,7 @@ int main(void)
         cmocka_unit_test(test_three_passes),
         cmocka_unit_test(test_one_pass),
         cmocka_unit_test(test_settle_timeout),
+        cmocka_unit_test(test_settle_timeout_torque_limited),
         cmocka_unit_test(test_settle_ripple_confirms),
         cmocka_unit_test(test_settle_im_drift_waits),
         cmocka_unit_test(test_settle_it_drift_waits),

@@ -307,8 +307,10 @@ static void write_reasons(void)
     /* P(0) = 0.001: the RLS hardly leaves theta(0) = 0, the guard never takes it */
     base_plus("reason_not_converged.ini", "\n[ident]\nrls_p0 = 0.001\n");
     /* a viscous load of 2.9 N m at 1400 r/min, beyond the 10 A torque limit: the
-     * speed never reaches the target, steady state never comes */
-    base_plus("reason_timeout.ini", "\n[load]\nprop_Nm_s = 0.02\n");
+     * speed never reaches the target, steady state never comes, the speed loop
+     * at its limit (a SETTLE that runs out of time otherwise, timeout:
+     * tests/app/test_id_sequence.c) */
+    base_plus("reason_torque_limit.ini", "\n[load]\nprop_Nm_s = 0.02\n");
 }
 
 /* The 15 kW motor's file with the paper's sequence instead of its own (the

@@ -305,7 +305,8 @@ static double paper_headroom_td(void)
 /* DRIVE_LD_BUS (drive_target.h): the speed at which the paper motor's
  * no-load voltage |Rs + j w Ls| i_M plus the bridge's loss (2 x 0.3 V +
  * vdc 1 us 15 kHz) is 92 % of vdc / sqrt(3), in r/min; and the bus at
- * which that speed is @p rpm. */
+ * which that speed is @p rpm with Ls / (1 + @p ls_tol) (the default
+ * target's check: the believed Ls at its low end, DRIVE_TARGET_LS_TOL). */
 static double paper_noload_max_rpm(double vdc)
 {
     const double v = vdc * (0.92 / 1.7320508075688772 - 1e-6 * 15000.0) - 0.6;
@@ -313,10 +314,11 @@ static double paper_noload_max_rpm(double vdc)
     return x / (0.0092 * 6.5625) / 2.0 * 60.0 / (2.0 * PI_);
 }
 
-static double paper_bus_for_rpm(double rpm)
+static double paper_bus_for_rpm(double rpm, double ls_tol)
 {
     const double w = 2.0 * PI_ * rpm / 60.0 * 2.0;
-    const double u = 6.5625 * sqrt(1.031 * 1.031 + (w * 0.0092) * (w * 0.0092));
+    const double x = w * 0.0092 / (1.0 + ls_tol);
+    const double u = 6.5625 * sqrt(1.031 * 1.031 + x * x);
     return (u + 0.6) / (0.92 / 1.7320508075688772 - 1e-6 * 15000.0);
 }
 
@@ -399,13 +401,13 @@ static void test_derived_limits(void **state)
              NONE),
         /* a 40 V bus carries the no-load voltage up to 1493 r/min: a target
          * given beyond is refused; by default (-1) the least target, 280
-         * r/min, must fit: from a 16 V bus on (the drive then lowers the
+         * r/min, must fit: from a 15.3 V bus on, Ls/1.3 (the drive then lowers the
          * rated target at each start to what the bus it measures gives) */
         CASE("target against the bus at no load", "ident.target_speed_rpm",
              paper_noload_max_rpm(40.0), 1, "ident.target_speed_rpm",
              {"board.vdc_nominal_V", 40.0}, {"controller.vdc_min_V", 30.0}),
         CASE("bus against the least target at no load", "board.vdc_nominal_V",
-             paper_bus_for_rpm(280.0), 0, "board.vdc_nominal_V", {"controller.vdc_min_V", 10.0}),
+             paper_bus_for_rpm(280.0, 0.3), 0, "board.vdc_nominal_V", {"controller.vdc_min_V", 10.0}),
         CASE("trip below full scale", "controller.overcurrent_A", 20.0, 1,
              "controller.overcurrent_A", NONE),
         CASE("torque current below trip", "controller.max_torque_current_A", 18.0, 1,

@@ -166,7 +166,7 @@ class Drive:
         parameter can be trusted (ident_conf.h): {"reason": name ("pending",
         "published", "not_converged", "low_excitation", "high_residual",
         "low_confidence", "implausible", "fault", "timeout", "stopped", "bus_low",
-        "rotor_turning"), "published":
+        "rotor_turning", "torque_limit"), "published":
         bool, "confidence_pct": {Rs_ohm: %, ...} (None where not available),
         "residual_rel", "amplification", "excitation"}."""
         s = self.signals()

@@ -36,7 +36,7 @@ FAULTS = ("none", "overcurrent", "bus_overvoltage", "bus_undervoltage", "encoder
 # include/drive.h drive_pub_reason_t, in enum order (likewise)
 REASONS = ("pending", "published", "not_converged", "low_excitation", "high_residual",
            "low_confidence", "implausible", "fault", "timeout", "stopped", "bus_low",
-           "rotor_turning")
+           "rotor_turning", "torque_limit")
 CONF_FIELDS = ("conf_Rs", "conf_Rr", "conf_Lm", "conf_Lr", "conf_psi_r", "conf_Tr")
 
 # field layout of each frame type: (uint16 fields, Q24 fields)
