@@ -21,6 +21,8 @@ INI_KEYS = {
     "vdc_nominal_V": ("board", "vdc_nominal_V", None),
     "rated_freq_Hz": ("nameplate", "rated_freq_Hz", None),
     "pole_pairs": ("nameplate", "pole_pairs", None),
+    # the telemetry's rate (a burst every 750 ISRs): the drive's clock on the PC
+    "pwm_freq_Hz": ("board", "pwm_freq_Hz", 15000),
     # the identification sequence, to know when the published set is this run's final one
     "passes": ("ident", "passes", 1),
     "track_rr": ("ident", "track_rr", 0),
@@ -31,9 +33,10 @@ class ConfigError(ValueError):
     pass
 
 
-def read_ini_values(path):
-    """The INI_KEYS quantities of the file as floats; ConfigError naming the file and the
-    key if a required one is missing or not a number."""
+def read_ini_values(path, keys=None):
+    """The quantities of `keys` (default INI_KEYS: name -> (section, key, default or None
+    if required)) in the file as floats; ConfigError naming the file and the key if a
+    required one is missing or not a number."""
     cp = configparser.ConfigParser(inline_comment_prefixes=(";", "#"),
                                    comment_prefixes=(";", "#"), strict=False)
     cp.optionxform = str
@@ -43,7 +46,7 @@ def read_ini_values(path):
     except (OSError, UnicodeDecodeError, configparser.Error) as e:
         raise ConfigError(f"{path}: cannot read ({e.__class__.__name__}: {e})") from None
     out = {}
-    for name, (sec, key, default) in INI_KEYS.items():
+    for name, (sec, key, default) in (INI_KEYS if keys is None else keys).items():
         if not cp.has_option(sec, key):
             if default is None:
                 raise ConfigError(f"{path}: missing [{sec}] {key}")
@@ -67,6 +70,7 @@ class Bases:
     pole_pairs: int
     passes: int = 1
     track_rr: int = 0
+    pwm_freq_Hz: float = 15000.0
 
     @property
     def w_base_rad_s(self):
@@ -96,12 +100,13 @@ class Bases:
     def from_ini(cls, path):
         v = read_ini_values(path)
         if not (v["current_full_scale_A"] > 0 and v["vdc_nominal_V"] > 0
-                and v["rated_freq_Hz"] > 0 and v["pole_pairs"] >= 1):
-            raise ConfigError(f"{path}: the current full scale, bus voltage, rated frequency "
-                              "and pole pairs must be positive")
+                and v["rated_freq_Hz"] > 0 and v["pole_pairs"] >= 1 and v["pwm_freq_Hz"] > 0):
+            raise ConfigError(f"{path}: the current full scale, bus voltage, rated frequency, "
+                              "pole pairs and PWM frequency must be positive")
         return cls(I_base_A=v["current_full_scale_A"], V_base_V=v["vdc_nominal_V"] / math.sqrt(3),
                    f_base_Hz=v["rated_freq_Hz"], pole_pairs=int(v["pole_pairs"]),
-                   passes=int(v["passes"]), track_rr=int(v["track_rr"]))
+                   passes=int(v["passes"]), track_rr=int(v["track_rr"]),
+                   pwm_freq_Hz=v["pwm_freq_Hz"])
 
     def si(self, name, pu):
         """A Q24 telemetry field (firmware/telemetry.h) in SI: (column name, value)."""

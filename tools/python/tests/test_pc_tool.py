@@ -128,8 +128,8 @@ def test_pc_tool_identify(sim, tmp_path):
 def test_pc_tool_reports_a_vanished_port(tmp_path):
     sim = Sim(tmp_path, factor=1.0)    # real time: the identification takes ~1.7 s
     try:
-        p = subprocess.Popen(imfoc_cmd() + ["identify", str(sim.port), "--out",
-                                            str(tmp_path / "pc"), "--timeout", "30"],
+        p = subprocess.Popen(imfoc_cmd() + ["identify", str(sim.port), "--config", str(PAPER),
+                                            "--out", str(tmp_path / "pc"), "--timeout", "30"],
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         line = ""
         while "MAGNETIZE" not in line:        # under way
@@ -152,6 +152,9 @@ def _injecting_relay(sim_port, tool_master, stop):
     unknown type every few frames.  The tool's commands go through unchanged."""
     fd = os.open(sim_port, os.O_RDWR | os.O_NOCTTY)
     tty.setraw(fd)
+    # once the tool has closed its side (it then draws its plots), nobody reads the pty:
+    # a blocking write would hang the relay when its buffer is full
+    os.set_blocking(tool_master, False)
     pending, n = b"", 0
     try:
         while not stop.is_set():
@@ -184,7 +187,7 @@ def _injecting_relay(sim_port, tool_master, stop):
                 try:
                     os.write(tool_master, ln)
                 except OSError:
-                    pass
+                    pass                      # nobody reads (BlockingIOError) or closed
     finally:
         os.close(fd)                          # the simulator sees its client leave
 
@@ -249,7 +252,7 @@ def test_pc_tool_commands_and_monitor(tmp_path):
 
 
 def test_pc_tool_bad_input_gives_one_line(tmp_path):
-    r = imfoc("identify", tmp_path / "no_such_port")
+    r = imfoc("identify", tmp_path / "no_such_port", "--config", PAPER)
     assert r.returncode == 3 and r.stderr.startswith("imfoc identify: cannot open")
     assert len(r.stderr.strip().splitlines()) == 1
     r = imfoc("identify", "/dev/null", "--config", tmp_path / "none.ini")
