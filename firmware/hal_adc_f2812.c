@@ -17,7 +17,7 @@
  * ACQ_PS = 3 -> a 4-ADCCLK (320 ns) sample window.  That window settles the
  * sample capacitor to 1/2 LSB (9 time constants) only from a source of at
  * most about 2.9 kohm, or from an RC at the pin whose capacitor is at least
- * 15 nF (charge sharing with the sample capacitor); the board notes of
+ * 2^13 times the sample capacitor's, 13.4 nF (charge sharing); the board notes of
  * docs/board.md give the ADC's input model (SPRS174) and the arithmetic.  A
  * longer window would move the current's sampling instant further from the
  * period's start, the centre of the zero vector.
