@@ -37,7 +37,11 @@
 
 /** The start button: GPIOB0 (PWM7 pin, unused by EV-B here), active low. */
 #define BOARD_BUTTON_PRESSED() (GpioDataRegs.GPBDAT.bit.GPIOB0 == 0u)
-/** The fault LED: GPIOF14 (XF pin), active high. */
+/** The fault LED: GPIOF14 (the XF pin), active low (gpio_fault_led drives
+ *  the pin low to light it).  The pin is XPLLDIS during reset: low there
+ *  disables the PLL (SPRS174, "PLL-based clock module"), so the LED and its
+ *  resistor go from 3.3 V to the pin, never from the pin to ground
+ *  (docs/board.md, board notes). */
 
 /** The drive configuration: SI values, every per-unit constant follows
  *  (board_config.c, generated: board_config_gen). */

@@ -27,21 +27,30 @@ void gpio_mux_init(void)
     /* SCI-A */
     GpioMuxRegs.GPFMUX.bit.SCITXDA_GPIOF4 = 1u;
     GpioMuxRegs.GPFMUX.bit.SCIRXDA_GPIOF5 = 1u;
-    /* start button on GPIOB0 (input), fault LED on GPIOF14 (output) */
+    /* start button on GPIOB0 (input) */
     GpioMuxRegs.GPBMUX.bit.PWM7_GPIOB0 = 0u;
     GpioMuxRegs.GPBDIR.bit.GPIOB0 = 0u;
     GpioMuxRegs.GPBQUAL.bit.QUALPRD = 0xFFu;  /* 6 samples 510 SYSCLKOUT apart: 20 us debounce */
+    EDIS;
+    /* the fault LED on GPIOF14 (the XF/XPLLDIS pin), active low
+     * (board_config.h): its output latch high (LED off) before the pin
+     * becomes an output, so that it never drives low in between; until
+     * here it was an input (GPFMUX, GPFDIR reset to 0, SPRU078 "GPIO MUX")
+     * held high by the board's pull-up */
+    GpioDataRegs.GPFSET.bit.GPIOF14 = 1u;
+    EALLOW;
     GpioMuxRegs.GPFMUX.bit.XF_GPIOF14 = 0u;
     GpioMuxRegs.GPFDIR.bit.GPIOF14 = 1u;
     EDIS;
-    GpioDataRegs.GPFCLEAR.bit.GPIOF14 = 1u;
 }
 
 void gpio_fault_led(uint16_t on)
 {
+    /* active low: the LED (and its resistor) from 3.3 V to the pin, so that
+     * nothing pulls XPLLDIS low at reset (docs/board.md, board notes) */
     if (on != 0u) {
-        GpioDataRegs.GPFSET.bit.GPIOF14 = 1u;
-    } else {
         GpioDataRegs.GPFCLEAR.bit.GPIOF14 = 1u;
+    } else {
+        GpioDataRegs.GPFSET.bit.GPIOF14 = 1u;
     }
 }

@@ -14,7 +14,13 @@
  *
  * Clocks: HSPCLK 150 MHz, ADCCLKPS = 3 -> 25 MHz, CPS = 1 -> ADCCLK 12.5 MHz
  * (under the 25 MHz maximum, with the better linearity of the slower clock);
- * ACQ_PS = 3 -> a 4-ADCCLK (320 ns) sample window for the Hall outputs.
+ * ACQ_PS = 3 -> a 4-ADCCLK (320 ns) sample window.  That window settles the
+ * sample capacitor to 1/2 LSB (9 time constants) only from a source of at
+ * most about 2.9 kohm, or from an RC at the pin whose capacitor is at least
+ * 2^13 times the sample capacitor's, 13.4 nF (charge sharing); the board notes of
+ * docs/board.md give the ADC's input model (SPRS174) and the arithmetic.  A
+ * longer window would move the current's sampling instant further from the
+ * period's start, the centre of the zero vector.
  *
  * Simultaneous sampling (SMODE_SEL = 1): i_a (ADCINA0) and i_b (ADCINB0) are
  * held by the two sample-and-hold units at the same instant, so the Clarke
@@ -22,7 +28,11 @@
  * phases taken ~0.4 us apart (at high modulation the zero vector around the
  * sampling instant is short, and the ripple between the two would enter the
  * vector as an error).  Pair 0 -> RESULT0 (A0), RESULT1 (B0); pair 1 ->
- * RESULT2 (A1: the bus), RESULT3 (B1: not connected).
+ * RESULT2 (A1: the bus), RESULT3 (B1, not read).  A pair is always sampled
+ * whole, so B1 is converted too: the board ties ADCINB1 to analog ground
+ * (docs/board.md).  Left open it would float, and the B sample-and-hold,
+ * which converts B1 just before the next period's ib, would carry an
+ * undefined charge into ib's sample.
  *
  * Re-arm at the top of the ISR (hal_adc_read): the sequencer is reset and
  * INT_SEQ1 cleared right after the results are read, the PIE group
@@ -45,7 +55,7 @@
 
 /* ADCCHSELSEQ code in simultaneous mode: pair n = ADCINAn with ADCINBn */
 #define ADC_PAIR_0 0x0u   /* ia (A0), ib (B0) */
-#define ADC_PAIR_1 0x1u   /* vdc (A1), B1 unused */
+#define ADC_PAIR_1 0x1u   /* vdc (A1), B1 (tied to analog ground, not read) */
 /* the ADC module reset (ADCTRL1.RESET) takes effect within 2 ADCCLK; the
  * register writes after it must wait (SPRU060) */
 #define ADC_RESET_LOOPS 64UL

@@ -114,16 +114,33 @@ void hal_pwm_write(const hal_pwm_compare_t *c)
 
 void hal_pwm_enable(void)
 {
-    /* never over a latched trip, nor while the fault line is still low
-     * (PDPINTASTATUS = 0): the latch is cleared only when the line is high */
-    if (EvaRegs.COMCONA.bit.PDPINTASTATUS == 0u) {
+    /* Called every period while the drive wants the bridge on.  A PDPINTA
+     * edge clears FCOMPOE in hardware and sets EVAIFRA.PDPINTA (SPRU065,
+     * "Power drive protection interrupt"); its ISR latches the trip only
+     * after this non-interruptible ISR, so anything written here after the
+     * edge stays on the pins until then.  Hence: no write at all while the
+     * outputs are on (a read-modify-write of COMCONA every period could set
+     * FCOMPOE again just after the hardware cleared it), and on the off-to-on
+     * transition the flag checked again after the write. */
+    if (s_tripped != 0u) {
+        return;   /* latched: cleared only by the fault reset, line high */
+    }
+    if (EvaRegs.COMCONA.bit.FCOMPOE != 0u) {
+        return;   /* on, and no edge since (an edge would have cleared it) */
+    }
+    /* never while the line is low (PDPINTASTATUS = 0), nor over an edge no
+     * ISR has taken yet (the flag; left set for that ISR) */
+    if (EvaRegs.COMCONA.bit.PDPINTASTATUS == 0u || EvaRegs.EVAIFRA.bit.PDPINTA != 0u) {
         s_tripped = 1u;
         return;
     }
-    if (s_tripped != 0u) {
-        return;
-    }
     EvaRegs.COMCONA.bit.FCOMPOE = 1u;
+    /* an edge between the checks and the write: the write may have undone
+     * the hardware's clear, but the flag is set whatever FCOMPOE was */
+    if (EvaRegs.EVAIFRA.bit.PDPINTA != 0u) {
+        EvaRegs.COMCONA.bit.FCOMPOE = 0u;
+        s_tripped = 1u;
+    }
 }
 
 void hal_pwm_disable(void)

@@ -136,7 +136,14 @@ uint16_t isr_ticks(void)
 
 uint16_t isr_load_max(void)
 {
-    uint16_t m = s_load_max;
+    uint16_t m;
+    /* read and clear as one: an ISR between the two would raise the maximum
+     * and see it cleared unread (the worst period of the frame lost).  The
+     * background calls this with interrupts enabled; the section delays an
+     * ISR by a few cycles at most. */
+    DINT;
+    m = s_load_max;
     s_load_max = 0u;
+    EINT;
     return m;
 }

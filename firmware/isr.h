@@ -16,7 +16,9 @@ void isr_install(drive_t *drive, datalog_t *dlog);
 /** Control periods since start (wraps at 2^16: 4.37 s at 15 kHz). */
 uint16_t isr_ticks(void);
 /** Largest ISR duration since the last call, in T1 ticks (6.67 ns); the
- *  period is 2 * T1PR = 10000 ticks.  Resets the maximum. */
+ *  period is 2 * T1PR = 10000 ticks.  Resets the maximum, with interrupts
+ *  disabled for the read and the reset (background only: it enables them
+ *  again). */
 uint16_t isr_load_max(void);
 
 #endif /* ISR_H */

@@ -90,11 +90,13 @@ int main(void)
     qep_f2812_init();
     sci_f2812_init(tm.brr);
 
+    /* the watchdog before the interrupts: a hang from here on (an
+     * unexpected interrupt included, pie.c) resets the device */
+    sysctrl_watchdog_enable();
     isr_install(&g_drive, &g_dlog);
     EINT;
     ERTM;
     pwm_f2812_start();          /* T1 runs: SOC, ADCINT, drive_isr at 15 kHz */
-    sysctrl_watchdog_enable();
 
     for (;;) {
         drive_telemetry_t tl;

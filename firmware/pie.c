@@ -2,19 +2,23 @@
  * @file pie.c
  * PIE initialisation.  An interrupt that should never fire (any vector the
  * firmware did not install) lands in pie_unexpected_isr, which disables the
- * bridge and stops: a bug must not leave the motor switching.
+ * bridge and resets the device: a bug must not leave the motor switching,
+ * nor the board hanging (it may come before the watchdog is enabled, which
+ * main.c does just before EINT).
  */
 #include "DSP281x_Device.h"
 #include "hal_pwm.h"
 #include "pie.h"
+#include "sysctrl.h"
 
 #define PIE_VECTORS 128u
 
 static interrupt void pie_unexpected_isr(void)
 {
     hal_pwm_disable();
+    sysctrl_reset_now();
     for (;;) {
-        /* halted on purpose: the watchdog resets the device */
+        /* until the reset (at most the watchdog's 4.4 ms) */
     }
 }
 

@@ -10,6 +10,8 @@
  * device resets; WDDIS is bit 6; WDPS (2:0) = 111 divides WDCLK by 64. */
 #define WDCR_DISABLE   0x0068u   /* WDDIS = 1, WDCHK = 101, WDPS = 000 */
 #define WDCR_ENABLE    0x002Fu   /* WDDIS = 0, WDCHK = 101, WDPS = 111 */
+#define WDCR_FASTEST   0x0028u   /* WDDIS = 0, WDCHK = 101, WDPS = 000: 256 / (OSCCLK / 512) = 4.4 ms */
+#define WDCR_BAD_CHECK 0x0000u   /* WDCHK = 000: a system reset */
 
 /* The PLL locks within 131072 OSCCLK cycles (SPRU078).  The CPU runs from
  * OSCCLK/2 while the PLL relocks, so the wait below (>= 4 CPU cycles per
@@ -54,6 +56,20 @@ void sysctrl_watchdog_enable(void)
     sysctrl_watchdog_service();
     EALLOW;
     SysCtrlRegs.WDCR = WDCR_ENABLE;
+    EDIS;
+}
+
+void sysctrl_reset_now(void)
+{
+    /* the watchdog on at its fastest first (the check bits right): should a
+     * silicon revision ignore the wrong check bits while the watchdog is
+     * disabled, as TI's later C28x devices do, its overflow resets within
+     * 4.4 ms; then the write with the wrong check bits, which resets at once
+     * (SPRU078, "Watchdog block": WDCHK must be written 101 on every write
+     * of WDCR, any other value resets the device) */
+    EALLOW;
+    SysCtrlRegs.WDCR = WDCR_FASTEST;
+    SysCtrlRegs.WDCR = WDCR_BAD_CHECK;
     EDIS;
 }
 

@@ -16,12 +16,21 @@ board; BENCHMARKS.md section b states every assumption):
  1. isr_cost (host_sim/api/isr_cost.c, IQ_MATH build with gcov) runs the
     configured motor's identification closed loop through every state; for
     each class (state, slot of the multi-rate schedule) it samples single
-    ISRs - the first two and last two of the class and K spread evenly -
-    and dumps that ISR's gcov line counts alone, with its IQmath calls.
+    ISRs - the first two and last two of the class, K spread evenly, and
+    every ISR that runs a basic block no earlier ISR of its class ran (a
+    "coverage" sample: a test's verdict, a calibration's end, a state's
+    entry), so that every block any ISR of a class runs is in one of the
+    class's samples - and dumps that ISR's gcov line counts alone, with its
+    IQmath calls.  A block that ran in an ISR but in none of its class's
+    samples (none, unless the run's two passes differ) is listed with its
+    line priced as run once and added to that class's worst ISR
+    ("unsampled_lines" of --json).
  2. Each sampled ISR is costed line by line: every executed line of src/
     and include/, per run, its IQmath calls at TI's published C28x cycle
     count (IQmath read-me, call included; ASSUMED_CYCLES for those TI does
-    not list) and its other C operations by OTHER_COST; the IQmath calls so
+    not list) and its other C operations by OTHER_COST (/ and % by anything
+    but a constant power of two: a call of the run-time library, from
+    flash); the IQmath calls so
     attributed must cover every call the counted library saw (checked: more
     only where both arms of a ?: are costed); a line's executions are those
     of the basic block it is in (gcov -a), a statement over several lines is
@@ -38,7 +47,10 @@ board; BENCHMARKS.md section b states every assumption):
     any sampled ISR of the class ran it: a sum of maxima, never below the
     largest single sample.
     Per state: mean = the mean over the uniform samples of its classes (each
-    slot is 1/S of the ISRs), worst = the worst of its classes.
+    slot is 1/S of the ISRs), worst = the worst of its classes.  Reported
+    beside it, not the estimate: the same with each coverage sample's lines
+    added to the schedule's samples on its own (one-off events not stacked in
+    one ISR), and the costliest single sampled ISR.
 
 A missing coverage build (no isr_cost, no .gcno, no gcov) is an error.
 Usage: bench_isr.py [--build DIR] [--config INI ...] [--uniform K] [--hot N] [--json]
@@ -57,7 +69,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 BUDGET = 10000          # 150 MHz / 15 kHz
 GOAL = 3000             # 30 % of the period: 70 % left for margin, background, compiler
-STATES = ("CALIBRATE", "MAGNETIZE", "ACCELERATE", "SETTLE", "RUN", "REFINE")
+# IDLE: the ISRs before the start command is taken (the first one enters CALIBRATE)
+STATES = ("IDLE", "CALIBRATE", "MAGNETIZE", "ACCELERATE", "SETTLE", "RUN", "REFINE")
 DEFAULT_CONFIGS = (("paper", "host_sim/config/paper_motor.ini"),
                    ("adaptive", "host_sim/config/paper_motor_wrong_nameplate.ini"))
 
@@ -65,23 +78,32 @@ DEFAULT_CONFIGS = (("paper", "host_sim/config/paper_motor.ini"),
 TI_CYCLES = {"_IQmpy": 5, "_IQrmpy": 22, "_IQrsmpy": 30, "_IQdiv": 73, "_IQsqrt": 70,
              "_IQisqrt": 74, "_IQsin": 49, "_IQcos": 47, "_IQsinPU": 43, "_IQcosPU": 41,
              "_IQatan2": 118, "_IQmag": 96, "_IQsat": 7, "_IQtoF": 23}
-# not in that list: what TI's IQmathLib.h makes of them (our assumption)
+# not in that list: the "Benchmark" header of each function's source in TI's
+# IQmath library (C2000Ware, libraries/math/IQmath/c28/source/coff/IQN<op>.asm:
+# from 0-wait SARAM, LCR/LRETR included, the worst case it states); the
+# table reads that the boot ROM's wait state adds are in ROM_TABLE_READS.
+TI_ASM_CYCLES = {
+    "_IQatan2PU": 121,      # IQNatan2PU.asm: 121 (16 <= Q <= 29, tables in SARAM), 127 in ROM
+    "_IQmpyI32int": 28,     # IQNmpyI32int.asm: 28, worst case
+    "_IQmpyI32frac": 34,    # IQNmpyI32frac.asm: 34, worst case
+    "_IQint": 15,           # IQNint.asm
+    "_IQfrac": 18,          # IQNfrac.asm
+}
+# neither: what TI's IQmathLib.h makes of them (our assumption)
 ASSUMED_CYCLES = {
     "_IQmpyIQX": 5,      # the same __IQxmpy intrinsic as _IQmpy, another shift
     "_IQmpyI32": 4,      # (long) A * B: one IMPYL 32x32 plus moves
-    "_IQmpyI32int": 22,  # library call, as _IQrmpy
-    "_IQmpyI32frac": 24,
-    "_IQatan2PU": 118, "_IQatan": 118,   # as _IQatan2
-    "_IQint": 14, "_IQfrac": 17,         # library calls
+    "_IQatan": 118,      # IQmathLib.h: _IQatan2(A, _IQ(1.0)); IQNatan2.asm states 115 in ROM
     "_IQabs": 3,         # inline ABS on ACC: load, ABS, store
     "_IQdiv2": 2,        # TI's macro (A)>>1: an SFR ACC,1 on the loaded value, as op32
     "_IQtoIQN": 2, "_IQtoQN": 2,         # inline shift of ACC
     "iq_norm32": 3,      # the __norm32 intrinsic: CSB ACC (1) + moving the count out (2)
 }
 # the table look-ups of these read IQmathTables in the boot ROM (1 wait
-# state, SPRS174): 2 reads each, +1 cycle per read
+# state, SPRS174): 2 reads each, +1 cycle per read; _IQatan2PU: its source's
+# two benchmarks differ by 6 (127 with the tables in ROM, 121 in SARAM)
 ROM_TABLE_READS = {"_IQsinPU": 2, "_IQcosPU": 2, "_IQsin": 2, "_IQcos": 2, "_IQatan2": 2,
-                   "_IQatan2PU": 2, "_IQatan": 2, "_IQisqrt": 1, "_IQsqrt": 1, "_IQdiv": 1,
+                   "_IQatan2PU": 6, "_IQatan": 2, "_IQisqrt": 1, "_IQsqrt": 1, "_IQdiv": 1,
                    "_IQmag": 2}
 ROM_WAIT = 1
 
@@ -97,7 +119,21 @@ OTHER_COST = {
     "field": 1,    # a struct member beyond the 3-bit *+XARn[0..7] offset: one more
                    # instruction for the address, per access path (d->cur.ia is one
                    # static offset from d; every path counted, small offsets too: errs high)
+    "div_pow2": 6,  # / or % by a constant power of two: a shift, with the sign's
+                    # correction for a signed operand (load, test, add, shift)
+    "div_rts": None,    # any other / or %: a call of the run-time library, below
+    "div_rts64": None,  # ... with a 64-bit operand
 }
+# The C28x has no divide instruction (the F2812's CPU has no FASTINTDIV): cl2000
+# calls the run-time library (rts2800_ml.lib) for / and %.  TI measured the C
+# operator on the C28x without that hardware (SPRACN6, "Fast Integer Division",
+# section 4 "Cycle Count", Table 4): 52-56 cycles for 16-bit operands, 37-64 for
+# 32-bit ones (i32/i16 Euclidean and modulo 64, the worst), 78-2 635 for 64-bit
+# ones.  The library is in .text, i.e. in flash in the flash image
+# (linker/F2812_flash.cmd), so each call costs the flash's price as the flash
+# set's lines do: FLASH_FACTOR times, plus FLASH_ENTRY.
+RTS_DIV_CYCLES = 64
+RTS_DIV64_CYCLES = 2635
 # fixed per ISR: PIE vector fetch and CPU interrupt latency with the automatic
 # context save (14 cycles, SPRU430), the compiler's interrupt prologue and
 # epilogue (the registers the hardware does not save: XAR2-XAR7, XT, RPC,
@@ -119,6 +155,8 @@ PERIPH_WAIT = 2
 # 64-bit reads of 1 + RANDWAIT 5 cycles (firmware/flash.c's wait states).
 FLASH_FACTOR = 2.0
 FLASH_ENTRY = 12
+OTHER_COST["div_rts"] = RTS_DIV_CYCLES * FLASH_FACTOR + FLASH_ENTRY
+OTHER_COST["div_rts64"] = RTS_DIV64_CYCLES * FLASH_FACTOR + FLASH_ENTRY
 FLASH_SET_INCLUDES = ("linker/F2812_isr_path.cmd", "linker/F2812_isr_slow.cmd")
 FLASH_SET_BLOCK = re.compile(r"^#ifdef ISR_FLASH_SET_IN_RAM$(.*?)^#endif$", re.S | re.M)
 
@@ -236,9 +274,111 @@ def count_iq(code):
     return out
 
 
+INT_LIT = re.compile(r"(0[xX][0-9a-fA-F]+|\d+)[uUlL]*$")
+NUM_LIT = re.compile(r"(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?[fFlLuU]*$")
+DIV_OPS = ("/", "%", "/=", "%=")
+_INT_MACROS = {}
+
+
+def int_macros():
+    """{NAME: value} of the object-like #defines of src/ and include/ whose
+    value is an integer constant expression (DRIVE_SLOTS -> 8), for the
+    divisors the compiler knows."""
+    if not _INT_MACROS:
+        raw = {}
+        for p in list((ROOT / "src").rglob("*.[ch]")) + list((ROOT / "include").glob("*.h")):
+            text = "\n".join(strip_comments(p.read_text().splitlines()))
+            for m in re.finditer(r"^[ \t]*#[ \t]*define[ \t]+([A-Za-z_]\w*)[ \t]+(.+)$", text, re.M):
+                raw.setdefault(m.group(1), m.group(2).strip())
+        for name in raw:
+            v = const_int(TOKEN.findall(raw[name]), raw)
+            if v is not None:
+                _INT_MACROS[name] = v
+        _INT_MACROS.setdefault("", None)   # computed once, even if empty
+    return _INT_MACROS
+
+
+def const_int(toks, raw=None, depth=0):
+    """The value of an integer constant expression given as tokens (casts to
+    integer types, integer suffixes and macros allowed: those of `raw`
+    {NAME: text} while int_macros() reads them, else int_macros()), or None."""
+    known = int_macros() if raw is None else {}
+    out, i = [], 0
+    while i < len(toks):
+        t = toks[i]
+        if t == "(" and i + 2 < len(toks) and toks[i + 2] == ")" and \
+                (toks[i + 1] in TYPES or toks[i + 1].endswith("_t")):
+            i += 3              # a cast
+            continue
+        if INT_LIT.match(t):
+            out.append(str(int(re.match(r"(0[xX][0-9a-fA-F]+|\d+)", t).group(1), 0)))
+        elif t in ("(", ")", "+", "-", "*", "<<", ">>", "&", "|", "^", "~"):
+            out.append(t)
+        elif t in ("/", "%"):
+            out.append("//" if t == "/" else "%")
+        elif re.match(r"[A-Za-z_]\w*$", t):
+            if raw is not None:
+                v = const_int(TOKEN.findall(raw[t]), raw, depth + 1) \
+                    if t in raw and depth < 8 else None
+            else:
+                v = known.get(t)
+            if v is None:
+                return None
+            out.append(f"({v})")
+        else:
+            return None
+        i += 1
+    try:
+        v = eval(" ".join(out), {"__builtins__": {}}, {}) if out else None  # noqa: S307
+    except Exception:   # noqa: BLE001 - not a constant expression
+        return None
+    return v if isinstance(v, int) else None
+
+
+def operand(toks, j):
+    """(tokens of the operand starting at toks[j] - casts skipped, a
+    parenthesised group whole, else one token -, index after it)."""
+    while j + 2 < len(toks) and toks[j] == "(" and toks[j + 2] == ")" and \
+            (toks[j + 1] in TYPES or toks[j + 1].endswith("_t")):
+        j += 3
+    if j < len(toks) and toks[j] == "(":
+        depth, k = 0, j
+        while k < len(toks):
+            depth += (toks[k] == "(") - (toks[k] == ")")
+            if depth == 0:
+                break
+            k += 1
+        return toks[j:k + 1], k + 1
+    if j + 1 < len(toks) and toks[j + 1] in ("(", "->", ".", "["):
+        return None, j + 1          # a call or a member: a run-time value
+    return toks[j:j + 1], j + 1
+
+
+def div_kind(toks, i, wide):
+    """What the / or % at toks[i] costs: None (both operands constant: the
+    compiler folds it, _IQ(1.0 / 6.0)), "div_pow2" (by a constant power of
+    two), "div_rts64" / "div_rts" (a call of the run-time library)."""
+    prev = toks[i - 1] if i > 0 else ""
+    before = toks[i - 2] if i > 1 else ""
+    divisor, _ = operand(toks, i + 1)
+    d_const = divisor is not None and (
+        (len(divisor) == 1 and NUM_LIT.match(divisor[0]) is not None) or
+        const_int(divisor) is not None)
+    if d_const and NUM_LIT.match(prev) and before not in ("*", "/", "%", ")", "]"):
+        return None
+    if wide:
+        return "div_rts64"
+    v = const_int(divisor) if divisor is not None else None
+    if v is not None and v > 0 and (v & (v - 1)) == 0:
+        return "div_pow2"
+    return "div_rts"
+
+
 def count_line(code, inline_funcs):
-    """{op32, op64, branch, call, field, periph, iq: {op: n}} on one line of C."""
-    c = {"op32": 0, "op64": 0, "branch": 0, "call": 0, "field": 0, "periph": 0, "iq": {}}
+    """{op32, op64, branch, call, field, periph, div_pow2, div_rts, div_rts64,
+    iq: {op: n}} on one line of C."""
+    c = {"op32": 0, "op64": 0, "branch": 0, "call": 0, "field": 0, "periph": 0,
+         "div_pow2": 0, "div_rts": 0, "div_rts64": 0, "iq": {}}
     if code.strip().startswith("#"):
         return c
     c["iq"] = count_iq(code)
@@ -259,6 +399,11 @@ def count_line(code, inline_funcs):
             # address-taking: no run-time operation
             if t in ("*", "&") and (prev in TYPES or prev.endswith("_t") or prev in ("(", ",", "")):
                 continue
+            if t in DIV_OPS:
+                kind = div_kind(toks, i, wide)
+                if kind is not None:
+                    c[kind] += 1
+                continue
             c["op64" if wide else "op32"] += 1
         elif t in ("->", "."):
             # one address computation per access path: d->cur.ia is one
@@ -276,16 +421,26 @@ def count_line(code, inline_funcs):
 
 
 def iq_op_cycles(op):
-    c = TI_CYCLES.get(op, ASSUMED_CYCLES.get(op))
+    c = TI_CYCLES.get(op, TI_ASM_CYCLES.get(op, ASSUMED_CYCLES.get(op)))
     if c is None:
-        raise BenchError(f"no cycle count for {op}: add it to ASSUMED_CYCLES")
+        raise BenchError(f"no cycle count for {op}: add it to TI_ASM_CYCLES or ASSUMED_CYCLES")
     return c + ROM_WAIT * ROM_TABLE_READS.get(op, 0)
 
 
-def line_cycles(ops):
-    return sum(OTHER_COST[k] * v for k, v in ops.items() if k in OTHER_COST) + \
+# what a line's operations cost outside its own code: the run-time library's
+# division, priced from flash already (a flash-set line's factor is not
+# applied to it again)
+RTS_OPS = ("div_rts", "div_rts64")
+
+
+def line_cycles(ops, in_flash=False):
+    """The cycles of one execution of a line's operations; in_flash: the line
+    is in the flash set (its own code at FLASH_FACTOR)."""
+    own = sum(OTHER_COST[k] * v for k, v in ops.items() if k in OTHER_COST and k not in RTS_OPS) + \
         PERIPH_WAIT * ops.get("periph", 0) + \
         sum(iq_op_cycles(op) * n for op, n in ops.get("iq", {}).items())
+    rts = sum(OTHER_COST[k] * ops.get(k, 0) for k in RTS_OPS)
+    return own * (FLASH_FACTOR if in_flash else 1.0) + rts
 
 
 def inline_functions():
@@ -533,9 +688,7 @@ class LineCoster:
                 if iq_calls is not None:
                     for op, k in ops.get("iq", {}).items():
                         iq_calls[op] = iq_calls.get(op, 0) + k * n
-                c = line_cycles(ops) * n
-                if any(a <= ln <= b for a, b in spans):
-                    c *= FLASH_FACTOR
+                c = line_cycles(ops, any(a <= ln <= b for a, b in spans)) * n
                 if c:
                     total += c
                     mods[mod] = mods.get(mod, 0.0) + c
@@ -555,6 +708,51 @@ def worst_lines(members, key):
     return wl
 
 
+def unsampled_lines(exe, blocks, coster):
+    """The source lines of the basic blocks that ran in an ISR of a class but
+    in none of its samples (isr_cost's "unsampled": offsets in the
+    executable), each priced as the model prices a line run once (its flash
+    price if it is in the flash set): [{"state", "slot", "isr", "where",
+    "code", "cycles"}].  isr_cost samples the first ISR of every block of a
+    class, so the list is empty unless the two passes differ."""
+    if not blocks:
+        return []
+    if shutil.which("addr2line") is None:
+        raise BenchError("addr2line not found (binutils): unsampled blocks cannot be priced")
+    # the return address of the block's call of the callback: one byte back
+    # is inside the call, on the block's line
+    r = subprocess.run(["addr2line", "-e", str(exe)] + [hex(b["offset"] - 1) for b in blocks],
+                       capture_output=True, text=True)
+    if r.returncode != 0:
+        raise BenchError(f"addr2line failed: {r.stderr.strip()[:200]}")
+    out = []
+    for b, row in zip(blocks, r.stdout.splitlines()):
+        m = re.match(r"(.*):(\d+)", row.split(" (discriminator")[0])
+        priced = price_line(coster, m.group(1), int(m.group(2))) if m else \
+            {"where": row, "code": "", "cycles": 0.0}
+        out.append(dict(priced, state=b["state"], slot=b["slot"], isr=b["isr"]))
+    return out
+
+
+def price_line(coster, path, line):
+    """{"where", "code", "cycles"}: one line of `path` (or the first line of
+    the statement it continues) priced as run once: its own operations
+    (FLASH_FACTOR and FLASH_ENTRY if it is in the flash set), its calls of
+    IQmath and of the run-time library.  A line outside the sources: 0."""
+    cycles, code = 0.0, ""
+    if line > 0 and Path(path).exists():
+        ops = coster.ops(path, line)
+        while ops is None and line > 1:     # a continuation: the statement's first line
+            line -= 1
+            ops = coster.ops(path, line)
+        in_flash = any(a <= line <= e for a, e in coster.flash.get(path, ()))
+        cycles = line_cycles(ops or {}, in_flash) + (FLASH_ENTRY if in_flash else 0)
+        code = coster.src[path][line - 1].strip()
+    p = Path(path).resolve()
+    where = f"{p.relative_to(ROOT)}:{line}" if ROOT in p.parents else f"{path}:{line}"
+    return {"where": where, "code": code[:80], "cycles": cycles}
+
+
 def estimate(build, config, uniform, jobs):
     exe, objdir = isr_cost_paths(build)
     coster = LineCoster()
@@ -568,12 +766,20 @@ def estimate(build, config, uniform, jobs):
         samples = data["samples"]
         if not samples:
             raise BenchError("isr_cost sampled no ISR")
+        if data.get("pass_mismatch", 0) != 0:
+            raise BenchError(f"isr_cost's two passes ran different blocks ({data['pass_mismatch']}):"
+                             " the samples of pass 2 are not those pass 1 chose")
         dirs = [d for s in samples for d in (s["dir"], s["dir_slow"])]
         with cf.ThreadPoolExecutor(max_workers=jobs) as ex:
             dumps = list(ex.map(parse_dump, [(Path(tmp) / d, objdir) for d in dirs]))
     names = data["iqmath_names"]
     for lines in dumps:
         coster.learn(lines)
+    missed = unsampled_lines(exe, data["unsampled"], coster)
+    missed_cost = {}
+    for u in missed:
+        k = (u["state"], u["slot"], "fast" if u["isr"] == "control" else "slow")
+        missed_cost[k] = missed_cost.get(k, 0.0) + u["cycles"]
     classes = {}
     mismatch = []
     for k, s in enumerate(samples):
@@ -601,7 +807,20 @@ def estimate(build, config, uniform, jobs):
             c_lines, mods, hot = coster.cost(worst_lines(members, key))
             mods = dict(mods)
             mods[FIRMWARE] = fw
-            one[key] = {"worst": fw + c_lines, "modules": mods, "hot": hot}
+            # lines no sample of the class ran (none, unless the passes differ)
+            extra = missed_cost.get((state, slot, key), 0.0)
+            if extra:
+                mods["unsampled lines (priced once each)"] = extra
+            # for comparison, not the estimate: the sum of maxima over the
+            # schedule's samples (transitions, uniform) with each coverage
+            # sample's lines added on its own, i.e. one-off events (a test's
+            # verdict, a calibration's end) never stacked in one ISR
+            regular = [m for m in members if not m["s"].get("coverage")]
+            apart = max([coster.cost(worst_lines(regular + [c], key))[0]
+                         for c in members if c["s"].get("coverage")] +
+                        [coster.cost(worst_lines(regular, key))[0] if regular else 0.0])
+            one[key] = {"worst": fw + c_lines + extra, "modules": mods, "hot": hot,
+                        "apart": fw + apart + extra}
         uni = [m["s"] for m in members if m["s"]["uniform"]] or [m["s"] for m in members]
         st = states.setdefault(state, {"classes": {}})
         st["classes"][slot] = {
@@ -611,6 +830,10 @@ def estimate(build, config, uniform, jobs):
             "period": one["fast"]["worst"] + one["slow"]["worst"],
             "mean": sum(s["cycles"] for s in uni) / len(uni),
             "max_sample": max(max(m["s"]["fast"], m["s"]["slow"]) for m in members),
+            # the costliest single sampled ISR of each kind (the same rules,
+            # one real ISR's counts: below the sum of maxima)
+            "sample_fast": max((m["s"]["fast"], m["s"]["index"]) for m in members),
+            "sample_slow": max((m["s"]["slow"], m["s"]["index"]) for m in members),
             "samples": len(members)}
     out = {}
     for state, st in states.items():
@@ -621,8 +844,14 @@ def estimate(build, config, uniform, jobs):
                       "worst_fast": max(c["fast"]["worst"] for c in cl.values()),
                       "worst_slow": max(c["slow"]["worst"] for c in cl.values()),
                       "worst_period": max(c["period"] for c in cl.values()),
+                      "apart_fast": max(c["fast"]["apart"] for c in cl.values()),
+                      "apart_slow": max(c["slow"]["apart"] for c in cl.values()),
+                      "sample_fast": max(c["sample_fast"] for c in cl.values()),
+                      "sample_slow": max(c["sample_slow"] for c in cl.values()),
                       "isrs": data["state_isrs"].get(state, 0), "classes": cl}
     return {"states": out, "fixed": fixed, "firmware_functions": fw_fns,
+            "unsampled_lines": missed, "coverage_samples": data["coverage_samples"],
+            "blocks": data["blocks"], "samples": len(samples),
             "fixed_slow": fixed_slow, "slow_firmware_functions": slow_fns,
             "log_slot_cycles": log_cost, "log_slot_functions": log_fns,
             "slots": data["slots"], "log_slot": data["log_slot"], "isrs": data["isrs"]}
@@ -631,10 +860,17 @@ def estimate(build, config, uniform, jobs):
 def summary(res):
     st = {k: v for k, v in res["states"].items() if k in STATES}
     r = lambda x: int(round(x))   # noqa: E731
-    return {"states": {k: {"mean": r(v["mean"]), "worst": r(v["worst"]),
+    return {"samples": res["samples"], "coverage_samples": res["coverage_samples"],
+            "blocks": res["blocks"], "unsampled_lines": res["unsampled_lines"],
+            "states": {k: {"mean": r(v["mean"]), "worst": r(v["worst"]),
                            "worst_control_isr": r(v["worst_fast"]),
                            "worst_slow_isr": r(v["worst_slow"]),
-                           "worst_period": r(v["worst_period"])} for k, v in st.items()},
+                           "worst_period": r(v["worst_period"]),
+                           "control_isr_events_apart": r(v["apart_fast"]),
+                           "slow_isr_events_apart": r(v["apart_slow"]),
+                           "costliest_sampled_control_isr": r(v["sample_fast"][0]),
+                           "costliest_sampled_slow_isr": r(v["sample_slow"][0])}
+                       for k, v in st.items()},
             "worst_isr_cycles": r(max(v["worst"] for v in st.values())),
             "worst_control_isr_cycles": r(max(v["worst_fast"] for v in st.values())),
             "worst_slow_isr_cycles": r(max(v["worst_slow"] for v in st.values())),
@@ -721,6 +957,10 @@ def main(argv=None):
            "worst_slow_isr_cycles": max(s["worst_slow_isr_cycles"] for s in sums.values()),
            "worst_period_cycles": max(s["worst_period_cycles"] for s in sums.values()),
            "states": merged, "sequences": sums,
+           # every block an ISR ran is in a sample of its class (isr_cost), or
+           # listed here with the price the worst ISR of that class carries
+           "unsampled_lines": [dict(u, sequence=n) for n, s in sums.items()
+                               for u in s["unsampled_lines"]],
            "fixed_cycles": int(round(next(iter(results.values()))["fixed"]))}
     if a.json:
         print(json.dumps(out, indent=1))
@@ -744,6 +984,21 @@ def main(argv=None):
             print(f"  {state:<11} {v['isrs']:>7} {v['mean']:>7.0f} {v['worst_fast']:>7.0f} "
                   f"{v['worst_slow']:>7.0f} {v['worst_period']:>7.0f}  slot {ws}: {mods}")
         s = sums[name]
+        print("  for comparison: one-off events apart (not stacked in one ISR): control "
+              + ", ".join(f"{k} {v['apart_fast']:.0f}" for k, v in r["states"].items()
+                          if k in STATES)
+              + "; slow " + ", ".join(f"{k} {v['apart_slow']:.0f}"
+                                      for k, v in r["states"].items() if k in STATES))
+        print("  costliest single sampled ISR (one ISR's own counts): control "
+              + ", ".join(f"{k} {v['sample_fast'][0]:.0f}" for k, v in r["states"].items()
+                          if k in STATES)
+              + "; slow " + ", ".join(f"{k} {v['sample_slow'][0]:.0f}"
+                                      for k, v in r["states"].items() if k in STATES))
+        un = r["unsampled_lines"]
+        print(f"  sampled ISRs {r['samples']} ({r['coverage_samples']} of them for a basic block "
+              f"new to their class), {r['blocks']} blocks: unsampled lines "
+              + ("none" if not un else ", ".join(f"{u['where']} ({u['state']} slot {u['slot']} "
+                                                 f"{u['isr']}, +{u['cycles']:.0f})" for u in un)))
         if a.slots:
             for key, what in (("fast", "control"), ("slow", "slow")):
                 print(f"  worst {what} ISR per slot (state: slot 0, 1, ...):")
@@ -782,7 +1037,7 @@ def main(argv=None):
           + ", ".join(f"{k} {v:.0f}" for k, v in fw["slow_firmware_functions"].items()))
     print(f"in the log slot's slow ISR (slot {fw['log_slot']}) {fw['log_slot_cycles']:.0f} more: "
           + ", ".join(f"{k} {v:.0f}" for k, v in fw["log_slot_functions"].items()))
-    print("cycles per operation: " + ", ".join(f"{k} {v}" for k, v in OTHER_COST.items()) +
+    print("cycles per operation: " + ", ".join(f"{k} {v:g}" for k, v in OTHER_COST.items()) +
           f", peripheral register access +{PERIPH_WAIT}; assumed IQmath: " +
           ", ".join(f"{k} {v}" for k, v in ASSUMED_CYCLES.items()))
     return 0

@@ -22,13 +22,27 @@
  *     its IQmath calls are counted per operation (bench_isr.py attributes
  *     them to modules by the executed lines that make them, and checks that
  *     attribution against these counts).
+ *  3. every path: the core (src/) is also compiled with
+ *     -fsanitize-coverage=trace-pc, GCC's call of __sanitizer_cov_trace_pc
+ *     at the entry of every basic block.  Pass 1 notes, per class and ISR
+ *     (control, slow), the first ISR that runs each block; such an ISR is
+ *     sampled too (a "coverage" sample), so that every block an ISR of a
+ *     class runs is in one of the class's samples: the events that happen
+ *     once (a test's verdict, a calibration's end, a state's entry) are in
+ *     the worst ISR, not only the ISRs the schedule above happens to pick.
+ *     Pass 2 checks it: a block that ran in an ISR of a class but in none
+ *     of its samples is listed ("unsampled", its address in the executable
+ *     for addr2line; bench_isr.py prices each such line).
  *
  * Output (stdout, JSON):
  *   {"isrs": N, "iqmath_names": [...], "slots": S, "log_slot": L,
  *    "state_isrs": {"STATE": n, ...},
  *    "samples": [{"index": k, "state": "ACCELERATE", "slot": s,
- *                 "uniform": 0|1, "dir": "s<k>", "dir_slow": "s<k>_slow",
- *                 "iq": [per op], "iq_slow": [per op]}, ...]}
+ *                 "uniform": 0|1, "coverage": 0|1, "dir": "s<k>",
+ *                 "dir_slow": "s<k>_slow", "iq": [per op], "iq_slow": [per op]}, ...],
+ *    "coverage_samples": c, "blocks": n, "pass_mismatch": m,
+ *    "unsampled": [{"state": "...", "slot": s, "isr": "control"|"slow",
+ *                   "offset": a}, ...]}
  * Usage: isr_cost CONFIG.ini --out DIR [--uniform K] [--duration S]
  */
 #include <errno.h>
@@ -102,6 +116,70 @@ static void run_after_isr(run_t *r)
     r->k++;
 }
 
+/* ---- every path: the blocks each class of ISR runs ---------------------- */
+
+#define COV_BITS 20u
+#define COV_SIZE (1u << COV_BITS)
+#define COV_PASS1 1u      /* ran in an ISR of the class in pass 1 */
+#define COV_PASS2 2u      /* ... in pass 2 */
+#define COV_SAMPLED 4u    /* ... in a sampled ISR of pass 2 */
+
+static uint64_t *g_cov_key;    /* (class << 40 | offset) + 1; 0: empty */
+static uint8_t *g_cov_flag;
+static uint32_t g_cov_n;
+static int g_cov_class = -1;   /* the running ISR's class, -1 outside the ISRs */
+static uint8_t g_cov_mark;     /* what the running ISR sets */
+static int g_cov_new;          /* the running ISR ran a block new to its class */
+static uintptr_t g_cov_base;   /* the executable's load address */
+extern const char __executable_start[];
+
+static int cov_class(uint16_t state, uint16_t slot, uint16_t slow)
+{
+    return (int)((state * DRIVE_SLOTS + slot) * 2u + slow);
+}
+
+void __sanitizer_cov_trace_pc(void);
+/* GCC's callback (-fsanitize-coverage=trace-pc), at every basic block of
+ * src/; this file itself is not instrumented */
+void __sanitizer_cov_trace_pc(void)
+{
+    uint64_t key;
+    uint32_t h;
+    if (g_cov_class < 0) {
+        return;
+    }
+    key = (((uint64_t)g_cov_class << 40) |
+           (uint64_t)((uintptr_t)__builtin_return_address(0) - g_cov_base)) + 1u;
+    h = (uint32_t)((key * 0x9E3779B97F4A7C15ull) >> (64u - COV_BITS));
+    while (g_cov_key[h] != 0u && g_cov_key[h] != key) {
+        h = (h + 1u) & (COV_SIZE - 1u);
+    }
+    if (g_cov_key[h] == 0u) {
+        if (g_cov_n >= COV_SIZE / 2u) {
+            fprintf(stderr, "isr_cost: coverage table full\n");
+            _Exit(1);
+        }
+        g_cov_key[h] = key;
+        g_cov_n++;
+    }
+    if ((g_cov_flag[h] & COV_PASS1) == 0u && g_cov_mark == COV_PASS1) {
+        g_cov_new = 1;
+    }
+    g_cov_flag[h] |= g_cov_mark;
+}
+
+/* one period's two ISRs, their blocks recorded under their class */
+static void run_isrs(run_t *r, uint16_t state, uint8_t mark)
+{
+    const uint16_t slot = r->drive.slot;
+    g_cov_mark = mark;
+    g_cov_class = cov_class(state, slot, 0u);
+    (void)drive_isr(&r->drive);
+    g_cov_class = cov_class(state, slot, 1u);
+    drive_slow_isr(&r->drive);
+    g_cov_class = -1;
+}
+
 /* ---- the schedule of samples ------------------------------------------- */
 
 static uint32_t *g_class_idx[N_STATES][DRIVE_SLOTS];   /* ISR indices of each class */
@@ -135,16 +213,20 @@ static void print_vec32(const uint32_t *v)
 /* One ISR alone (slow 0: the control ISR, 1: its slow ISR): the counters
  * zeroed before it, its gcov counts dumped after it into OUT/s<k> or
  * OUT/s<k>_slow; its IQmath calls stay in iqmath_call_count. */
-static void sample_isr(drive_t *d, uint16_t slow, const char *out, uint32_t k)
+static void sample_isr(drive_t *d, uint16_t state, uint16_t slot, uint16_t slow,
+                       const char *out, uint32_t k)
 {
     char dir[512];
     iqmath_count_reset();
     __gcov_reset();
+    g_cov_mark = COV_PASS2 | COV_SAMPLED;
+    g_cov_class = cov_class(state, slot, slow);
     if (slow != 0u) {
         drive_slow_isr(d);
     } else {
         (void)drive_isr(d);
     }
+    g_cov_class = -1;
     (void)snprintf(dir, sizeof dir, "%s/s%u%s", out, (unsigned)k, slow ? "_slow" : "");
     (void)setenv("GCOV_PREFIX", dir, 1);
     __gcov_dump();
@@ -158,7 +240,8 @@ int main(int argc, char **argv)
     const char *out = NULL;
     double duration = 0.0;
     uint32_t uniform = 12u, n_isr, k;
-    uint8_t *state_at, *kind;
+    uint8_t *state_at, *kind, *newcov;
+    uint32_t n_cov = 0u, mismatch = 0u;
     int a, i, first = 1;
 
     if (argc < 2) {
@@ -194,12 +277,20 @@ int main(int argc, char **argv)
     n_isr = (uint32_t)(duration * cfg.board.pwm_freq_Hz);
     state_at = calloc(n_isr, 1u);
     kind = calloc(n_isr, 1u);
-    if (state_at == NULL || kind == NULL) {
+    newcov = calloc(n_isr, 1u);
+    g_cov_key = calloc(COV_SIZE, sizeof *g_cov_key);
+    g_cov_flag = calloc(COV_SIZE, 1u);
+    if (state_at == NULL || kind == NULL || newcov == NULL || g_cov_key == NULL ||
+        g_cov_flag == NULL) {
         fprintf(stderr, "isr_cost: out of memory\n");
         goto fail;
     }
 
-    /* pass 1: the timeline */
+    /* the blocks by their offset in the executable, addr2line's address
+     * (GNU ld's symbol for the image's first byte, where it was loaded) */
+    g_cov_base = (uintptr_t)__executable_start;
+
+    /* pass 1: the timeline, and the first ISR of each block of each class */
     if (run_start(&run, &cfg) != 0) {
         fprintf(stderr, "isr_cost: configuration refused\n");
         goto fail;
@@ -210,8 +301,9 @@ int main(int argc, char **argv)
         state_at[k] = (uint8_t)((st < N_STATES) ? st : 0u);
         g_class_n[state_at[k]][slot]++;
         run_before_isr(&run);
-        drive_isr(&run.drive);
-        drive_slow_isr(&run.drive);
+        g_cov_new = 0;
+        run_isrs(&run, state_at[k], COV_PASS1);
+        newcov[k] = (uint8_t)g_cov_new;
         run_after_isr(&run);
     }
     {
@@ -227,6 +319,10 @@ int main(int argc, char **argv)
             int sl = (int)(k % DRIVE_SLOTS);   /* the slot advances every ISR from 0 */
             uint32_t p = pos[st][sl]++;
             kind[k] = sample_kind(p, g_class_n[st][sl], uniform);
+            if (kind[k] == 0u && newcov[k] != 0u) {
+                kind[k] = 3u;   /* a coverage sample */
+                n_cov++;
+            }
         }
     }
 
@@ -254,10 +350,9 @@ int main(int argc, char **argv)
     }
     printf("},\n \"samples\": [");
     for (k = 0u; k < n_isr; k++) {
-        if (kind[k] == 0u || state_at[k] == (uint8_t)ID_IDLE) {
+        if (kind[k] == 0u) {
             run_before_isr(&run);
-            drive_isr(&run.drive);
-            drive_slow_isr(&run.drive);
+            run_isrs(&run, state_at[k], COV_PASS2);
             run_after_isr(&run);
             continue;
         }
@@ -265,14 +360,15 @@ int main(int argc, char **argv)
             uint32_t iq_fast[N_OPS];
             uint16_t slot = run.drive.slot;
             run_before_isr(&run);
-            sample_isr(&run.drive, 0u, out, k);
+            sample_isr(&run.drive, state_at[k], slot, 0u, out, k);
             /* its slow ISR, a sample of its own (dir s<k>_slow, "iq_slow") */
             memcpy(iq_fast, iqmath_call_count, sizeof iq_fast);
-            sample_isr(&run.drive, 1u, out, k);
+            sample_isr(&run.drive, state_at[k], slot, 1u, out, k);
             printf("%s\n  {\"index\": %u, \"state\": \"%s\", \"slot\": %u, \"uniform\": %u, "
-                   "\"dir\": \"s%u\", \"dir_slow\": \"s%u_slow\", \"iq\": ",
+                   "\"coverage\": %u, \"dir\": \"s%u\", \"dir_slow\": \"s%u_slow\", \"iq\": ",
                    first ? "" : ",", (unsigned)k, k_state_names[state_at[k]], (unsigned)slot,
-                   (unsigned)(kind[k] == 2u), (unsigned)k, (unsigned)k);
+                   (unsigned)(kind[k] == 2u), (unsigned)(kind[k] == 3u), (unsigned)k,
+                   (unsigned)k);
             print_vec32(iq_fast);
             printf(", \"iq_slow\": ");
             print_vec32(iqmath_call_count);
@@ -281,7 +377,30 @@ int main(int argc, char **argv)
             run_after_isr(&run);
         }
     }
-    printf("]}\n");
+    printf("],\n \"coverage_samples\": %u, \"blocks\": %u", (unsigned)n_cov, (unsigned)g_cov_n);
+    /* pass 2 against pass 1 (the same deterministic run), and the blocks
+     * that ran in an ISR of a class but in none of its samples */
+    printf(",\n \"unsampled\": [");
+    first = 1;
+    for (k = 0u; k < COV_SIZE; k++) {
+        const uint8_t f = g_cov_flag[k];
+        if (g_cov_key[k] == 0u) {
+            continue;
+        }
+        if (((f & COV_PASS1) != 0u) != ((f & COV_PASS2) != 0u)) {
+            mismatch++;
+        }
+        if ((f & COV_PASS2) != 0u && (f & COV_SAMPLED) == 0u) {
+            const uint64_t key = g_cov_key[k] - 1u;
+            const unsigned cls = (unsigned)(key >> 40);
+            printf("%s\n  {\"state\": \"%s\", \"slot\": %u, \"isr\": \"%s\", \"offset\": %llu}",
+                   first ? "" : ",", k_state_names[(cls / 2u) / DRIVE_SLOTS],
+                   (cls / 2u) % DRIVE_SLOTS, (cls & 1u) ? "slow" : "control",
+                   (unsigned long long)(key & ((1ull << 40) - 1u)));
+            first = 0;
+        }
+    }
+    printf("],\n \"pass_mismatch\": %u}\n", (unsigned)mismatch);
     /* no exit-time dump: every count was written by its sample */
     (void)unsetenv("GCOV_PREFIX");
     fflush(stdout);
@@ -290,5 +409,8 @@ int main(int argc, char **argv)
 fail:   /* every error after the allocations */
     free(state_at);
     free(kind);
+    free(newcov);
+    free(g_cov_key);
+    free(g_cov_flag);
     return 1;
 }
