@@ -11,7 +11,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/install_deps.sh
 cmake --preset host-iq >/dev/null
-cmake --build --preset host-iq -j2 --target motor_sim >/dev/null
+# motor_sim, and libimfoc for the Python API (python -m imfoc.example after this job)
+cmake --build --preset host-iq -j2 --target motor_sim imfoc >/dev/null
 out=out
 args=("$@")
 for ((i = 0; i < ${#args[@]}; i++)); do

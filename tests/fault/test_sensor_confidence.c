@@ -1,6 +1,6 @@
 /*
  * A current sensor's small error that the protections cannot find must not
- * give a set whose stated confidence hides it (issue 28, item 7).
+ * give a set whose stated confidence hides it.
  *
  * The model check (current_model_check.h) finds a gain error on one of the
  * two phase sensors from about 5 % (its UNBALANCE level allows for the

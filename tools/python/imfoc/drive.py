@@ -147,9 +147,12 @@ class Drive:
     def parameters(self, live=False):
         """The published parameters (what the drive reports as identified, the
         telemetry's Rs..Tr; with [ident] track_rr = 1 the fused set), SI, as a dict;
-        valid once signals().params_valid is 1.  live=True: the running RLS's
-        estimates instead."""
+        None while nothing is published (signals().params_valid 0: the telemetry's
+        zeros are no estimate).  live=True: the running RLS's estimates instead
+        (always a dict)."""
         s = self.signals()
+        if not live and not s.params_valid:
+            return None
         pre = "live_" if live else ""
         return {n: getattr(s, pre + n) for n in _lib.PARAM_NAMES}
 
@@ -167,13 +170,14 @@ class Drive:
         "published", "not_converged", "low_excitation", "high_residual",
         "low_confidence", "implausible", "fault", "timeout", "stopped", "bus_low",
         "rotor_turning", "torque_limit"), "published":
-        bool, "confidence_pct": {Rs_ohm: %, ...} (None where not available),
+        bool, "confidence_pct": {Rs_ohm: %, ...} (None where not available: the
+        drive's negative figure, or 0, its "none yet": a figure is never exactly 0),
         "residual_rel", "amplification", "excitation"}."""
         s = self.signals()
         conf = {}
         for n, c in zip(_lib.PARAM_NAMES, _lib.CONF_NAMES):
             v = getattr(s, "conf_" + c)
-            conf[n] = None if v < 0 else 100.0 * v
+            conf[n] = None if v <= 0 else 100.0 * v
         return {"reason": self._lib.imfoc_publish_reason_str(s.publish_reason).decode(),
                 "published": s.publish_reason == PUB_PUBLISHED, "confidence_pct": conf,
                 "residual_rel": s.conf_residual, "amplification": s.conf_amplification,

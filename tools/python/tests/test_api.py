@@ -122,6 +122,21 @@ def test_trip_input_turns_the_bridge_off(drv):
     assert list(o.v_phase_V) == [0.0, 0.0, 0.0]
 
 
+def test_nothing_published_is_none_not_zeros(drv):
+    """Before a verdict the telemetry's parameters are zeros, which are no estimate:
+    parameters() says None; the confidences of a set never judged are None, not
+    0 % (the drive's 0 means "none yet"); the reason and fault names are exported."""
+    import imfoc
+    assert drv.signals().params_valid == 0
+    assert drv.parameters() is None
+    assert isinstance(drv.parameters(live=True), dict)
+    pub = drv.publication()
+    assert pub["reason"] == "pending" and not pub["published"]
+    assert all(v is None for v in pub["confidence_pct"].values())
+    assert imfoc.REASONS[1] == "published" and imfoc.REASONS[-1] == "torque_limit"
+    assert imfoc.FAULTS[9] == "current_sensor"
+
+
 def test_parameters_are_the_published_set():
     """With Rr tracking the drive publishes the fused set (tracked Rr, Tr): parameters()
     returns it, last_extraction() the RLS's own extraction, which differs."""

@@ -1,4 +1,4 @@
-"""The cost rules of tools/bench_isr.py that issue 31 corrected, on lines of
+"""The cost rules of tools/bench_isr.py corrected when every ISR path was sampled, on lines of
 C whose price is known by hand: the C28x's / and % are calls of the run-time
 library in flash (SPRACN6 Table 4: up to 64 cycles for 32-bit operands, x2
 from flash + a cold prefetch), a division by a constant power of two is a
