@@ -108,6 +108,17 @@ def test_pc_tool_identify(sim, tmp_path):
     assert HEADER in r.stdout.splitlines()
     row = [ln for ln in r.stdout.splitlines() if ln.startswith("identified ")]
     assert len(row) == 1 and len(row[0].split()) == 7
+    # the drive's verdict with each confidence (the $Q frame, after the set is valid)
+    conf = [ln for ln in r.stdout.splitlines() if ln.startswith("confidence ")]
+    assert len(conf) == 1 and len(re.findall(r"[\d.]+%", conf[0])) == 6, r.stdout
+    assert re.search(r"^published, confidence Rs [\d.]+ %", r.stdout, re.M), r.stdout
+    # a progress line with live values while CALIBRATE lasts (its length from the INI)
+    assert re.search(r"^\s+[\d.]+ s\s+CALIBRATE [\d.]+ s of ~[\d.]+ s .*vdc [\d.]+ V$",
+                     r.stdout, re.M), r.stdout
+    # the trace and the plots, written without a display (Agg)
+    for f in ("trace.csv", "run.png", "parameters.png"):
+        assert (tmp_path / "pc" / f).stat().st_size > 0, f
+    assert (tmp_path / "pc" / "run.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     # the simulator ends when the tool closes the port, and writes its own report
     rc, out, err = sim.wait()
     assert rc == 0, err
