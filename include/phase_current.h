@@ -82,6 +82,10 @@ typedef struct {
     uint32_t cal_sum_a;       /* sum of raw readings (<= 65535 * 65520 < 2^32) */
     uint32_t cal_sum_b;
     uint16_t cal_n;           /* samples requested */
+    uint32_t cal_recip;       /* the mean's multiplier for cal_recip_n samples (0: divide) */
+    uint16_t cal_rshift;      /* ... and the shift of the product's high word (0..31;
+                                 phase_current_cal_design) */
+    uint16_t cal_recip_n;
     uint16_t cal_left;        /* samples still to take; 0 = no calibration running */
 } phase_current_t;
 
@@ -126,8 +130,17 @@ static inline void phase_current_step(phase_current_t *pc)
     pc->rail = phase_current_rail_bits(pc->ia_raw, pc->ib_raw);
 }
 
+/** Once, after init (integer, not for an ISR: a 64-bit division): the
+ *  calibration's mean over @p n_samples samples as a multiply and a shift,
+ *  exactly the rounded division's result for every sum (Granlund &
+ *  Montgomery, theorem 4.2); phase_current_cal_start takes this count only.
+ *  PHASE_CURRENT_ERR_SAMPLES if n is 0 or the multiplier would not fit 32
+ *  bits (n = 1, or n above 32768). */
+phase_current_status_t phase_current_cal_design(phase_current_t *pc, uint16_t n_samples);
+
 /** Start an offset calibration over @p n_samples samples (1..65535; e.g.
- *  1024 = 68 ms at 15 kHz).  Clears cal_fault. */
+ *  1024 = 68 ms at 15 kHz), the count phase_current_cal_design made (else
+ *  PHASE_CURRENT_ERR_SAMPLES, nothing started).  Clears cal_fault. */
 phase_current_status_t phase_current_cal_start(phase_current_t *pc, uint16_t n_samples);
 
 /**

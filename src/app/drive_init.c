@@ -53,6 +53,12 @@ static int16_t init_sensing(drive_t *d, const drive_config_t *c, float Ts)
         return 1;
     }
     d->k.cal_samples = (uint16_t)(0.07f / Ts);   /* ~70 ms of offset averaging (every ISR) */
+    /* its mean a multiply and a shift in the ISR that ends it, not a division
+     * (a run-time-library call from flash on the C28x); a count it cannot do
+     * exactly divides (phase_current_cal_design) */
+    if (phase_current_cal_design(&d->cur, d->k.cal_samples) != PHASE_CURRENT_OK) {
+        return 1;
+    }
     /* live estimates at 100 Hz, counted in slow periods (drive_slow.c) */
     d->k.live_period = (uint16_t)(0.01f / (Ts * (float)DRIVE_SLOTS));
     return 0;

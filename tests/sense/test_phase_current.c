@@ -96,6 +96,7 @@ static void test_calibration_accepted(void **state)
 
     assert_int_equal(phase_current_init(&pc, 1.0f, 1.0f, 1, 0.05f), PHASE_CURRENT_OK);
     assert_int_equal(phase_current_cal_step(&pc), PHASE_CURRENT_CAL_IDLE);
+    assert_int_equal(phase_current_cal_design(&pc, 1024u), PHASE_CURRENT_OK);
     assert_int_equal(phase_current_cal_start(&pc, 1024u), PHASE_CURRENT_OK);
     for (k = 0u; k < 1024u; k++) {
         int32_t tri = (int32_t)(k % 11u) - 5;   /* -5..5 codes */
@@ -135,6 +136,7 @@ static void test_calibration_rejected(void **state)
 
     assert_int_equal(phase_current_init(&pc, 1.0f, 1.0f, 1, 0.05f), PHASE_CURRENT_OK);
     assert_int_equal(pc.offset_window, 3277);   /* 0.05 * 65536 = 3276.8, rounded */
+    assert_int_equal(phase_current_cal_design(&pc, 16u), PHASE_CURRENT_OK);
     assert_int_equal(phase_current_cal_start(&pc, 16u), PHASE_CURRENT_OK);
     for (k = 0u; k < 16u; k++) {
         pc.ia_raw = (uint16_t)(32768u - 3277u);
@@ -146,6 +148,7 @@ static void test_calibration_rejected(void **state)
     assert_int_equal(pc.offset_a, 32768u - 3277u);
     assert_int_equal(pc.offset_b, PHASE_CURRENT_OFFSET_NOMINAL);
 
+    assert_int_equal(phase_current_cal_design(&pc, 4u), PHASE_CURRENT_OK);
     assert_int_equal(phase_current_cal_start(&pc, 4u), PHASE_CURRENT_OK);
     assert_int_equal(pc.cal_fault, 0);
     for (k = 0u; k < 4u; k++) {
@@ -162,6 +165,7 @@ static void test_calibration_rejected(void **state)
     assert_int_equal(pc.offset_b, 32768u + 3277u);
 
     /* a dead sensor (reading 0) is rejected for both phases, and flags the rail */
+    assert_int_equal(phase_current_cal_design(&pc, 2u), PHASE_CURRENT_OK);
     assert_int_equal(phase_current_cal_start(&pc, 2u), PHASE_CURRENT_OK);
     pc.ia_raw = 0u;
     pc.ib_raw = 0xFFF0u;
@@ -174,7 +178,7 @@ static void test_calibration_rejected(void **state)
     assert_int_equal(phase_current_cal_step(&pc), PHASE_CURRENT_CAL_IDLE);
 }
 
-/* The accumulator cannot wrap: 65535 samples at the top rail. */
+/* The accumulator cannot wrap: the most samples a design takes, 32768, at the top rail. */
 static void test_calibration_long(void **state)
 {
     phase_current_t pc;
@@ -182,8 +186,9 @@ static void test_calibration_long(void **state)
     phase_current_cal_t st = PHASE_CURRENT_CAL_BUSY;
     (void)state;
     assert_int_equal(phase_current_init(&pc, 1.0f, 1.0f, 1, 0.25f), PHASE_CURRENT_OK);
-    assert_int_equal(phase_current_cal_start(&pc, 65535u), PHASE_CURRENT_OK);
-    for (k = 0u; k < 65535u; k++) {
+    assert_int_equal(phase_current_cal_design(&pc, 32768u), PHASE_CURRENT_OK);
+    assert_int_equal(phase_current_cal_start(&pc, 32768u), PHASE_CURRENT_OK);
+    for (k = 0u; k < 32768u; k++) {
         pc.ia_raw = 0xFFF0u;
         pc.ib_raw = 32768u + 16384u;   /* exactly on the 25 % window */
         st = phase_current_cal_step(&pc);
@@ -249,6 +254,70 @@ static void test_init_errors(void **state)
     assert_int_equal(pc.offset_window, 16384);
 }
 
+/* The calibration's mean as a multiply and a shift (phase_current_cal_design)
+ * is the rounded division's result, bit for bit: for the drive's counts
+ * (1050 at 15 kHz, 560 at 8 kHz, 2800 at 40 kHz) and others, at every sum
+ * next to a multiple of n over the whole range (the points where a floor
+ * changes: an off-by-one there would show) and at the extremes; and a
+ * calibration of 1050 samples loads the same offsets with it as without. */
+static void test_calibration_mean_by_multiply(void **state)
+{
+    static const uint16_t counts[] = {2u, 3u, 7u, 560u, 1024u, 1050u, 2800u, 32767u, 32768u};
+    unsigned i;
+    (void)state;
+    for (i = 0u; i < sizeof counts / sizeof counts[0]; i++) {
+        const uint16_t n = counts[i];
+        phase_current_t pc;
+        uint32_t q;
+        assert_int_equal(phase_current_init(&pc, 1.0f, 1.0f, 1, 0.05f), PHASE_CURRENT_OK);
+        assert_int_equal(phase_current_cal_design(&pc, n), PHASE_CURRENT_OK);
+        assert_true(pc.cal_recip != 0u && pc.cal_recip_n == n);
+        for (q = 0u; q <= 65535u; q += (q < 64u || q > 65470u) ? 1u : 97u) {
+            int d;
+            for (d = -1; d <= 1; d++) {
+                const int64_t x = (int64_t)q * n + d;
+                const uint64_t x_max = (uint64_t)65535u * n + (n >> 1);
+                if (x < 0 || (uint64_t)x > x_max) {
+                    continue;
+                }
+                /* as the ISR computes it: the high word, then a 32-bit shift */
+                assert_int_equal((uint32_t)(((uint64_t)x * pc.cal_recip) >> 32) >> pc.cal_rshift,
+                                 (uint64_t)x / n);
+            }
+        }
+    }
+    {
+        /* 65535 samples: the multiplier would not fit 32 bits, the mean divides */
+        phase_current_t pc;
+        assert_int_equal(phase_current_init(&pc, 1.0f, 1.0f, 1, 0.05f), PHASE_CURRENT_OK);
+        assert_int_equal(phase_current_cal_design(&pc, 65535u), PHASE_CURRENT_ERR_SAMPLES);
+        assert_int_equal(pc.cal_recip, 0u);
+        assert_int_equal(phase_current_cal_design(&pc, 0u), PHASE_CURRENT_ERR_SAMPLES);
+        assert_int_equal(phase_current_cal_design(&pc, 1u), PHASE_CURRENT_ERR_SAMPLES);
+    }
+    {
+        /* a whole calibration of 1050 samples: the division's means; and a
+         * count the design did not make is refused, nothing started */
+        phase_current_t a;
+        uint32_t k, sum_a = 0u, sum_b = 0u;
+        assert_int_equal(phase_current_init(&a, 1.0f, 1.0f, 1, 0.05f), PHASE_CURRENT_OK);
+        assert_int_equal(phase_current_cal_design(&a, 1050u), PHASE_CURRENT_OK);
+        assert_int_equal(phase_current_cal_start(&a, 1000u), PHASE_CURRENT_ERR_SAMPLES);
+        assert_int_equal(a.cal_left, 0u);
+        assert_int_equal(phase_current_cal_start(&a, 1050u), PHASE_CURRENT_OK);
+        for (k = 0u; k < 1050u; k++) {
+            a.ia_raw = (uint16_t)(32768u + 700u + (k % 13u) * 37u);
+            a.ib_raw = (uint16_t)(32768u - 900u + (k % 7u) * 51u);
+            sum_a += a.ia_raw;
+            sum_b += a.ib_raw;
+            (void)phase_current_cal_step(&a);
+        }
+        assert_int_equal(a.offset_a, (sum_a + 525u) / 1050u);
+        assert_int_equal(a.offset_b, (sum_b + 525u) / 1050u);
+        assert_int_equal(a.cal_fault, 0u);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -257,6 +326,7 @@ int main(void)
         cmocka_unit_test(test_calibration_accepted),
         cmocka_unit_test(test_calibration_rejected),
         cmocka_unit_test(test_calibration_long),
+        cmocka_unit_test(test_calibration_mean_by_multiply),
         cmocka_unit_test(test_rail_flags),
         cmocka_unit_test(test_rail_bits_exhaustive),
         cmocka_unit_test(test_init_errors),
