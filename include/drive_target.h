@@ -78,6 +78,8 @@ typedef struct {
     _iq k_lpf;            /* Q24: 1 - exp(-Ts_slow / DRIVE_TARGET_TAU_S) */
     /* state */
     _iq u_f;              /* Q24 pu: the commanded voltage's magnitude, low-passed */
+    /* output */
+    uint16_t at_limit;    /* u_f at the limit (drive_target_step): ACCELERATE ends */
 } drive_target_t;
 
 /** The least target the identification can use (r/min): the largest of 20 %
@@ -113,7 +115,8 @@ int16_t drive_target_init(drive_target_t *t, const drive_config_t *c, const base
 static inline uint16_t drive_target_step(drive_target_t *t, _iq u, _iq lim)
 {
     t->u_f += _IQmpy(t->k_lpf, u - t->u_f);
-    return (uint16_t)(t->u_f >= lim);
+    t->at_limit = (uint16_t)(t->u_f >= lim);
+    return t->at_limit;
 }
 
 #endif /* DRIVE_TARGET_H */

@@ -90,6 +90,8 @@ typedef struct {
     uint16_t conf_track_updates;/* fused set: tracker updates judged (DRIVE_CONF_TRACK_S) */
     uint32_t conf_track_wait;   /* ... RUN samples waited for them (DRIVE_CONF_TRACK_WAIT_S) */
     _iq conf_track_se;          /* Q24: the tracker's standard error per relative residual */
+    uint16_t t1pr;              /* the PWM period register (hal_pwm_init) */
+    uint16_t config_status;     /* drive_cfg_status_t of drive_init */
 } drive_consts_t;
 
 /** What the ISR hands to the background for the parameter extraction. */
@@ -149,6 +151,8 @@ typedef struct {
     uint16_t ticks;           /* SEQUENCE-slot ticks (wraps): the background's clock for the blend */
     uint16_t starved;         /* SEQUENCE-slot ticks in RUN with the tracker held (saturating) */
     uint16_t starve_ticks;    /* ... that start the excitation (DRIVE_EXCITE_STARVE_S) */
+    uint16_t ready;           /* the model the sequence waits for is applied (drive_adapt_ready) */
+    uint16_t excite;          /* RUN: a free shaft, the speed swings (drive_adapt_excite) */
 } drive_adapt_t;
 
 /** Background -> ISR: one complete model set, computed by the background
@@ -264,142 +268,199 @@ typedef struct {
     _iq psi_e;                   /* Q24 pu: the model's back-EMF flux of the last slow step */
     uint16_t model_step;         /* SEQUENCE slot -> SAFETY slot: the model stepped (a pass's
                                     blend, the frame's hand-over; drive_adapt.c take_set) */
+    uint16_t test_done;          /* SAFETY slot: the sensor test passed
+                                    (drive_safety_test_done) */
 } drive_safety_t;
 
-struct drive {
-    base_values_t base;
-    drive_consts_t k;
-    uint16_t t1pr;
-    uint16_t config_status;     /* drive_cfg_status_t of drive_init */
-    drive_ident_t ident_cfg;    /* kept to restart the RLS (background only) */
+/* ------------------------------------------------------------------------
+ * The drive's rooms: one struct a concept, each written by the module files
+ * that own it (docs/architecture.md maps them).  Contexts: [F] the fast
+ * path of every ISR (drive_step.c), [S] the slow task of one slot
+ * (drive_slow.c), [B] the background (drive_background.c and the *_bg.c).
+ * ---------------------------------------------------------------------- */
 
-    /* sensing */
-    phase_current_t cur;
+/** Sensing [F]: the phase currents (offsets, calibration), the bus, the
+ *  encoder and the Clarke transform of the currents. */
+typedef struct {
+    phase_current_t phase;      /* the two Hall channels: offsets, scale, calibration */
     dc_bus_t bus;
     qep_speed_t qep;            /* angle; speed for the loops (window 16); speed over one
                                    sample for the regression (speed_1: its lag, half a
                                    period, matches the mid-period voltage) */
-    /* control */
     clarke_t clarke;
+    uint16_t cal_done;          /* [F]: the offsets' calibration ended (done or rejected); the
+                                   background clears it at a start (drive_cal_done) */
+} drive_sense_t;
+
+/** The control loops (drive_step.c [F], the speed loop drive_slow.c [S]). */
+typedef struct {
     park_t park;
     ipark_t ipark;
     pi_ctrl_t pi_speed, pi_id, pi_iq;
     ramp_gen_t speed_ramp;
+    _iq i_t_ref;                /* Q24 pu: the torque-current reference of this period */
+    _iq i_t_step;               /* Q24 pu: its step per period towards the speed loop's
+                                   latest output (drive_slow.c: first-order hold over the
+                                   slow period; |.| <= 2 / DRIVE_SLOTS) */
+    _iq im_inject;              /* Q24 pu: added to the i_M reference (standstill test) */
+} drive_loops_t;
+
+/** The control frame: indirect field orientation (orientation 0) or the
+ *  rotor-flux observer (orientation 1), and the angle and speed of the frame
+ *  the loops run in (drive_frame.c [F], the observer's steps [S]). */
+typedef struct {
     ifo_t ifo;                  /* orientation 0: indirect (not run in mode 1) */
     flux_obs_t fobs;            /* orientation 1: rotor-flux observer (not run in mode 0) */
     uint16_t run_ifo;           /* orientation 1, RUN with tracking: control frame from ifo with
                                    the tracked Tr (drive_adapt.c) */
     uint16_t fobs_hold;         /* orientation 1: frame held on the encoder angle (|psi_r| <
                                    psi_min or magnetising) */
-    /* orientation 1: the observer's window (summed every period, drive_step.c)
-     * and its angle between steps (extrapolated every period on ws_f) */
-    _iq obs_su_alpha, obs_su_beta;  /* Q24 pu: sum of the periods' voltages, each limited to
-                                       the observer's input range (|.| <= 8 x 4) */
-    _iq obs_si_alpha, obs_si_beta;  /* Q24 pu: sum of the samples' currents (|.| <= 8 x 1.2:
-                                       the sensors' full scale is I_base) */
-    _iq obs_i0_alpha, obs_i0_beta;  /* Q24 pu: the current at the window's start sample */
-    _iq obs_theta;                  /* Q24 pu [0, 1): the frame angle of this sample */
-    _iq obs_dtheta;                 /* Q24 pu: its step per period, ws_f f_base Ts */
+    /* orientation 1: the observer's window (summed every period) and its
+     * angle between steps (extrapolated every period on ws_f) */
+    _iq su_alpha, su_beta;      /* Q24 pu: sum of the periods' voltages, each limited to
+                                   the observer's input range (|.| <= 8 x 4) */
+    _iq si_alpha, si_beta;      /* Q24 pu: sum of the samples' currents (|.| <= 8 x 1.2:
+                                   the sensors' full scale is I_base) */
+    _iq i0_alpha, i0_beta;      /* Q24 pu: the current at the window's start sample */
+    _iq obs_theta;              /* Q24 pu [0, 1): the observer's angle of this sample */
+    _iq obs_dtheta;             /* Q24 pu: its step per period, ws_f f_base Ts */
+    /* the frame of this sample, whichever model gives it */
+    uint16_t is_ifo;            /* this ISR's control frame is ifo's (drive_ifo_frame) */
+    _iq theta;                  /* Q24 pu [0, 1): the frame angle of this sample */
+    _iq ws;                     /* Q24 pu: the frame's speed over the period that just ended */
+    _iq ws_ctl;                 /* Q24 pu: the frame speed for decoupling and modulation */
+} drive_frame_t;
+
+/** The PWM pipeline [F]: duties computed at sample k apply during period
+ *  k+1 and are reconstructed into voltages at sample k+2 (hal_pwm.h timing). */
+typedef struct {
     svgen_t svgen;
     volt_calc_t volt;
-    /* identification */
-    ident_regressor_t reg;
-    rls_t rls;
-    rls_t rls_start;            /* the RLS as drive_rls_start leaves it: copied in at the start
-                                   of each further pass (no float in the ISR) */
-    param_extract_t pex;
-    id_sequence_t seq;
-    drive_target_t target;      /* the identification's target within the bus (drive_target.h) */
-    uint16_t target_at_limit;   /* its low-passed voltage at the limit (FILTERS_C -> SEQUENCE) */
-    protect_t prot;
-    encoder_check_t enc_chk;    /* encoder plausibility -> FAULT_ENCODER */
-    current_check_t cur_chk;    /* current feedback plausibility -> FAULT_CURRENT_SENSOR */
-    theta_guard_t guard;        /* last good theta: what the snapshots carry */
-    isr_monitor_t ovr;          /* ISR overruns -> FAULT_ISR_OVERRUN */
-    drive_safety_t safety;      /* model-based plausibility (drive_safety.c) */
-    /* the bridge's voltage error at standstill, the compensation's curve
-     * (drive_vi.c) */
-    vi_curve_t vic;             /* ISR, SEQUENCE slot: the test (CALIBRATE) */
-    uint16_t vic_status;        /* background: the fit's verdict (vi_fit_status_t; the table
-                                   itself is recomputed from vic by whoever reports it) */
-    volt_calc_curve_t vic_curve;/* background -> ISR: the curve for volt_calc */
-    volatile uint16_t vic_post; /* background -> ISR: DRIVE_VI_* (drive_vi.h) */
-    uint16_t vic_fitted;        /* background: the fit of this test is done */
-    uint32_t vic_wait;          /* ISR: slow samples waited for the background's answer */
-    uint32_t vic_wait_max;      /* the longest wait; then the test is refused */
-    float vic_dt_frac;          /* the board's td / Ts (background) */
-    float vic_i1_0;             /* the test's first i1, pu (background) */
-    float vic_i1_max;           /* the largest i1 of a retry, pu: 2 i1 within the current
-                                   limit (background) */
-    float vic_rs;               /* background: the curve test's Rs (pu of Z_base; 0: none), the
-                                   standstill Rs's confidence (drive_background.c) */
-    float sensor_gain;          /* background: the current sensors' possible gain error at
-                                   the verdict (drive_safety_sensor_gain), relative */
-    float sg_neg_a, sg_neg_b;   /* background: the model check's negative sequence summed over
-                                   the last pass's SETTLE and RUN (pu flux) */
-    float sg_den;               /* ... and CMC_NEG_PER_GAIN sigma Ls |i|, summed alike */
-    uint32_t sg_n;              /* background passes summed (0: none yet) */
-    uint16_t vic_retried;       /* background: the test was run again with a larger i1 */
-
-    /* PWM pipeline: duties computed at sample k apply during period k+1 and
-     * are reconstructed into voltages at sample k+2 (hal_pwm.h timing). */
     _iq duty_next[3];           /* computed at k-1, applied now (those of k-2, applied in
                                  * the period just ended: volt.da, .db, .dc) */
     uint16_t on_next, on_last;  /* bridge switching in those periods */
     _iq ia_prev, ib_prev;       /* phase currents of the previous sample, pu */
+} drive_pwm_t;
 
-    drive_adapt_t adapt;        /* model adaptation (ISR part): standstill, passes, tracking */
-    drive_adapt_bg_t adapt_bg;  /* ... its background part: the models and their constants */
-    drive_adapt_box_t adapt_box;    /* background -> ISR: model sets */
-    volatile drive_adapt_capture_t adapt_cap;   /* ISR -> background: the standstill values */
-    _iq fused_lm, fused_lr, fused_psi;   /* background, fused mode: the last good magnetic set */
+/** The identification path: the regression's filters [S], the queue to the
+ *  RLS, the RLS and its guard [B], the extraction [B], and the confidence's
+ *  sums that travel with the steady-state snapshot. */
+typedef struct {
+    drive_ident_t cfg;          /* kept to restart the RLS [B] */
+    ident_regressor_t reg;
+    uint16_t reg_count;         /* encoder count at the last FILTERS slot (the regression's window) */
+    drive_rls_queue_t rlsq;     /* [S] -> [B]: the RLS's samples and events */
+    rls_t rls;
+    rls_t rls_start;            /* the RLS as drive_rls_start leaves it: copied in at the start
+                                   of each further pass (no float in the ISR) */
+    theta_guard_t guard;        /* last good theta: what the snapshots carry */
+    param_extract_t pex;
+    drive_snapshot_t snap;      /* [B]: the steady-state extraction's estimate */
+    /* the identification's confidence (ident_conf.h): the sums over the RLS
+     * pass under way; the covariance and the sums taken with snap */
+    ident_conf_acc_t acc;
+    rls_cov_t snap_cov;
+    ident_conf_acc_t snap_acc;
+    uint32_t snap_pd;           /* rls_t.pd_count of the window */
+    drive_snapshot_t live_snap; /* running estimates, 100 Hz */
+    uint16_t live_div;          /* samples since the last live snapshot */
+    param_extract_t live;       /* [B]: estimates from the running RLS */
+} drive_ident_path_t;
+
+/** The verdict [B]: the confidence of the set, the tracker's fit, the fused
+ *  set, the sensors' possible gain error, and what is published. */
+typedef struct {
+    ident_conf_t conf;
+    _iq theta_mid[RLS_N];       /* Q24 pu: the guarded estimate at mid-window */
+    _iq speed_mid;              /* Q24 pu: |speed| at which it is taken */
+    uint16_t mid;               /* 0: none, 1: armed (speed_mid set), 2: taken */
+    uint16_t pass;              /* the pass the capture belongs to */
+    ident_conf_fit_t trk_fit;   /* the tracker's fit while it is valid (fused set) */
+    _iq trk_theta0;             /* Q24: its 1/Tr at the first sample of the fit */
+    uint32_t trk_updates;       /* the tracker's n_updates at the last sample taken */
+    uint16_t run;               /* an identification was started (a verdict is owed) */
+    uint16_t judged;            /* fused set: the final pass's RLS part passed its verdict */
+    _iq fused_lm, fused_lr, fused_psi;   /* fused mode: the last good magnetic set */
     uint16_t fused_ready;
+    float sensor_gain;          /* the current sensors' possible gain error at the verdict
+                                   (drive_safety_sensor_gain), relative */
+    float sg_neg_a, sg_neg_b;   /* the model check's negative sequence summed over the last
+                                   pass's SETTLE and RUN (pu flux) */
+    float sg_den;               /* ... and CMC_NEG_PER_GAIN sigma Ls |i|, summed alike */
+    uint32_t sg_n;              /* background passes summed (0: none yet) */
+} drive_verdict_t;
+
+/** The bridge's voltage error at standstill, the compensation's curve
+ *  (drive_vi.c): the test [S], its fit [B]. */
+typedef struct {
+    vi_curve_t test;            /* [S], SEQUENCE slot: the test (CALIBRATE) */
+    uint16_t status;            /* [B]: the fit's verdict (vi_fit_status_t; the table itself
+                                   is recomputed from test by whoever reports it) */
+    volt_calc_curve_t curve;    /* [B] -> [F]: the curve for volt_calc */
+    volatile uint16_t post;     /* [B] -> [S]: DRIVE_VI_* (drive_vi.h) */
+    uint16_t fitted;            /* [B]: the fit of this test is done */
+    uint32_t wait;              /* [S]: slow samples waited for the background's answer */
+    uint32_t wait_max;          /* the longest wait; then the test is refused */
+    float dt_frac;              /* the board's td / Ts [B] */
+    float i1_0;                 /* the test's first i1, pu [B] */
+    float i1_max;               /* the largest i1 of a retry, pu: 2 i1 within the current
+                                   limit [B] */
+    float rs;                   /* [B]: the curve test's Rs (pu of Z_base; 0: none), the
+                                   standstill Rs's confidence (drive_background.c) */
+    uint16_t retried;           /* [B]: the test was run again with a larger i1 */
+    uint16_t done;              /* [S]: the curve is measured and applied (drive_vi_done);
+                                   kept over later starts */
+} drive_bridge_test_t;
+
+/** Parameter adaptation: standstill, passes, tracking (drive_adapt.c [S],
+ *  drive_adapt_bg.c [B]) and the two mailboxes between them. */
+typedef struct {
+    drive_adapt_t isr;          /* [S]: the sequence's side */
+    drive_adapt_bg_t bg;        /* [B]: the models and their constants */
+    drive_adapt_box_t box;      /* [B] -> [S]: model sets */
+    volatile drive_adapt_capture_t cap;     /* [S] -> [B]: the standstill values */
     tr_track_t track;           /* Rr/Tr tracker in RUN (track_rr) */
     standstill_z_t ssz;         /* standstill sigma Ls (standstill) */
+} drive_adaptation_t;
 
-    /* multi-rate schedule and what the slow tasks hand to the fast path */
+/** The protections: the trips, the sensors' plausibility, the ISR monitor
+ *  and the model-based checks that do not trust one sensor. */
+typedef struct {
+    protect_t trip;             /* over-current, bus, speed trips; the latched fault */
+    encoder_check_t enc;        /* encoder plausibility -> FAULT_ENCODER */
+    current_check_t feedback;   /* current feedback plausibility -> FAULT_CURRENT_SENSOR */
+    isr_monitor_t ovr;          /* ISR overruns -> FAULT_ISR_OVERRUN */
+    drive_safety_t model;       /* model-based plausibility (drive_safety.c) */
+} drive_protections_t;
+
+/** The multi-rate schedule (drive_step.c): the fast ISR's slot and what it
+ *  hands the slow ISR (drive_slow_isr); written by both contexts, hence
+ *  the volatile hand-shake. */
+typedef struct {
     uint16_t slot;              /* drive_slot_t of the next fast ISR (0 .. DRIVE_SLOTS-1) */
-    /* fast ISR -> slow ISR (drive_slow_isr): the slot whose slow task is
-     * due, and the hand-shake; written by both contexts, hence volatile */
     uint16_t slow_slot;         /* drive_slot_t of the last fast ISR */
     volatile uint16_t slow_due; /* 1: requested by the fast ISR, not yet started */
     volatile uint16_t slow_busy;/* 1: the slow task is running */
     uint16_t slow_late;         /* 1: a fast ISR found the last slow task unfinished */
-    uint16_t frame_ifo;         /* this ISR's control frame is ifo's (drive_ifo_frame) */
-    _iq theta_k;                /* Q24 pu [0, 1): the frame angle of this sample */
-    _iq ws_k;                   /* Q24 pu: the frame's speed over the period that just ended */
-    _iq ws_ctl;                 /* Q24 pu: the frame speed for decoupling and modulation */
-    _iq i_t_ref;                /* Q24 pu: the torque-current reference of this period */
-    _iq i_t_step;               /* Q24 pu: its step per period towards the speed loop's
-                                   latest output (drive_slow.c: first-order hold over the
-                                   slow period; |.| <= 2 / DRIVE_SLOTS) */
-    _iq im_inject;              /* Q24 pu: added to the i_M reference (standstill test) */
-    uint16_t reg_count;         /* encoder count at the last FILTERS slot (the regression's window) */
+} drive_schedule_t;
 
-    drive_rls_queue_t rlsq;     /* ISR -> background: the RLS's samples and events */
-    drive_snapshot_t snap;      /* ISR -> background: the steady-state extraction */
-    /* the identification's confidence (ident_conf.h): the ISR's sums over
-     * the RLS pass under way; the covariance and the sums handed over with
-     * snap (written before snap.ready, read while it is set); the
-     * background's evaluation, its estimate at the middle of the window and
-     * the tracker's residual (fused set) */
-    ident_conf_acc_t conf_acc;
-    rls_cov_t snap_cov;
-    ident_conf_acc_t snap_acc;
-    uint32_t snap_pd;           /* rls_t.pd_count of the window */
-    ident_conf_t conf;
-    _iq conf_theta_mid[RLS_N];  /* Q24 pu: the guarded estimate at mid-window */
-    _iq conf_speed_mid;         /* Q24 pu: |speed| at which it is taken */
-    uint16_t conf_mid;          /* 0: none, 1: armed (conf_speed_mid set), 2: taken */
-    uint16_t conf_pass;         /* the pass the capture belongs to */
-    ident_conf_fit_t trk_fit;   /* the tracker's fit while it is valid (fused set) */
-    _iq trk_theta0;             /* Q24: its 1/Tr at the first sample of the fit */
-    uint32_t trk_updates;       /* the tracker's n_updates at the last sample taken */
-    uint16_t conf_run;          /* an identification was started (a verdict is owed) */
-    uint16_t conf_judged;       /* fused set: the final pass's RLS part passed its verdict */
-    drive_snapshot_t live_snap; /* ISR -> background: running estimates, 100 Hz */
-    uint16_t live_div;          /* samples since the last live snapshot */
-    param_extract_t live;       /* background: estimates from the running RLS */
+struct drive {
+    /* in the order of the ISR's use: the rooms the control ISR touches every
+     * period first, the background's large ones last (short offsets) */
+    base_values_t base;
+    drive_consts_t k;           /* constants drive_init derives (and its status) */
+    drive_schedule_t sched;
+    drive_sense_t sense;
+    drive_loops_t loop;
+    drive_frame_t frame;
+    drive_pwm_t pwm;
+    drive_protections_t prot;
+    id_sequence_t seq;          /* the identification sequence's states */
+    drive_target_t target;      /* the identification's target within the bus (drive_target.h) */
+    drive_bridge_test_t vi;
+    drive_adaptation_t adapt;
+    drive_ident_path_t id;
+    drive_verdict_t verdict;
     drive_telemetry_t telemetry;
     uint16_t cmd_requests;      /* DRIVE_CMD_BIT of each command requested since the last
                                    drive_background (drive_command) */

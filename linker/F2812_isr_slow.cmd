@@ -16,7 +16,7 @@
  * name).  Symbol names: COFF ABI prefixes C names with '_', EABI does not
  * (SPRU514 "COFF ABI vs EABI").  This file: --abi=coffabi.  A static function of
  * the same name in two .c files would be matched in both: --check-isr-cmd refuses it.
- * 58 functions.
+ * 64 functions.
  */
 *(.text:_bw_filter_step)
 *(.text:_bw_filter_update)
@@ -26,8 +26,11 @@
 *(.text:_current_check_step)
 *(.text:_current_model_check_half)
 *(.text:_current_model_check_residual)
+*(.text:_drive_adapt_excite)
+*(.text:_drive_adapt_ready)
 *(.text:_drive_adapt_slow)
 *(.text:_drive_adapt_track)
+*(.text:_drive_cal_done)
 *(.text:_drive_get_log_signals)
 *(.text:_drive_log_due)
 *(.text:_drive_safety_latch_cmc)
@@ -35,9 +38,11 @@
 *(.text:_drive_safety_slow)
 *(.text:_drive_safety_stall)
 *(.text:_drive_safety_state)
+*(.text:_drive_safety_test_done)
 *(.text:_drive_slow_isr)
 *(.text:_drive_slow_task)
 *(.text:_drive_target_step)
+*(.text:_drive_vi_done)
 *(.text:_encoder_check_frozen)
 *(.text:_estim_asr32)
 *(.text:_flux_obs_step_a)
@@ -60,6 +65,7 @@
 *(.text:_rls_push)
 *(.text:_sat_sym)
 *(.text:_sequence)
+*(.text:_sequence_inputs)
 *(.text:_sequences)
 *(.text:_slow_run)
 *(.text:_speed_loop)

@@ -162,7 +162,7 @@ FLASH_ROOTS = {
                         "state machine, whose outputs act from the next control ISR on",
     "state_change": "slot SEQUENCE, once per state change (the adaptation's resets)",
     "standstill": "slot SEQUENCE, the adaptive sequence's MAGNETIZE (the standstill test)",
-    "take_set": "slot SEQUENCE, once per adapted set (adapt_box.ready)",
+    "take_set": "slot SEQUENCE, once per adapted set (adapt.box.ready)",
     "stall_check_decide": "slot FILTERS_C, only after the encoder's frozen test tripped",
     "excite": "slot SEQUENCE, the adaptive sequence's RUN while its verdict is owed (a free "
               "shaft's excitation, drive_adapt.c)",

@@ -135,8 +135,8 @@ static void live_extremes(const base_values_t *b, const param_extract_t *p,
 
 static void observe_protection(const drive_t *d, sim_result_t *r, double t)
 {
-    double e = (double)_IQtoF(d->cur_chk.e_f);
-    const current_model_check_t *m = &d->safety.cmc;
+    double e = (double)_IQtoF(d->prot.feedback.e_f);
+    const current_model_check_t *m = &d->prot.model.cmc;
     double sls = (double)_IQtoF(m->sigma_ls), rs = (double)_IQtoF(m->rs);
     if (e > r->max_cur_check_pu) {
         r->max_cur_check_pu = e;
@@ -148,7 +148,7 @@ static void observe_protection(const drive_t *d, sim_result_t *r, double t)
      * the check judges them in */
     const uint16_t judged = (uint16_t)(m->at_speed >= m->seq_settle &&
                                        m->model_n >= m->seq_settle);
-    if (sls > 0.0 && (d->slot == 1u || d->slot == 3u)) {
+    if (sls > 0.0 && (d->sched.slot == 1u || d->sched.slot == 3u)) {
         double ib = d->base.I_base_A;
         double rr = sqrt((double)_IQtoF(m->r2)) / sls * ib;
         double ia = (double)_IQtoF(m->i_alpha), ibt = (double)_IQtoF(m->i_beta);
@@ -191,7 +191,7 @@ static void observe_protection(const drive_t *d, sim_result_t *r, double t)
             }
             if (rs > 0.0) {
                 /* d_max_tau / d_max = tau_r (pu time) */
-                double dc = sqrt((double)_IQtoF(m->dc2)) / (rs * d->safety.tau_r_pu) * ib;
+                double dc = sqrt((double)_IQtoF(m->dc2)) / (rs * d->prot.model.tau_r_pu) * ib;
                 if (dc > r->max_cmc_dc_A) {
                     r->max_cmc_dc_A = dc;
                     r->t_max_cmc_dc_s = t;
@@ -205,29 +205,29 @@ static void observe_protection(const drive_t *d, sim_result_t *r, double t)
 static void observe_soak(const drive_t *d, sim_result_t *r, double t)
 {
     uint16_t i;
-    if (d->seq.state == ID_ACCELERATE && d->bus.vdc > 0) {
-        double head = (double)_IQtoF(d->target.u_f) / ((double)_IQtoF(d->bus.vdc) / sqrt(3.0));
+    if (d->seq.state == ID_ACCELERATE && d->sense.bus.vdc > 0) {
+        double head = (double)_IQtoF(d->target.u_f) / ((double)_IQtoF(d->sense.bus.vdc) / sqrt(3.0));
         if (head > r->max_volt_head) {
             r->max_volt_head = head;
         }
     }
     if (d->seq.state == ID_ACCELERATE || d->seq.state == ID_SETTLE || d->seq.state == ID_RUN) {
-        if (d->svgen.overmod != 0u) {
+        if (d->pwm.svgen.overmod != 0u) {
             if (r->n_overmod == 0u) {
                 r->t_first_overmod_s = t;
             }
             r->t_last_overmod_s = t;
             r->n_overmod++;
         }
-        if (d->pi_id.sat != 0u || d->pi_iq.sat != 0u) { r->n_current_pi_sat++; }
-        if (d->ifo.imr_low != 0u) { r->n_imr_low++; }
-        if (d->qep.speed_raw >= _IQmpyI32(d->qep.k_speed, d->qep.d_max) ||
-            d->qep.speed_raw <= -_IQmpyI32(d->qep.k_speed, d->qep.d_max)) {
+        if (d->loop.pi_id.sat != 0u || d->loop.pi_iq.sat != 0u) { r->n_current_pi_sat++; }
+        if (d->frame.ifo.imr_low != 0u) { r->n_imr_low++; }
+        if (d->sense.qep.speed_raw >= _IQmpyI32(d->sense.qep.k_speed, d->sense.qep.d_max) ||
+            d->sense.qep.speed_raw <= -_IQmpyI32(d->sense.qep.k_speed, d->sense.qep.d_max)) {
             r->n_speed_sat++;
         }
     }
     for (i = 0u; i < RLS_N; i++) {
-        double a = fabs((double)_IQtoF(d->rls.theta[i]));
+        double a = fabs((double)_IQtoF(d->id.rls.theta[i]));
         if (a > r->max_abs_theta) {
             r->max_abs_theta = a;
         }
@@ -255,8 +255,8 @@ static void observe_voltage(const drive_t *d, const plant_t *p, double V_base_V,
     if (im < 1e-6) {
         return;
     }
-    ea = (double)_IQtoF(d->volt.valpha) * V_base_V - inv->v_alpha_V;
-    eb = (double)_IQtoF(d->volt.vbeta) * V_base_V - inv->v_beta_V;
+    ea = (double)_IQtoF(d->pwm.volt.valpha) * V_base_V - inv->v_alpha_V;
+    eb = (double)_IQtoF(d->pwm.volt.vbeta) * V_base_V - inv->v_beta_V;
     r->v_err_along_i_V += (ea * ia + eb * ib) / im;
     r->v_err_across_i_V += (eb * ia - ea * ib) / im;
     r->i_mag_steady_A += im;
@@ -286,8 +286,8 @@ static int trace_row_adaptation(FILE *f, const drive_t *d, const plant_t *p)
     return fprintf(f, ",%.6g,%.6g,%u,%u,%.6g,%.6g,%.9g,%.9g,%.9g\n", p->motor.p.Rr_ohm,
                    (double)_IQtoF(t->Rr_track) * z, t->track_valid, t->pass,
                    (double)_IQtoF(t->Rs_dc) * z, (double)_IQ20toF(t->Tr_track) * d->base.t_base_s,
-                   (double)_IQtoF(d->reg.m_mf), (double)_IQtoF(d->reg.m_tf),
-                   (double)_IQtoF(d->reg.wm_tf));
+                   (double)_IQtoF(d->id.reg.m_mf), (double)_IQtoF(d->id.reg.m_tf),
+                   (double)_IQtoF(d->id.reg.wm_tf));
 }
 
 double sim_vi_test_s(const sim_config_t *c)
@@ -379,7 +379,7 @@ static void drift_period(drift_t *dr, const drive_t *d, const sim_config_t *c, p
         o.psi_d_Wb = psi_d;
         o.psi_q_Wb = psi_q;
         o.speed_err_rpm =
-            (double)_IQtoF(d->speed_ramp.out) * d->base.n_base_rpm - p->motor.n_rpm;
+            (double)_IQtoF(d->loop.speed_ramp.out) * d->base.n_base_rpm - p->motor.n_rpm;
         o.rr_true_ohm = p->motor.p.Rr_ohm;
         o.rr_track_ohm = (double)_IQtoF(d->telemetry.Rr_track) * d->base.Z_base_ohm;
         o.track_valid = d->telemetry.track_valid;
@@ -390,7 +390,7 @@ static void drift_period(drift_t *dr, const drive_t *d, const sim_config_t *c, p
 /* The publication's verdict and the confidences at the end of the run (%). */
 static void conf_figures(const drive_t *d, sim_result_t *r)
 {
-    const ident_conf_t *c = &d->conf;
+    const ident_conf_t *c = &d->verdict.conf;
     unsigned i;
     for (i = 0; i < 6u; i++) {
         double v = (double)_IQtoF(d->telemetry.conf[i]);
@@ -400,9 +400,9 @@ static void conf_figures(const drive_t *d, sim_result_t *r)
     }
     r->conf_residual = (double)_IQtoF(d->telemetry.conf_residual);
     r->conf_amp = (double)_IQtoF(d->telemetry.conf_amp);
-    r->conf_samples = d->snap_acc.n;
+    r->conf_samples = d->id.snap_acc.n;
     r->conf_excitation = (double)_IQtoF(c->excitation);
-    r->conf_pd = d->snap_pd;
+    r->conf_pd = d->id.snap_pd;
 }
 
 int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res, char *err,
@@ -465,10 +465,10 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                  drive_cfg_status_str(st), why);
         return 1;
     }
-    if (plant_init(&plant, cfg, drive.t1pr, err, err_len) != 0) {
+    if (plant_init(&plant, cfg, drive.k.t1pr, err, err_len) != 0) {
         return 2;
     }
-    hal_host_port_init(&port, drive.t1pr);
+    hal_host_port_init(&port, drive.k.t1pr);
     hal_host_bind(&port);
     active = port.cmp;
 
@@ -556,7 +556,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
         if (drive.seq.extract_now != 0u && drive.seq.pass >= drive.seq.passes) {
             res->extracted = 1u;
         }
-        if (res->t_decided_s < 0.0 && drive.conf_run != 0u &&
+        if (res->t_decided_s < 0.0 && drive.verdict.run != 0u &&
             drive.telemetry.publish_reason != (uint16_t)DRIVE_PUB_PENDING) {
             res->t_decided_s = t;
         }
@@ -580,8 +580,8 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                  * published word counts */
                 res->published_changed = 1u;
             }
-            if (drive.live.valid != 0u) {
-                live_extremes(b, &drive.live, &res->truth, res);
+            if (drive.id.live.valid != 0u) {
+                live_extremes(b, &drive.id.live, &res->truth, res);
             }
             if (res->n_faults_seen > 0u && t >= res->fault_time_s[0] + 0.002) {
                 double w = fabs(pct(pub.Rs_ohm, res->truth.Rs_ohm));
@@ -631,7 +631,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
             }
             if (state == ID_ACCELERATE && res->t_accel_start_s >= 0.0 &&
                 t > res->t_accel_start_s + 0.2) {
-                double e = fabs((double)_IQtoF(drive.speed_ramp.out) * rpm_per_pu - m->n_rpm);
+                double e = fabs((double)_IQtoF(drive.loop.speed_ramp.out) * rpm_per_pu - m->n_rpm);
                 if (e > res->max_speed_err_rpm_ramp) {
                     res->max_speed_err_rpm_ramp = e;
                 }
@@ -651,7 +651,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                 res->fault_pass[res->n_faults_seen] = drive.seq.pass;
                 /* the model check's cause bits, and the feedback check as 8 */
                 res->fault_cause[res->n_faults_seen] =
-                    (uint16_t)(drive.safety.cmc.cause | ((drive.cur_chk.fault != 0u) ? 8u : 0u));
+                    (uint16_t)(drive.prot.model.cmc.cause | ((drive.prot.feedback.fault != 0u) ? 8u : 0u));
                 res->n_faults_seen++;
             }
             last_fault = drive.telemetry.fault;
@@ -659,32 +659,32 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
 
             if ((k % (uint64_t)(cfg->board.pwm_freq_Hz / 100.0)) == 0u && n_rows < cap_rows) {
                 rows[n_rows].t = t;
-                to_si(b, &drive.live, &rows[n_rows].p);
+                to_si(b, &drive.id.live, &rows[n_rows].p);
                 n_rows++;
             }
             if (trace != NULL && (k % trace_div) == 0u) {
                 sim_params_t lp;
-                to_si(b, &drive.live, &lp);
+                to_si(b, &drive.id.live, &lp);
                 trace_bytes += (double)fprintf(trace,
                         "%.5f,%u,%u,%u,%.3f,%.3f,%.3f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.5f,"
                         "%.5f,%.6f,%.6f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%u,%.6g,%.6g,%.6g,%.6g,"
                         "%u,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g",
                         t, state, drive.telemetry.fault, drive.telemetry.pwm_on,
-                        (double)_IQtoF(drive.speed_ramp.out) * rpm_per_pu, m->n_rpm,
-                        (double)_IQtoF(drive.qep.speed) * rpm_per_pu,
-                        (double)_IQtoF(drive.park.ds) * b->I_base_A,
-                        (double)_IQtoF(drive.park.qs) * b->I_base_A, m->ia_A, m->ib_A,
-                        (double)_IQtoF(drive.reg.u_mf) * b->V_base_V,
-                        (double)_IQtoF(drive.reg.u_tf) * b->V_base_V,
-                        (double)_IQtoF(drive.bus.vdc) * b->V_base_V, m->Te_Nm, m->TL_Nm,
+                        (double)_IQtoF(drive.loop.speed_ramp.out) * rpm_per_pu, m->n_rpm,
+                        (double)_IQtoF(drive.sense.qep.speed) * rpm_per_pu,
+                        (double)_IQtoF(drive.loop.park.ds) * b->I_base_A,
+                        (double)_IQtoF(drive.loop.park.qs) * b->I_base_A, m->ia_A, m->ib_A,
+                        (double)_IQtoF(drive.id.reg.u_mf) * b->V_base_V,
+                        (double)_IQtoF(drive.id.reg.u_tf) * b->V_base_V,
+                        (double)_IQtoF(drive.sense.bus.vdc) * b->V_base_V, m->Te_Nm, m->TL_Nm,
                         sqrt(pd * pd + pq * pq), (pd > 1e-9) ? pq / pd : 0.0, lp.Rs_ohm,
-                        lp.Rr_ohm, lp.Lm_H, lp.Lr_H, lp.psi_r_Wb, lp.Tr_s, drive.live.valid,
-                        (double)_IQtoF(drive.rls.theta[0]), (double)_IQtoF(drive.rls.theta[1]),
-                        (double)_IQtoF(drive.rls.theta[2]), (double)_IQtoF(drive.rls.theta[3]),
-                        drive.seq.rls_on, (double)_IQtoF(drive.reg.y1),
-                        (double)_IQtoF(drive.reg.y2), (double)_IQtoF(drive.reg.i_mf),
-                        (double)_IQtoF(drive.reg.u_mf), (double)_IQtoF(drive.reg.i_tf),
-                        (double)_IQtoF(drive.reg.u_tf), (double)_IQtoF(drive.reg.wr_f));
+                        lp.Rr_ohm, lp.Lm_H, lp.Lr_H, lp.psi_r_Wb, lp.Tr_s, drive.id.live.valid,
+                        (double)_IQtoF(drive.id.rls.theta[0]), (double)_IQtoF(drive.id.rls.theta[1]),
+                        (double)_IQtoF(drive.id.rls.theta[2]), (double)_IQtoF(drive.id.rls.theta[3]),
+                        drive.seq.rls_on, (double)_IQtoF(drive.id.reg.y1),
+                        (double)_IQtoF(drive.id.reg.y2), (double)_IQtoF(drive.id.reg.i_mf),
+                        (double)_IQtoF(drive.id.reg.u_mf), (double)_IQtoF(drive.id.reg.i_tf),
+                        (double)_IQtoF(drive.id.reg.u_tf), (double)_IQtoF(drive.id.reg.wr_f));
                 trace_bytes += (double)trace_row_adaptation(trace, &drive, &plant);
                 if (opt->trace_max_bytes > 0.0 && trace_bytes > opt->trace_max_bytes) {
                     /* the trace ends here, the run goes on (motor_sim sizes the trace
@@ -710,7 +710,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                 t_soak_load = t_run - 1.0;
             }
             if (t >= t_soak_rev + 4.0) {
-                double e = fabs((double)_IQtoF(drive.speed_ramp.out) * rpm_per_pu -
+                double e = fabs((double)_IQtoF(drive.loop.speed_ramp.out) * rpm_per_pu -
                                 plant.motor.n_rpm);
                 if (e > res->max_settled_speed_err_rpm) {
                     res->max_settled_speed_err_rpm = e;
@@ -788,9 +788,9 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     res->final_fault = drive.telemetry.fault;
     res->final_pwm_on = port.outputs_enabled;
     res->t_fault_visible_s = plant.t_visible_s;
-    res->rls_sat_count = drive.rls.sat_count;
-    res->rls_pd_count = drive.rls.pd_count;
-    res->theta_rejects = drive.guard.reject_count;
+    res->rls_sat_count = drive.id.rls.sat_count;
+    res->rls_pd_count = drive.id.rls.pd_count;
+    res->theta_rejects = drive.id.guard.reject_count;
     res->publish_rejects = drive.telemetry.publish_rejects;
     res->publish_reason = drive.telemetry.publish_reason;
     res->identified = (uint16_t)(drive.telemetry.params_valid != 0u &&
@@ -800,16 +800,16 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     res->final_pass = drive.telemetry.pass;
     conf_figures(&drive, res);
     res->Rs_dc_ohm = (double)_IQtoF(drive.telemetry.Rs_dc) * b->Z_base_ohm;
-    res->sensor_gain_pct = 100.0 * (double)drive.sensor_gain;
+    res->sensor_gain_pct = 100.0 * (double)drive.verdict.sensor_gain;
     res->adapt_timeouts = drive.seq.adapt_timeouts;
-    vi_curve_fit(&drive.vic, b->I_base_A, b->V_base_V, &res->vi);
+    vi_curve_fit(&drive.vi.test, b->I_base_A, b->V_base_V, &res->vi);
     if (res->vi.status == VI_FIT_OK) {
-        res->vi.status = (vi_fit_status_t)drive.vic_status;   /* the drive's own checks */
+        res->vi.status = (vi_fit_status_t)drive.vi.status;   /* the drive's own checks */
     }
     res->vi_true_e_pole_V = plant.inv.p.vdc_V * plant.inv.td_frac + plant.inv.v_drop_V;
     res->vi_true_band_A = plant.inv.p.i_band_A;
-    res->vi_i1_A = (double)drive.vic.i1 * b->I_base_A;
-    res->vi_retried = (int)drive.vic_retried;
+    res->vi_i1_A = (double)drive.vi.test.i1 * b->I_base_A;
+    res->vi_retried = (int)drive.vi.retried;
     drift_figures(&drift, res);
     if (res->identified) {
         published_si(b, &drive.telemetry, &res->published_end);
@@ -823,10 +823,10 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     }
     if (res->extracted) {
         /* the RLS's last extraction, published or refused (the paper's method) */
-        to_si(b, &drive.pex, &res->ident);
-        res->ident_valid = drive.pex.valid;
+        to_si(b, &drive.id.pex, &res->ident);
+        res->ident_valid = drive.id.pex.valid;
         errors_pct(&res->ident, &res->truth, &res->error_pct);
-        if (res->t_accel_start_s >= 0.0 && drive.pex.valid != 0u) {
+        if (res->t_accel_start_s >= 0.0 && drive.id.pex.valid != 0u) {
             res->converge_s = converge_time(rows, n_rows, &res->ident, res->t_accel_start_s);
         }
     }

@@ -106,7 +106,7 @@ typedef struct {
     double t_published_s;
     sim_params_t truth, ident;
     sim_params_t error_pct;         /* 100 (ident - truth) / truth */
-    uint16_t ident_valid;           /* ident (the last extraction, d->pex) was plausible */
+    uint16_t ident_valid;           /* ident (the last extraction, d->id.pex) was plausible */
     double converge_s;              /* after t_accel_start: all live estimates stay
                                        within 2 % of the published values (-1: never) */
     /* closed-loop figures */

@@ -105,14 +105,14 @@ static void init_background(drive_t *d, const drive_config_t *c, float Ts)
     const float Ts_slow = Ts * (float)DRIVE_SLOTS;
     const drive_motor_t *m = &c->motor;
     const base_values_t *b = &d->base;
-    drive_adapt_bg_t *g = &d->adapt_bg;
+    drive_adapt_bg_t *g = &d->adapt.bg;
     drive_model_set_t *s = &g->cur_set;
     float wc = DRIVE_TWO_PI_F * c->control.current_bw_Hz;
     float rs_pu = m->Rs_ohm / b->Z_base_ohm;
     float lm_pu = m->Lm_H / b->L_base_H;
 
     g->ts_pu = b->Ts_pu;
-    g->obs_ts_pu = b->Ts_pu * (float)d->fobs.n;   /* the observer's step (flux_obs_set_step) */
+    g->obs_ts_pu = b->Ts_pu * (float)d->frame.fobs.n;   /* the observer's step (flux_obs_set_step) */
     g->imr_min_pu = DRIVE_IMR_MIN_OF_IM * m->magnetizing_current_A / b->I_base_A;   /* as ifo_init */
     g->kp_per_sls = wc / b->w_base_rad_s;
     g->ki_per_rs = wc * Ts;
@@ -121,19 +121,19 @@ static void init_background(drive_t *d, const drive_config_t *c, float Ts)
     g->blend_step = _IQ(Ts_slow / DRIVE_ADAPT_BLEND_S);
     g->blend_ticks = (uint16_t)ceilf(DRIVE_ADAPT_BLEND_S / Ts_slow);
     g->tr_rate = _IQ(DRIVE_ADAPT_TR_RATE * (float)DRIVE_ADAPT_TRACK_DECIM * Ts_slow);
-    g->cur[DRIVE_P_RS] = d->fobs.rs;
-    g->cur[DRIVE_P_LM] = d->fobs.lm;
+    g->cur[DRIVE_P_RS] = d->frame.fobs.rs;
+    g->cur[DRIVE_P_LM] = d->frame.fobs.lm;
     g->cur[DRIVE_P_LR] = _IQ(m->Lr_H / b->L_base_H);
     g->cur[DRIVE_P_LS] = _IQ(m->Ls_H / b->L_base_H);
-    g->cur[DRIVE_P_TR] = d->fobs.tr;
+    g->cur[DRIVE_P_TR] = d->frame.fobs.tr;
     g->lr = g->cur[DRIVE_P_LR];
-    flux_obs_get_model(&d->fobs, &s->fobs);
-    s->ifo.tr = d->ifo.tr;
-    s->ifo.inv_tr = d->ifo.inv_tr;
-    s->ifo.kf = d->ifo.kf;
-    s->cur.kp = d->pi_id.kp;
-    s->cur.ki = d->pi_id.ki;
-    s->cur.e_max = d->pi_id.e_max;
+    flux_obs_get_model(&d->frame.fobs, &s->fobs);
+    s->ifo.tr = d->frame.ifo.tr;
+    s->ifo.inv_tr = d->frame.ifo.inv_tr;
+    s->ifo.kf = d->frame.ifo.kf;
+    s->cur.kp = d->loop.pi_id.kp;
+    s->cur.ki = d->loop.pi_id.ki;
+    s->cur.e_max = d->loop.pi_id.e_max;
     s->lm2_lr = d->k.lm2_lr;
     s->inv_lm = _IQ(fminf(1.0f / lm_pu, 16.0f));
 }
@@ -143,14 +143,14 @@ int16_t drive_adapt_init(drive_t *d, const drive_config_t *c, float Ts)
     const float Ts_slow = Ts * (float)DRIVE_SLOTS;
     const drive_ident_t *id = &c->ident;
     const base_values_t *b = &d->base;
-    drive_adapt_t *a = &d->adapt;
+    drive_adapt_t *a = &d->adapt.isr;
     uint16_t passes = (id->passes == 0u) ? 1u : id->passes;
 
     a->passes = passes;
     a->standstill = id->standstill;
     a->track_rr = id->track_rr;
     a->fused = (uint16_t)(id->standstill != 0u && id->track_rr != 0u);
-    if (a->fused != 0u && theta_guard_set_required(&d->guard, 0xAu) != THETA_GUARD_OK) {
+    if (a->fused != 0u && theta_guard_set_required(&d->id.guard, 0xAu) != THETA_GUARD_OK) {
         return 1;   /* K2 (bit 1) and K4 (bit 3): what the magnetic extraction uses */
     }
     if (passes > ID_PASSES_MAX || id->standstill > 1u || id->track_rr > 1u) {
@@ -175,13 +175,13 @@ int16_t drive_adapt_init(drive_t *d, const drive_config_t *c, float Ts)
     a->ssz_gap = drive_adapt_ssz_gap(Ts);
     a->starve_ticks = (uint16_t)(DRIVE_EXCITE_STARVE_S / Ts_slow + 0.5f);
     if (id->standstill != 0u &&
-        (drive_adapt_ssz_init(&d->ssz, c, b, Ts) != STANDSTILL_Z_OK ||
+        (drive_adapt_ssz_init(&d->adapt.ssz, c, b, Ts) != STANDSTILL_Z_OK ||
          /* the test and the gap fit in the second half of the magnetisation */
-         2u * ((uint32_t)standstill_z_samples(&d->ssz) + a->ssz_gap) >
+         2u * ((uint32_t)standstill_z_samples(&d->adapt.ssz) + a->ssz_gap) >
              d->seq.magnetize_samples * DRIVE_SLOTS)) {
         return 1;
     }
-    if (id->track_rr != 0u && drive_adapt_track_init(&d->track, c, b, Ts) != TR_TRACK_OK) {
+    if (id->track_rr != 0u && drive_adapt_track_init(&d->adapt.track, c, b, Ts) != TR_TRACK_OK) {
         return 1;
     }
     init_background(d, c, Ts);
@@ -194,9 +194,9 @@ int16_t drive_adapt_init(drive_t *d, const drive_config_t *c, float Ts)
  * sequence's wait then runs out). */
 static void capture(drive_t *d)
 {
-    volatile drive_adapt_capture_t *c = &d->adapt_cap;
-    const ident_regressor_t *r = &d->reg;
-    const standstill_z_t *z = &d->ssz;
+    volatile drive_adapt_capture_t *c = &d->adapt.cap;
+    const ident_regressor_t *r = &d->id.reg;
+    const standstill_z_t *z = &d->adapt.ssz;
 
     if (c->ready != 0u) {
         return;
@@ -205,9 +205,9 @@ static void capture(drive_t *d)
     c->u_tf = r->u_tf;
     c->i_mf = r->i_mf;
     c->i_tf = r->i_tf;
-    c->theta_r = d->qep.theta_elec;   /* the held frame's angle (drive_step.c) */
-    c->psi_cm_alpha = d->fobs.psi_cm_alpha;
-    c->psi_cm_beta = d->fobs.psi_cm_beta;
+    c->theta_r = d->sense.qep.theta_elec;   /* the held frame's angle (drive_step.c) */
+    c->psi_cm_alpha = d->frame.fobs.psi_cm_alpha;
+    c->psi_cm_beta = d->frame.fobs.psi_cm_beta;
     c->us = z->us;
     c->uc = z->uc;
     c->is = z->is;
@@ -222,21 +222,21 @@ static void capture(drive_t *d)
  * does; at its end the capture for the standstill result. */
 static void standstill(drive_t *d)
 {
-    standstill_z_t *z = &d->ssz;
+    standstill_z_t *z = &d->adapt.ssz;
     const id_sequence_t *s = &d->seq;
     uint32_t left;
 
     if (s->magnetize_end != 0u) {
         capture(d);
     }
-    if (d->adapt.ssz_started != 0u || s->t_state == 0u || s->t_state >= s->magnetize_samples) {
+    if (d->adapt.isr.ssz_started != 0u || s->t_state == 0u || s->t_state >= s->magnetize_samples) {
         return;
     }
     /* fast samples left in the magnetisation; t_state < magnetize_samples */
     left = (s->magnetize_samples - s->t_state) * DRIVE_SLOTS;
-    if (left <= (uint32_t)standstill_z_samples(z) + d->adapt.ssz_gap) {
+    if (left <= (uint32_t)standstill_z_samples(z) + d->adapt.isr.ssz_gap) {
         standstill_z_start(z);
-        d->adapt.ssz_started = 1u;
+        d->adapt.isr.ssz_started = 1u;
     }
 }
 
@@ -247,9 +247,9 @@ static void standstill(drive_t *d)
  * reads which in taken). */
 static void take_set(drive_t *d)
 {
-    drive_adapt_box_t *box = &d->adapt_box;
+    drive_adapt_box_t *box = &d->adapt.box;
     const drive_model_set_t *s = &box->set;
-    drive_adapt_t *a = &d->adapt;
+    drive_adapt_t *a = &d->adapt.isr;
     const uint16_t f = s->flags;
 
     if (s->state != (uint16_t)d->seq.state || s->pass != d->seq.pass) {
@@ -257,25 +257,25 @@ static void take_set(drive_t *d)
         box->ready = 0u;
         return;
     }
-    flux_obs_apply_model(&d->fobs, &s->fobs);
-    ifo_apply_tr(&d->ifo, &s->ifo);
-    pi_apply_gains(&d->pi_id, &s->cur);
-    pi_apply_gains(&d->pi_iq, &s->cur);
+    flux_obs_apply_model(&d->frame.fobs, &s->fobs);
+    ifo_apply_tr(&d->frame.ifo, &s->ifo);
+    pi_apply_gains(&d->loop.pi_id, &s->cur);
+    pi_apply_gains(&d->loop.pi_iq, &s->cur);
     d->k.sigma_ls = s->fobs.sigma_ls;
     d->k.lm2_lr = s->lm2_lr;
     a->blending = (uint16_t)((f & DRIVE_SET_BLENDING) != 0u);
     /* a step of the model the protections compare with (not the tracker's
      * rate-limited Tr in RUN): the model check rebases (drive_safety.c) */
-    d->safety.model_step |= (uint16_t)((f & (DRIVE_SET_BLENDING | DRIVE_SET_READY | DRIVE_SET_SEAT |
+    d->prot.model.model_step |= (uint16_t)((f & (DRIVE_SET_BLENDING | DRIVE_SET_READY | DRIVE_SET_SEAT |
                                              DRIVE_SET_ALIGN)) != 0u);
     if ((f & DRIVE_SET_SEAT) != 0u) {
-        flux_obs_apply_seat(&d->fobs, &s->seat);
+        flux_obs_apply_seat(&d->frame.fobs, &s->seat);
     }
     if ((f & DRIVE_SET_TRACK_START) != 0u) {
-        tr_track_restart(&d->track, s->theta0);
+        tr_track_restart(&d->adapt.track, s->theta0);
         a->track_armed = 1u;
     }
-    if ((f & DRIVE_SET_ALIGN) != 0u && a->track_armed != 0u && d->run_ifo == 0u) {
+    if ((f & DRIVE_SET_ALIGN) != 0u && a->track_armed != 0u && d->frame.run_ifo == 0u) {
         /* hand the control frame to ifo, now on the tracked Tr: the
          * frame's angle of this period (obs_theta: the observer's flux
          * angle carried forward every period, drive_step.c), against the
@@ -288,12 +288,12 @@ static void take_set(drive_t *d)
          * off the M axis, a transient of Tr that the tracker's first fits
          * saw; measured on the family's 30 kW 8-pole: max q/d in RUN
          * 0.153, now 0.014) */
-        ifo_align(&d->ifo, d->obs_theta,
-                  _IQmpy(_IQsat(d->fobs.psi_mag, _IQ(7.9), _IQ(0.0)), s->inv_lm));
+        ifo_align(&d->frame.ifo, d->frame.obs_theta,
+                  _IQmpy(_IQsat(d->frame.fobs.psi_mag, _IQ(7.9), _IQ(0.0)), s->inv_lm));
         drive_set_run_ifo(d, 1u);
     }
     if ((f & DRIVE_SET_READY) != 0u) {
-        d->seq.adapt_ready = 1u;
+        d->adapt.isr.ready = 1u;
     }
     box->taken = DRIVE_BOX_APPLIED;
     box->ready = 0u;
@@ -301,39 +301,39 @@ static void take_set(drive_t *d)
 
 void drive_adapt_track(drive_t *d)
 {
-    tr_track_t *t = &d->track;
+    tr_track_t *t = &d->adapt.track;
 
-    if (d->adapt.track_armed == 0u) {
+    if (d->adapt.isr.track_armed == 0u) {
         return;
     }
-    t->w_sl = d->fobs.ws_f - d->qep.speed_raw;
-    t->psi_alpha = d->fobs.psi_alpha;
-    t->psi_beta = d->fobs.psi_beta;
+    t->w_sl = d->frame.fobs.ws_f - d->sense.qep.speed_raw;
+    t->psi_alpha = d->frame.fobs.psi_alpha;
+    t->psi_beta = d->frame.fobs.psi_beta;
     /* the current of the observer's last step: its flux and this current
      * belong to the same sample */
-    t->i_alpha = d->fobs.i_alpha;
-    t->i_beta = d->fobs.i_beta;
-    t->enable = (uint16_t)(d->seq.state == ID_RUN && d->adapt.blending == 0u);
+    t->i_alpha = d->frame.fobs.i_alpha;
+    t->i_beta = d->frame.fobs.i_beta;
+    t->enable = (uint16_t)(d->seq.state == ID_RUN && d->adapt.isr.blending == 0u);
     tr_track_step(t);
 }
 
 /* A state change: what each state starts from. */
 static void state_change(drive_t *d, uint16_t st)
 {
-    drive_adapt_t *a = &d->adapt;
+    drive_adapt_t *a = &d->adapt.isr;
 
     a->blending = 0u;   /* a blend the state change cut short: no more of it */
     if (st == (uint16_t)ID_MAGNETIZE) {
         a->ssz_started = 0u;
-        d->seq.adapt_ready = 0u;
+        d->adapt.isr.ready = 0u;
         /* demagnetised machine: both observer models from zero flux (the
          * voltage model has integrated offsets while the bridge was off) */
-        flux_obs_reset(&d->fobs);
+        flux_obs_reset(&d->frame.fobs);
     }
     if (st == (uint16_t)ID_REFINE) {
-        d->seq.adapt_ready = 0u;
+        d->adapt.isr.ready = 0u;
     }
-    if (st != (uint16_t)ID_RUN && (a->track_armed | d->run_ifo) != 0u) {
+    if (st != (uint16_t)ID_RUN && (a->track_armed | d->frame.run_ifo) != 0u) {
         a->track_armed = 0u;
         drive_set_run_ifo(d, 0u);
     }
@@ -347,26 +347,26 @@ static void state_change(drive_t *d, uint16_t st)
  * there is one, comes first: a loaded drive never swings. */
 static void excite(drive_t *d)
 {
-    drive_adapt_t *a = &d->adapt;
-    id_sequence_t *s = &d->seq;
+    drive_adapt_t *a = &d->adapt.isr;
+    const id_sequence_t *s = &d->seq;
     const uint16_t owed = (uint16_t)(a->fused != 0u && s->state == ID_RUN &&
                                      d->telemetry.publish_reason == (uint16_t)DRIVE_PUB_PENDING);
     if (owed == 0u) {
         a->starved = 0u;
-        s->excite = 0u;
+        a->excite = 0u;
         return;
     }
-    if (s->excite == 0u) {
+    if (a->excite == 0u) {
         /* held throughout, not now and then */
-        a->starved = (a->track_armed != 0u && d->track.held != 0u) ? (uint16_t)(a->starved + 1u)
+        a->starved = (a->track_armed != 0u && d->adapt.track.held != 0u) ? (uint16_t)(a->starved + 1u)
                                                                   : 0u;
-        s->excite = (uint16_t)(a->starved >= a->starve_ticks);
+        a->excite = (uint16_t)(a->starved >= a->starve_ticks);
     }
 }
 
 void drive_adapt_slow(drive_t *d)
 {
-    drive_adapt_t *a = &d->adapt;
+    drive_adapt_t *a = &d->adapt.isr;
     const uint16_t st = (uint16_t)d->seq.state;
 
     d->telemetry.pass = d->seq.pass;
@@ -388,9 +388,9 @@ void drive_adapt_slow(drive_t *d)
     }
     if (d->seq.rls_restart != 0u) {
         /* the background's RLS restarts before the next queued sample */
-        d->rlsq.pending |= DRIVE_RLSQ_RESTART;
+        d->id.rlsq.pending |= DRIVE_RLSQ_RESTART;
     }
-    if (d->adapt_box.ready != 0u) {
+    if (d->adapt.box.ready != 0u) {
         take_set(d);
     }
     excite(d);

@@ -7,6 +7,11 @@
 
 #include "drive_types.h"
 
+/** The model set the sequence waits for is applied: its adapt_ready. */
+static inline uint16_t drive_adapt_ready(const drive_t *d) { return d->adapt.isr.ready; }
+/** RUN on a free shaft: the speed swings (the sequence's excite). */
+static inline uint16_t drive_adapt_excite(const drive_t *d) { return d->adapt.isr.excite; }
+
 /* The standstill test and the tracker's guard (also read by the table of
  * limits, drive_limits.c, to say which bound a configuration misses). */
 #define TRACK_PHI_MIN_OF_RATED 0.1f    /* least |psi x i|: 10 % of rated flux x rated i_T */
@@ -55,21 +60,21 @@ tr_track_status_t drive_adapt_track_init(tr_track_t *t, const drive_config_t *c,
                                          const base_values_t *b, float Ts);
 
 /** ISR, every period: the standstill lock-in on i_M (its injection into
- *  d->im_inject) during the magnetisation.  Inline: outside its few
+ *  d->loop.im_inject) during the magnetisation.  Inline: outside its few
  *  hundred ms it is one test and a store, cheaper than a call. */
 static inline void drive_adapt_fast(drive_t *d)
 {
-    standstill_z_t *z = &d->ssz;
+    standstill_z_t *z = &d->adapt.ssz;
 
     if (z->running == 0u) {
-        d->im_inject = _IQ(0.0);
+        d->loop.im_inject = _IQ(0.0);
         return;
     }
     /* the sequence's i_M reference plus the injection (drive_step.c) */
-    z->u_m = d->reg.u_m;
-    z->i_m = d->park.ds;
+    z->u_m = d->id.reg.u_m;
+    z->i_m = d->loop.park.ds;
     standstill_z_step(z);
-    d->im_inject = z->i_add;
+    d->loop.im_inject = z->i_add;
 }
 
 /** ISR, slot SEQUENCE after the sequence step: the standstill test's start

@@ -81,8 +81,8 @@ static void design(const drive_adapt_bg_t *g, const _iq v[DRIVE_ADAPT_NP], drive
 /* Into the mailbox (free: no post pending), ready last. */
 static void post(drive_t *d, const drive_model_set_t *s, const _iq v[DRIVE_ADAPT_NP])
 {
-    drive_adapt_bg_t *g = &d->adapt_bg;
-    drive_adapt_box_t *box = &d->adapt_box;
+    drive_adapt_bg_t *g = &d->adapt.bg;
+    drive_adapt_box_t *box = &d->adapt.box;
     uint16_t i;
 
     *(volatile drive_model_set_t *)&box->set = *s;   /* every store before ready's */
@@ -97,7 +97,7 @@ static void post(drive_t *d, const drive_model_set_t *s, const _iq v[DRIVE_ADAPT
 /* The model in use, unchanged, for a state that waits for it. */
 static void post_ready(drive_t *d, uint16_t st, uint16_t pass)
 {
-    drive_adapt_bg_t *g = &d->adapt_bg;
+    drive_adapt_bg_t *g = &d->adapt.bg;
     drive_model_set_t s = g->cur_set;
     s.flags = DRIVE_SET_READY;
     s.state = st;
@@ -110,8 +110,8 @@ static void post_ready(drive_t *d, uint16_t st, uint16_t pass)
  * ends where the ISR is).  0 while the set is still in the mailbox. */
 static uint16_t answer(drive_t *d)
 {
-    drive_adapt_bg_t *g = &d->adapt_bg;
-    drive_adapt_box_t *box = &d->adapt_box;
+    drive_adapt_bg_t *g = &d->adapt.bg;
+    drive_adapt_box_t *box = &d->adapt.box;
     uint16_t i;
 
     if (g->pending == 0u) {
@@ -138,15 +138,15 @@ static uint16_t answer(drive_t *d)
  * result keeps the believed model, Rs_dc reads 0). */
 static void standstill_set(drive_t *d)
 {
-    drive_adapt_bg_t *g = &d->adapt_bg;
-    drive_adapt_capture_t c = d->adapt_cap;
+    drive_adapt_bg_t *g = &d->adapt.bg;
+    drive_adapt_capture_t c = d->adapt.cap;
     const uint16_t pass = d->seq.pass;
     drive_model_set_t s;
     _iq v[DRIVE_ADAPT_NP];
     _iq rs;
     uint16_t i;
 
-    d->adapt_cap.ready = 0u;   /* copied: the ISR may capture again */
+    d->adapt.cap.ready = 0u;   /* copied: the ISR may capture again */
     if (d->seq.state != ID_MAGNETIZE) {
         return;   /* the sequence did not wait (time-out, stop): too late */
     }
@@ -170,7 +170,7 @@ static void standstill_set(drive_t *d)
     if (c.ssz_done != 0u) {
         /* the lock-in's result from its sums, on a copy (its constants are
          * fixed after init; the ISR does not touch the sums once done) */
-        standstill_z_t z = d->ssz;
+        standstill_z_t z = d->adapt.ssz;
         z.us = c.us;
         z.uc = c.uc;
         z.is = c.is;
@@ -190,7 +190,7 @@ static void standstill_set(drive_t *d)
          * the held frame angle (the encoder's: drive_step.c) */
         _iq sn, cs;
         angle_sincos(c.theta_r, &sn, &cs);
-        if (flux_obs_seat_dc(&d->fobs, &s.fobs, c.psi_cm_alpha, c.psi_cm_beta,
+        if (flux_obs_seat_dc(&d->frame.fobs, &s.fobs, c.psi_cm_alpha, c.psi_cm_beta,
                              _IQmpy(cs, c.u_mf) - _IQmpy(sn, c.u_tf),
                              _IQmpy(sn, c.u_mf) + _IQmpy(cs, c.u_tf),
                              _IQmpy(cs, c.i_mf) - _IQmpy(sn, c.i_tf),
@@ -208,8 +208,8 @@ static void standstill_set(drive_t *d)
  * usable, the model in use with READY: the next pass runs on it). */
 static void take_mail(drive_t *d)
 {
-    drive_adapt_bg_t *g = &d->adapt_bg;
-    const drive_adapt_t *a = &d->adapt;
+    drive_adapt_bg_t *g = &d->adapt.bg;
+    const drive_adapt_t *a = &d->adapt.isr;
     const uint16_t st = (uint16_t)d->seq.state;
     const uint16_t pass = d->seq.pass;
     uint16_t i;
@@ -272,8 +272,8 @@ static void take_mail(drive_t *d)
  * last one exactly `to`. */
 static void blend(drive_t *d)
 {
-    drive_adapt_bg_t *g = &d->adapt_bg;
-    const uint16_t elapsed = (uint16_t)(d->adapt.ticks - g->blend_t0);
+    drive_adapt_bg_t *g = &d->adapt.bg;
+    const uint16_t elapsed = (uint16_t)(d->adapt.isr.ticks - g->blend_t0);
     drive_model_set_t s;
     _iq v[DRIVE_ADAPT_NP];
     uint16_t flags;
@@ -314,17 +314,17 @@ static void blend(drive_t *d)
  * the first such set hands the control frame to ifo. */
 static void track(drive_t *d)
 {
-    drive_adapt_bg_t *g = &d->adapt_bg;
+    drive_adapt_bg_t *g = &d->adapt.bg;
     drive_telemetry_t *t = &d->telemetry;
-    const uint32_t n = d->track.n_updates;
-    const _iq theta = d->track.theta;
+    const uint32_t n = d->adapt.track.n_updates;
+    const _iq theta = d->adapt.track.theta;
     drive_model_set_t s;
     _iq v[DRIVE_ADAPT_NP];
     _iq20 tr;
     uint32_t k;
     uint16_t i;
 
-    if (d->seq.state != ID_RUN || d->adapt.track_armed == 0u) {
+    if (d->seq.state != ID_RUN || d->adapt.isr.track_armed == 0u) {
         t->track_valid = 0u;
         g->n_seen = 0u;
         return;
@@ -360,7 +360,7 @@ static void track(drive_t *d)
         k--;
     }
     design(g, v, &s);
-    s.flags = (d->run_ifo == 0u) ? DRIVE_SET_ALIGN : 0u;
+    s.flags = (d->frame.run_ifo == 0u) ? DRIVE_SET_ALIGN : 0u;
     s.state = ID_RUN;
     s.pass = d->seq.pass;
     post(d, &s, v);
@@ -369,8 +369,8 @@ static void track(drive_t *d)
 
 void drive_adapt_post(drive_t *d, const param_extract_t *p, uint16_t full)
 {
-    drive_adapt_bg_t *g = &d->adapt_bg;
-    const drive_adapt_t *a = &d->adapt;
+    drive_adapt_bg_t *g = &d->adapt.bg;
+    const drive_adapt_t *a = &d->adapt.isr;
 
     if (d->k.orientation != DRIVE_ORIENT_FLUX_OBS || (a->passes <= 1u && a->track_rr == 0u)) {
         return;
@@ -387,14 +387,14 @@ void drive_adapt_post(drive_t *d, const param_extract_t *p, uint16_t full)
 
 void drive_adapt_background(drive_t *d)
 {
-    drive_adapt_bg_t *g = &d->adapt_bg;
+    drive_adapt_bg_t *g = &d->adapt.bg;
 
     if (d->k.orientation != DRIVE_ORIENT_FLUX_OBS) {
         return;
     }
     if (answer(d) != 0u) {
         /* the mailbox is free: one post per pass of the loop, in order */
-        if (d->adapt_cap.ready != 0u) {
+        if (d->adapt.cap.ready != 0u) {
             standstill_set(d);
         }
         if (g->pending == 0u && g->m_ready != 0u) {

@@ -80,11 +80,11 @@ static uint16_t widen_by_sensor(_iq *conf, uint16_t mask, float e, _iq lim)
 static void extract_mid(drive_t *d, param_extract_t *mid)
 {
     uint16_t i;
-    *mid = d->pex;                 /* limits, form and i_M; the outputs are recomputed */
+    *mid = d->id.pex;                 /* limits, form and i_M; the outputs are recomputed */
     for (i = 0u; i < RLS_N; i++) {
-        mid->theta[i] = d->conf_theta_mid[i];
+        mid->theta[i] = d->verdict.theta_mid[i];
     }
-    if (d->adapt.fused != 0u) {
+    if (d->adapt.isr.fused != 0u) {
         param_extract_magnetic(mid);
     } else {
         param_extract_step(mid);
@@ -95,26 +95,26 @@ static void extract_mid(drive_t *d, param_extract_t *mid)
  * The confidences go to telemetry whether the set is published or not. */
 static uint16_t judge_rls(drive_t *d, const param_extract_t *end)
 {
-    ident_conf_t *c = &d->conf;
+    ident_conf_t *c = &d->verdict.conf;
     param_extract_t mid;
     uint16_t i;
 
-    c->mask = (d->adapt.fused != 0u) ? IDENT_MASK_MAGNETIC : IDENT_MASK_ALL;
+    c->mask = (d->adapt.isr.fused != 0u) ? IDENT_MASK_MAGNETIC : IDENT_MASK_ALL;
     if (end->valid != 0u) {
-        if (d->conf_mid == 2u) {
+        if (d->verdict.mid == 2u) {
             extract_mid(d, &mid);
         } else {
             mid.valid = 0u;   /* the window never reached its middle with an estimate */
         }
-        ident_conf_eval(c, &d->snap_cov, &d->snap_acc, d->snap_pd, end, &mid);
+        ident_conf_eval(c, &d->id.snap_cov, &d->id.snap_acc, d->id.snap_pd, end, &mid);
         /* what the sensors may hide widens every figure (the fused set's Rs,
          * Rr, Tr: judge_fused) */
-        d->sensor_gain = fminf(drive_safety_sensor_gain(d), 1.0f);
-        if (widen_by_sensor(c->conf, c->mask, d->sensor_gain, c->conf_max) != 0u &&
+        d->verdict.sensor_gain = fminf(drive_safety_sensor_gain(d), 1.0f);
+        if (widen_by_sensor(c->conf, c->mask, d->verdict.sensor_gain, c->conf_max) != 0u &&
             c->verdict == (uint16_t)IDENT_CONF_OK) {
             c->verdict = (uint16_t)IDENT_CONF_LOW_CONFIDENCE;
         }
-        if (d->adapt.fused != 0u) {
+        if (d->adapt.isr.fused != 0u) {
             /* Rs, Rr, Tr are judge_fused's: not available until it runs
              * (a set the RLS's part refuses never gets them) */
             c->conf[IDENT_P_RS] = -_IQ(1.0);
@@ -133,10 +133,10 @@ static uint16_t judge_rls(drive_t *d, const param_extract_t *end)
     }
     d->telemetry.conf_residual = c->residual;
     d->telemetry.conf_amp = c->amp;
-    if (d->guard.good == 0u) {
+    if (d->id.guard.good == 0u) {
         /* no plausible estimate: the RLS never updated (the acceleration stayed below
          * the speeds where it learns), or it did and never converged */
-        return (d->snap_acc.n == 0u) ? (uint16_t)DRIVE_PUB_LOW_EXCITATION
+        return (d->id.snap_acc.n == 0u) ? (uint16_t)DRIVE_PUB_LOW_EXCITATION
                                 : (uint16_t)DRIVE_PUB_NOT_CONVERGED;
     }
     if (end->valid == 0u) {
@@ -193,28 +193,28 @@ static void sample_tracker(drive_t *d)
 {
     /* volatile: the ISR may update the tracker between these reads (the
      * second read of y_f must be a read, not the compiler's copy) */
-    const volatile tr_track_t *t = &d->track;
+    const volatile tr_track_t *t = &d->adapt.track;
     _iq y, phi, th;
-    if (t->n_updates == d->trk_updates || t->held != 0u) {
+    if (t->n_updates == d->verdict.trk_updates || t->held != 0u) {
         return;
     }
-    d->trk_updates = t->n_updates;
+    d->verdict.trk_updates = t->n_updates;
     y = t->y_f;
     phi = t->phi_f;
     th = t->theta;
     if (y == t->y_f) {
-        if (d->trk_fit.n == 0u) {
-            d->trk_theta0 = th;
+        if (d->verdict.trk_fit.n == 0u) {
+            d->verdict.trk_theta0 = th;
         }
-        ident_conf_fit_add(&d->trk_fit, y, phi, th);
+        ident_conf_fit_add(&d->verdict.trk_fit, y, phi, th);
     }
 }
 
 static void tracker_reset(drive_t *d)
 {
-    ident_conf_fit_reset(&d->trk_fit);
-    d->trk_updates = d->track.n_updates;
-    d->trk_theta0 = _IQ(0.0);
+    ident_conf_fit_reset(&d->verdict.trk_fit);
+    d->verdict.trk_updates = d->adapt.track.n_updates;
+    d->verdict.trk_theta0 = _IQ(0.0);
 }
 
 /* The fused set's verdict, once the tracker has fitted for
@@ -239,26 +239,26 @@ static void tracker_reset(drive_t *d)
 static uint16_t judge_fused(drive_t *d)
 {
     drive_telemetry_t *t = &d->telemetry;
-    _iq trk, drift, lim = d->conf.conf_max;
+    _iq trk, drift, lim = d->verdict.conf.conf_max;
     if (t->Rs_dc == _IQ(0.0)) {
         return DRIVE_PUB_IMPLAUSIBLE;   /* the standstill Rs was implausible: no fused set */
     }
-    if (d->trk_fit.n < d->k.conf_track_updates) {
+    if (d->verdict.trk_fit.n < d->k.conf_track_updates) {
         return (d->seq.state == ID_RUN && d->seq.t_state >= d->k.conf_track_wait)
                    ? (uint16_t)DRIVE_PUB_LOW_EXCITATION : (uint16_t)DRIVE_PUB_PENDING;
     }
-    trk = ident_conf_fit_bound(&d->trk_fit);
+    trk = ident_conf_fit_bound(&d->verdict.trk_fit);
     trk = (trk < _IQ(IDENT_CONF_MAX)) ? _IQmpy(trk, d->k.conf_track_se) : trk;
-    drift = ident_conf_rel_change(d->track.theta, d->trk_theta0);   /* 1/Tr: the same relative change */
+    drift = ident_conf_rel_change(d->adapt.track.theta, d->verdict.trk_theta0);   /* 1/Tr: the same relative change */
     /* as ident_conf's: the sum of the two figures (each < 100) */
     t->conf[IDENT_P_TR] = (trk + drift < _IQ(IDENT_CONF_MAX)) ? trk + drift : _IQ(IDENT_CONF_MAX);
-    t->conf[IDENT_P_RS] = (d->vic_rs > 0.0f)
-                              ? _IQ(fminf(fabsf(_IQtoF(t->Rs_dc) - d->vic_rs) /
+    t->conf[IDENT_P_RS] = (d->vi.rs > 0.0f)
+                              ? _IQ(fminf(fabsf(_IQtoF(t->Rs_dc) - d->vi.rs) /
                                               _IQtoF(t->Rs_dc), IDENT_CONF_MAX))
                               : _IQ(0.0);
     /* (the larger of the final pass's figure and RUN's, now) */
-    d->sensor_gain = fmaxf(d->sensor_gain, fminf(drive_safety_sensor_gain(d), 1.0f));
-    (void)widen_by_sensor(t->conf, (1u << IDENT_P_RS) | (1u << IDENT_P_TR), d->sensor_gain, lim);
+    d->verdict.sensor_gain = fmaxf(d->verdict.sensor_gain, fminf(drive_safety_sensor_gain(d), 1.0f));
+    (void)widen_by_sensor(t->conf, (1u << IDENT_P_RS) | (1u << IDENT_P_TR), d->verdict.sensor_gain, lim);
     /* (Lr's widened by judge_rls: Rr's sum carries both shares) */
     t->conf[IDENT_P_RR] = (t->conf[IDENT_P_TR] < _IQ(IDENT_CONF_MAX / 2.0f) &&
                            t->conf[IDENT_P_LR] < _IQ(IDENT_CONF_MAX / 2.0f))
@@ -274,15 +274,15 @@ static uint16_t judge_fused(drive_t *d)
 uint16_t drive_fused_set(const drive_t *d, drive_params_t *s)
 {
     const drive_telemetry_t *t = &d->telemetry;
-    if (d->adapt.fused == 0u || d->fused_ready == 0u || t->Rs_dc == _IQ(0.0) ||
+    if (d->adapt.isr.fused == 0u || d->verdict.fused_ready == 0u || t->Rs_dc == _IQ(0.0) ||
         t->Tr_track == 0) {
         return 0u;
     }
     s->Rs = t->Rs_dc;
     s->Rr = t->Rr_track;
-    s->Lm = d->fused_lm;
-    s->Lr = d->fused_lr;
-    s->psi_r = d->fused_psi;
+    s->Lm = d->verdict.fused_lm;
+    s->Lr = d->verdict.fused_lr;
+    s->psi_r = d->verdict.fused_psi;
     s->Tr = t->Tr_track;
     return 1u;
 }
@@ -301,7 +301,7 @@ static void publish_tracked(drive_t *d)
     if (t->track_valid == 0u) {
         return;
     }
-    if (d->adapt.fused != 0u) {
+    if (d->adapt.isr.fused != 0u) {
         /* every value from its well-conditioned source, or nothing */
         if (drive_fused_set(d, &f) == 0u ||
             t->publish_reason != (uint16_t)DRIVE_PUB_PUBLISHED) {
@@ -331,7 +331,7 @@ static void fused_verdict(drive_t *d)
 {
     drive_telemetry_t *t = &d->telemetry;
     uint16_t reason;
-    if (d->adapt.fused == 0u || d->conf_judged == 0u ||
+    if (d->adapt.isr.fused == 0u || d->verdict.judged == 0u ||
         t->publish_reason != (uint16_t)DRIVE_PUB_PENDING) {
         return;
     }
@@ -353,19 +353,19 @@ static void fused_verdict(drive_t *d)
 static void after_extraction(drive_t *d)
 {
     param_extract_t mag;
-    const param_extract_t *p = &d->pex;
-    uint16_t full = d->pex.valid;
+    const param_extract_t *p = &d->id.pex;
+    uint16_t full = d->id.pex.valid;
 
-    if (d->adapt.fused != 0u && full == 0u) {
-        mag = d->pex;   /* limits and inputs; the outputs are recomputed */
+    if (d->adapt.isr.fused != 0u && full == 0u) {
+        mag = d->id.pex;   /* limits and inputs; the outputs are recomputed */
         param_extract_magnetic(&mag);
         p = &mag;
     }
-    if (d->adapt.fused != 0u && p->valid != 0u) {
-        d->fused_lm = p->Lm;
-        d->fused_lr = p->Lr;
-        d->fused_psi = p->psi_r;
-        d->fused_ready = 1u;
+    if (d->adapt.isr.fused != 0u && p->valid != 0u) {
+        d->verdict.fused_lm = p->Lm;
+        d->verdict.fused_lr = p->Lr;
+        d->verdict.fused_psi = p->psi_r;
+        d->verdict.fused_ready = 1u;
     }
     drive_adapt_post(d, p, full);   /* the next pass (or the tracker) starts from it */
 }
@@ -379,8 +379,8 @@ static void start_identification(drive_t *d)
     drive_telemetry_t *t = &d->telemetry;
 
     /* a new verdict is owed for this run */
-    d->conf_run = 1u;
-    if (_IQabs(d->qep.speed) > d->k.rest_speed) {
+    d->verdict.run = 1u;
+    if (_IQabs(d->sense.qep.speed) > d->k.rest_speed) {
         t->publish_reason = (uint16_t)DRIVE_PUB_ROTOR_TURNING;
         count_reject(t);
         return;
@@ -389,15 +389,15 @@ static void start_identification(drive_t *d)
     id_sequence_set_target(&d->seq, d->target.target);
     /* same parameters as drive_init: cannot fail here */
     (void)drive_rls_start(d);
-    d->seq.cal_done = 0u;
+    d->sense.cal_done = 0u;
     /* the published set stays (last good values) until a new
      * plausible one replaces it; the guard starts afresh */
-    theta_guard_reset(&d->guard);
+    theta_guard_reset(&d->id.guard);
     drive_safety_sensor_gain_reset(d);
-    d->fused_ready = 0u;
-    d->conf_judged = 0u;
-    d->conf_mid = 0u;
-    d->conf_pass = 0u;
+    d->verdict.fused_ready = 0u;
+    d->verdict.judged = 0u;
+    d->verdict.mid = 0u;
+    d->verdict.pass = 0u;
     tracker_reset(d);
     /* this run's standstill test decides (an old measurement must
      * not stand in for one that fails now); the ISR writes them
@@ -413,27 +413,27 @@ static void handle_command(drive_t *d, drive_cmd_t cmd)
     case DRIVE_CMD_START_IDENT:
         /* a restart from a running sequence would re-initialise the RLS under
          * the ISR: only from IDLE */
-        if (d->seq.state == ID_IDLE && d->config_status == DRIVE_CFG_OK &&
-            d->prot.fault == FAULT_NONE) {
+        if (d->seq.state == ID_IDLE && d->k.config_status == DRIVE_CFG_OK &&
+            d->prot.trip.fault == FAULT_NONE) {
             start_identification(d);
         }
         break;
     case DRIVE_CMD_STOP:
         id_sequence_stop(&d->seq);
-        if (d->conf_run != 0u && d->telemetry.publish_reason == (uint16_t)DRIVE_PUB_PENDING) {
+        if (d->verdict.run != 0u && d->telemetry.publish_reason == (uint16_t)DRIVE_PUB_PENDING) {
             d->telemetry.publish_reason = (uint16_t)DRIVE_PUB_STOPPED;
         }
         break;
     case DRIVE_CMD_RESET_FAULT:
         /* the plausibility checks judge a running drive: re-armed here, they
          * trip again if their cause is still there once it runs */
-        encoder_check_reset(&d->enc_chk);
-        current_check_reset(&d->cur_chk);
+        encoder_check_reset(&d->prot.enc);
+        current_check_reset(&d->prot.feedback);
         drive_safety_reset(d);
-        isr_monitor_reset(&d->ovr);
-        d->prot.encoder_fault = 0u;
-        d->prot.current_fault = 0u;
-        if (d->config_status == DRIVE_CFG_OK && protect_clear(&d->prot) != 0u) {
+        isr_monitor_reset(&d->prot.ovr);
+        d->prot.trip.encoder_fault = 0u;
+        d->prot.trip.current_fault = 0u;
+        if (d->k.config_status == DRIVE_CFG_OK && protect_clear(&d->prot.trip) != 0u) {
             id_sequence_clear_fault(&d->seq);
         }
         break;
@@ -450,24 +450,24 @@ static void handle_command(drive_t *d, drive_cmd_t cmd)
 static void capture_mid(drive_t *d, const drive_snapshot_t *live)
 {
     const id_sequence_t *s = &d->seq;
-    _iq sp = _IQabs(d->qep.speed);
+    _iq sp = _IQabs(d->sense.qep.speed);
     uint16_t i;
-    if (s->pass != d->conf_pass) {
-        d->conf_pass = s->pass;
-        d->conf_mid = 0u;
+    if (s->pass != d->verdict.pass) {
+        d->verdict.pass = s->pass;
+        d->verdict.mid = 0u;
     }
-    if (s->state != ID_ACCELERATE || d->conf_acc.n == 0u || d->guard.good == 0u) {
+    if (s->state != ID_ACCELERATE || d->id.acc.n == 0u || d->id.guard.good == 0u) {
         return;
     }
-    if (d->conf_mid == 0u) {
+    if (d->verdict.mid == 0u) {
         /* both < 2 pu (the speed reference's range) */
-        d->conf_speed_mid = _IQmpy(sp + _IQabs(s->speed_target), _IQ(0.5));
-        d->conf_mid = 1u;
-    } else if (d->conf_mid == 1u && sp >= d->conf_speed_mid) {
+        d->verdict.speed_mid = _IQmpy(sp + _IQabs(s->speed_target), _IQ(0.5));
+        d->verdict.mid = 1u;
+    } else if (d->verdict.mid == 1u && sp >= d->verdict.speed_mid) {
         for (i = 0u; i < RLS_N; i++) {
-            d->conf_theta_mid[i] = live->theta[i];
+            d->verdict.theta_mid[i] = live->theta[i];
         }
-        d->conf_mid = 2u;
+        d->verdict.mid = 2u;
     } else {
         /* armed, below the middle; or taken */
     }
@@ -478,23 +478,23 @@ static void capture_mid(drive_t *d, const drive_snapshot_t *live)
  * passes only hand their model on (after_extraction). */
 static void extraction_done(drive_t *d)
 {
-    const param_extract_t *end = &d->pex;
+    const param_extract_t *end = &d->id.pex;
     param_extract_t mag;
     uint16_t reason;
     if (d->seq.pass < d->seq.passes) {
         return;
     }
-    if (d->adapt.fused != 0u && d->pex.valid == 0u) {
-        mag = d->pex;   /* the magnetic part alone, as after_extraction keeps it */
+    if (d->adapt.isr.fused != 0u && d->id.pex.valid == 0u) {
+        mag = d->id.pex;   /* the magnetic part alone, as after_extraction keeps it */
         param_extract_magnetic(&mag);
         end = &mag;
     }
     reason = judge_rls(d, end);
-    if (d->adapt.fused == 0u) {
-        publish(&d->telemetry, &d->pex, reason);
+    if (d->adapt.isr.fused == 0u) {
+        publish(&d->telemetry, &d->id.pex, reason);
         return;
     }
-    d->conf_judged = 1u;
+    d->verdict.judged = 1u;
     if (reason != (uint16_t)DRIVE_PUB_PUBLISHED) {
         /* the RLS's part already fails: the fused set cannot be published */
         d->telemetry.publish_reason = reason;
@@ -526,16 +526,16 @@ void drive_background(drive_t *d)
 
     drive_rls_drain(d);   /* the RLS on the ISR's queued samples, and their snapshots */
 
-    if (d->snap.ready != 0u) {
-        extract(&d->pex, &d->snap, d->rls.form);
+    if (d->id.snap.ready != 0u) {
+        extract(&d->id.pex, &d->id.snap, d->id.rls.form);
         extraction_done(d);
         after_extraction(d);
-        d->snap.ready = 0u;
+        d->id.snap.ready = 0u;
     }
-    if (d->live_snap.ready != 0u) {
-        extract(&d->live, &d->live_snap, d->rls.form);
-        capture_mid(d, &d->live_snap);
-        d->live_snap.ready = 0u;
+    if (d->id.live_snap.ready != 0u) {
+        extract(&d->id.live, &d->id.live_snap, d->id.rls.form);
+        capture_mid(d, &d->id.live_snap);
+        d->id.live_snap.ready = 0u;
     }
     drive_vi_background(d);      /* the bridge's curve, once measured (drive_vi.c) */
     drive_adapt_background(d);   /* the adaptation's models and constants (drive_adapt_bg.c) */
@@ -545,20 +545,20 @@ void drive_background(drive_t *d)
     /* the voltage ended the acceleration below the least target (a bus far
      * below nominal, a load the voltage cannot carry at speed): what the
      * identification would learn there cannot be trusted; the bridge off */
-    if (d->conf_run != 0u && d->telemetry.publish_reason == (uint16_t)DRIVE_PUB_PENDING &&
+    if (d->verdict.run != 0u && d->telemetry.publish_reason == (uint16_t)DRIVE_PUB_PENDING &&
         d->seq.target_lowered != 0u && _IQabs(d->seq.speed_target) < d->target.least) {
         id_sequence_stop(&d->seq);
         d->telemetry.publish_reason = (uint16_t)DRIVE_PUB_BUS_LOW;
         count_reject(&d->telemetry);
     }
     /* the rotor turned in a standstill phase: the sequence went back to IDLE */
-    if (d->conf_run != 0u && d->telemetry.publish_reason == (uint16_t)DRIVE_PUB_PENDING &&
+    if (d->verdict.run != 0u && d->telemetry.publish_reason == (uint16_t)DRIVE_PUB_PENDING &&
         d->seq.state == ID_IDLE && d->seq.rotor_moved != 0u) {
         d->telemetry.publish_reason = (uint16_t)DRIVE_PUB_ROTOR_TURNING;
         count_reject(&d->telemetry);
     }
     /* a protection that trips before the verdict: the set was never complete */
-    if (d->conf_run != 0u && d->telemetry.publish_reason == (uint16_t)DRIVE_PUB_PENDING &&
+    if (d->verdict.run != 0u && d->telemetry.publish_reason == (uint16_t)DRIVE_PUB_PENDING &&
         d->seq.state == ID_FAULT) {
         d->telemetry.publish_reason = (uint16_t)DRIVE_PUB_FAULT;
         count_reject(&d->telemetry);

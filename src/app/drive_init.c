@@ -40,23 +40,23 @@ const char *drive_cfg_status_str(int16_t status)
 
 static int16_t init_sensing(drive_t *d, const drive_config_t *c, float Ts)
 {
-    if (phase_current_init(&d->cur, 1.0f, 1.0f, 1, 0.05f) != PHASE_CURRENT_OK) {
+    if (phase_current_init(&d->sense.phase, 1.0f, 1.0f, 1, 0.05f) != PHASE_CURRENT_OK) {
         return 1;
     }
-    if (dc_bus_init(&d->bus, c->board.vdc_adc_full_scale_V, &d->base, 200.0f) != 0) {
+    if (dc_bus_init(&d->sense.bus, c->board.vdc_adc_full_scale_V, &d->base, 200.0f) != 0) {
         return 1;
     }
     /* the angle every period, the speeds in the slow FILTERS slot */
-    if (qep_speed_init(&d->qep, c->board.encoder_lines, &d->base, c->control.speed_filter_Hz,
+    if (qep_speed_init(&d->sense.qep, c->board.encoder_lines, &d->base, c->control.speed_filter_Hz,
                        DRIVE_QEP_WINDOW) != 0 ||
-        qep_speed_set_decim(&d->qep, DRIVE_SLOTS, &d->base, c->control.speed_filter_Hz) != 0) {
+        qep_speed_set_decim(&d->sense.qep, DRIVE_SLOTS, &d->base, c->control.speed_filter_Hz) != 0) {
         return 1;
     }
     d->k.cal_samples = (uint16_t)(0.07f / Ts);   /* ~70 ms of offset averaging (every ISR) */
     /* its mean a multiply and a shift in the ISR that ends it, not a division
      * (a run-time-library call from flash on the C28x); a count it cannot do
      * exactly divides (phase_current_cal_design) */
-    if (phase_current_cal_design(&d->cur, d->k.cal_samples) != PHASE_CURRENT_OK) {
+    if (phase_current_cal_design(&d->sense.phase, d->k.cal_samples) != PHASE_CURRENT_OK) {
         return 1;
     }
     /* live estimates at 100 Hz, counted in slow periods (drive_slow.c) */
@@ -71,8 +71,8 @@ static int16_t init_current_loops(drive_t *d, const drive_config_t *c, const dri
 
     d->k.sigma_ls = _IQ(g->sls / b->L_base_H);
     d->k.lm2_lr = _IQ(m->Lm_H * m->Lm_H / m->Lr_H / b->L_base_H);
-    if (pi_init(&d->pi_id, g->cur_kp, g->cur_ki, -1.0f, 1.0f) != 0 ||
-        pi_init(&d->pi_iq, g->cur_kp, g->cur_ki, -1.0f, 1.0f) != 0) {
+    if (pi_init(&d->loop.pi_id, g->cur_kp, g->cur_ki, -1.0f, 1.0f) != 0 ||
+        pi_init(&d->loop.pi_iq, g->cur_kp, g->cur_ki, -1.0f, 1.0f) != 0) {
         return 1;
     }
     return 0;
@@ -88,16 +88,16 @@ static int16_t init_speed_loop(drive_t *d, const drive_config_t *c, const drive_
         return 1;
     }
     d->k.i_max = _IQ(imax);
-    if (pi_init(&d->pi_speed, g->spd_kp, g->spd_ki, -imax, imax) != 0) {
+    if (pi_init(&d->loop.pi_speed, g->spd_kp, g->spd_ki, -imax, imax) != 0) {
         return 1;
     }
-    if (ramp_gen_init(&d->speed_ramp, g->ramp, g->Ts_slow, -DRIVE_SPEED_REF_MAX_PU,
+    if (ramp_gen_init(&d->loop.speed_ramp, g->ramp, g->Ts_slow, -DRIVE_SPEED_REF_MAX_PU,
                       DRIVE_SPEED_REF_MAX_PU) != 0) {
         return 1;
     }
     /* the excitation's ramp (drive_adapt.h): DRIVE_EXCITE_OF_IMAX of the
      * torque current's acceleration, at most 1 pu a slow period */
-    d->k.ramp_step = d->speed_ramp.step;
+    d->k.ramp_step = d->loop.speed_ramp.step;
     d->k.excite_step = _IQ(fminf(fmaxf(g->ramp, DRIVE_EXCITE_OF_IMAX * imax * g->accel_per_it) *
                                      g->Ts_slow, 1.0f));
     return 0;
@@ -105,14 +105,14 @@ static int16_t init_speed_loop(drive_t *d, const drive_config_t *c, const drive_
 
 rls_status_t drive_rls_start(drive_t *d)
 {
-    const drive_ident_t *id = &d->ident_cfg;
+    const drive_ident_t *id = &d->id.cfg;
     rls_form_t form = (id->paper_regressor != 0u) ? RLS_FORM_PAPER : RLS_FORM_CONST;
     rls_status_t st;
     if (id->period_mean != 0u) {
         form = RLS_FORM_FLUX;
     }
-    st = rls_init(&d->rls, form, id->rls_p0, id->forgetting, 0.0f, NULL);
-    d->rls_start = d->rls;   /* each further pass starts from this copy */
+    st = rls_init(&d->id.rls, form, id->rls_p0, id->forgetting, 0.0f, NULL);
+    d->id.rls_start = d->id.rls;   /* each further pass starts from this copy */
     return st;
 }
 
@@ -125,7 +125,7 @@ static int16_t init_identification(drive_t *d, const drive_config_t *c, const dr
     const base_values_t *b = &d->base;
     float Ts = g->Ts;
 
-    if (ident_regressor_init(&d->reg, id->filter_wc_rad_s, id->euler_passes, Ts,
+    if (ident_regressor_init(&d->id.reg, id->filter_wc_rad_s, id->euler_passes, Ts,
                              b->w_base_rad_s, DRIVE_SLOTS_LOG2) != 0) {
         return 1;
     }
@@ -134,12 +134,12 @@ static int16_t init_identification(drive_t *d, const drive_config_t *c, const dr
          * nameplate's K2 for the ripple term until the RLS has one */
         float k_nom[RLS_N];
         drive_design_k_nominal(k_nom, c, b);
-        if (ident_regressor_set_period_mean(&d->reg, g->tr, k_nom[1], g->im_pu, Ts,
+        if (ident_regressor_set_period_mean(&d->id.reg, g->tr, k_nom[1], g->im_pu, Ts,
                                             b->w_base_rad_s) != 0) {
             return 1;
         }
     }
-    d->ident_cfg = *id;
+    d->id.cfg = *id;
     if (drive_rls_start(d) != RLS_OK) {
         return 1;
     }
@@ -147,23 +147,23 @@ static int16_t init_identification(drive_t *d, const drive_config_t *c, const dr
     {
         param_limits_t lim;
         drive_design_param_limits(&lim, c, b);
-        if (param_extract_init(&d->pex, b, &lim) != PARAM_INIT_OK) {
+        if (param_extract_init(&d->id.pex, b, &lim) != PARAM_INIT_OK) {
             return 1;
         }
         /* the period-mean rows' flux unit (rls.h RLS_FORM_FLUX); 0 otherwise */
-        d->pex.inv_im_nom = (id->period_mean != 0u) ? _IQ(1.0f / g->im_pu) : _IQ(0.0);
+        d->id.pex.inv_im_nom = (id->period_mean != 0u) ? _IQ(1.0f / g->im_pu) : _IQ(0.0);
     }
-    d->live = d->pex;
+    d->id.live = d->id.pex;
     /* estimator safeguard: K of the believed motor, accepted within a factor 8 */
     {
         float k_nom[RLS_N];
         drive_design_k_nominal(k_nom, c, b);
-        if (theta_guard_init(&d->guard, k_nom, 8.0f) != THETA_GUARD_OK) {
+        if (theta_guard_init(&d->id.guard, k_nom, 8.0f) != THETA_GUARD_OK) {
             return 1;
         }
     }
     /* the publication's verdict (ident_conf.h; drive_design.h: the limits) */
-    if (ident_conf_init(&d->conf, DRIVE_CONF_MAX, DRIVE_CONF_RES_REF, DRIVE_CONF_EXC_REF,
+    if (ident_conf_init(&d->verdict.conf, DRIVE_CONF_MAX, DRIVE_CONF_RES_REF, DRIVE_CONF_EXC_REF,
                         g->y_ref_pu) != IDENT_CONF_INIT_OK) {
         return 1;
     }
@@ -210,7 +210,7 @@ int16_t drive_init(drive_t *d, const drive_config_t *c)
      * (drive_internal.h) is made: the two are never on the stack together */
     st = drive_config_check(c, NULL);
     if (st != DRIVE_CFG_OK) {
-        d->config_status = (uint16_t)st;
+        d->k.config_status = (uint16_t)st;
         return st;
     }
     return drive_init_checked(d, c);
@@ -222,32 +222,32 @@ int16_t drive_init_checked(drive_t *d, const drive_config_t *c)
     drive_design_t g;
     float Ts, Tr;
 
-    d->config_status = DRIVE_CFG_BASES;
+    d->k.config_status = DRIVE_CFG_BASES;
     if (drive_design_bases(&d->base, c) != BASE_OK) {
         return DRIVE_CFG_BASES;
     }
     drive_design(&g, c, &d->base);
     Ts = g.Ts;
-    d->config_status = DRIVE_CFG_PWM;
-    d->t1pr = (uint16_t)(g.t1pr + 0.5f);
-    if (svgen_init(&d->svgen, d->t1pr) != 0) {
+    d->k.config_status = DRIVE_CFG_PWM;
+    d->k.t1pr = (uint16_t)(g.t1pr + 0.5f);
+    if (svgen_init(&d->pwm.svgen, d->k.t1pr) != 0) {
         return DRIVE_CFG_PWM;
     }
-    d->config_status = DRIVE_CFG_SENSORS;
+    d->k.config_status = DRIVE_CFG_SENSORS;
     if (init_sensing(d, c, Ts) != 0) {
         return DRIVE_CFG_SENSORS;
     }
-    d->config_status = DRIVE_CFG_CURRENT_LOOP;
+    d->k.config_status = DRIVE_CFG_CURRENT_LOOP;
     if (init_current_loops(d, c, &g) != 0) {
         return DRIVE_CFG_CURRENT_LOOP;
     }
-    d->config_status = DRIVE_CFG_SPEED_LOOP;
+    d->k.config_status = DRIVE_CFG_SPEED_LOOP;
     if (init_speed_loop(d, c, &g) != 0) {
         return DRIVE_CFG_SPEED_LOOP;
     }
-    d->config_status = DRIVE_CFG_ORIENTATION;
+    d->k.config_status = DRIVE_CFG_ORIENTATION;
     Tr = g.tr;
-    if (ifo_init(&d->ifo, Tr, &d->base,
+    if (ifo_init(&d->frame.ifo, Tr, &d->base,
                  DRIVE_IMR_MIN_OF_IM * m->magnetizing_current_A / d->base.I_base_A) != 0) {
         return DRIVE_CFG_ORIENTATION;
     }
@@ -257,9 +257,9 @@ int16_t drive_init_checked(drive_t *d, const drive_config_t *c)
     if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
         /* one step per slow period, on the window's mean voltage and
          * current (drive_slow.c, OBSERVER slot) */
-        if (flux_obs_init(&d->fobs, &d->base, m->Rs_ohm, m->Ls_H, m->Lr_H, m->Lm_H, Tr,
+        if (flux_obs_init(&d->frame.fobs, &d->base, m->Rs_ohm, m->Ls_H, m->Lr_H, m->Lm_H, Tr,
                           FOBS_WC_HZ, FOBS_WS_LPF_HZ) != FLUX_OBS_OK ||
-            flux_obs_set_step(&d->fobs, &d->base, DRIVE_SLOTS, FOBS_WC_HZ, FOBS_WS_LPF_HZ) !=
+            flux_obs_set_step(&d->frame.fobs, &d->base, DRIVE_SLOTS, FOBS_WC_HZ, FOBS_WS_LPF_HZ) !=
                 FLUX_OBS_OK) {
             return DRIVE_CFG_ORIENTATION;
         }
@@ -270,21 +270,21 @@ int16_t drive_init_checked(drive_t *d, const drive_config_t *c)
     } else if (d->k.orientation != DRIVE_ORIENT_IFO) {
         return DRIVE_CFG_ORIENTATION;
     }
-    d->config_status = DRIVE_CFG_VOLTAGE_MODEL;
+    d->k.config_status = DRIVE_CFG_VOLTAGE_MODEL;
     /* with ident.vi_test the compensation stays off until the bridge's
      * curve is measured (drive_vi.c), and the linear zone here is unused */
-    if (volt_calc_init(&d->volt, c->board.dead_time_s, Ts,
+    if (volt_calc_init(&d->pwm.volt, c->board.dead_time_s, Ts,
                        c->board.device_drop_V / d->base.V_base_V,
                        (c->ident.vi_test != 0u) ? VOLT_CALC_ITH_MAX_PU
                                                 : c->board.dead_time_band_A / d->base.I_base_A,
                        (c->ident.vi_test != 0u) ? 0u : c->board.dead_time_comp) != 0) {
         return DRIVE_CFG_VOLTAGE_MODEL;
     }
-    d->config_status = DRIVE_CFG_IDENT;
+    d->k.config_status = DRIVE_CFG_IDENT;
     {
         int16_t r = init_identification(d, c, &g);
         if (r == 2) {
-            d->config_status = DRIVE_CFG_SEQUENCE;
+            d->k.config_status = DRIVE_CFG_SEQUENCE;
             return DRIVE_CFG_SEQUENCE;
         }
         if (r != 0) {
@@ -294,20 +294,20 @@ int16_t drive_init_checked(drive_t *d, const drive_config_t *c)
          * standstill phases (and at a start): DRIVE_REST_SPEED_OF_RATED, at
          * least two counts of the QEP's speed window */
         if (drive_target_init(&d->target, c, &d->base, g.Ts_slow) != 0) {
-            d->config_status = DRIVE_CFG_SEQUENCE;
+            d->k.config_status = DRIVE_CFG_SEQUENCE;
             return DRIVE_CFG_SEQUENCE;
         }
         d->k.rest_speed = _IQ(fmaxf(DRIVE_REST_SPEED_OF_RATED * m->rated_speed_rpm /
                                         d->base.n_base_rpm,
-                                    2.0f * _IQtoF(d->qep.k_speed)));
+                                    2.0f * _IQtoF(d->sense.qep.k_speed)));
         id_sequence_set_rest(&d->seq, d->k.rest_speed);
         id_sequence_set_excite(&d->seq, _IQmpy(d->target.least, _IQ(DRIVE_EXCITE_FLOOR_OF_LEAST)));
         if (drive_adapt_init(d, c, Ts) != 0) {
             return DRIVE_CFG_IDENT;
         }
     }
-    d->config_status = DRIVE_CFG_PROTECTION;
-    if (protect_init(&d->prot, _IQ(c->board.overcurrent_A / d->base.I_base_A),
+    d->k.config_status = DRIVE_CFG_PROTECTION;
+    if (protect_init(&d->prot.trip, _IQ(c->board.overcurrent_A / d->base.I_base_A),
                      _IQ(c->board.vdc_max_V / d->base.V_base_V),
                      _IQ(c->board.vdc_min_V / d->base.V_base_V)) != 0 ||
         !(c->board.overcurrent_A < c->board.current_full_scale_A)) {
@@ -315,12 +315,12 @@ int16_t drive_init_checked(drive_t *d, const drive_config_t *c)
     }
     /* encoder plausibility (encoder_check.h): counts frozen for 50 ms with
      * |i_T| above 30 % of its limit, or a speed above 4 pu in one sample */
-    if (encoder_check_init(&d->enc_chk, Ts, DRIVE_ENC_FROZEN_S,
+    if (encoder_check_init(&d->prot.enc, Ts, DRIVE_ENC_FROZEN_S,
                            0.3f * c->control.max_torque_current_A / d->base.I_base_A,
                            DRIVE_ENC_SPEED_MAX_PU,
                            d->base.f_base_Hz, c->board.encoder_lines,
                            m->pole_pairs) != ENCODER_CHECK_OK ||
-        encoder_check_set_rate(&d->enc_chk, DRIVE_SLOTS) != 0) {
+        encoder_check_set_rate(&d->prot.enc, DRIVE_SLOTS) != 0) {
         return DRIVE_CFG_PROTECTION;
     }
     /* current feedback (current_check.h): tau 2 ms, trip at 0.15 pu of
@@ -329,7 +329,7 @@ int16_t drive_init_checked(drive_t *d, const drive_config_t *c)
      * a phase-b sensor lost at the zero-current level trips in 8-10 samples,
      * before the true current reaches the trip level.  It runs in the SPEED
      * slot; below a 2 kHz PWM (a slow period above 2 ms) tau is that period. */
-    if (current_check_init(&d->cur_chk, g.Ts_slow, fmaxf(0.002f, g.Ts_slow), 0.15f) !=
+    if (current_check_init(&d->prot.feedback, g.Ts_slow, fmaxf(0.002f, g.Ts_slow), 0.15f) !=
             CURRENT_CHECK_OK) {
         return DRIVE_CFG_PROTECTION;
     }
@@ -337,16 +337,16 @@ int16_t drive_init_checked(drive_t *d, const drive_config_t *c)
         return DRIVE_CFG_PROTECTION;
     }
     if (drive_vi_init(d, c, g.Ts_slow, g.sls, g.tr) != 0) {
-        d->config_status = DRIVE_CFG_VOLTAGE_MODEL;
+        d->k.config_status = DRIVE_CFG_VOLTAGE_MODEL;
         return DRIVE_CFG_VOLTAGE_MODEL;
     }
-    isr_monitor_init(&d->ovr);
-    clarke_init(&d->clarke);
-    park_init(&d->park);
-    ipark_init(&d->ipark);
-    d->duty_next[0] = d->duty_next[1] = d->duty_next[2] = _IQ(0.5);
-    d->volt.da = d->volt.db = d->volt.dc = _IQ(0.5);   /* the period before the first */
-    d->config_status = DRIVE_CFG_OK;
+    isr_monitor_init(&d->prot.ovr);
+    clarke_init(&d->sense.clarke);
+    park_init(&d->loop.park);
+    ipark_init(&d->loop.ipark);
+    d->pwm.duty_next[0] = d->pwm.duty_next[1] = d->pwm.duty_next[2] = _IQ(0.5);
+    d->pwm.volt.da = d->pwm.volt.db = d->pwm.volt.dc = _IQ(0.5);   /* the period before the first */
+    d->k.config_status = DRIVE_CFG_OK;
     d->telemetry.fault = FAULT_NONE;
     return DRIVE_CFG_OK;
 }

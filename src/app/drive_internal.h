@@ -5,7 +5,10 @@
 
 #include "drive_types.h"
 
-/** (Re)start the RLS from d->ident_cfg: P(0) = p0 I, theta(0) = 0, the
+/** The offsets' calibration ended, done or rejected: the sequence's cal_done. */
+static inline uint16_t drive_cal_done(const drive_t *d) { return d->sense.cal_done; }
+
+/** (Re)start the RLS from d->id.cfg: P(0) = p0 I, theta(0) = 0, the
  *  configured regressor form and forgetting.  Returns the rls_init status. */
 rls_status_t drive_rls_start(drive_t *d);
 
@@ -27,13 +30,13 @@ void drive_slow_task(drive_t *d, uint16_t slot);
  *  frame carries the control). */
 static inline uint16_t drive_ifo_frame(const drive_t *d)
 {
-    return (uint16_t)(d->k.orientation != DRIVE_ORIENT_FLUX_OBS || d->run_ifo != 0u);
+    return (uint16_t)(d->k.orientation != DRIVE_ORIENT_FLUX_OBS || d->frame.run_ifo != 0u);
 }
 
 static inline void drive_set_run_ifo(drive_t *d, uint16_t on)
 {
-    d->run_ifo = on;
-    d->frame_ifo = drive_ifo_frame(d);
+    d->frame.run_ifo = on;
+    d->frame.is_ifo = drive_ifo_frame(d);
 }
 
 /** drive_init after the table of limits passed (drive_init.c): the
@@ -47,10 +50,10 @@ int16_t drive_init_checked(drive_t *d, const drive_config_t *c);
  *  sigma Ls i), or the rotor speed while the frame is held on the encoder. */
 static inline _iq drive_frame_speed(const drive_t *d)
 {
-    if (d->frame_ifo != 0u) {
-        return d->ifo.ws;
+    if (d->frame.is_ifo != 0u) {
+        return d->frame.ifo.ws;
     }
-    return (d->fobs_hold != 0u) ? d->qep.speed_raw : d->fobs.ws_f;
+    return (d->frame.fobs_hold != 0u) ? d->sense.qep.speed_raw : d->frame.fobs.ws_f;
 }
 
 #endif /* DRIVE_INTERNAL_H */

@@ -28,7 +28,7 @@ static void take_snapshot(drive_snapshot_t *snap, const drive_t *d, _iq i_mf)
 {
     uint16_t i;
     for (i = 0u; i < RLS_N; i++) {
-        snap->theta[i] = d->guard.theta_good[i];
+        snap->theta[i] = d->id.guard.theta_good[i];
     }
     snap->i_m = i_mf;
     snap->ready = 1u;
@@ -39,14 +39,14 @@ static void take_snapshot(drive_snapshot_t *snap, const drive_t *d, _iq i_mf)
  * column m_M / i_M,nom (near 1: Q24 * Q24 -> Q24). */
 static _iq snapshot_im(const drive_t *d, const drive_rls_sample_t *e)
 {
-    return (d->rls.form == (uint16_t)RLS_FORM_FLUX) ? _IQmpy(e->c1, d->reg.k_im_nom) : e->i_mf;
+    return (d->id.rls.form == (uint16_t)RLS_FORM_FLUX) ? _IQmpy(e->c1, d->id.reg.k_im_nom) : e->i_mf;
 }
 
 /* One sample: both rows (rls_step_row1, _row2: together rls_step), then
  * the guard's verdict on the completed estimate. */
 static void rls_update_queued(drive_t *d, const drive_rls_sample_t *e)
 {
-    rls_t *r = &d->rls;
+    rls_t *r = &d->id.rls;
     uint16_t i;
     r->y1 = e->y1;
     r->y2 = e->y2;
@@ -62,47 +62,47 @@ static void rls_update_queued(drive_t *d, const drive_rls_sample_t *e)
     rls_step_row1(r);
     rls_step_row2(r);
     for (i = 0u; i < RLS_N; i++) {
-        d->guard.theta[i] = r->theta[i];
+        d->id.guard.theta[i] = r->theta[i];
     }
-    d->guard.updated = 1u;
-    d->guard.windup_hold = r->windup_hold;
-    theta_guard_step(&d->guard);
+    d->id.guard.updated = 1u;
+    d->id.guard.windup_hold = r->windup_hold;
+    theta_guard_step(&d->id.guard);
 }
 
 void drive_rls_drain(drive_t *d)
 {
-    drive_rls_queue_t *q = &d->rlsq;
+    drive_rls_queue_t *q = &d->id.rlsq;
     uint16_t tail = q->tail;
 
     while (tail != q->head) {
         const drive_rls_sample_t *e = &q->e[tail];
         if ((e->flags & DRIVE_RLSQ_RESTART) != 0u) {
-            d->rls = d->rls_start;
-            theta_guard_reset(&d->guard);
+            d->id.rls = d->id.rls_start;
+            theta_guard_reset(&d->id.guard);
         }
         if ((e->flags & DRIVE_RLSQ_WINDOW) != 0u) {
-            ident_conf_acc_reset(&d->conf_acc);   /* a new RLS window begins */
+            ident_conf_acc_reset(&d->id.acc);   /* a new RLS window begins */
         }
         if ((e->flags & DRIVE_RLSQ_EXTRACT) != 0u) {
             /* the covariance and the residual sums go with the estimate */
-            rls_cov_save(&d->snap_cov, &d->rls);
-            d->snap_acc = d->conf_acc;
-            d->snap_pd = d->rls.pd_count;
-            take_snapshot(&d->snap, d, snapshot_im(d, e));
+            rls_cov_save(&d->id.snap_cov, &d->id.rls);
+            d->id.snap_acc = d->id.acc;
+            d->id.snap_pd = d->id.rls.pd_count;
+            take_snapshot(&d->id.snap, d, snapshot_im(d, e));
         }
-        if ((e->flags & DRIVE_RLSQ_LIVE) != 0u && d->live_snap.ready == 0u) {
-            take_snapshot(&d->live_snap, d, snapshot_im(d, e));
+        if ((e->flags & DRIVE_RLSQ_LIVE) != 0u && d->id.live_snap.ready == 0u) {
+            take_snapshot(&d->id.live_snap, d, snapshot_im(d, e));
         }
         if ((e->flags & DRIVE_RLSQ_UPDATE) != 0u) {
             rls_update_queued(d, e);
             /* the a-posteriori residual of this sample, with its inputs
              * still in the RLS (ident_conf.h) */
-            ident_conf_acc_step(&d->conf_acc, &d->rls);
+            ident_conf_acc_step(&d->id.acc, &d->id.rls);
         }
         tail = (uint16_t)((tail + 1u) & (DRIVE_RLSQ_LEN - 1u));
         q->tail = tail;   /* the entry is free for the ISR only now */
     }
-    d->telemetry.rls_sat_count = d->rls.sat_count;
-    d->telemetry.theta_rejects = d->guard.reject_count;
+    d->telemetry.rls_sat_count = d->id.rls.sat_count;
+    d->telemetry.theta_rejects = d->id.guard.reject_count;
     d->telemetry.rls_dropped = q->dropped;
 }

@@ -133,7 +133,7 @@ int16_t drive_safety_init(drive_t *d, const drive_config_t *c)
 {
     const base_values_t *b = &d->base;
     const drive_motor_t *m = &c->motor;
-    drive_safety_t *s = &d->safety;
+    drive_safety_t *s = &d->prot.model;
     const float Ts = 1.0f / c->board.pwm_freq_Hz;
     const float sls = m->Ls_H - m->Lm_H * m->Lm_H / m->Lr_H;
     const float tau_r_pu = CMC_TAU_R_S * b->w_base_rad_s;
@@ -202,7 +202,7 @@ int16_t drive_safety_init(drive_t *d, const drive_config_t *c)
 
 void drive_safety_state(drive_t *d)
 {
-    sensor_test_t *t = &d->safety.stest;
+    sensor_test_t *t = &d->prot.model.stest;
     if (t->armed != 0u && d->seq.state != ID_CALIBRATE) {
         t->armed = 0u;
         sensor_test_step(t);   /* disarmed: IDLE again, its verdict still readable */
@@ -211,24 +211,24 @@ void drive_safety_state(drive_t *d)
 
 uint16_t drive_safety_test_period(drive_t *d, hal_pwm_compare_t *out, uint16_t pwm_on)
 {
-    sensor_test_t *t = &d->safety.stest;
+    sensor_test_t *t = &d->prot.model.stest;
     t->armed = (uint16_t)(d->seq.state == ID_CALIBRATE);
     t->run = d->seq.sensor_testing;
-    t->ia = d->cur.ia;
-    t->ib = d->cur.ib;
+    t->ia = d->sense.phase.ia;
+    t->ib = d->sense.phase.ib;
     sensor_test_step(t);
     if (t->state == SENSOR_TEST_FAILED && t->armed != 0u) {
-        protect_latch(&d->prot, FAULT_SENSOR_TEST);
+        protect_latch(&d->prot.trip, FAULT_SENSOR_TEST);
         pwm_on = 0u;
     }
-    if (pwm_on == 0u || d->prot.fault != FAULT_NONE) {
-        out->cmpr[0] = out->cmpr[1] = out->cmpr[2] = d->t1pr;   /* upper switches off */
+    if (pwm_on == 0u || d->prot.trip.fault != FAULT_NONE) {
+        out->cmpr[0] = out->cmpr[1] = out->cmpr[2] = d->k.t1pr;   /* upper switches off */
         return 0u;
     }
     if (d->seq.sensor_testing != 0u && t->off != 0u) {
-        out->cmpr[0] = out->cmpr[1] = out->cmpr[2] = d->t1pr;   /* between two vectors */
-        pi_reset(&d->pi_id);
-        pi_reset(&d->pi_iq);
+        out->cmpr[0] = out->cmpr[1] = out->cmpr[2] = d->k.t1pr;   /* between two vectors */
+        pi_reset(&d->loop.pi_id);
+        pi_reset(&d->loop.pi_iq);
         return 0u;
     }
     if (d->seq.sensor_testing != 0u) {
@@ -248,23 +248,23 @@ uint16_t drive_safety_test_period(drive_t *d, hal_pwm_compare_t *out, uint16_t p
 static _iq model_inputs(drive_t *d, current_model_check_t *m)
 {
     _iq e;
-    m->i_alpha = d->clarke.alpha;
-    m->i_beta = d->clarke.beta;
-    m->sin_t = d->park.sine;
-    m->cos_t = d->park.cosine;
-    m->ws = d->ws_ctl;
+    m->i_alpha = d->sense.clarke.alpha;
+    m->i_beta = d->sense.clarke.beta;
+    m->sin_t = d->loop.park.sine;
+    m->cos_t = d->loop.park.cosine;
+    m->ws = d->frame.ws_ctl;
     if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
-        const flux_obs_t *o = &d->fobs;
+        const flux_obs_t *o = &d->frame.fobs;
         m->psi_alpha = _IQmpy(o->lm_lr, o->psi_cm_alpha);
         m->psi_beta = _IQmpy(o->lm_lr, o->psi_cm_beta);
         m->rs = o->rs;
         m->sigma_ls = o->sigma_ls;
         e = _IQmpy(o->lm_lr, o->psi_mag);
     } else {
-        e = _IQmpy(d->k.lm2_lr, d->ifo.imr);   /* (Lm/Lr) psi_r, pu */
-        m->psi_alpha = _IQmpy(e, d->park.cosine);
-        m->psi_beta = _IQmpy(e, d->park.sine);
-        m->rs = d->safety.rs;
+        e = _IQmpy(d->k.lm2_lr, d->frame.ifo.imr);   /* (Lm/Lr) psi_r, pu */
+        m->psi_alpha = _IQmpy(e, d->loop.park.cosine);
+        m->psi_beta = _IQmpy(e, d->loop.park.sine);
+        m->rs = d->prot.model.rs;
         m->sigma_ls = d->k.sigma_ls;
     }
     return e;
@@ -272,7 +272,7 @@ static _iq model_inputs(drive_t *d, current_model_check_t *m)
 
 void drive_safety_slow(drive_t *d)
 {
-    drive_safety_t *s = &d->safety;
+    drive_safety_t *s = &d->prot.model;
     current_model_check_t *m = &s->cmc;
     const _iq psi_e = model_inputs(d, m);
 
@@ -281,15 +281,15 @@ void drive_safety_slow(drive_t *d)
     /* not during the bridge's voltage-error test: its voltage carries the
      * uncompensated dead time, which the model would take for a sensor's
      * error (the test checks its currents itself) */
-    m->active = (uint16_t)(d->on_next != 0u && d->on_last != 0u && d->seq.vi_testing == 0u);
+    m->active = (uint16_t)(d->pwm.on_next != 0u && d->pwm.on_last != 0u && d->seq.vi_testing == 0u);
     /* the model's steps (a pass's blend, the frame's hand-over:
      * drive_adapt.c) rebase the check */
     m->rebase = s->model_step;
     s->model_step = 0u;
     /* the encoder's count over the window (stall_check.h) */
-    stall_check_window_step(&s->stall, d->qep.count, d->on_next);
+    stall_check_window_step(&s->stall, d->sense.qep.count, d->pwm.on_next);
     if (s->stall.enc_fault != 0u) {
-        protect_latch(&d->prot, FAULT_ENCODER);
+        protect_latch(&d->prot.trip, FAULT_ENCODER);
     }
     /* the back-EMF a rotor may have gained while the counts stand still
      * under torque current: k_allow n |psi_e|, n the frozen count limited
@@ -301,8 +301,8 @@ void drive_safety_slow(drive_t *d)
          * sequence's tracker has Tr: then the identified one */
         const _iq k_emf = (d->telemetry.track_valid != 0u) ? s->k_emf_ident : s->k_emf;
         m->r_allow = _IQ(0.0);
-        if (d->enc_chk.frozen != 0u) {
-            const uint16_t n = (d->enc_chk.frozen < s->allow_n_max) ? d->enc_chk.frozen
+        if (d->prot.enc.frozen != 0u) {
+            const uint16_t n = (d->prot.enc.frozen < s->allow_n_max) ? d->prot.enc.frozen
                                                                      : s->allow_n_max;
             m->r_allow = _IQmpy(_IQmpyI32(s->k_allow, (int32_t)n), psi);
         }
@@ -310,85 +310,85 @@ void drive_safety_slow(drive_t *d)
          * |w_s| at most the encoder's |w_r| + ws_slip_max (CMC_SLIP_MARGIN)
          * and saturated to 2 pu, |psi_e| to 2: < 64), saturated to 2 pu,
          * the contract.  (|w_r| < 2 pu + 2: the sum fits) */
-        const _iq ws_enc = _IQabs(_IQsat(d->qep.speed, _IQ(2.0), _IQ(-2.0))) + s->ws_slip_max;
-        const _iq ws_abs = _IQabs(_IQsat(d->ws_ctl, _IQ(2.0), _IQ(-2.0)));
+        const _iq ws_enc = _IQabs(_IQsat(d->sense.qep.speed, _IQ(2.0), _IQ(-2.0))) + s->ws_slip_max;
+        const _iq ws_abs = _IQabs(_IQsat(d->frame.ws_ctl, _IQ(2.0), _IQ(-2.0)));
         m->r_allow_emf = _IQsat(
             _IQmpy(_IQmpy(k_emf, (ws_abs < ws_enc) ? ws_abs : ws_enc), psi), _IQ(2.0), 0);
     }
     current_model_check_residual(m);   /* the sequence tests' halves: drive_safety_seq */
     drive_safety_latch_cmc(d);
-    d->seq.test_done = (uint16_t)(s->stest.state == SENSOR_TEST_PASSED);
-    publish_guard_tick(&s->pguard, (uint16_t)d->prot.fault);
+    s->test_done = (uint16_t)(s->stest.state == SENSOR_TEST_PASSED);
+    publish_guard_tick(&s->pguard, (uint16_t)d->prot.trip.fault);
 }
 
 void drive_safety_seq(drive_t *d, uint16_t phase)
 {
-    current_model_check_half(&d->safety.cmc, phase);
+    current_model_check_half(&d->prot.model.cmc, phase);
     drive_safety_latch_cmc(d);
 }
 
 void drive_safety_stall(drive_t *d)
 {
-    drive_safety_t *s = &d->safety;
+    drive_safety_t *s = &d->prot.model;
     const current_model_check_t *m = &s->cmc;
     const _iq psi_e = s->psi_e;
 
-    if (d->enc_chk.fault != 0u && d->prot.fault == FAULT_NONE &&
-        (d->enc_chk.cause & ENCODER_CHECK_FROZEN) != 0u &&
-        stall_check_decide(&s->stall, m->r_alpha, m->r_beta, d->park.sine, d->park.cosine,
-                           psi_e, d->park.ds, d->park.qs) != 0u) {
+    if (d->prot.enc.fault != 0u && d->prot.trip.fault == FAULT_NONE &&
+        (d->prot.enc.cause & ENCODER_CHECK_FROZEN) != 0u &&
+        stall_check_decide(&s->stall, m->r_alpha, m->r_beta, d->loop.park.sine, d->loop.park.cosine,
+                           psi_e, d->loop.park.ds, d->loop.park.qs) != 0u) {
         /* the encoder's frozen trip, with the standstill model consistent:
          * the rotor is locked (before protect() latches FAULT_ENCODER from
          * the encoder check in the next ISR) */
-        protect_latch(&d->prot, FAULT_STALL);
+        protect_latch(&d->prot.trip, FAULT_STALL);
     }
 }
 
 void drive_safety_reset(drive_t *d)
 {
-    current_model_check_reset(&d->safety.cmc);
-    stall_check_reset(&d->safety.stall);
-    publish_guard_rearm(&d->safety.pguard);
+    current_model_check_reset(&d->prot.model.cmc);
+    stall_check_reset(&d->prot.model.stall);
+    publish_guard_rearm(&d->prot.model.pguard);
 }
 
 void drive_safety_sensor_gain_reset(drive_t *d)
 {
-    d->sg_neg_a = d->sg_neg_b = d->sg_den = 0.0f;
-    d->sg_n = 0u;
+    d->verdict.sg_neg_a = d->verdict.sg_neg_b = d->verdict.sg_den = 0.0f;
+    d->verdict.sg_n = 0u;
 }
 
 void drive_safety_sensor_gain_sample(drive_t *d)
 {
-    const current_model_check_t *m = &d->safety.cmc;
+    const current_model_check_t *m = &d->prot.model.cmc;
     const id_sequence_t *s = &d->seq;
     if ((s->state != ID_SETTLE && s->state != ID_RUN) || s->pass < s->passes ||
-        m->at_speed < m->seq_settle || m->model_n < m->seq_settle || d->sg_n >= 0x7FFFFFFFu) {
+        m->at_speed < m->seq_settle || m->model_n < m->seq_settle || d->verdict.sg_n >= 0x7FFFFFFFu) {
         return;
     }
     /* (each 32-bit value read whole; the ISR may move them between two
      * reads: the low-passes move by k_seq of a step, far below the result's
      * own accuracy) */
-    d->sg_neg_a += _IQtoF(m->neg_alpha);
-    d->sg_neg_b += _IQtoF(m->neg_beta);
-    d->sg_den += CMC_NEG_PER_GAIN * _IQtoF(m->sigma_ls) *
+    d->verdict.sg_neg_a += _IQtoF(m->neg_alpha);
+    d->verdict.sg_neg_b += _IQtoF(m->neg_beta);
+    d->verdict.sg_den += CMC_NEG_PER_GAIN * _IQtoF(m->sigma_ls) *
                  hypotf(_IQtoF(m->i_alpha_prev), _IQtoF(m->i_beta_prev));
-    d->sg_n++;
+    d->verdict.sg_n++;
 }
 
 float drive_safety_sensor_gain(const drive_t *d)
 {
-    if (d->sg_n == 0u) {
+    if (d->verdict.sg_n == 0u) {
         /* UNBALANCE never armed: only the sensor test has looked */
         return STEST_TOL_DIR * DRIVE_SQRT3_F;
     }
-    if (!(d->sg_den > 0.0f)) {
+    if (!(d->verdict.sg_den > 0.0f)) {
         return 0.0f;
     }
     /* all of the negative sequence taken as a gain error: an upper bound
      * (what the bridge and the model add to it is not told apart: the
      * level's allowances for them are larger than a 3-5 % gain error's
      * share, which they would have hidden) */
-    return hypotf(d->sg_neg_a, d->sg_neg_b) / d->sg_den;
+    return hypotf(d->verdict.sg_neg_a, d->verdict.sg_neg_b) / d->verdict.sg_den;
 }
 
 void drive_safety_background(drive_t *d)
@@ -404,7 +404,7 @@ void drive_safety_background(drive_t *d)
     s.Tr = t->Tr;
     s.valid = t->params_valid;
     s.tracked = t->params_tracked;
-    if (publish_guard_pass(&d->safety.pguard, &s) != 0u) {
+    if (publish_guard_pass(&d->prot.model.pguard, &s) != 0u) {
         t->Rs = s.Rs;
         t->Rr = s.Rr;
         t->Lm = s.Lm;
@@ -413,7 +413,7 @@ void drive_safety_background(drive_t *d)
         t->Tr = s.Tr;
         t->params_valid = s.valid;
         t->params_tracked = s.tracked;
-        t->params_withdrawn = d->safety.pguard.withdrawn;
-        t->withdraw_reason = d->safety.pguard.reason;
+        t->params_withdrawn = d->prot.model.pguard.withdrawn;
+        t->withdraw_reason = d->prot.model.pguard.reason;
     }
 }

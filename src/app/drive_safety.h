@@ -7,6 +7,10 @@
 
 #include "drive_types.h"
 
+/** The sensor test passed (as of the last SAFETY slot): the sequence's
+ *  test_done (drive_slow.c sequence_inputs). */
+static inline uint16_t drive_safety_test_done(const drive_t *d) { return d->prot.model.test_done; }
+
 /** Once, from drive_init after every other module (float).  Returns 0, or
  *  1 when a module refused its constants. */
 int16_t drive_safety_init(drive_t *d, const drive_config_t *c);
@@ -15,7 +19,7 @@ int16_t drive_safety_init(drive_t *d, const drive_config_t *c);
  *  known (drive_step.c's voltage model): the model check's window sum. */
 static inline void drive_safety_fast(drive_t *d)
 {
-    current_model_check_accumulate(&d->safety.cmc, d->volt.valpha, d->volt.vbeta, d->on_last);
+    current_model_check_accumulate(&d->prot.model.cmc, d->pwm.volt.valpha, d->pwm.volt.vbeta, d->pwm.on_last);
 }
 
 /** Slow ISR, slot SEQUENCE, right after the sequence's step: the sensor
@@ -34,7 +38,7 @@ uint16_t drive_safety_test_period(drive_t *d, hal_pwm_compare_t *out, uint16_t p
 static inline uint16_t drive_safety_modulate(drive_t *d, hal_pwm_compare_t *out,
                                              uint16_t pwm_on)
 {
-    if ((d->seq.state != ID_CALIBRATE) & (d->safety.stest.armed == 0u)) {
+    if ((d->seq.state != ID_CALIBRATE) & (d->prot.model.stest.armed == 0u)) {
         return pwm_on;
     }
     return drive_safety_test_period(d, out, pwm_on);
@@ -55,8 +59,8 @@ void drive_safety_seq(drive_t *d, uint16_t phase);
 /** Latch the model check's trip (FAULT_CURRENT_SENSOR). */
 static inline void drive_safety_latch_cmc(drive_t *d)
 {
-    if (d->safety.cmc.fault != 0u) {
-        protect_latch(&d->prot, FAULT_CURRENT_SENSOR);
+    if (d->prot.model.cmc.fault != 0u) {
+        protect_latch(&d->prot.trip, FAULT_CURRENT_SENSOR);
     }
 }
 

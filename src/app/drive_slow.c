@@ -56,24 +56,37 @@
 #include "drive_target.h"
 #include "drive_vi.h"
 
-static void sequence(drive_t *d)
+/* The sequence's inputs, all of them here, from their owners (the state
+ * each owner keeps; the sequence only reads its copy). */
+static void sequence_inputs(drive_t *d)
 {
     id_sequence_t *s = &d->seq;
-    s->fault = (uint16_t)(d->prot.fault != FAULT_NONE);
-    s->ramp_done = d->speed_ramp.done;
-    s->speed_err = _IQabs(d->speed_ramp.out - d->qep.speed);
-    s->torque_limit = d->pi_speed.sat;
-    s->i_mf = d->reg.i_mf;
-    s->i_tf = d->reg.i_tf;
-    s->speed = d->qep.speed;
-    s->speed_ref = d->speed_ramp.out;
+    s->cal_done = drive_cal_done(d);
+    s->test_done = drive_safety_test_done(d);
+    s->adapt_ready = drive_adapt_ready(d);
+    s->excite = drive_adapt_excite(d);
+    s->fault = (uint16_t)(d->prot.trip.fault != FAULT_NONE);
+    s->ramp_done = d->loop.speed_ramp.done;
+    s->speed_err = _IQabs(d->loop.speed_ramp.out - d->sense.qep.speed);
+    s->torque_limit = d->loop.pi_speed.sat;
+    s->i_mf = d->id.reg.i_mf;
+    s->i_tf = d->id.reg.i_tf;
+    s->speed = d->sense.qep.speed;
+    s->speed_ref = d->loop.speed_ramp.out;
     /* the acceleration ends where the voltage's headroom does (drive_target.h;
      * the low-pass in check_current) */
-    s->volt_limit = (uint16_t)(s->state == ID_ACCELERATE && d->target_at_limit != 0u);
+    s->volt_limit = (uint16_t)(s->state == ID_ACCELERATE && d->target.at_limit != 0u);
     if (d->seq.vi_test != 0u) {
         drive_vi_slow(d);   /* the bridge's voltage-error test in CALIBRATE (drive_vi.c);
                                the test off (the default), not even the call */
     }
+    s->vi_done = drive_vi_done(d);
+}
+
+static void sequence(drive_t *d)
+{
+    id_sequence_t *s = &d->seq;
+    sequence_inputs(d);
     id_sequence_step(s);
     /* (the observer's reset on entering MAGNETIZE: drive_adapt_slow's
      * state change, next) */
@@ -81,14 +94,14 @@ static void sequence(drive_t *d)
      * events ride with the next queued sample (drive_rls_bg.c); with the
      * extraction go the covariance and the confidence's residual sums */
     if (s->magnetize_end != 0u || s->rls_restart != 0u) {
-        d->rlsq.pending |= DRIVE_RLSQ_WINDOW;   /* a new RLS window begins */
+        d->id.rlsq.pending |= DRIVE_RLSQ_WINDOW;   /* a new RLS window begins */
     }
     if (s->extract_now != 0u) {
-        d->rlsq.pending |= DRIVE_RLSQ_EXTRACT;
+        d->id.rlsq.pending |= DRIVE_RLSQ_EXTRACT;
     }
-    if (++d->live_div >= d->k.live_period) {
-        d->live_div = 0u;
-        d->rlsq.pending |= DRIVE_RLSQ_LIVE;
+    if (++d->id.live_div >= d->k.live_period) {
+        d->id.live_div = 0u;
+        d->id.rlsq.pending |= DRIVE_RLSQ_LIVE;
     }
 }
 
@@ -97,15 +110,15 @@ static void speed_loop(drive_t *d)
 {
     const id_sequence_t *s = &d->seq;
 
-    d->speed_ramp.target = s->speed_cmd;
+    d->loop.speed_ramp.target = s->speed_cmd;
     /* RUN's excitation ramps faster (drive_adapt.h): a torque the tracker sees */
-    d->speed_ramp.step = (s->exciting != 0u) ? d->k.excite_step : d->k.ramp_step;
-    ramp_gen_step(&d->speed_ramp);
-    if (s->speed_loop_on != 0u && d->prot.fault == FAULT_NONE) {
-        d->pi_speed.ref = d->speed_ramp.out;
-        d->pi_speed.fbk = d->qep.speed;
-        d->pi_speed.ff = _IQ(0.0);
-        pi_step(&d->pi_speed);
+    d->loop.speed_ramp.step = (s->exciting != 0u) ? d->k.excite_step : d->k.ramp_step;
+    ramp_gen_step(&d->loop.speed_ramp);
+    if (s->speed_loop_on != 0u && d->prot.trip.fault == FAULT_NONE) {
+        d->loop.pi_speed.ref = d->loop.speed_ramp.out;
+        d->loop.pi_speed.fbk = d->sense.qep.speed;
+        d->loop.pi_speed.ff = _IQ(0.0);
+        pi_step(&d->loop.pi_speed);
         /* to the current loop as a ramp over the slow period, not a step
          * every DRIVE_SLOTS periods: a step of the reference would pass
          * the current PI's proportional gain to the voltage at once (the
@@ -113,22 +126,22 @@ static void speed_loop(drive_t *d)
          * i_t_step every period and reaches the output, within
          * DRIVE_SLOTS - 1 LSB, one slow period later.  |out - ref| <= 2 pu
          * (both within +-i_max <= 1) */
-        d->i_t_step = (d->pi_speed.out - d->i_t_ref) / (int32_t)DRIVE_SLOTS;
+        d->loop.i_t_step = (d->loop.pi_speed.out - d->loop.i_t_ref) / (int32_t)DRIVE_SLOTS;
     } else {
-        pi_reset(&d->pi_speed);
-        d->i_t_ref = _IQ(0.0);
-        d->i_t_step = _IQ(0.0);
+        pi_reset(&d->loop.pi_speed);
+        d->loop.i_t_ref = _IQ(0.0);
+        d->loop.i_t_step = _IQ(0.0);
     }
 }
 
 static void telemetry(drive_t *d)
 {
     drive_telemetry_t *t = &d->telemetry;
-    t->speed = d->qep.speed;
-    t->speed_ref = d->speed_ramp.out;
-    t->i_m = d->park.ds;
-    t->i_t = d->park.qs;
-    t->vdc = d->bus.vdc;
+    t->speed = d->sense.qep.speed;
+    t->speed_ref = d->loop.speed_ramp.out;
+    t->i_m = d->loop.park.ds;
+    t->i_t = d->loop.park.qs;
+    t->vdc = d->sense.bus.vdc;
 }
 
 /* The loops' voltage at the bus's limit: the vector the modulator got last
@@ -148,24 +161,24 @@ static void check_current(drive_t *d)
 {
     /* at the voltage limit the check holds (current_check.h): clamped onto
      * the hexagon in a control ISR since the last step, or no headroom now */
-    const svgen_t *sv = &d->svgen;
+    const svgen_t *sv = &d->pwm.svgen;
     const _iq u = _IQmag(sv->ualpha, sv->ubeta);
     const _iq lim = _IQmpy(sv->vdc, _IQ(DRIVE_VLIM_OF_VDC));
-    d->cur_chk.limited |= (uint16_t)(u >= lim);
+    d->prot.feedback.limited |= (uint16_t)(u >= lim);
     /* low-passed, the acceleration's end (drive_target.h) */
-    d->target_at_limit = drive_target_step(&d->target, u, lim);
-    d->cur_chk.i_m_ref = d->pi_id.ref;
-    d->cur_chk.i_m = d->park.ds;
-    d->cur_chk.i_t_ref = d->pi_iq.ref;
-    d->cur_chk.i_t = d->park.qs;
+    d->target.at_limit = drive_target_step(&d->target, u, lim);
+    d->prot.feedback.i_m_ref = d->loop.pi_id.ref;
+    d->prot.feedback.i_m = d->loop.park.ds;
+    d->prot.feedback.i_t_ref = d->loop.pi_iq.ref;
+    d->prot.feedback.i_t = d->loop.park.qs;
     /* re-armed (filter zeroed) while the bridge is off, and during the
      * bridge's voltage-error test, whose alpha current has no M-T reference
      * (the test checks each of its current levels itself: FAULT_VI_CURVE) */
-    d->cur_chk.active = (uint16_t)(d->on_next != 0u && d->seq.vi_testing == 0u);
-    current_check_step(&d->cur_chk);
-    d->prot.current_fault = d->cur_chk.fault;
-    if (d->cur_chk.fault != 0u) {
-        protect_latch(&d->prot, FAULT_CURRENT_SENSOR);
+    d->prot.feedback.active = (uint16_t)(d->pwm.on_next != 0u && d->seq.vi_testing == 0u);
+    current_check_step(&d->prot.feedback);
+    d->prot.trip.current_fault = d->prot.feedback.fault;
+    if (d->prot.feedback.fault != 0u) {
+        protect_latch(&d->prot.trip, FAULT_CURRENT_SENSOR);
     }
 }
 
@@ -173,9 +186,9 @@ static void task_checks(drive_t *d)
 {
     check_current(d);
     /* the encoder's frozen test: no count in 50 ms against torque current */
-    d->enc_chk.count = d->qep.count;
-    d->enc_chk.i_t = d->park.qs;
-    encoder_check_frozen(&d->enc_chk);
+    d->prot.enc.count = d->sense.qep.count;
+    d->prot.enc.i_t = d->loop.park.qs;
+    encoder_check_frozen(&d->prot.enc);
     drive_safety_stall(d);   /* a frozen trip: locked rotor or dead encoder (drive_safety.c) */
 }
 
@@ -191,11 +204,11 @@ static void task_checks(drive_t *d)
  * saturated to 8 pu, vmax < 5.1: within the PI's +-16. */
 static void voltage_limits(drive_t *d)
 {
-    const _iq vmax = _IQmpy(_IQsat(d->bus.vdc, _IQ(8.0), _IQ(0.0)), _IQ(DRIVE_VMAX_OF_VLIN /
+    const _iq vmax = _IQmpy(_IQsat(d->sense.bus.vdc, _IQ(8.0), _IQ(0.0)), _IQ(DRIVE_VMAX_OF_VLIN /
                                                                         DRIVE_SQRT3));
     if (vmax >= _IQ(0.05 * DRIVE_VMAX_OF_VLIN)) {
-        (void)pi_set_limits(&d->pi_id, -vmax, vmax);
-        (void)pi_set_limits(&d->pi_iq, -vmax, vmax);
+        (void)pi_set_limits(&d->loop.pi_id, -vmax, vmax);
+        (void)pi_set_limits(&d->loop.pi_iq, -vmax, vmax);
     }
 }
 
@@ -204,15 +217,15 @@ static void task_speed(drive_t *d)
     drive_safety_seq(d, 0u);   /* the model check's positive sequence (drive_safety.h) */
     /* the encoder's speeds right before the speed loop uses them (every
      * sample of delay in its feedback costs phase at a reversal) */
-    qep_speed_update(&d->qep);
+    qep_speed_update(&d->sense.qep);
     speed_loop(d);
     /* the fast path's slow constants: the slip gain 1/(Tr i_mr) (one
      * division; i_mr moves with Tr >= 10 Ts) and the bus the SVPWM divides
      * by (its 1/vdc is recomputed only when this changes: once here) */
-    if (d->frame_ifo != 0u) {
-        ifo_update_slip_gain(&d->ifo);
+    if (d->frame.is_ifo != 0u) {
+        ifo_update_slip_gain(&d->frame.ifo);
     }
-    svgen_set_vdc(&d->svgen, d->bus.vdc);   /* and 1/vdc, here, not in the control ISR */
+    svgen_set_vdc(&d->pwm.svgen, d->sense.bus.vdc);   /* and 1/vdc, here, not in the control ISR */
     voltage_limits(d);
 }
 
@@ -245,22 +258,22 @@ static inline _iq window_mean(_iq sum)
  * (drive_step.c: theta advances by ws_f every period until the next step). */
 static void task_observer_a(drive_t *d)
 {
-    flux_obs_t *o = &d->fobs;
-    const _iq ia = d->clarke.alpha;
-    const _iq ib = d->clarke.beta;
+    flux_obs_t *o = &d->frame.fobs;
+    const _iq ia = d->sense.clarke.alpha;
+    const _iq ib = d->sense.clarke.beta;
 
-    o->u_alpha = window_mean(d->obs_su_alpha);
-    o->u_beta = window_mean(d->obs_su_beta);
+    o->u_alpha = window_mean(d->frame.su_alpha);
+    o->u_beta = window_mean(d->frame.su_beta);
     /* |sum| <= 9.6, |i - i0| <= 2.4 pu */
-    o->i_mean_alpha = window_mean(d->obs_si_alpha - _IQmpy(ia - d->obs_i0_alpha, _IQ(0.5)));
-    o->i_mean_beta = window_mean(d->obs_si_beta - _IQmpy(ib - d->obs_i0_beta, _IQ(0.5)));
+    o->i_mean_alpha = window_mean(d->frame.si_alpha - _IQmpy(ia - d->frame.i0_alpha, _IQ(0.5)));
+    o->i_mean_beta = window_mean(d->frame.si_beta - _IQmpy(ib - d->frame.i0_beta, _IQ(0.5)));
     o->i_alpha = ia;
     o->i_beta = ib;
-    o->theta_r = d->qep.theta_elec;
-    d->obs_su_alpha = d->obs_su_beta = _IQ(0.0);
-    d->obs_si_alpha = d->obs_si_beta = _IQ(0.0);
-    d->obs_i0_alpha = ia;
-    d->obs_i0_beta = ib;
+    o->theta_r = d->sense.qep.theta_elec;
+    d->frame.su_alpha = d->frame.su_beta = _IQ(0.0);
+    d->frame.si_alpha = d->frame.si_beta = _IQ(0.0);
+    d->frame.i0_alpha = ia;
+    d->frame.i0_beta = ib;
     flux_obs_step_a(o);
 }
 
@@ -269,8 +282,8 @@ static void task_observer_a(drive_t *d)
  * theta advances by ws_f every period until the next step). */
 static void task_observer_b(drive_t *d)
 {
-    const flux_obs_t *o = &d->fobs;
-    flux_obs_step_b(&d->fobs);
+    const flux_obs_t *o = &d->frame.fobs;
+    flux_obs_step_b(&d->frame.fobs);
     /* the frame stays on the encoder angle (as ifo at standstill, slip 0)
      * while the flux is near zero (its angle is noise) and through the
      * magnetisation: a flux rise is a transient the voltage model
@@ -278,12 +291,12 @@ static void task_observer_b(drive_t *d)
      * ~1/w_c (believed Rs +30 %: the observer flux reversed 7 ms into the
      * magnetisation).  The current builds the flux along the encoder angle,
      * so the observer's angle agrees with it when the acceleration starts. */
-    d->fobs_hold = (uint16_t)(o->psi_mag < d->k.psi_min || d->seq.state == ID_MAGNETIZE);
+    d->frame.fobs_hold = (uint16_t)(o->psi_mag < d->k.psi_min || d->seq.state == ID_MAGNETIZE);
     /* theta was the flux angle at the sample of part a, one period ago: this
      * sample's is one step further; the fast path adds the step from the
      * next one on (f_base Ts revolutions per pu speed: Q24 * Q30 -> Q24) */
-    d->obs_dtheta = _IQmpyIQX(o->ws_f, GLOBAL_Q, d->ifo.k_theta, 30);
-    d->obs_theta = angle_wrap_unit(o->theta + d->obs_dtheta);
+    d->frame.obs_dtheta = _IQmpyIQX(o->ws_f, GLOBAL_Q, d->frame.ifo.k_theta, 30);
+    d->frame.obs_theta = angle_wrap_unit(o->theta + d->frame.obs_dtheta);
 }
 
 /* The regression's window means and its first four filters (method §5). */
@@ -291,13 +304,13 @@ static void task_filters_a(drive_t *d)
 {
     /* the regression's rotor speed over exactly the window the other six
      * signals were summed over (the mean of its one-period speeds) */
-    d->reg.wr = qep_mean_speed(&d->qep, &d->reg_count);
+    d->id.reg.wr = qep_mean_speed(&d->sense.qep, &d->id.reg_count);
     /* the period-mean form's flux and ripple term (ident_regressor.h): ifo's
      * i_mr (one period ahead of the window's end: kf of a 0.25 % difference)
      * and the RLS's latest K2 (a 32-bit word the background writes whole) */
-    d->reg.imr = d->ifo.imr;
-    d->reg.k2_hat = d->rls.theta[1];
-    ident_regressor_filter_a(&d->reg);
+    d->id.reg.imr = d->frame.ifo.imr;
+    d->id.reg.k2_hat = d->id.rls.theta[1];
+    ident_regressor_filter_a(&d->id.reg);
 }
 
 /* Queue this slow period's rows for the background's RLS (drive_rls_bg.c)
@@ -305,8 +318,8 @@ static void task_filters_a(drive_t *d)
  * queue drops the sample (counted) and keeps the events for the next. */
 static void rls_push(drive_t *d, uint16_t update)
 {
-    drive_rls_queue_t *q = &d->rlsq;
-    const ident_regressor_t *r = &d->reg;
+    drive_rls_queue_t *q = &d->id.rlsq;
+    const ident_regressor_t *r = &d->id.reg;
     const uint16_t flags = (uint16_t)(q->pending | ((update != 0u) ? DRIVE_RLSQ_UPDATE : 0u));
     const uint16_t head = q->head;
     const uint16_t fill = (uint16_t)((head - q->tail) & (DRIVE_RLSQ_LEN - 1u));
@@ -346,14 +359,14 @@ static void task_filters_c(drive_t *d)
 {
     uint16_t rls_on = d->seq.rls_on;
 
-    ident_regressor_filter_c(&d->reg);
+    ident_regressor_filter_c(&d->id.reg);
     if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
         /* not while the frame is held on the encoder angle, nor below ~10
          * w_c, where the current model (the believed Tr) steers the angle:
          * learn only where it does not (flux_obs.h); the observer's frame
          * above its crossover, or RUN on ifo, learns */
-        if (d->fobs_hold != 0u ||
-            (d->frame_ifo == 0u && _IQabs(d->fobs.ws_f) < d->k.rls_ws_min)) {
+        if (d->frame.fobs_hold != 0u ||
+            (d->frame.is_ifo == 0u && _IQabs(d->frame.fobs.ws_f) < d->k.rls_ws_min)) {
             rls_on = 0u;
         }
     }
@@ -371,7 +384,7 @@ void drive_slow_task(drive_t *d, uint16_t slot)
         task_filters_a(d);
         break;
     case DRIVE_SLOT_FILTERS_B:
-        ident_regressor_filter_b(&d->reg);
+        ident_regressor_filter_b(&d->id.reg);
         drive_safety_seq(d, 1u);   /* the model check's other sequence tests */
         break;
     case DRIVE_SLOT_FILTERS_C:
@@ -399,10 +412,10 @@ void drive_slow_task(drive_t *d, uint16_t slot)
     }
     /* fault and state reach telemetry in the ISR that latched them */
     d->telemetry.state = (uint16_t)d->seq.state;
-    d->telemetry.fault = (uint16_t)d->prot.fault;
+    d->telemetry.fault = (uint16_t)d->prot.trip.fault;
 }
 
 uint16_t drive_log_due(const drive_t *d)
 {
-    return (uint16_t)(d->slow_slot == DRIVE_LOG_SLOT);
+    return (uint16_t)(d->sched.slow_slot == DRIVE_LOG_SLOT);
 }

@@ -86,84 +86,84 @@
 
 static inline void set_outputs_off(drive_t *d, hal_pwm_compare_t *out)
 {
-    out->cmpr[0] = out->cmpr[1] = out->cmpr[2] = d->t1pr;   /* upper switches off */
+    out->cmpr[0] = out->cmpr[1] = out->cmpr[2] = d->k.t1pr;   /* upper switches off */
 }
 
 _iq drive_frame_angle(const drive_t *d)
 {
-    return d->theta_k;
+    return d->frame.theta;
 }
 
 static inline void sense(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count)
 {
-    d->cur.ia_raw = adc->ia_raw;
-    d->cur.ib_raw = adc->ib_raw;
-    phase_current_step(&d->cur);
-    d->bus.vdc_raw = adc->vdc_raw;
-    dc_bus_measure(&d->bus);   /* this period's bus: the drive needs no filtered one */
-    d->qep.count = qep_count;
-    qep_angle_step(&d->qep);   /* the speeds: FILTERS slot (drive_slow.c) */
+    d->sense.phase.ia_raw = adc->ia_raw;
+    d->sense.phase.ib_raw = adc->ib_raw;
+    phase_current_step(&d->sense.phase);
+    d->sense.bus.vdc_raw = adc->vdc_raw;
+    dc_bus_measure(&d->sense.bus);   /* this period's bus: the drive needs no filtered one */
+    d->sense.qep.count = qep_count;
+    qep_angle_step(&d->sense.qep);   /* the speeds: FILTERS slot (drive_slow.c) */
 }
 
 static inline void protect(drive_t *d)
 {
-    d->prot.ia = d->cur.ia;
-    d->prot.ib = d->cur.ib;
-    d->prot.ic = d->cur.ic;
-    d->prot.vdc = d->bus.vdc;
-    d->prot.pwm_on = d->on_next;
-    d->prot.adc_rail = (uint16_t)((d->cur.rail | d->bus.rail) != 0u);   /* one test, no branch */
+    d->prot.trip.ia = d->sense.phase.ia;
+    d->prot.trip.ib = d->sense.phase.ib;
+    d->prot.trip.ic = d->sense.phase.ic;
+    d->prot.trip.vdc = d->sense.bus.vdc;
+    d->prot.trip.pwm_on = d->pwm.on_next;
+    d->prot.trip.adc_rail = (uint16_t)((d->sense.phase.rail | d->sense.bus.rail) != 0u);   /* one test, no branch */
     /* encoder plausibility: the jump test on this sample's count step (the
      * frozen test, 50 ms, in the FILTERS_C slot) */
-    d->enc_chk.active = d->on_next;
-    encoder_check_jump(&d->enc_chk, d->qep.d1);
-    d->prot.encoder_fault = d->enc_chk.fault;
-    protect_step(&d->prot);
+    d->prot.enc.active = d->pwm.on_next;
+    encoder_check_jump(&d->prot.enc, d->sense.qep.d1);
+    d->prot.trip.encoder_fault = d->prot.enc.fault;
+    protect_step(&d->prot.trip);
 }
 
 /* Calibrate the current offsets while the bridge is off (sequence CALIBRATE). */
 static inline void calibrate(drive_t *d)
 {
     phase_current_cal_t r;
-    if (d->cur.cal_left == 0u && d->seq.cal_done == 0u) {
-        (void)phase_current_cal_start(&d->cur, d->k.cal_samples);
+    if (d->sense.phase.cal_left == 0u && d->sense.cal_done == 0u) {
+        (void)phase_current_cal_start(&d->sense.phase, d->k.cal_samples);
     }
-    r = phase_current_cal_step(&d->cur);
+    r = phase_current_cal_step(&d->sense.phase);
     if (r == PHASE_CURRENT_CAL_DONE) {
-        d->seq.cal_done = 1u;
+        d->sense.cal_done = 1u;
     } else if (r == PHASE_CURRENT_CAL_REJECTED) {
-        d->seq.cal_done = 1u;
-        protect_latch(&d->prot, FAULT_CURRENT_OFFSET);
+        d->sense.cal_done = 1u;
+        protect_latch(&d->prot.trip, FAULT_CURRENT_OFFSET);
     } else {
         /* busy */
     }
 }
 
 /* Voltage applied in the period that just ended: its duties (of sample
- * k-2) are in d->volt already, put there by the PWM pipeline at the end of
+ * k-2) are in d->pwm.volt already, put there by the PWM pipeline at the end of
  * the last ISR. */
 static inline void voltage_model(drive_t *d)
 {
-    const _iq ia = d->cur.ia;
-    const _iq ib = d->cur.ib;
-    d->volt.vdc = d->bus.vdc;
+    const _iq ia = d->sense.phase.ia;
+    const _iq ib = d->sense.phase.ib;
+    d->pwm.volt.vdc = d->sense.bus.vdc;
     /* the current in the middle of that period decides the dead-time sign:
      * the mean of its two end samples (Q24 + Q24 in range: |i| <= 32 pu;
      * the halving is the floor, as _IQmpy by 0.5) */
-    d->volt.ia = _IQdiv2(ia + d->ia_prev);
-    d->volt.ib = _IQdiv2(ib + d->ib_prev);
+    d->pwm.volt.ia = _IQdiv2(ia + d->pwm.ia_prev);
+    d->pwm.volt.ib = _IQdiv2(ib + d->pwm.ib_prev);
     /* and its change over the period places the current at each switching
      * edge (volt_calc.h); Q24 - Q24, |.| <= 2 pu */
-    d->volt.dia = ia - d->ia_prev;
-    d->volt.dib = ib - d->ib_prev;
-    d->ia_prev = ia;
-    d->ib_prev = ib;
-    if (d->on_last != 0u) {
-        volt_calc_step(&d->volt);
+    d->pwm.volt.dia = ia - d->pwm.ia_prev;
+    d->pwm.volt.dib = ib - d->pwm.ib_prev;
+    d->pwm.ia_prev = ia;
+    d->pwm.ib_prev = ib;
+    if (d->pwm.on_last != 0u) {
+        volt_calc_step(&d->pwm.volt);
     } else {
         /* the bridge was off in that period: no voltage applied */
-        d->volt.valpha = _IQ(0.0);
-        d->volt.vbeta = _IQ(0.0);
+        d->pwm.volt.valpha = _IQ(0.0);
+        d->pwm.volt.vbeta = _IQ(0.0);
     }
 }
 
@@ -171,19 +171,19 @@ static inline void voltage_model(drive_t *d)
  * frame's speed over the period */
 static inline void frame_from_ifo(drive_t *d)
 {
-    ifo_frame_from_rotor(&d->ifo);
-    d->theta_k = d->ifo.theta;
-    d->ws_k = d->ifo.ws_frame;
+    ifo_frame_from_rotor(&d->frame.ifo);
+    d->frame.theta = d->frame.ifo.theta;
+    d->frame.ws = d->frame.ifo.ws_frame;
 }
 
 static inline void transform_currents(drive_t *d)
 {
-    /* Clarke: alpha is i_a itself; kept in d->clarke for the slow tasks */
-    const _iq alpha = d->cur.ia;
-    const _iq beta = clarke_beta(alpha, d->cur.ib);
-    d->clarke.alpha = alpha;
-    d->clarke.beta = beta;
-    d->ifo.theta_r = d->qep.theta_elec;
+    /* Clarke: alpha is i_a itself; kept in d->sense.clarke for the slow tasks */
+    const _iq alpha = d->sense.phase.ia;
+    const _iq beta = clarke_beta(alpha, d->sense.phase.ib);
+    d->sense.clarke.alpha = alpha;
+    d->sense.clarke.beta = beta;
+    d->frame.ifo.theta_r = d->sense.qep.theta_elec;
     if (d->k.orientation != DRIVE_ORIENT_FLUX_OBS) {
         /* mode 0: the frame is always ifo's (drive_ifo_frame), one test */
         frame_from_ifo(d);
@@ -192,31 +192,31 @@ static inline void transform_currents(drive_t *d)
          * the voltage of the period that just ended (0 while the bridge was
          * off; limited to the observer's input range, so that 8 of them
          * stay inside Q24) and this sample's current */
-        d->obs_su_alpha += _IQsat(d->volt.valpha, _IQ(FLUX_OBS_IN_MAX), _IQ(-FLUX_OBS_IN_MAX));
-        d->obs_su_beta += _IQsat(d->volt.vbeta, _IQ(FLUX_OBS_IN_MAX), _IQ(-FLUX_OBS_IN_MAX));
-        d->obs_si_alpha += alpha;
-        d->obs_si_beta += beta;
-        if (d->frame_ifo != 0u) {
+        d->frame.su_alpha += _IQsat(d->pwm.volt.valpha, _IQ(FLUX_OBS_IN_MAX), _IQ(-FLUX_OBS_IN_MAX));
+        d->frame.su_beta += _IQsat(d->pwm.volt.vbeta, _IQ(FLUX_OBS_IN_MAX), _IQ(-FLUX_OBS_IN_MAX));
+        d->frame.si_alpha += alpha;
+        d->frame.si_beta += beta;
+        if (d->frame.is_ifo != 0u) {
             frame_from_ifo(d);   /* RUN with tracking */
         } else {
             /* the observer's angle, carried between its steps on ws_f (it
              * ran at the last OBSERVER slot); or, held (magnetisation, no
              * flux), the encoder angle: the frame turns with the rotor */
-            const _iq theta_prev = d->theta_k;
-            d->obs_theta = angle_wrap_unit(d->obs_theta + d->obs_dtheta);
-            d->theta_k = (d->fobs_hold != 0u) ? d->qep.theta_elec : d->obs_theta;
+            const _iq theta_prev = d->frame.theta;
+            d->frame.obs_theta = angle_wrap_unit(d->frame.obs_theta + d->frame.obs_dtheta);
+            d->frame.theta = (d->frame.fobs_hold != 0u) ? d->sense.qep.theta_elec : d->frame.obs_theta;
             /* the frame's actual speed over the period (the regression's
              * w_s): the angle step, whatever moved it; Q24 * Q20 -> Q24,
              * |step| < 0.5 */
-            d->ws_k = _IQmpyIQX(angle_diff_pu(d->theta_k, theta_prev), GLOBAL_Q,
-                                d->ifo.inv_k_theta, 20);
+            d->frame.ws = _IQmpyIQX(angle_diff_pu(d->frame.theta, theta_prev), GLOBAL_Q,
+                                d->frame.ifo.inv_k_theta, 20);
         }
     }
     /* every frame angle is in [0, 1) (ifo wraps it, the observer's atan2 and
      * the encoder's count are there by construction): no wrap */
-    d->park.sine = _IQsinPU(d->theta_k);
-    d->park.cosine = _IQcosPU(d->theta_k);
-    park_rotate(&d->park, alpha, beta);
+    d->loop.park.sine = _IQsinPU(d->frame.theta);
+    d->loop.park.cosine = _IQcosPU(d->frame.theta);
+    park_rotate(&d->loop.park, alpha, beta);
 }
 
 /* The regression's inputs of this period (method §2, §7 points 1-2), into
@@ -226,15 +226,15 @@ static inline void transform_currents(drive_t *d)
  * the frame's actual speed over that period. */
 static inline void identify_accumulate(drive_t *d)
 {
-    ident_regressor_t *r = &d->reg;
+    ident_regressor_t *r = &d->id.reg;
 
-    r->i_m = d->park.ds;
-    r->i_t = d->park.qs;
-    r->u_alpha = d->volt.valpha;
-    r->u_beta = d->volt.vbeta;
-    r->sin_k = d->park.sine;
-    r->cos_k = d->park.cosine;
-    r->ws = d->ws_k;
+    r->i_m = d->loop.park.ds;
+    r->i_t = d->loop.park.qs;
+    r->u_alpha = d->pwm.volt.valpha;
+    r->u_beta = d->pwm.volt.vbeta;
+    r->sin_k = d->loop.park.sine;
+    r->cos_k = d->loop.park.cosine;
+    r->ws = d->frame.ws;
     ident_regressor_accumulate(r);
 }
 
@@ -242,9 +242,9 @@ static inline void identify_accumulate(drive_t *d)
  * loops (the current check compares the currents with them, drive_slow.c). */
 static inline void control_refs(drive_t *d)
 {
-    d->pi_id.ref = d->seq.im_cmd + d->im_inject;
-    d->i_t_ref += d->i_t_step;   /* the speed loop's output, held first-order (drive_slow.c) */
-    d->pi_iq.ref = d->i_t_ref;
+    d->loop.pi_id.ref = d->seq.im_cmd + d->loop.im_inject;
+    d->loop.i_t_ref += d->loop.i_t_step;   /* the speed loop's output, held first-order (drive_slow.c) */
+    d->loop.pi_iq.ref = d->loop.i_t_ref;
 }
 
 /* IFO's fast step: i_mr, slip (gain from the SPEED slot), slip angle for
@@ -253,12 +253,12 @@ static inline void control_refs(drive_t *d)
  * observer ran at the Park transform). */
 static inline void orient_ifo(drive_t *d)
 {
-    ifo_slip_fast(&d->ifo, d->park.ds, d->park.qs, d->qep.speed_raw);
+    ifo_slip_fast(&d->frame.ifo, d->loop.park.ds, d->loop.park.qs, d->sense.qep.speed_raw);
 }
 
 static inline void orient(drive_t *d)
 {
-    if (d->frame_ifo != 0u) {
+    if (d->frame.is_ifo != 0u) {
         orient_ifo(d);
     }
 }
@@ -273,52 +273,52 @@ static inline void control(drive_t *d)
      * u_d = -w_s sigma Ls i_T, u_q = w_s (sigma Ls i_M + (Lm/Lr) psi_r);
      * IFO: (Lm/Lr) psi_r = (Lm^2/Lr) i_mr; observer: (Lm/Lr) |psi_r|
      * (Q24 * Q24 -> Q24, both < 1 pu) */
-    const _iq ws = d->ws_ctl;
+    const _iq ws = d->frame.ws_ctl;
     _iq emf_flux;
-    if (d->frame_ifo != 0u) {
-        emf_flux = _IQmpy(d->k.lm2_lr, d->ifo.imr);
+    if (d->frame.is_ifo != 0u) {
+        emf_flux = _IQmpy(d->k.lm2_lr, d->frame.ifo.imr);
         orient_ifo(d);
     } else {
-        emf_flux = _IQmpy(d->fobs.lm_lr, d->fobs.psi_mag);
+        emf_flux = _IQmpy(d->frame.fobs.lm_lr, d->frame.fobs.psi_mag);
     }
     control_refs(d);
-    pi_step_in(&d->pi_id, d->park.ds, -_IQmpy(ws, _IQmpy(d->k.sigma_ls, d->park.qs)));
-    pi_step_in(&d->pi_iq, d->park.qs, _IQmpy(ws, _IQmpy(d->k.sigma_ls, d->park.ds) + emf_flux));
+    pi_step_in(&d->loop.pi_id, d->loop.park.ds, -_IQmpy(ws, _IQmpy(d->k.sigma_ls, d->loop.park.qs)));
+    pi_step_in(&d->loop.pi_iq, d->loop.park.qs, _IQmpy(ws, _IQmpy(d->k.sigma_ls, d->loop.park.ds) + emf_flux));
 }
 
 static inline void modulate(drive_t *d, hal_pwm_compare_t *out)
 {
     /* the voltage computed now is applied over period k+1; rotate it at the
      * middle of that period: theta_k + 1.5 w_s Ts */
-    const _iq step = _IQmpy(d->ws_ctl, d->k.three_half_step);
+    const _iq step = _IQmpy(d->frame.ws_ctl, d->k.three_half_step);
     _iq sine, cosine, u_alpha, u_beta;
     /* from the Park's sin/cos of theta_k by the small step (angle.h) */
-    angle_sincos_step(d->park.sine, d->park.cosine, d->theta_k, step, &sine, &cosine);
+    angle_sincos_step(d->loop.park.sine, d->loop.park.cosine, d->frame.theta, step, &sine, &cosine);
     /* the current loops' outputs straight into the modulator's frame */
-    ipark_rotate(d->pi_id.out, d->pi_iq.out, sine, cosine, &u_alpha, &u_beta);
+    ipark_rotate(d->loop.pi_id.out, d->loop.pi_iq.out, sine, cosine, &u_alpha, &u_beta);
     {
         /* dead-time feed-forward for period k+1: the phase currents in its
          * middle, extrapolated 1.5 periods on the change over the last one
          * (voltage_model's volt.dia/dib; Q24, |.| <= 4 pu): i + 1.5 di as
          * i + di + floor(di/2), which is _IQmpy(di, 1.5) bit for bit */
         _iq ff_a, ff_b;
-        const _iq dia = d->volt.dia;
-        const _iq dib = d->volt.dib;
-        const _iq ia = d->cur.ia + dia + _IQdiv2(dia);
-        const _iq ib = d->cur.ib + dib + _IQdiv2(dib);
-        volt_calc_feedforward(&d->volt, d->bus.vdc, ia, ib, &ff_a, &ff_b);
-        d->svgen.ualpha = u_alpha + ff_a;
-        d->svgen.ubeta = u_beta + ff_b;
+        const _iq dia = d->pwm.volt.dia;
+        const _iq dib = d->pwm.volt.dib;
+        const _iq ia = d->sense.phase.ia + dia + _IQdiv2(dia);
+        const _iq ib = d->sense.phase.ib + dib + _IQdiv2(dib);
+        volt_calc_feedforward(&d->pwm.volt, d->sense.bus.vdc, ia, ib, &ff_a, &ff_b);
+        d->pwm.svgen.ualpha = u_alpha + ff_a;
+        d->pwm.svgen.ubeta = u_beta + ff_b;
     }
     /* the bus for the duties changes at the slow rate (drive_slow.c), so
      * that svgen divides once per slow period */
-    svgen_step(&d->svgen);
+    svgen_step(&d->pwm.svgen);
     /* the voltage clamped onto the hexagon: the current-feedback check
      * holds until its next step (current_check.h) */
-    d->cur_chk.limited |= d->svgen.overmod;
-    out->cmpr[0] = d->svgen.cmpr[0];
-    out->cmpr[1] = d->svgen.cmpr[1];
-    out->cmpr[2] = d->svgen.cmpr[2];
+    d->prot.feedback.limited |= d->pwm.svgen.overmod;
+    out->cmpr[0] = d->pwm.svgen.cmpr[0];
+    out->cmpr[1] = d->pwm.svgen.cmpr[1];
+    out->cmpr[2] = d->pwm.svgen.cmpr[2];
 }
 
 /* The body of drive_step, inline in drive_isr (no call per period). */
@@ -326,14 +326,14 @@ static inline void isr_body(drive_t *d, const hal_adc_sample_t *adc, uint16_t qe
                         hal_pwm_compare_t *out)
 {
     uint16_t pwm_on;
-    const uint16_t slot = d->slot;
+    const uint16_t slot = d->sched.slot;
 
-    if (d->config_status != DRIVE_CFG_OK) {
+    if (d->k.config_status != DRIVE_CFG_OK) {
         set_outputs_off(d, out);
         d->telemetry.pwm_on = 0u;
         return;
     }
-    d->slot = (uint16_t)((slot + 1u) & (DRIVE_SLOTS - 1u));
+    d->sched.slot = (uint16_t)((slot + 1u) & (DRIVE_SLOTS - 1u));
 
     sense(d, adc, qep_count);
     protect(d);
@@ -349,14 +349,14 @@ static inline void isr_body(drive_t *d, const hal_adc_sample_t *adc, uint16_t qe
      * (drive_slow_isr): what it hands over (the speed loop's step, the
      * observer's angle and speed, the sequence's state, a check's fault)
      * acts from the next fast ISR on */
-    d->slow_late = (uint16_t)(d->slow_due | d->slow_busy);
-    d->slow_slot = slot;
-    d->slow_due = 1u;
+    d->sched.slow_late = (uint16_t)(d->sched.slow_due | d->sched.slow_busy);
+    d->sched.slow_slot = slot;
+    d->sched.slow_due = 1u;
     /* the frame speed for decoupling and the modulation angle (mode 1: the
      * observer's, from its last step) */
-    d->ws_ctl = drive_frame_speed(d);
+    d->frame.ws_ctl = drive_frame_speed(d);
 
-    pwm_on = (uint16_t)((uint16_t)(d->seq.pwm_on != 0u) & (uint16_t)(d->prot.fault == FAULT_NONE));
+    pwm_on = (uint16_t)((uint16_t)(d->seq.pwm_on != 0u) & (uint16_t)(d->prot.trip.fault == FAULT_NONE));
     if (pwm_on != 0u && (d->seq.sensor_testing | d->seq.vi_testing) == 0u) {
         control(d);   /* and the orientation's fast step */
         modulate(d, out);
@@ -369,8 +369,8 @@ static inline void isr_body(drive_t *d, const hal_adc_sample_t *adc, uint16_t qe
         control_refs(d);
         orient(d);
     } else {
-        pi_reset(&d->pi_id);
-        pi_reset(&d->pi_iq);
+        pi_reset(&d->loop.pi_id);
+        pi_reset(&d->loop.pi_iq);
         set_outputs_off(d, out);
     }
 
@@ -379,14 +379,14 @@ static inline void isr_body(drive_t *d, const hal_adc_sample_t *adc, uint16_t qe
     /* PWM pipeline (hal_pwm.h): shift the duties one period; the ones that
      * act in the period now starting go straight to the voltage model's
      * inputs (the next ISR reconstructs that period) */
-    d->volt.da = d->duty_next[0];
-    d->volt.db = d->duty_next[1];
-    d->volt.dc = d->duty_next[2];
-    d->on_last = d->on_next;
-    d->duty_next[0] = d->svgen.da;
-    d->duty_next[1] = d->svgen.db;
-    d->duty_next[2] = d->svgen.dc;
-    d->on_next = pwm_on;
+    d->pwm.volt.da = d->pwm.duty_next[0];
+    d->pwm.volt.db = d->pwm.duty_next[1];
+    d->pwm.volt.dc = d->pwm.duty_next[2];
+    d->pwm.on_last = d->pwm.on_next;
+    d->pwm.duty_next[0] = d->pwm.svgen.da;
+    d->pwm.duty_next[1] = d->pwm.svgen.db;
+    d->pwm.duty_next[2] = d->pwm.svgen.dc;
+    d->pwm.on_next = pwm_on;
     d->telemetry.pwm_on = pwm_on;
 }
 
@@ -396,15 +396,15 @@ static inline void isr_body(drive_t *d, const hal_adc_sample_t *adc, uint16_t qe
  * are switched off here (returns 1: the caller's outputs go off now). */
 static uint16_t slow_run(drive_t *d)
 {
-    if (d->slow_due == 0u) {
+    if (d->sched.slow_due == 0u) {
         return 0u;
     }
-    d->slow_due = 0u;   /* first: a request made while the task runs is kept */
-    d->slow_busy = 1u;
-    drive_slow_task(d, d->slow_slot);
-    d->slow_busy = 0u;
-    if (d->prot.fault != FAULT_NONE && d->on_next != 0u) {
-        d->on_next = 0u;   /* the voltage model: no voltage in this period */
+    d->sched.slow_due = 0u;   /* first: a request made while the task runs is kept */
+    d->sched.slow_busy = 1u;
+    drive_slow_task(d, d->sched.slow_slot);
+    d->sched.slow_busy = 0u;
+    if (d->prot.trip.fault != FAULT_NONE && d->pwm.on_next != 0u) {
+        d->pwm.on_next = 0u;   /* the voltage model: no voltage in this period */
         d->telemetry.pwm_on = 0u;
         return 1u;
     }
@@ -433,7 +433,7 @@ uint16_t drive_isr(drive_t *d)
     hal_pwm_compare_t cmp;
 
     hal_adc_read(&adc);
-    d->prot.hw_trip = hal_pwm_tripped();
+    d->prot.trip.hw_trip = hal_pwm_tripped();
     isr_body(d, &adc, hal_qep_read_count(), &cmp);
     hal_pwm_write(&cmp);
     if (d->telemetry.pwm_on != 0u) {
@@ -441,20 +441,20 @@ uint16_t drive_isr(drive_t *d)
     } else {
         hal_pwm_disable();
     }
-    if (d->slow_due != 0u) {
+    if (d->sched.slow_due != 0u) {
         hal_slow_isr_request();   /* the slow ISR runs when this one returns */
     }
     /* last: did this ISR run past its period, or find the last slow task
      * unfinished?  Several in a row latch a fault and the bridge goes off
      * now (isr_monitor.h) */
-    d->ovr.overrun = (uint16_t)(hal_isr_overrun() | d->slow_late);
-    isr_monitor_step(&d->ovr);
-    d->telemetry.isr_overruns = d->ovr.count;
-    if (d->ovr.fault != 0u) {
-        protect_latch(&d->prot, FAULT_ISR_OVERRUN);
+    d->prot.ovr.overrun = (uint16_t)(hal_isr_overrun() | d->sched.slow_late);
+    isr_monitor_step(&d->prot.ovr);
+    d->telemetry.isr_overruns = d->prot.ovr.count;
+    if (d->prot.ovr.fault != 0u) {
+        protect_latch(&d->prot.trip, FAULT_ISR_OVERRUN);
         hal_pwm_disable();
     }
-    return d->ovr.overrun;
+    return d->prot.ovr.overrun;
 }
 
 void drive_get_log_signals(const drive_t *d, _iq sig[4])

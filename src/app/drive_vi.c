@@ -8,7 +8,7 @@
  *   - ISR, slot SEQUENCE (drive_vi_slow): the test's step (a PI step on
  *     i_alpha or a held voltage, the window sums: vi_curve_step), and once
  *     the background has answered, the curve copied into volt_calc (six
- *     words) and seq.vi_done; a failed test, a refused curve or no answer
+ *     words) and vi.done; a failed test, a refused curve or no answer
  *     within DRIVE_VI_WAIT_S latch FAULT_VI_CURVE (the drive never runs
  *     on a curve it did not measure);
  *   - ISR, every period of the test (drive_vi_modulate): the test's alpha
@@ -70,22 +70,22 @@ int16_t drive_vi_init(drive_t *d, const drive_config_t *c, float Ts_slow, float 
     /* within half the linear modulation range vdc / sqrt(3) */
     const float u_max = 0.5f * c->board.vdc_nominal_V / 1.7320508f / b->V_base_V;
 
-    d->vic_post = DRIVE_VI_NONE;
-    d->vic_fitted = 0u;
-    d->vic_wait = 0u;
-    d->vic_wait_max = (uint32_t)(DRIVE_VI_WAIT_S / Ts_slow + 0.5f);
-    d->vic_dt_frac = c->board.dead_time_s * f_slow * (float)DRIVE_SLOTS;
-    d->vic_i1_0 = DRIVE_VI_I1_OF_IM * c->motor.magnetizing_current_A / b->I_base_A;
+    d->vi.post = DRIVE_VI_NONE;
+    d->vi.fitted = 0u;
+    d->vi.wait = 0u;
+    d->vi.wait_max = (uint32_t)(DRIVE_VI_WAIT_S / Ts_slow + 0.5f);
+    d->vi.dt_frac = c->board.dead_time_s * f_slow * (float)DRIVE_SLOTS;
+    d->vi.i1_0 = DRIVE_VI_I1_OF_IM * c->motor.magnetizing_current_A / b->I_base_A;
     /* +-2 i1 within the torque-current limit (the current loops' own, at
      * least i_M: the first test's 2 i1) */
-    d->vic_i1_max = 0.5f * fmaxf(c->control.max_torque_current_A, c->motor.magnetizing_current_A) /
+    d->vi.i1_max = 0.5f * fmaxf(c->control.max_torque_current_A, c->motor.magnetizing_current_A) /
                     b->I_base_A;
-    d->vic_retried = 0u;
+    d->vi.retried = 0u;
     if (c->board.dead_time_comp == 0u || c->ident.vi_test == 0u) {
         return 0;   /* no compensation, or on the set band (drive_init.c) */
     }
     drive_vi_gains(c, b, Ts_slow, sls_H, &kp, &ki);
-    if (vi_curve_init(&d->vic, Ts_slow, d->vic_i1_0, tr_s, kp, ki, u_max) != VI_CURVE_OK) {
+    if (vi_curve_init(&d->vi.test, Ts_slow, d->vi.i1_0, tr_s, kp, ki, u_max) != VI_CURVE_OK) {
         return 1;
     }
     d->seq.vi_test = 1u;
@@ -94,25 +94,25 @@ int16_t drive_vi_init(drive_t *d, const drive_config_t *c, float Ts_slow, float 
 
 void drive_vi_slow(drive_t *d)
 {
-    vi_curve_t *v = &d->vic;
+    vi_curve_t *v = &d->vi.test;
 
-    if (d->seq.vi_test == 0u || d->seq.vi_done != 0u) {
+    if (d->seq.vi_test == 0u || d->vi.done != 0u) {
         return;
     }
     v->run = d->seq.vi_testing;
-    v->i_alpha = d->clarke.alpha;
-    v->u_alpha = d->volt.valpha;
-    v->vdc = d->bus.vdc;
+    v->i_alpha = d->sense.clarke.alpha;
+    v->u_alpha = d->pwm.volt.valpha;
+    v->vdc = d->sense.bus.vdc;
     vi_curve_step(v);
     if (v->done == 0u || d->seq.vi_testing == 0u) {
         return;
     }
-    if (v->fail == 0u && d->vic_post == DRIVE_VI_CURVE) {
-        volt_calc_apply_curve(&d->volt, &d->vic_curve);
-        d->seq.vi_done = 1u;
-    } else if (v->fail != 0u || d->vic_post == DRIVE_VI_REFUSED ||
-               ++d->vic_wait >= d->vic_wait_max) {
-        protect_latch(&d->prot, FAULT_VI_CURVE);
+    if (v->fail == 0u && d->vi.post == DRIVE_VI_CURVE) {
+        volt_calc_apply_curve(&d->pwm.volt, &d->vi.curve);
+        d->vi.done = 1u;
+    } else if (v->fail != 0u || d->vi.post == DRIVE_VI_REFUSED ||
+               ++d->vi.wait >= d->vi.wait_max) {
+        protect_latch(&d->prot.trip, FAULT_VI_CURVE);
     } else {
         /* waiting for the background, at zero voltage */
     }
@@ -122,27 +122,27 @@ void drive_test_voltage(drive_t *d, hal_pwm_compare_t *out, _iq u_alpha, _iq u_b
 {
     /* the test's voltage, not the current loops' (held at zero: no wind-up
      * against the test) */
-    pi_reset(&d->pi_id);
-    pi_reset(&d->pi_iq);
-    d->svgen.ualpha = u_alpha;
-    d->svgen.ubeta = u_beta;
-    svgen_step(&d->svgen);
-    out->cmpr[0] = d->svgen.cmpr[0];
-    out->cmpr[1] = d->svgen.cmpr[1];
-    out->cmpr[2] = d->svgen.cmpr[2];
+    pi_reset(&d->loop.pi_id);
+    pi_reset(&d->loop.pi_iq);
+    d->pwm.svgen.ualpha = u_alpha;
+    d->pwm.svgen.ubeta = u_beta;
+    svgen_step(&d->pwm.svgen);
+    out->cmpr[0] = d->pwm.svgen.cmpr[0];
+    out->cmpr[1] = d->pwm.svgen.cmpr[1];
+    out->cmpr[2] = d->pwm.svgen.cmpr[2];
 }
 
 void drive_vi_modulate(drive_t *d, hal_pwm_compare_t *out)
 {
     /* along alpha only: poles b and c carry the same duty and current */
-    drive_test_voltage(d, out, d->vic.u_cmd, _IQ(0.0));
+    drive_test_voltage(d, out, d->vi.test.u_cmd, _IQ(0.0));
 }
 
 /* A band measured but the current levels inside it (2 b >= i1: a small
  * motor's i_M against its bridge's transition, e.g. the family's 0.2 kW
  * 150-sigma motors, i_M 0.40 A, on the simulated 0.1 A bridge: i1 0.200 A,
  * b 0.101 A): once, the whole test again with i1 = 2.5 b, if +-2 i1 stays
- * within the current limit (vic_i1_max) and the two polarities agree on E
+ * within the current limit (vi.i1_max) and the two polarities agree on E
  * (DRIVE_VI_RETRY_E_SPLIT); else, or a second time, the refusal stands.
  * Returns 1 if the test was restarted (the ISR, waiting on the finished
  * test, steps the new one from its first level). */
@@ -150,16 +150,16 @@ static uint16_t drive_vi_retry(drive_t *d, const vi_fit_t *f)
 {
     const float i1 = DRIVE_VI_RETRY_I1_OF_B * f->band_A / d->base.I_base_A;
 
-    if (d->vic_retried != 0u || f->n_band == 0u || !(i1 > d->vic.i1) ||
-        !(i1 <= d->vic_i1_max) || !(f->e_split <= DRIVE_VI_RETRY_E_SPLIT)) {
+    if (d->vi.retried != 0u || f->n_band == 0u || !(i1 > d->vi.test.i1) ||
+        !(i1 <= d->vi.i1_max) || !(f->e_split <= DRIVE_VI_RETRY_E_SPLIT)) {
         return 0u;   /* also NaN: refused */
     }
-    d->vic_wait = 0u;   /* before the restart: the ISR counts only while the test is done */
-    if (vi_curve_retry(&d->vic, i1) != VI_CURVE_OK) {
+    d->vi.wait = 0u;   /* before the restart: the ISR counts only while the test is done */
+    if (vi_curve_retry(&d->vi.test, i1) != VI_CURVE_OK) {
         return 0u;   /* nothing restarted: the refusal stands */
     }
-    d->vic_retried = 1u;
-    d->vic_fitted = 0u;
+    d->vi.retried = 1u;
+    d->vi.fitted = 0u;
     return 1u;
 }
 
@@ -170,35 +170,35 @@ void drive_vi_background(drive_t *d)
     vi_fit_t *f = &fit;
     float vdc_pu, e_pu, e_board, dt, drop;
 
-    if (d->seq.vi_test == 0u || d->seq.vi_done != 0u) {
+    if (d->seq.vi_test == 0u || d->vi.done != 0u) {
         return;
     }
     if (d->seq.state == ID_IDLE || d->seq.calibrating != 0u) {
         /* stopped, or a failure's fault reset: the next start measures
          * afresh (the ISR runs the test only after the calibration) */
-        if (d->vic_fitted != 0u || d->vic.level != 0u || d->vic.n != 0u || d->vic.t != 0u ||
-            d->vic_retried != 0u) {
-            d->vic_retried = 0u;
-            d->vic_rs = 0.0f;
-            (void)vi_curve_retry(&d->vic, d->vic_i1_0);   /* the first i1: init accepted it */
-            d->vic_post = DRIVE_VI_NONE;
-            d->vic_wait = 0u;
-            d->vic_fitted = 0u;
+        if (d->vi.fitted != 0u || d->vi.test.level != 0u || d->vi.test.n != 0u || d->vi.test.t != 0u ||
+            d->vi.retried != 0u) {
+            d->vi.retried = 0u;
+            d->vi.rs = 0.0f;
+            (void)vi_curve_retry(&d->vi.test, d->vi.i1_0);   /* the first i1: init accepted it */
+            d->vi.post = DRIVE_VI_NONE;
+            d->vi.wait = 0u;
+            d->vi.fitted = 0u;
         }
         return;
     }
-    (void)vi_curve_next(&d->vic);   /* the schedule: each level's window, the next */
-    if (d->vic.done == 0u || d->vic_fitted != 0u) {
+    (void)vi_curve_next(&d->vi.test);   /* the schedule: each level's window, the next */
+    if (d->vi.test.done == 0u || d->vi.fitted != 0u) {
         return;
     }
-    d->vic_fitted = 1u;
-    vi_curve_fit(&d->vic, b->I_base_A, b->V_base_V, f);
-    d->vic_status = (uint16_t)f->status;
+    d->vi.fitted = 1u;
+    vi_curve_fit(&d->vi.test, b->I_base_A, b->V_base_V, f);
+    d->vi.status = (uint16_t)f->status;
     if (f->status == VI_FIT_BAND && drive_vi_retry(d, f) != 0u) {
         return;
     }
     if (f->status != VI_FIT_OK) {
-        d->vic_post = DRIVE_VI_REFUSED;
+        d->vi.post = DRIVE_VI_REFUSED;
         return;
     }
     /* the error measured at the test's bus: the part that scales with the
@@ -206,15 +206,15 @@ void drive_vi_background(drive_t *d)
      * error below the dead time's alone: all of it scales with the bus) */
     vdc_pu = f->vdc_V / b->V_base_V;
     e_pu = f->e_pole_V / b->V_base_V;
-    e_board = vdc_pu * d->vic_dt_frac + _IQtoF(d->volt.v_drop);
+    e_board = vdc_pu * d->vi.dt_frac + _IQtoF(d->pwm.volt.v_drop);
     if (!(vdc_pu > 0.0f) || !(e_pu <= DRIVE_VI_E_FACTOR * e_board) ||
         !(e_pu * DRIVE_VI_E_FACTOR >= e_board)) {
-        d->vic_status = (uint16_t)VI_FIT_ERROR;
-        d->vic_post = DRIVE_VI_REFUSED;
+        d->vi.status = (uint16_t)VI_FIT_ERROR;
+        d->vi.post = DRIVE_VI_REFUSED;
         return;
     }
-    d->vic_rs = f->rs_ohm / b->Z_base_ohm;
-    dt = d->vic_dt_frac;
+    d->vi.rs = f->rs_ohm / b->Z_base_ohm;
+    dt = d->vi.dt_frac;
     drop = e_pu - vdc_pu * dt;
     if (drop < 0.0f) {
         dt = e_pu / vdc_pu;
@@ -224,12 +224,12 @@ void drive_vi_background(drive_t *d)
      * current channel: 2/4096 pu) is a step to a drive that reads the current
      * in codes; the narrowest zone volt_calc holds stands for it (the 15 kW
      * motor's 100 A channel: 0.05 A against a bridge's 0.03 A) */
-    if (volt_calc_curve_design(&d->vic_curve, dt, drop,
+    if (volt_calc_curve_design(&d->vi.curve, dt, drop,
                                fmaxf(f->band_A / b->I_base_A, VOLT_CALC_ITH_MIN_PU)) !=
         VOLT_CALC_OK) {
-        d->vic_status = (uint16_t)VI_FIT_BAND;
-        d->vic_post = DRIVE_VI_REFUSED;
+        d->vi.status = (uint16_t)VI_FIT_BAND;
+        d->vi.post = DRIVE_VI_REFUSED;
         return;
     }
-    d->vic_post = DRIVE_VI_CURVE;   /* last: the curve is complete */
+    d->vi.post = DRIVE_VI_CURVE;   /* last: the curve is complete */
 }

@@ -6,10 +6,14 @@
 
 #include "drive_types.h"
 
-/* drive_t.vic_post: what the background answered */
+/** The curve is measured and applied, or the test is off: the sequence's
+ *  vi_done (drive_slow.c sequence_inputs). */
+static inline uint16_t drive_vi_done(const drive_t *d) { return d->vi.done; }
+
+/* drive_t.vi.post: what the background answered */
 #define DRIVE_VI_NONE 0u      /* nothing yet */
-#define DRIVE_VI_CURVE 1u     /* vic_curve holds the curve to apply */
-#define DRIVE_VI_REFUSED 2u   /* the fit refused the test (vic_fit.status) */
+#define DRIVE_VI_CURVE 1u     /* vi.curve holds the curve to apply */
+#define DRIVE_VI_REFUSED 2u   /* the fit refused the test (vi.status) */
 
 /** Once, from drive_init after the sequence (float): with the board's
  *  dead_time_comp the test is armed (seq.vi_test) and the compensation
@@ -25,7 +29,7 @@ int16_t drive_vi_init(drive_t *d, const drive_config_t *c, float Ts_slow, float 
                       float tr_s);
 
 /** ISR, slot SEQUENCE, before the sequence's step: the test's step, the
- *  background's answer (applied to volt_calc, seq.vi_done) or
+ *  background's answer (applied to volt_calc, vi.done) or
  *  FAULT_VI_CURVE. */
 void drive_vi_slow(drive_t *d);
 

@@ -76,7 +76,7 @@ static void fresh(drive_t *d, id_state_t st, uint16_t pass)
     assert_int_equal(drive_init(d, &g_dc), DRIVE_CFG_OK);
     d->seq.state = st;
     d->seq.pass = pass;
-    d->adapt.prev_state = (uint16_t)st;
+    d->adapt.isr.prev_state = (uint16_t)st;
 }
 
 static void isr(drive_t *d) { drive_adapt_slow(d); }
@@ -100,11 +100,11 @@ static void mail(drive_t *d, _iq rs, _iq lm, _iq lr, _iq tr)
 static uint32_t run_until_ready(drive_t *d, uint32_t max)
 {
     uint32_t k;
-    for (k = 0u; k < max && d->seq.adapt_ready == 0u; k++) {
+    for (k = 0u; k < max && d->adapt.isr.ready == 0u; k++) {
         background(d);
         isr(d);
     }
-    assert_int_equal(d->seq.adapt_ready, 1u);
+    assert_int_equal(d->adapt.isr.ready, 1u);
     return k;
 }
 
@@ -132,12 +132,12 @@ static float si_for(float pu, float base)
 /* The model the ISR runs, as a set's words (to compare with a posted set). */
 static void applied_words(const drive_t *d, _iq w[16])
 {
-    w[0] = d->fobs.rs;   w[1] = d->fobs.lm;     w[2] = d->fobs.sigma_ls;
-    w[3] = d->fobs.lr_lm; w[4] = d->fobs.lm_lr; w[5] = d->fobs.tr;
-    w[6] = d->fobs.kf;   w[7] = d->ifo.tr;      w[8] = d->ifo.inv_tr;
-    w[9] = d->ifo.kf;    w[10] = d->pi_id.kp;   w[11] = d->pi_id.ki;
-    w[12] = d->pi_id.e_max; w[13] = d->k.sigma_ls; w[14] = d->k.lm2_lr;
-    w[15] = d->pi_iq.kp;
+    w[0] = d->frame.fobs.rs;   w[1] = d->frame.fobs.lm;     w[2] = d->frame.fobs.sigma_ls;
+    w[3] = d->frame.fobs.lr_lm; w[4] = d->frame.fobs.lm_lr; w[5] = d->frame.fobs.tr;
+    w[6] = d->frame.fobs.kf;   w[7] = d->frame.ifo.tr;      w[8] = d->frame.ifo.inv_tr;
+    w[9] = d->frame.ifo.kf;    w[10] = d->loop.pi_id.kp;   w[11] = d->loop.pi_id.ki;
+    w[12] = d->loop.pi_id.e_max; w[13] = d->k.sigma_ls; w[14] = d->k.lm2_lr;
+    w[15] = d->loop.pi_iq.kp;
 }
 
 static void set_words(const drive_model_set_t *s, _iq w[16])
@@ -187,13 +187,13 @@ static void test_set_equals_init(void **state)
     }
     assert_true(lr != 0.0f && si_for(rs, b->Z_base_ohm) != 0.0f &&
                 si_for(lm, b->L_base_H) != 0.0f && si_for(tr, b->t_base_s) != 0.0f);
-    d->adapt.track_rr = 0u;   /* the pass's Tr is taken (not the tracker's) */
+    d->adapt.isr.track_rr = 0u;   /* the pass's Tr is taken (not the tracker's) */
     mail(d, _IQ(rs), _IQ(lm), _IQ(lr), _IQ20(tr));
     ticks = run_until_ready(d, 1000u);
     background(d);   /* reads the answer to the last set */
     print_message("blend: %u ISR ticks (blend_ticks %u)\n", (unsigned)ticks,
-                  (unsigned)d->adapt_bg.blend_ticks);
-    assert_true(ticks >= d->adapt_bg.blend_ticks && ticks <= d->adapt_bg.blend_ticks + 2u);
+                  (unsigned)d->adapt.bg.blend_ticks);
+    assert_true(ticks >= d->adapt.bg.blend_ticks && ticks <= d->adapt.bg.blend_ticks + 2u);
 
     assert_int_equal(flux_obs_init(&o, b, si_for(rs, b->Z_base_ohm), si_for(lr, b->L_base_H),
                                    si_for(lr, b->L_base_H), si_for(lm, b->L_base_H),
@@ -201,31 +201,31 @@ static void test_set_equals_init(void **state)
                      FLUX_OBS_OK);
     /* as drive_init: one observer step a slow period */
     assert_int_equal(flux_obs_set_step(&o, b, DRIVE_SLOTS, 3.0f, 200.0f), FLUX_OBS_OK);
-    assert_true(d->fobs.rs == o.rs && d->fobs.lm == o.lm && d->fobs.sigma_ls == o.sigma_ls);
-    assert_true(d->fobs.lr_lm == o.lr_lm && d->fobs.lm_lr == o.lm_lr);
-    assert_true(d->fobs.tr == o.tr && d->fobs.kf == o.kf);
-    assert_int_equal(ifo_init(&f, si_for(tr, b->t_base_s), b, d->adapt_bg.imr_min_pu), IFO_OK);
-    assert_true(d->ifo.tr == f.tr && d->ifo.inv_tr == f.inv_tr && d->ifo.kf == f.kf);
+    assert_true(d->frame.fobs.rs == o.rs && d->frame.fobs.lm == o.lm && d->frame.fobs.sigma_ls == o.sigma_ls);
+    assert_true(d->frame.fobs.lr_lm == o.lr_lm && d->frame.fobs.lm_lr == o.lm_lr);
+    assert_true(d->frame.fobs.tr == o.tr && d->frame.fobs.kf == o.kf);
+    assert_int_equal(ifo_init(&f, si_for(tr, b->t_base_s), b, d->adapt.bg.imr_min_pu), IFO_OK);
+    assert_true(d->frame.ifo.tr == f.tr && d->frame.ifo.inv_tr == f.inv_tr && d->frame.ifo.kf == f.kf);
 
     wc = 2.0 * 3.14159265358979 * (double)g_dc.control.current_bw_Hz;
     sls = (double)lr - (double)lm * (double)lm / (double)lr;
     kp = wc / (double)b->w_base_rad_s * sls;
     ki = wc * (double)b->Ts_s * (double)rs;
-    print_message("gains: kp %.7f (double %.7f), ki %.9f (double %.9f)\n", to_d(d->pi_id.kp), kp,
-                  to_d(d->pi_id.ki), ki);
-    assert_true(fabs(to_d(d->pi_id.kp) - kp) <= LSB + 1.5e-6 * kp);
-    assert_true(fabs(to_d(d->pi_id.ki) - ki) <= LSB + 3e-7 * ki);
-    assert_true(fabs(to_d(d->pi_id.e_max) - ((kp <= 1.0) ? 64.0 : 64.0 / kp)) <=
+    print_message("gains: kp %.7f (double %.7f), ki %.9f (double %.9f)\n", to_d(d->loop.pi_id.kp), kp,
+                  to_d(d->loop.pi_id.ki), ki);
+    assert_true(fabs(to_d(d->loop.pi_id.kp) - kp) <= LSB + 1.5e-6 * kp);
+    assert_true(fabs(to_d(d->loop.pi_id.ki) - ki) <= LSB + 3e-7 * ki);
+    assert_true(fabs(to_d(d->loop.pi_id.e_max) - ((kp <= 1.0) ? 64.0 : 64.0 / kp)) <=
                 LSB + 2e-6 * 64.0 / kp);
-    assert_true(d->pi_iq.kp == d->pi_id.kp && d->pi_iq.ki == d->pi_id.ki &&
-                d->pi_iq.e_max == d->pi_id.e_max);
-    assert_true(d->k.sigma_ls == d->fobs.sigma_ls);
+    assert_true(d->loop.pi_iq.kp == d->loop.pi_id.kp && d->loop.pi_iq.ki == d->loop.pi_id.ki &&
+                d->loop.pi_iq.e_max == d->loop.pi_id.e_max);
+    assert_true(d->k.sigma_ls == d->frame.fobs.sigma_ls);
     assert_true(fabs(to_d(d->k.lm2_lr) - (double)lm * (double)lm / (double)lr) <=
                 LSB + 2e-7 * (double)lm);
     /* the background's record of the model in use */
-    assert_true(d->adapt_bg.cur[DRIVE_P_RS] == _IQ(rs) && d->adapt_bg.cur[DRIVE_P_TR] == _IQ20(tr));
-    assert_int_equal(d->adapt_bg.blending, 0u);
-    assert_int_equal(d->adapt.blending, 0u);
+    assert_true(d->adapt.bg.cur[DRIVE_P_RS] == _IQ(rs) && d->adapt.bg.cur[DRIVE_P_TR] == _IQ20(tr));
+    assert_int_equal(d->adapt.bg.blending, 0u);
+    assert_int_equal(d->adapt.isr.blending, 0u);
 }
 
 /* The mailbox protocol, deterministically:
@@ -245,46 +245,46 @@ static void test_mailbox_whole_sets(void **state)
     (void)state;
 
     fresh(d, ID_REFINE, 1u);
-    d->adapt.track_rr = 0u;
+    d->adapt.isr.track_rr = 0u;
     /* (a) */
-    memset((void *)&d->adapt_box.set, 0x5A, sizeof d->adapt_box.set);
-    d->adapt_box.ready = 0u;
+    memset((void *)&d->adapt.box.set, 0x5A, sizeof d->adapt.box.set);
+    d->adapt.box.ready = 0u;
     before = *d;
     isr(d);
-    assert_memory_equal(&d->fobs, &before.fobs, sizeof d->fobs);
-    assert_memory_equal(&d->ifo, &before.ifo, sizeof d->ifo);
-    assert_memory_equal(&d->pi_id, &before.pi_id, sizeof d->pi_id);
-    assert_memory_equal(&d->pi_iq, &before.pi_iq, sizeof d->pi_iq);
+    assert_memory_equal(&d->frame.fobs, &before.frame.fobs, sizeof d->frame.fobs);
+    assert_memory_equal(&d->frame.ifo, &before.frame.ifo, sizeof d->frame.ifo);
+    assert_memory_equal(&d->loop.pi_id, &before.loop.pi_id, sizeof d->loop.pi_id);
+    assert_memory_equal(&d->loop.pi_iq, &before.loop.pi_iq, sizeof d->loop.pi_iq);
     assert_memory_equal(&d->k, &before.k, sizeof d->k);
-    assert_int_equal(d->seq.adapt_ready, 0u);
+    assert_int_equal(d->adapt.isr.ready, 0u);
 
     /* (b) */
-    mail(d, _IQmpy(d->fobs.rs, _IQ(0.8)), _IQmpy(d->fobs.lm, _IQ(1.3)),
-         _IQmpy(d->adapt_bg.cur[DRIVE_P_LR], _IQ(1.2)), _IQmpy(d->fobs.tr, _IQ(0.8)));
+    mail(d, _IQmpy(d->frame.fobs.rs, _IQ(0.8)), _IQmpy(d->frame.fobs.lm, _IQ(1.3)),
+         _IQmpy(d->adapt.bg.cur[DRIVE_P_LR], _IQ(1.2)), _IQmpy(d->frame.fobs.tr, _IQ(0.8)));
     background(d);
-    assert_int_equal(d->adapt_box.ready, 1u);
-    posted = d->adapt_box.set;
+    assert_int_equal(d->adapt.box.ready, 1u);
+    posted = d->adapt.box.set;
     for (k = 0u; k < 50u; k++) {
-        d->adapt.ticks = (uint16_t)(d->adapt.ticks + 7u);   /* the blend runs on */
+        d->adapt.isr.ticks = (uint16_t)(d->adapt.isr.ticks + 7u);   /* the blend runs on */
         if (k == 10u) {
-            mail(d, d->fobs.rs, d->fobs.lm, d->adapt_bg.cur[DRIVE_P_LR], d->fobs.tr);
+            mail(d, d->frame.fobs.rs, d->frame.fobs.lm, d->adapt.bg.cur[DRIVE_P_LR], d->frame.fobs.tr);
         }
-        d->track.n_updates += 3u;
+        d->adapt.track.n_updates += 3u;
         background(d);
-        assert_int_equal(d->adapt_box.ready, 1u);
-        assert_memory_equal((const void *)&d->adapt_box.set, &posted, sizeof posted);
+        assert_int_equal(d->adapt.box.ready, 1u);
+        assert_memory_equal((const void *)&d->adapt.box.set, &posted, sizeof posted);
     }
     /* (c) */
     isr(d);
-    assert_int_equal(d->adapt_box.ready, 0u);
-    assert_int_equal(d->adapt_box.taken, DRIVE_BOX_APPLIED);
+    assert_int_equal(d->adapt.box.ready, 0u);
+    assert_int_equal(d->adapt.box.taken, DRIVE_BOX_APPLIED);
     applied_words(d, w);
     set_words(&posted, want);
     for (i = 0u; i < 16u; i++) {
         assert_true(w[i] == want[i]);
     }
-    assert_true(d->pi_iq.ki == posted.cur.ki && d->pi_iq.e_max == posted.cur.e_max);
-    assert_int_equal(d->adapt.blending, 1u);   /* a blend step: more follow */
+    assert_true(d->loop.pi_iq.ki == posted.cur.ki && d->loop.pi_iq.e_max == posted.cur.e_max);
+    assert_int_equal(d->adapt.isr.blending, 1u);   /* a blend step: more follow */
 }
 
 /* ---- preemption: the ISR part in a timer signal ------------------------- */
@@ -299,27 +299,27 @@ static _iq g_bad_w[16];
  * one of them. */
 static int consistent(const drive_t *d)
 {
-    const drive_adapt_bg_t *g = &d->adapt_bg;
+    const drive_adapt_bg_t *g = &d->adapt.bg;
     pi_gains_t pg;
     ifo_tr_t it;
     flux_obs_model_t om;   /* the observer's kf is for its own step, n Ts */
-    (void)ifo_design_tr(&it, g->ts_pu, _IQ20toF(d->fobs.tr), g->imr_min_pu);
-    (void)flux_obs_design_tr(&om, g->obs_ts_pu, _IQ20toF(d->fobs.tr));
-    (void)pi_design_gains(&pg, g->kp_per_sls * _IQtoF(d->fobs.sigma_ls),
-                          g->ki_per_rs * _IQtoF(d->fobs.rs));
-    return d->ifo.tr == it.tr && d->ifo.inv_tr == it.inv_tr && d->ifo.kf == it.kf &&
-           d->fobs.kf == om.kf && d->pi_id.kp == pg.kp && d->pi_id.ki == pg.ki &&
-           d->pi_id.e_max == pg.e_max && d->pi_iq.kp == pg.kp && d->pi_iq.ki == pg.ki &&
-           d->pi_iq.e_max == pg.e_max && d->k.sigma_ls == d->fobs.sigma_ls;
+    (void)ifo_design_tr(&it, g->ts_pu, _IQ20toF(d->frame.fobs.tr), g->imr_min_pu);
+    (void)flux_obs_design_tr(&om, g->obs_ts_pu, _IQ20toF(d->frame.fobs.tr));
+    (void)pi_design_gains(&pg, g->kp_per_sls * _IQtoF(d->frame.fobs.sigma_ls),
+                          g->ki_per_rs * _IQtoF(d->frame.fobs.rs));
+    return d->frame.ifo.tr == it.tr && d->frame.ifo.inv_tr == it.inv_tr && d->frame.ifo.kf == it.kf &&
+           d->frame.fobs.kf == om.kf && d->loop.pi_id.kp == pg.kp && d->loop.pi_id.ki == pg.ki &&
+           d->loop.pi_id.e_max == pg.e_max && d->loop.pi_iq.kp == pg.kp && d->loop.pi_iq.ki == pg.ki &&
+           d->loop.pi_iq.e_max == pg.e_max && d->k.sigma_ls == d->frame.fobs.sigma_ls;
 }
 
 static void on_timer(int sig)
 {
     drive_t *d = &g_d;
-    const uint16_t had = d->adapt_box.ready;
+    const uint16_t had = d->adapt.box.ready;
     (void)sig;
     isr(d);
-    if (had != 0u && d->adapt_box.taken == DRIVE_BOX_APPLIED) {
+    if (had != 0u && d->adapt.box.taken == DRIVE_BOX_APPLIED) {
         g_applied++;
     }
     /* (drive_init's PI gains come from its own SI formula: the relation
@@ -355,11 +355,11 @@ static void test_preemption(void **state)
     (void)state;
 
     fresh(d, ID_REFINE, 1u);
-    d->adapt.track_rr = 0u;
-    a[0] = d->fobs.rs;
-    a[1] = d->fobs.lm;
-    a[2] = d->adapt_bg.cur[DRIVE_P_LR];
-    a[3] = d->fobs.tr;
+    d->adapt.isr.track_rr = 0u;
+    a[0] = d->frame.fobs.rs;
+    a[1] = d->frame.fobs.lm;
+    a[2] = d->adapt.bg.cur[DRIVE_P_LR];
+    a[3] = d->frame.fobs.tr;
     bm[0] = _IQmpy(a[0], _IQ(1.25));
     bm[1] = _IQmpy(a[1], _IQ(1.25));
     bm[2] = _IQmpy(a[2], _IQ(1.25));
@@ -377,7 +377,7 @@ static void test_preemption(void **state)
     assert_int_equal(setitimer(ITIMER_REAL, &it, NULL), 0);
     t_end = now_s() + 10.0;
     while (g_applied < 3000 && now_s() < t_end) {
-        const drive_adapt_bg_t *g = &d->adapt_bg;
+        const drive_adapt_bg_t *g = &d->adapt.bg;
         background(d);
         if (g->blending == 0u && g->pending == 0u && g->m_ready == 0u) {
             const _iq *m = ((blends & 1u) == 0u) ? bm : a;
@@ -408,7 +408,7 @@ static void test_preemption(void **state)
  * DC state: i = (i_M, i_T) at the frame angle th, u = R i. */
 static void capture_dc(drive_t *d, double im, double it, double r_pu, double th)
 {
-    volatile drive_adapt_capture_t *c = &d->adapt_cap;
+    volatile drive_adapt_capture_t *c = &d->adapt.cap;
     c->i_mf = _IQ(im);
     c->i_tf = _IQ(it);
     c->u_mf = _IQ(r_pu * im);
@@ -442,72 +442,72 @@ static void test_standstill(void **state)
 
     fresh(d, ID_MAGNETIZE, 1u);
     capture_dc(d, im, 0.01, r_pu, 0.3);
-    d->adapt_cap.is = _IQ(0.4);
-    d->adapt_cap.ic = _IQ(0.0);
-    d->adapt_cap.us = _IQ(0.4 * r_pu);
-    d->adapt_cap.uc = _IQ(0.4 * x_pu);
-    d->adapt_cap.ssz_done = 1u;
+    d->adapt.cap.is = _IQ(0.4);
+    d->adapt.cap.ic = _IQ(0.0);
+    d->adapt.cap.us = _IQ(0.4 * r_pu);
+    d->adapt.cap.uc = _IQ(0.4 * x_pu);
+    d->adapt.cap.ssz_done = 1u;
     background(d);
-    assert_int_equal(d->adapt_cap.ready, 0u);
-    assert_int_equal(d->adapt_box.ready, 1u);
-    s = d->adapt_box.set;
+    assert_int_equal(d->adapt.cap.ready, 0u);
+    assert_int_equal(d->adapt.box.ready, 1u);
+    s = d->adapt.box.set;
     assert_int_equal(s.flags, DRIVE_SET_SEAT | DRIVE_SET_READY);
     assert_int_equal(s.state, ID_MAGNETIZE);
     assert_true(fabs(to_d(d->telemetry.Rs_dc) -
-                     to_d(d->adapt_cap.u_mf) / to_d(d->adapt_cap.i_mf)) <= LSB + 1e-6 * r_pu);
-    want_sls = x_pu / to_d(d->ssz.w) - to_d(d->ssz.corr);
+                     to_d(d->adapt.cap.u_mf) / to_d(d->adapt.cap.i_mf)) <= LSB + 1e-6 * r_pu);
+    want_sls = x_pu / to_d(d->adapt.ssz.w) - to_d(d->adapt.ssz.corr);
     print_message("standstill: Rs %.7f (u/i %.7f), sigma Ls %.7f (want %.7f)\n",
-                  to_d(d->telemetry.Rs_dc), to_d(d->adapt_cap.u_mf) / to_d(d->adapt_cap.i_mf),
+                  to_d(d->telemetry.Rs_dc), to_d(d->adapt.cap.u_mf) / to_d(d->adapt.cap.i_mf),
                   to_d(d->telemetry.sigma_ls_dc), want_sls);
     assert_true(fabs(to_d(d->telemetry.sigma_ls_dc) - want_sls) <= 4.0 * LSB + 1e-6 * want_sls);
     assert_true(s.fobs.rs == _IQ(_IQtoF(d->telemetry.Rs_dc)));
 
     /* the ISR applies it; the reference: the same model and the old
      * fixed-point re-seat on a copy of the observer */
-    ref = d->fobs;
+    ref = d->frame.fobs;
     flux_obs_apply_model(&ref, &s.fobs);
-    ref.psi_cm_alpha = d->adapt_cap.psi_cm_alpha;
-    ref.psi_cm_beta = d->adapt_cap.psi_cm_beta;
+    ref.psi_cm_alpha = d->adapt.cap.psi_cm_alpha;
+    ref.psi_cm_beta = d->adapt.cap.psi_cm_beta;
     {
-        const _iq th = d->adapt_cap.theta_r;
+        const _iq th = d->adapt.cap.theta_r;
         _iq sn, cs;
         angle_sincos(th, &sn, &cs);
         assert_int_equal(
             flux_obs_set_rs_dc(&ref, s.fobs.rs,
-                               _IQmpy(cs, d->adapt_cap.u_mf) - _IQmpy(sn, d->adapt_cap.u_tf),
-                               _IQmpy(sn, d->adapt_cap.u_mf) + _IQmpy(cs, d->adapt_cap.u_tf),
-                               _IQmpy(cs, d->adapt_cap.i_mf) - _IQmpy(sn, d->adapt_cap.i_tf),
-                               _IQmpy(sn, d->adapt_cap.i_mf) + _IQmpy(cs, d->adapt_cap.i_tf)),
+                               _IQmpy(cs, d->adapt.cap.u_mf) - _IQmpy(sn, d->adapt.cap.u_tf),
+                               _IQmpy(sn, d->adapt.cap.u_mf) + _IQmpy(cs, d->adapt.cap.u_tf),
+                               _IQmpy(cs, d->adapt.cap.i_mf) - _IQmpy(sn, d->adapt.cap.i_tf),
+                               _IQmpy(sn, d->adapt.cap.i_mf) + _IQmpy(cs, d->adapt.cap.i_tf)),
             FLUX_OBS_OK);
     }
     isr(d);
-    assert_int_equal(d->adapt_box.taken, DRIVE_BOX_APPLIED);
-    assert_int_equal(d->seq.adapt_ready, 1u);
-    ref.psi_cm_alpha = d->fobs.psi_cm_alpha;   /* the observer's own (not re-seated) */
-    ref.psi_cm_beta = d->fobs.psi_cm_beta;
-    assert_memory_equal(&d->fobs, &ref, sizeof ref);
-    assert_true(d->k.sigma_ls == s.fobs.sigma_ls && d->pi_id.kp == s.cur.kp);
+    assert_int_equal(d->adapt.box.taken, DRIVE_BOX_APPLIED);
+    assert_int_equal(d->adapt.isr.ready, 1u);
+    ref.psi_cm_alpha = d->frame.fobs.psi_cm_alpha;   /* the observer's own (not re-seated) */
+    ref.psi_cm_beta = d->frame.fobs.psi_cm_beta;
+    assert_memory_equal(&d->frame.fobs, &ref, sizeof ref);
+    assert_true(d->k.sigma_ls == s.fobs.sigma_ls && d->loop.pi_id.kp == s.cur.kp);
     background(d);   /* reads the answer */
-    assert_true(d->adapt_bg.cur[DRIVE_P_RS] == d->telemetry.Rs_dc);
+    assert_true(d->adapt.bg.cur[DRIVE_P_RS] == d->telemetry.Rs_dc);
 
     /* implausible: |u| >= 4 |i| */
     fresh(d, ID_MAGNETIZE, 1u);
     capture_dc(d, im, 0.0, 4.5, 0.0);
     {
-        flux_obs_t obs0 = d->fobs;
+        flux_obs_t obs0 = d->frame.fobs;
         background(d);
-        assert_int_equal(d->adapt_box.set.flags, DRIVE_SET_READY);
+        assert_int_equal(d->adapt.box.set.flags, DRIVE_SET_READY);
         isr(d);
-        assert_int_equal(d->seq.adapt_ready, 1u);
-        assert_memory_equal(&d->fobs, &obs0, sizeof obs0);
+        assert_int_equal(d->adapt.isr.ready, 1u);
+        assert_memory_equal(&d->frame.fobs, &obs0, sizeof obs0);
         assert_true(d->telemetry.Rs_dc == _IQ(0.0));
     }
     /* too late: the sequence left MAGNETIZE (its wait ran out): nothing posted */
     fresh(d, ID_ACCELERATE, 1u);
     capture_dc(d, im, 0.0, r_pu, 0.0);
     background(d);
-    assert_int_equal(d->adapt_cap.ready, 0u);
-    assert_int_equal(d->adapt_box.ready, 0u);
+    assert_int_equal(d->adapt.cap.ready, 0u);
+    assert_int_equal(d->adapt.box.ready, 0u);
 }
 
 /* A set made for a state (or pass) the sequence has left is dropped: the
@@ -520,28 +520,28 @@ static void test_stale_dropped(void **state)
     (void)state;
 
     fresh(d, ID_REFINE, 1u);
-    d->adapt.track_rr = 0u;
-    mail(d, _IQmpy(d->fobs.rs, _IQ(0.8)), d->fobs.lm, d->adapt_bg.cur[DRIVE_P_LR],
-         _IQmpy(d->fobs.tr, _IQ(1.2)));
+    d->adapt.isr.track_rr = 0u;
+    mail(d, _IQmpy(d->frame.fobs.rs, _IQ(0.8)), d->frame.fobs.lm, d->adapt.bg.cur[DRIVE_P_LR],
+         _IQmpy(d->frame.fobs.tr, _IQ(1.2)));
     background(d);
-    assert_int_equal(d->adapt_box.ready, 1u);
-    assert_int_equal(d->adapt_bg.blending, 1u);
+    assert_int_equal(d->adapt.box.ready, 1u);
+    assert_int_equal(d->adapt.bg.blending, 1u);
     d->seq.state = ID_ACCELERATE;   /* the wait ran out: pass 2 */
     d->seq.pass = 2u;
-    d->adapt.prev_state = ID_ACCELERATE;
+    d->adapt.isr.prev_state = ID_ACCELERATE;
     before = *d;
     isr(d);
-    assert_int_equal(d->adapt_box.ready, 0u);
-    assert_int_equal(d->adapt_box.taken, DRIVE_BOX_DROPPED);
-    assert_memory_equal(&d->fobs, &before.fobs, sizeof d->fobs);
-    assert_memory_equal(&d->ifo, &before.ifo, sizeof d->ifo);
-    assert_memory_equal(&d->pi_id, &before.pi_id, sizeof d->pi_id);
-    assert_int_equal(d->seq.adapt_ready, 0u);
+    assert_int_equal(d->adapt.box.ready, 0u);
+    assert_int_equal(d->adapt.box.taken, DRIVE_BOX_DROPPED);
+    assert_memory_equal(&d->frame.fobs, &before.frame.fobs, sizeof d->frame.fobs);
+    assert_memory_equal(&d->frame.ifo, &before.frame.ifo, sizeof d->frame.ifo);
+    assert_memory_equal(&d->loop.pi_id, &before.loop.pi_id, sizeof d->loop.pi_id);
+    assert_int_equal(d->adapt.isr.ready, 0u);
     background(d);
-    assert_int_equal(d->adapt_bg.blending, 0u);
-    assert_int_equal(d->adapt_bg.pending, 0u);
-    assert_int_equal(d->adapt_box.ready, 0u);
-    assert_memory_equal(d->adapt_bg.cur, before.adapt_bg.cur, sizeof d->adapt_bg.cur);
+    assert_int_equal(d->adapt.bg.blending, 0u);
+    assert_int_equal(d->adapt.bg.pending, 0u);
+    assert_int_equal(d->adapt.box.ready, 0u);
+    assert_memory_equal(d->adapt.bg.cur, before.adapt.bg.cur, sizeof d->adapt.bg.cur);
 }
 
 /* Tracking.  The last pass's extraction in RUN: a blend whose first set
@@ -562,7 +562,7 @@ static void test_stale_dropped(void **state)
 static void test_tracking(void **state)
 {
     drive_t *d = &g_d;
-    drive_adapt_bg_t *g = &d->adapt_bg;
+    drive_adapt_bg_t *g = &d->adapt.bg;
     _iq20 tr0, tr1, target;   /* Q20 */
     _iq theta;
     double rate, want;
@@ -570,14 +570,14 @@ static void test_tracking(void **state)
     (void)state;
 
     fresh(d, ID_RUN, 2u);
-    assert_int_equal(d->adapt.track_rr, 1u);
-    mail(d, d->fobs.rs, d->fobs.lm, g->cur[DRIVE_P_LR], _IQmpy(d->fobs.tr, _IQ(0.9)));
+    assert_int_equal(d->adapt.isr.track_rr, 1u);
+    mail(d, d->frame.fobs.rs, d->frame.fobs.lm, g->cur[DRIVE_P_LR], _IQmpy(d->frame.fobs.tr, _IQ(0.9)));
     background(d);
-    assert_int_equal(d->adapt_box.set.flags, DRIVE_SET_BLENDING | DRIVE_SET_TRACK_START);
+    assert_int_equal(d->adapt.box.set.flags, DRIVE_SET_BLENDING | DRIVE_SET_TRACK_START);
     isr(d);
-    assert_int_equal(d->adapt.track_armed, 1u);
-    assert_int_equal(d->adapt.blending, 1u);
-    assert_true(fabs(to_d(d->track.theta) - 1.0 / (0.9 * to_d20(g->cur[DRIVE_P_TR]))) <=
+    assert_int_equal(d->adapt.isr.track_armed, 1u);
+    assert_int_equal(d->adapt.isr.blending, 1u);
+    assert_true(fabs(to_d(d->adapt.track.theta) - 1.0 / (0.9 * to_d20(g->cur[DRIVE_P_TR]))) <=
                 1e-3 / to_d20(g->cur[DRIVE_P_TR]));
     for (k = 0u; k < 400u && g->blending != 0u; k++) {
         background(d);
@@ -585,32 +585,32 @@ static void test_tracking(void **state)
     }
     background(d);
     assert_int_equal(g->blending, 0u);
-    assert_int_equal(d->adapt.blending, 0u);
-    assert_int_equal(d->run_ifo, 0u);
-    assert_int_equal(d->track.n_updates, 0u);
+    assert_int_equal(d->adapt.isr.blending, 0u);
+    assert_int_equal(d->frame.run_ifo, 0u);
+    assert_int_equal(d->adapt.track.n_updates, 0u);
 
     /* one update towards Tr x 1.3 */
     tr0 = g->cur[DRIVE_P_TR];
     target = _IQmpy(tr0, _IQ(1.3));
     theta = _IQ20div(_IQ(1.0), target);   /* Q24 / Q20 -> Q24 */
-    d->track.theta = theta;
-    d->track.n_updates = 1u;
+    d->adapt.track.theta = theta;
+    d->adapt.track.n_updates = 1u;
     background(d);
-    assert_int_equal(d->adapt_box.set.flags, DRIVE_SET_ALIGN);
+    assert_int_equal(d->adapt.box.set.flags, DRIVE_SET_ALIGN);
     /* the hand-over takes the frame's angle of this period (obs_theta, carried
      * forward every period), not the observer's last sample (fobs.theta, 7
      * periods older: the rotor has turned since) */
-    d->fobs.theta = _IQ(0.21);
-    d->obs_theta = _IQ(0.37);
-    d->fobs.psi_mag = _IQmpy(d->fobs.lm, _IQ(0.33));
+    d->frame.fobs.theta = _IQ(0.21);
+    d->frame.obs_theta = _IQ(0.37);
+    d->frame.fobs.psi_mag = _IQmpy(d->frame.fobs.lm, _IQ(0.33));
     isr(d);
     tr1 = tr0 + _IQmpy(tr0, g->tr_rate);
-    assert_true(d->fobs.tr == _IQ20(_IQ20toF(tr1)));
-    assert_true(d->ifo.tr == d->fobs.tr);
-    assert_int_equal(d->run_ifo, 1u);
-    assert_int_equal(d->frame_ifo, 1u);
-    assert_true(d->ifo.theta == _IQ(0.37));
-    assert_true(fabs(to_d(d->ifo.imr) - 0.33) <= 1e-4);
+    assert_true(d->frame.fobs.tr == _IQ20(_IQ20toF(tr1)));
+    assert_true(d->frame.ifo.tr == d->frame.fobs.tr);
+    assert_int_equal(d->frame.run_ifo, 1u);
+    assert_int_equal(d->frame.is_ifo, 1u);
+    assert_true(d->frame.ifo.theta == _IQ(0.37));
+    assert_true(fabs(to_d(d->frame.ifo.imr) - 0.33) <= 1e-4);
     assert_true(fabs(to_d20(d->telemetry.Tr_track) - 1.0 / to_d(theta)) <=
                 LSB20 + 1e-7 * to_d20(d->telemetry.Tr_track));
     assert_true(fabs(to_d(d->telemetry.Rr_track) - to_d(g->lr) * to_d(theta)) <= LSB + 1e-7);
@@ -618,9 +618,9 @@ static void test_tracking(void **state)
 
     /* ten at once */
     background(d);   /* the answer */
-    d->track.n_updates = 11u;
+    d->adapt.track.n_updates = 11u;
     background(d);
-    assert_int_equal(d->adapt_box.set.flags, 0u);   /* ifo has the frame already */
+    assert_int_equal(d->adapt.box.set.flags, 0u);   /* ifo has the frame already */
     isr(d);
     rate = to_d(g->tr_rate);
     want = to_d20(tr1) * pow(1.0 + rate, 10.0);
@@ -632,7 +632,7 @@ static void test_tracking(void **state)
     /* within one step: exactly the target */
     background(d);
     theta = _IQ20div(_IQ(1.0), g->cur[DRIVE_P_TR] + _IQmpy(g->cur[DRIVE_P_TR], _IQ(1e-5)));
-    d->track.theta = theta;
+    d->adapt.track.theta = theta;
     {
         const drive_motor_t *m = &g_dc.motor;
         double f_upd = (double)g_dc.board.pwm_freq_Hz / 16.0;
@@ -642,11 +642,11 @@ static void test_tracking(void **state)
                       (unsigned)d->k.track_valid_updates, want_n);
         assert_true(fabs((double)d->k.track_valid_updates - want_n) <= 1.0);
     }
-    d->track.n_updates = d->k.track_valid_updates - 1u;
+    d->adapt.track.n_updates = d->k.track_valid_updates - 1u;
     background(d);
     assert_int_equal(d->telemetry.track_valid, 0u);
     background(d);   /* the answer */
-    d->track.n_updates = d->k.track_valid_updates;
+    d->adapt.track.n_updates = d->k.track_valid_updates;
     background(d);
     assert_true(g->posted[DRIVE_P_TR] == _IQ20div(_IQ(1.0), theta));   /* Q24 / Q24 -> Q20 */
     assert_int_equal(d->telemetry.track_valid, 1u);
@@ -655,8 +655,8 @@ static void test_tracking(void **state)
     /* out of RUN: the tracker disarmed, the telemetry invalid, ifo hands back */
     d->seq.state = ID_IDLE;
     isr(d);
-    assert_int_equal(d->adapt.track_armed, 0u);
-    assert_int_equal(d->run_ifo, 0u);
+    assert_int_equal(d->adapt.isr.track_armed, 0u);
+    assert_int_equal(d->frame.run_ifo, 0u);
     background(d);
     assert_int_equal(d->telemetry.track_valid, 0u);
 }
@@ -695,7 +695,7 @@ static void test_waits_configured(void **state)
 static void test_large_tr(void **state)
 {
     drive_t *d = &g_d;
-    drive_adapt_bg_t *g = &d->adapt_bg;
+    drive_adapt_bg_t *g = &d->adapt.bg;
     const drive_config_t keep = g_dc;
     double tr0, want;
     _iq20 tr_in_use;
@@ -707,38 +707,38 @@ static void test_large_tr(void **state)
     g_dc.motor.Rr_ohm = keep.motor.Rr_ohm / 25.0f;
     fresh(d, ID_REFINE, 1u);
     tr0 = (double)g_dc.motor.Lr_H / (double)g_dc.motor.Rr_ohm / (double)d->base.t_base_s;
-    print_message("large Tr: %.3f pu (Q20 %.6f)\n", tr0, to_d20(d->fobs.tr));
+    print_message("large Tr: %.3f pu (Q20 %.6f)\n", tr0, to_d20(d->frame.fobs.tr));
     assert_true(tr0 > 128.0 && 3.0 * 1.8 * tr0 < 2047.0);
-    assert_true(fabs(to_d20(d->fobs.tr) - tr0) <= LSB20 + 1e-7 * tr0);
-    assert_true(d->ifo.tr == d->fobs.tr && g->cur[DRIVE_P_TR] == d->fobs.tr);
+    assert_true(fabs(to_d20(d->frame.fobs.tr) - tr0) <= LSB20 + 1e-7 * tr0);
+    assert_true(d->frame.ifo.tr == d->frame.fobs.tr && g->cur[DRIVE_P_TR] == d->frame.fobs.tr);
 
     /* a pass's Tr x 1.8, taken (not the tracker's) */
-    d->adapt.track_rr = 0u;
-    mail(d, d->fobs.rs, d->fobs.lm, g->cur[DRIVE_P_LR], _IQ20(1.8 * tr0));
+    d->adapt.isr.track_rr = 0u;
+    mail(d, d->frame.fobs.rs, d->frame.fobs.lm, g->cur[DRIVE_P_LR], _IQ20(1.8 * tr0));
     (void)run_until_ready(d, 1000u);
     background(d);
     want = to_d20(_IQ20(1.8 * tr0));
-    print_message("large Tr x 1.8: %.4f pu, want %.4f\n", to_d20(d->fobs.tr), want);
+    print_message("large Tr x 1.8: %.4f pu, want %.4f\n", to_d20(d->frame.fobs.tr), want);
     assert_true(g->cur[DRIVE_P_TR] == _IQ20(1.8 * tr0));
-    assert_true(fabs(to_d20(d->fobs.tr) - want) <= LSB20 + 1e-7 * want);
-    (void)ifo_design_tr(&it, g->ts_pu, _IQ20toF(d->fobs.tr), g->imr_min_pu);
-    (void)flux_obs_design_tr(&om, g->obs_ts_pu, _IQ20toF(d->fobs.tr));
-    assert_true(d->ifo.tr == it.tr && d->ifo.inv_tr == it.inv_tr && d->ifo.kf == it.kf);
-    assert_true(d->fobs.tr == om.tr && d->fobs.kf == om.kf);
+    assert_true(fabs(to_d20(d->frame.fobs.tr) - want) <= LSB20 + 1e-7 * want);
+    (void)ifo_design_tr(&it, g->ts_pu, _IQ20toF(d->frame.fobs.tr), g->imr_min_pu);
+    (void)flux_obs_design_tr(&om, g->obs_ts_pu, _IQ20toF(d->frame.fobs.tr));
+    assert_true(d->frame.ifo.tr == it.tr && d->frame.ifo.inv_tr == it.inv_tr && d->frame.ifo.kf == it.kf);
+    assert_true(d->frame.fobs.tr == om.tr && d->frame.fobs.kf == om.kf);
 
     /* x 3 of the Tr in use: limited to x 2 */
     tr_in_use = g->cur[DRIVE_P_TR];
     fresh(d, ID_REFINE, 1u);
-    d->adapt.track_rr = 0u;
+    d->adapt.isr.track_rr = 0u;
     g->cur[DRIVE_P_TR] = tr_in_use;   /* the record the limit is taken from */
-    mail(d, d->fobs.rs, d->fobs.lm, g->cur[DRIVE_P_LR], _IQ20(3.0 * to_d20(tr_in_use)));
+    mail(d, d->frame.fobs.rs, d->frame.fobs.lm, g->cur[DRIVE_P_LR], _IQ20(3.0 * to_d20(tr_in_use)));
     background(d);
     assert_true(g->to[DRIVE_P_TR] == tr_in_use + tr_in_use);
 
     /* tracking: theta = 1/400 pu */
     fresh(d, ID_RUN, 2u);
-    assert_int_equal(d->adapt.track_rr, 1u);
-    mail(d, d->fobs.rs, d->fobs.lm, g->cur[DRIVE_P_LR], d->fobs.tr);
+    assert_int_equal(d->adapt.isr.track_rr, 1u);
+    mail(d, d->frame.fobs.rs, d->frame.fobs.lm, g->cur[DRIVE_P_LR], d->frame.fobs.tr);
     for (k = 0u; k < 400u && (g->blending != 0u || g->pending != 0u || k == 0u); k++) {
         background(d);
         isr(d);
@@ -746,8 +746,8 @@ static void test_large_tr(void **state)
     background(d);
     assert_int_equal(g->blending, 0u);
     tr_in_use = g->cur[DRIVE_P_TR];
-    d->track.theta = _IQ(1.0 / 400.0);
-    d->track.n_updates = 1u;
+    d->adapt.track.theta = _IQ(1.0 / 400.0);
+    d->adapt.track.n_updates = 1u;
     background(d);
     want = 1.0 / to_d(_IQ(1.0 / 400.0));
     print_message("large Tr tracked: Tr_track %.5f pu, want %.5f\n",
@@ -768,11 +768,11 @@ static void test_fused_set(void **state)
                                       _IQ20(-6.0)};
     (void)state;
     fresh(d, ID_RUN, 2u);
-    assert_int_equal(d->adapt.fused, 1u);   /* the adaptive configuration fuses */
-    d->fused_ready = 1u;
-    d->fused_lm = _IQ(1.9);
-    d->fused_lr = _IQ(2.0);
-    d->fused_psi = _IQ(0.95);
+    assert_int_equal(d->adapt.isr.fused, 1u);   /* the adaptive configuration fuses */
+    d->verdict.fused_ready = 1u;
+    d->verdict.fused_lm = _IQ(1.9);
+    d->verdict.fused_lr = _IQ(2.0);
+    d->verdict.fused_psi = _IQ(0.95);
     d->telemetry.Rs_dc = _IQ(0.031);
     d->telemetry.Rr_track = _IQ(0.027);
     d->telemetry.Tr_track = _IQ20(74.5);
@@ -784,10 +784,10 @@ static void test_fused_set(void **state)
         unsigned i;
         for (i = 0u; i < 4u; i++) {
             fresh(d, ID_RUN, 2u);
-            d->fused_ready = (uint16_t)(i != 0u);
+            d->verdict.fused_ready = (uint16_t)(i != 0u);
             d->telemetry.Rs_dc = (i != 1u) ? _IQ(0.031) : _IQ(0.0);
             d->telemetry.Tr_track = (i != 2u) ? _IQ20(74.5) : 0;
-            d->adapt.fused = (uint16_t)(i != 3u);
+            d->adapt.isr.fused = (uint16_t)(i != 3u);
             f = untouched;
             assert_int_equal(drive_fused_set(d, &f), 0u);
             assert_memory_equal(&f, &untouched, sizeof f);

@@ -61,7 +61,7 @@ static void test_current_check_time_constant(void **state)
     const double ts_slow = (double)DRIVE_SLOTS / 15000.0;
     (void)state;
     init_from(MC_CONFIG_DIR "/paper_motor.ini");
-    assert_q24("current check: 1 - exp(-Ts_slow / 2 ms)", g_d.cur_chk.k_filt,
+    assert_q24("current check: 1 - exp(-Ts_slow / 2 ms)", g_d.prot.feedback.k_filt,
                1.0 - exp(-ts_slow / 0.002));
 }
 
@@ -84,7 +84,7 @@ static void test_tracker_guard(void **state)
     /* the believed flux Lm i_M and the torque-current limit, in pu */
     psi_pu = g_c.nameplate.Lm_H * g_c.controller.magnetizing_current_A / (v_base / w_base);
     it_pu = g_c.controller.max_torque_current_A / g_c.board.current_full_scale_A;
-    assert_q24("tracker guard: 10 % of psi_rated x i_T,max", g_d.track.phi_min,
+    assert_q24("tracker guard: 10 % of psi_rated x i_T,max", g_d.adapt.track.phi_min,
                0.1 * psi_pu * it_pu);
 }
 
@@ -96,26 +96,26 @@ static void pass_with(double factor, double *lm_ratio, double *lr_ratio)
     _iq lm0, lr0;
     int k;
     init_from(MC_CONFIG_DIR "/paper_motor_wrong_nameplate.ini");
-    lm0 = g_d.fobs.lm;
-    lr0 = _IQmpy(g_d.fobs.lm, g_d.fobs.lr_lm);
+    lm0 = g_d.frame.fobs.lm;
+    lr0 = _IQmpy(g_d.frame.fobs.lm, g_d.frame.fobs.lr_lm);
     memset(&p, 0, sizeof p);
     p.valid = 1u;
-    p.Rs = g_d.fobs.rs;
+    p.Rs = g_d.frame.fobs.rs;
     p.Lm = _IQ((double)_IQtoF(lm0) * factor);
     p.Lr = _IQ((double)_IQtoF(lr0) * factor);
-    p.Tr = g_d.fobs.tr;
+    p.Tr = g_d.frame.fobs.tr;
     g_d.seq.state = ID_REFINE;   /* between passes: the mail is taken */
     drive_adapt_post(&g_d, &p, 1u);
-    assert_int_equal(g_d.adapt_bg.m_ready, 1);
+    assert_int_equal(g_d.adapt.bg.m_ready, 1);
     /* the two contexts in turn: the background makes each blend step, the
      * ISR's slow task applies it (0.1 s of slow ticks: 188) */
     for (k = 0; k < 400; k++) {
         drive_adapt_background(&g_d);
         drive_adapt_slow(&g_d);
     }
-    assert_int_equal(g_d.adapt_bg.blending, 0);
-    *lm_ratio = (double)_IQtoF(g_d.fobs.lm) / (double)_IQtoF(lm0);
-    *lr_ratio = (double)_IQtoF(_IQmpy(g_d.fobs.lm, g_d.fobs.lr_lm)) / (double)_IQtoF(lr0);
+    assert_int_equal(g_d.adapt.bg.blending, 0);
+    *lm_ratio = (double)_IQtoF(g_d.frame.fobs.lm) / (double)_IQtoF(lm0);
+    *lr_ratio = (double)_IQtoF(_IQmpy(g_d.frame.fobs.lm, g_d.frame.fobs.lr_lm)) / (double)_IQtoF(lr0);
 }
 
 static void test_rate_limit_per_pass(void **state)

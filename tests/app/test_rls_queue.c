@@ -5,7 +5,7 @@
  *
  * The reference is independent of the queue: an rls_t of its own, stepped
  * right after each ISR whose slow slot formed the rows (FILTERS_C) with the
- * regressor's outputs (d->reg) and the sequence's enable, restarted from
+ * regressor's outputs (d->id.reg) and the sequence's enable, restarted from
  * rls_start where the sequence asks for a new pass.  The closed loop runs
  * the paper motor from the start of the identification through the
  * acceleration into RUN (3 s), the background called at irregular
@@ -34,16 +34,16 @@ static loop_t g_loop;
 static void isr(loop_t *l)
 {
     drive_t *d = &l->rig.drive;
-    const uint16_t slot = d->slot;   /* the slot this ISR runs */
+    const uint16_t slot = d->sched.slot;   /* the slot this ISR runs */
     drive_rig_sample(&l->rig);
     drive_isr(d);
     drive_slow_isr(d);
     drive_rig_period(&l->rig);
     if (slot == DRIVE_SLOT_SEQUENCE && d->seq.rls_restart != 0u) {
-        l->ref = d->rls_start;   /* a new pass (the adaptive sequence only) */
+        l->ref = d->id.rls_start;   /* a new pass (the adaptive sequence only) */
     }
     if (slot == DRIVE_SLOT_FILTERS_C && d->seq.rls_on != 0u) {
-        const ident_regressor_t *r = &d->reg;
+        const ident_regressor_t *r = &d->id.reg;
         l->ref.y1 = r->y1;
         l->ref.y2 = r->y2;
         l->ref.i_mf = r->i_mf;
@@ -65,7 +65,7 @@ static int setup(void **state)
     if (drive_rig_start(&l->rig, PAPER) != 0) {
         return -1;
     }
-    l->ref = l->rig.drive.rls_start;
+    l->ref = l->rig.drive.id.rls_start;
     return 0;
 }
 
@@ -89,11 +89,11 @@ static void test_every_sample_once_in_order(void **state)
     /* the identification ran: hundreds of samples, in RUN now */
     assert_true(l->updates > 1000u);
     assert_int_equal(d->seq.state, ID_RUN);
-    assert_int_equal(d->rlsq.dropped, 0u);
+    assert_int_equal(d->id.rlsq.dropped, 0u);
     assert_int_equal(d->telemetry.rls_dropped, 0u);
-    assert_true(d->rlsq.max_fill <= DRIVE_RLSQ_LEN - 2u);
+    assert_true(d->id.rlsq.max_fill <= DRIVE_RLSQ_LEN - 2u);
     for (i = 0u; i < RLS_N; i++) {
-        assert_true(d->rls.theta[i] == l->ref.theta[i]);   /* bit for bit */
+        assert_true(d->id.rls.theta[i] == l->ref.theta[i]);   /* bit for bit */
     }
     /* the published set came from the background's snapshot */
     assert_int_equal(d->telemetry.params_valid, 1u);
@@ -119,33 +119,33 @@ static void test_full_queue_counts_and_keeps_events(void **state)
     }
     assert_int_equal(d->seq.state, ID_ACCELERATE);
     drive_background(d);
-    assert_int_equal(d->rlsq.head, d->rlsq.tail);
+    assert_int_equal(d->id.rlsq.head, d->id.rlsq.tail);
     pushes0 = l->updates;
     /* no background for 3 queues' worth of slow periods */
     while (l->updates - pushes0 < 3u * DRIVE_RLSQ_LEN) {
         isr(l);
     }
     pushes = l->updates - pushes0;
-    fill = (uint16_t)((d->rlsq.head - d->rlsq.tail) & (DRIVE_RLSQ_LEN - 1u));
+    fill = (uint16_t)((d->id.rlsq.head - d->id.rlsq.tail) & (DRIVE_RLSQ_LEN - 1u));
     assert_int_equal(fill, DRIVE_RLSQ_LEN - 1u);
-    assert_int_equal(d->rlsq.dropped, pushes - (DRIVE_RLSQ_LEN - 1u));
+    assert_int_equal(d->id.rlsq.dropped, pushes - (DRIVE_RLSQ_LEN - 1u));
     /* an event while full waits for the next free entry */
-    d->rlsq.pending |= DRIVE_RLSQ_EXTRACT;
-    d->snap.ready = 0u;
-    while (d->slot != DRIVE_SLOT_FILTERS_C) {
+    d->id.rlsq.pending |= DRIVE_RLSQ_EXTRACT;
+    d->id.snap.ready = 0u;
+    while (d->sched.slot != DRIVE_SLOT_FILTERS_C) {
         isr(l);
     }
     isr(l);   /* FILTERS_B with the queue still full */
-    assert_int_equal(d->rlsq.pending & DRIVE_RLSQ_EXTRACT, DRIVE_RLSQ_EXTRACT);
+    assert_int_equal(d->id.rlsq.pending & DRIVE_RLSQ_EXTRACT, DRIVE_RLSQ_EXTRACT);
     drive_background(d);   /* empties it (the extraction is not due: snap read here) */
-    assert_int_equal(d->telemetry.rls_dropped, d->rlsq.dropped);
-    while (d->slot != DRIVE_SLOT_FILTERS_C) {
+    assert_int_equal(d->telemetry.rls_dropped, d->id.rlsq.dropped);
+    while (d->sched.slot != DRIVE_SLOT_FILTERS_C) {
         isr(l);
     }
     isr(l);
-    assert_int_equal(d->rlsq.pending, 0u);   /* rode with this entry */
+    assert_int_equal(d->id.rlsq.pending, 0u);   /* rode with this entry */
     drive_background(d);
-    assert_int_equal(d->rlsq.head, d->rlsq.tail);
+    assert_int_equal(d->id.rlsq.head, d->id.rlsq.tail);
 }
 
 int main(void)

@@ -34,10 +34,10 @@ static inline int drive_rig_start(drive_rig_t *r, const char *ini)
     }
     sim_config_to_drive(&cfg, &dc);
     if (drive_init(&r->drive, &dc) != DRIVE_CFG_OK ||
-        plant_init(&r->plant, &cfg, r->drive.t1pr, err, sizeof err) != 0) {
+        plant_init(&r->plant, &cfg, r->drive.k.t1pr, err, sizeof err) != 0) {
         return -1;
     }
-    hal_host_port_init(&r->port, r->drive.t1pr);
+    hal_host_port_init(&r->port, r->drive.k.t1pr);
     hal_host_bind(&r->port);
     r->active = r->port.cmp;
     drive_command(&r->drive, DRIVE_CMD_START_IDENT);

@@ -65,13 +65,13 @@ static void test_isolated_overruns_counted(void **state)
     drive_telemetry_t t;
     (void)state;
     isr(l, 1u);
-    assert_int_equal(l->drive.ovr.count, 1);
-    assert_int_equal(l->drive.ovr.run, 1);
+    assert_int_equal(l->drive.prot.ovr.count, 1);
+    assert_int_equal(l->drive.prot.ovr.run, 1);
     isr(l, 0u);
-    assert_int_equal(l->drive.ovr.run, 0);
+    assert_int_equal(l->drive.prot.ovr.run, 0);
     isr(l, 1u);
     isr(l, 1u);
-    assert_int_equal(l->drive.ovr.run, ISR_MONITOR_LATCH_RUN - 1u);
+    assert_int_equal(l->drive.prot.ovr.run, ISR_MONITOR_LATCH_RUN - 1u);
     isr(l, 0u);
     drive_get_telemetry(&l->drive, &t);
     assert_int_equal(t.isr_overruns, 3);
@@ -88,25 +88,25 @@ static void test_isolated_overruns_counted(void **state)
 static void test_slow_isr_late_counted(void **state)
 {
     loop_t *l = &g_loop;
-    const uint16_t before = l->drive.ovr.count;
+    const uint16_t before = l->drive.prot.ovr.count;
     (void)state;
     drive_rig_sample(l);
     l->port.overrun = 0u;
     drive_isr(&l->drive);            /* its slow ISR does not run */
     drive_rig_period(l);
-    assert_int_equal(l->drive.ovr.count, before);   /* nothing late yet */
-    assert_int_equal(l->drive.slow_due, 1);
+    assert_int_equal(l->drive.prot.ovr.count, before);   /* nothing late yet */
+    assert_int_equal(l->drive.sched.slow_due, 1);
     isr(l, 0u);                      /* finds it due: late; then both run */
-    assert_int_equal(l->drive.ovr.count, before + 1u);
-    assert_int_equal(l->drive.slow_due, 0);
-    l->drive.slow_busy = 1u;         /* as if preempted in the middle */
+    assert_int_equal(l->drive.prot.ovr.count, before + 1u);
+    assert_int_equal(l->drive.sched.slow_due, 0);
+    l->drive.sched.slow_busy = 1u;         /* as if preempted in the middle */
     isr(l, 0u);
-    assert_int_equal(l->drive.ovr.count, before + 2u);
-    assert_int_equal(l->drive.slow_busy, 0);
+    assert_int_equal(l->drive.prot.ovr.count, before + 2u);
+    assert_int_equal(l->drive.sched.slow_busy, 0);
     isr(l, 0u);
-    assert_int_equal(l->drive.ovr.count, before + 2u);
-    assert_int_equal(l->drive.ovr.run, 0);
-    assert_int_equal(l->drive.prot.fault, FAULT_NONE);
+    assert_int_equal(l->drive.prot.ovr.count, before + 2u);
+    assert_int_equal(l->drive.prot.ovr.run, 0);
+    assert_int_equal(l->drive.prot.trip.fault, FAULT_NONE);
     assert_int_equal(l->port.outputs_enabled, 1);
 }
 
@@ -117,17 +117,17 @@ static void test_consecutive_overruns_latch_fault(void **state)
 {
     loop_t *l = &g_loop;
     uint16_t i;
-    uint16_t before = l->drive.ovr.count;
+    uint16_t before = l->drive.prot.ovr.count;
     (void)state;
     for (i = 0u; i + 1u < ISR_MONITOR_LATCH_RUN; i++) {
         isr(l, 1u);
         assert_int_equal(l->port.outputs_enabled, 1);
-        assert_int_equal(l->drive.prot.fault, FAULT_NONE);
+        assert_int_equal(l->drive.prot.trip.fault, FAULT_NONE);
     }
     isr(l, 1u);
-    assert_int_equal(l->drive.prot.fault, FAULT_ISR_OVERRUN);
+    assert_int_equal(l->drive.prot.trip.fault, FAULT_ISR_OVERRUN);
     assert_int_equal(l->port.outputs_enabled, 0);
-    assert_int_equal(l->drive.ovr.count, before + ISR_MONITOR_LATCH_RUN);
+    assert_int_equal(l->drive.prot.ovr.count, before + ISR_MONITOR_LATCH_RUN);
     for (i = 0u; i < 100u; i++) {
         isr(l, 0u);
         assert_int_equal(l->port.outputs_enabled, 0);
@@ -137,9 +137,9 @@ static void test_consecutive_overruns_latch_fault(void **state)
     drive_command(&l->drive, DRIVE_CMD_RESET_FAULT);
     drive_background(&l->drive);
     isr(l, 0u);
-    assert_int_equal(l->drive.prot.fault, FAULT_NONE);
-    assert_int_equal(l->drive.ovr.fault, 0);
-    assert_int_equal(l->drive.ovr.count, before + ISR_MONITOR_LATCH_RUN);
+    assert_int_equal(l->drive.prot.trip.fault, FAULT_NONE);
+    assert_int_equal(l->drive.prot.ovr.fault, 0);
+    assert_int_equal(l->drive.prot.ovr.count, before + ISR_MONITOR_LATCH_RUN);
 }
 
 /* The order of the ISR's HAL calls: the samples are read (and on the F2812

@@ -188,11 +188,11 @@ static void echo_motor_period(echo_motor_t *e, const drive_t *d, const drive_con
     double u_a = 0.0, u_b = 0.0;
     int n;
     if (e->on1 != 0u) {
-        const double vdc = (double)_IQtoF(d->bus.vdc) * (double)d->base.V_base_V;
+        const double vdc = (double)_IQtoF(d->sense.bus.vdc) * (double)d->base.V_base_V;
         double dx[3], mean;
         int x;
         for (x = 0; x < 3; x++) {
-            dx[x] = (double)(d->t1pr - e->out2.cmpr[x]) / (double)d->t1pr;
+            dx[x] = (double)(d->k.t1pr - e->out2.cmpr[x]) / (double)d->k.t1pr;
         }
         mean = (dx[0] + dx[1] + dx[2]) / 3.0;
         u_a = (dx[0] - mean) * vdc;
@@ -231,8 +231,8 @@ static void echo_currents(const echo_motor_t *e, const drive_t *d, hal_adc_sampl
     const double ib_base = (double)d->base.I_base_A;
     const double ia = e->i_a / ib_base;
     const double ib = (-0.5 * e->i_a + 0.8660254037844386 * e->i_b) / ib_base;
-    adc->ia_raw = raw_of_current(ia, d->cur.gain_a, d->cur.offset_a, pa);
-    adc->ib_raw = raw_of_current(ib, d->cur.gain_b, d->cur.offset_b, pb);
+    adc->ia_raw = raw_of_current(ia, d->sense.phase.gain_a, d->sense.phase.offset_a, pa);
+    adc->ib_raw = raw_of_current(ib, d->sense.phase.gain_b, d->sense.phase.offset_b, pb);
 }
 
 static void check_outputs(const drive_t *d, const hal_pwm_compare_t *out, uint16_t hw_trip,
@@ -240,16 +240,16 @@ static void check_outputs(const drive_t *d, const hal_pwm_compare_t *out, uint16
 {
     unsigned i;
     for (i = 0; i < 3u; i++) {
-        if (out->cmpr[i] > d->t1pr) {
-            fuzz_fail("compare value above T1PR", step, (long)out->cmpr[i], (long)d->t1pr);
+        if (out->cmpr[i] > d->k.t1pr) {
+            fuzz_fail("compare value above T1PR", step, (long)out->cmpr[i], (long)d->k.t1pr);
         }
-        if (d->telemetry.pwm_on == 0u && out->cmpr[i] != d->t1pr) {
+        if (d->telemetry.pwm_on == 0u && out->cmpr[i] != d->k.t1pr) {
             fuzz_fail("bridge off but a compare value is not T1PR", step, (long)out->cmpr[i],
-                      (long)d->t1pr);
+                      (long)d->k.t1pr);
         }
     }
-    if (d->prot.fault != FAULT_NONE && d->telemetry.pwm_on != 0u) {
-        fuzz_fail("PWM on with a latched fault", step, (long)d->prot.fault, 0L);
+    if (d->prot.trip.fault != FAULT_NONE && d->telemetry.pwm_on != 0u) {
+        fuzz_fail("PWM on with a latched fault", step, (long)d->prot.trip.fault, 0L);
     }
     if (hw_trip != 0u && d->telemetry.pwm_on != 0u) {
         fuzz_fail("PWM on while the hardware trip input is active", step, 1L, 0L);
@@ -285,8 +285,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (st != DRIVE_CFG_OK) {
         fuzz_fail("drive_init rejected a valid configuration", 0, (long)st, 0L);
     }
-    if (g_drive.t1pr != 5000u) {
-        fuzz_fail("T1PR is not 150 MHz / (2 * 15 kHz)", 0, (long)g_drive.t1pr, 5000L);
+    if (g_drive.k.t1pr != 5000u) {
+        fuzz_fail("T1PR is not 150 MHz / (2 * 15 kHz)", 0, (long)g_drive.k.t1pr, 5000L);
     }
 
     for (pos = 1; pos + RECORD_LEN <= size && step < MAX_STEPS; pos += RECORD_LEN) {
@@ -332,23 +332,23 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 adc.ia_raw = get16(r + 1);
                 adc.ib_raw = get16(r + 3);
             }
-            g_drive.prot.hw_trip = hw_trip;   /* as drive_isr does from hal_pwm_tripped() */
+            g_drive.prot.trip.hw_trip = hw_trip;   /* as drive_isr does from hal_pwm_tripped() */
             drive_step(&g_drive, &adc, qep, &out);
             echo_motor_after(&motor, &g_drive, &out);
             if (g_selftest != 0 && step == 100u) {
-                out.cmpr[0] = (uint16_t)(g_drive.t1pr + 1u);   /* the check must catch it */
+                out.cmpr[0] = (uint16_t)(g_drive.k.t1pr + 1u);   /* the check must catch it */
             }
             check_outputs(&g_drive, &out, hw_trip, step);
             g_states_seen |= (uint16_t)(1u << ((unsigned)g_drive.seq.state & 15u));
             if (g_trace != 0 &&
-                (g_drive.seq.state != last_state || g_drive.prot.fault != last_fault)) {
+                (g_drive.seq.state != last_state || g_drive.prot.trip.fault != last_fault)) {
                 last_state = g_drive.seq.state;
-                last_fault = g_drive.prot.fault;
+                last_fault = g_drive.prot.trip.fault;
                 printf("ISR %lu: state %u fault %u (i_M ref %.3f, i_T ref %.3f, ia %.3f, "
                        "ib %.3f, vdc %.3f pu)\n", step, (unsigned)last_state,
-                       (unsigned)last_fault, (double)_IQtoF(g_drive.pi_id.ref),
-                       (double)_IQtoF(g_drive.pi_iq.ref), (double)_IQtoF(g_drive.cur.ia),
-                       (double)_IQtoF(g_drive.cur.ib), (double)_IQtoF(g_drive.bus.vdc));
+                       (unsigned)last_fault, (double)_IQtoF(g_drive.loop.pi_id.ref),
+                       (double)_IQtoF(g_drive.loop.pi_iq.ref), (double)_IQtoF(g_drive.sense.phase.ia),
+                       (double)_IQtoF(g_drive.sense.phase.ib), (double)_IQtoF(g_drive.sense.bus.vdc));
             }
             if ((step % BACKGROUND_DIV) == 0u) {
                 background(step);

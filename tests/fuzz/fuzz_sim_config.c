@@ -90,8 +90,8 @@ static void check_accepted(const sim_config_t *cfg)
         unsigned j;
         drive_step(&g_drive, &adc, (uint16_t)i, &out);
         for (j = 0; j < 3u; j++) {
-            if (out.cmpr[j] > g_drive.t1pr) {
-                fuzz_fail("compare value above T1PR", i, (long)out.cmpr[j], (long)g_drive.t1pr);
+            if (out.cmpr[j] > g_drive.k.t1pr) {
+                fuzz_fail("compare value above T1PR", i, (long)out.cmpr[j], (long)g_drive.k.t1pr);
             }
         }
     }
