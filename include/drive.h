@@ -158,6 +158,9 @@ uint16_t drive_log_due(const drive_t *d);
  *  one whole period. */
 void drive_step(drive_t *d, const hal_adc_sample_t *adc, uint16_t qep_count,
                 hal_pwm_compare_t *out);
+/** The bridge's hardware trip input (PDPINTA, 1: tripped) for the next
+ *  drive_step; drive_isr reads it from the HAL itself. */
+void drive_set_hw_trip(drive_t *d, uint16_t tripped);
 /** Low-priority work for the background loop (publishing, telemetry). */
 void drive_background(drive_t *d);
 /** Request a command; acted on by the next drive_background().  Requests

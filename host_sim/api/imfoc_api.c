@@ -14,7 +14,7 @@
 #include <string.h>
 
 #include "drive_limits.h"
-#include "drive_types.h"
+#include "drive_probe.h"
 #include "imfoc_convert.h"
 #include "sim_config.h"
 #include "sim_limits.h"
@@ -23,6 +23,7 @@
 
 struct imfoc {
     drive_t drive;
+    drive_probe_t pv;        /* what the API reads of it */
     imfoc_info_t info;
     hal_pwm_compare_t cmp;   /* last compare values */
     uint32_t isr_count;
@@ -85,7 +86,8 @@ imfoc_t *imfoc_create(const drive_config_t *cfg, char *err, size_t err_len)
         free(h);
         return NULL;
     }
-    b = &h->drive.base;
+    drive_probe(&h->drive, &h->pv);
+    b = h->pv.base;
     h->info.Ts_s = (double)b->Ts_s;
     h->info.I_base_A = (double)b->I_base_A;
     h->info.V_base_V = (double)b->V_base_V;
@@ -98,12 +100,12 @@ imfoc_t *imfoc_create(const drive_config_t *cfg, char *err, size_t err_len)
     h->info.n_base_rpm = (double)b->n_base_rpm;
     h->info.current_full_scale_A = (double)cfg->board.current_full_scale_A;
     h->info.vdc_full_scale_V = (double)cfg->board.vdc_adc_full_scale_V;
-    h->info.t1pr = h->drive.k.t1pr;
+    h->info.t1pr = h->pv.k->t1pr;
     h->info.pole_pairs = b->pole_pairs;
     h->info.encoder_lines = cfg->board.encoder_lines;
     h->info.background_div = IMFOC_BACKGROUND_DIV;
     h->bg_left = 0u;   /* background right after the first ISR, as motor_sim */
-    h->cmp.cmpr[0] = h->cmp.cmpr[1] = h->cmp.cmpr[2] = h->drive.k.t1pr;
+    h->cmp.cmpr[0] = h->cmp.cmpr[1] = h->cmp.cmpr[2] = h->pv.k->t1pr;
     return h;
 }
 
@@ -189,17 +191,17 @@ int32_t imfoc_set_speed_rpm(imfoc_t *h, double rpm)
 
 static void fill_out(const imfoc_t *h, imfoc_out_t *out)
 {
-    const drive_t *d = &h->drive;
+    const drive_probe_t *d = &h->pv;
     double t1pr = (double)h->info.t1pr, mean = 0.0, vdc;
     unsigned i;
 
-    out->pwm_on = d->telemetry.pwm_on;
+    out->pwm_on = d->telemetry->pwm_on;
     for (i = 0; i < 3u; i++) {
         out->cmpr[i] = h->cmp.cmpr[i];
         out->duty[i] = (t1pr - (double)h->cmp.cmpr[i]) / t1pr;
         mean += out->duty[i] / 3.0;
     }
-    vdc = (double)_IQtoF(d->sense.bus.vdc) * h->info.V_base_V;
+    vdc = (double)_IQtoF(d->sense->bus.vdc) * h->info.V_base_V;
     for (i = 0; i < 3u; i++) {
         out->v_phase_V[i] = (out->pwm_on != 0u) ? (out->duty[i] - mean) * vdc : 0.0;
     }
@@ -216,7 +218,7 @@ int32_t imfoc_step_raw(imfoc_t *h, const imfoc_raw_in_t *in, imfoc_out_t *out)
     adc.ib_raw = in->ib_raw;
     adc.vdc_raw = in->vdc_raw;
     /* drive_isr() without the HAL: PDPINTA in, compares and enable out */
-    h->drive.prot.trip.hw_trip = (uint16_t)(in->trip != 0u);
+    drive_set_hw_trip(&h->drive, (uint16_t)(in->trip != 0u));
     drive_step(&h->drive, &adc, in->qep_count, &h->cmp);
     h->isr_count++;
     if (h->info.background_div != 0u) {
@@ -303,7 +305,7 @@ static void extract_si(const imfoc_t *h, const param_extract_t *p, double *Rs, d
 
 int32_t imfoc_get_signals(const imfoc_t *h, imfoc_signals_t *s)
 {
-    const drive_t *d;
+    const drive_probe_t *d;
     const drive_telemetry_t *t;
     const double I = (h != NULL) ? h->info.I_base_A : 0.0;
     const double V = (h != NULL) ? h->info.V_base_V : 0.0;
@@ -312,64 +314,64 @@ int32_t imfoc_get_signals(const imfoc_t *h, imfoc_signals_t *s)
     if (h == NULL || s == NULL) {
         return IMFOC_ERR_NULL;
     }
-    d = &h->drive;
+    d = &h->pv;
     memset(s, 0, sizeof *s);
     s->isr_count = h->isr_count;
-    s->state = d->telemetry.state;
-    s->fault = d->telemetry.fault;
-    s->pwm_on = d->telemetry.pwm_on;
-    s->params_valid = d->telemetry.params_valid;
-    s->live_valid = d->id.live.valid;
-    s->rls_on = d->seq.rls_on;
-    s->speed_rpm = f(d->sense.qep.speed) * h->info.n_base_rpm;
-    s->speed_ref_rpm = f(d->loop.speed_ramp.out) * h->info.n_base_rpm;
-    s->ia_A = f(d->sense.phase.ia) * I;
-    s->ib_A = f(d->sense.phase.ib) * I;
-    s->vdc_V = f(d->sense.bus.vdc) * V;
-    s->i_m_A = f(d->loop.park.ds) * I;
-    s->i_t_A = f(d->loop.park.qs) * I;
-    if (d->k.orientation == DRIVE_ORIENT_FLUX_OBS) {
+    s->state = d->telemetry->state;
+    s->fault = d->telemetry->fault;
+    s->pwm_on = d->telemetry->pwm_on;
+    s->params_valid = d->telemetry->params_valid;
+    s->live_valid = d->id->live.valid;
+    s->rls_on = d->seq->rls_on;
+    s->speed_rpm = f(d->sense->qep.speed) * h->info.n_base_rpm;
+    s->speed_ref_rpm = f(d->loop->speed_ramp.out) * h->info.n_base_rpm;
+    s->ia_A = f(d->sense->phase.ia) * I;
+    s->ib_A = f(d->sense->phase.ib) * I;
+    s->vdc_V = f(d->sense->bus.vdc) * V;
+    s->i_m_A = f(d->loop->park.ds) * I;
+    s->i_t_A = f(d->loop->park.qs) * I;
+    if (d->k->orientation == DRIVE_ORIENT_FLUX_OBS) {
         /* observer: i_mr = |psi_r| / Lm (pu flux / pu inductance = pu current) */
-        s->i_mr_A = (f(d->frame.fobs.lm) > 0.0) ? f(d->frame.fobs.psi_mag) / f(d->frame.fobs.lm) * I : 0.0;
-        s->w_frame_rad_s = f(d->frame.fobs.ws) * h->info.w_base_rad_s;
+        s->i_mr_A = (f(d->frame->fobs.lm) > 0.0) ? f(d->frame->fobs.psi_mag) / f(d->frame->fobs.lm) * I : 0.0;
+        s->w_frame_rad_s = f(d->frame->fobs.ws) * h->info.w_base_rad_s;
     } else {
-        s->i_mr_A = f(d->frame.ifo.imr) * I;
-        s->w_frame_rad_s = f(d->frame.ifo.ws_frame) * h->info.w_base_rad_s;
+        s->i_mr_A = f(d->frame->ifo.imr) * I;
+        s->w_frame_rad_s = f(d->frame->ifo.ws_frame) * h->info.w_base_rad_s;
     }
-    s->theta_e_rad = f(drive_frame_angle(d)) * IMFOC_TWO_PI;
-    s->u_alpha_V = f(d->pwm.volt.valpha) * V;
-    s->u_beta_V = f(d->pwm.volt.vbeta) * V;
-    s->u_m_ref_V = f(d->loop.pi_id.out) * V;
-    s->u_t_ref_V = f(d->loop.pi_iq.out) * V;
+    s->theta_e_rad = f(drive_frame_angle(&h->drive)) * IMFOC_TWO_PI;
+    s->u_alpha_V = f(d->pwm->volt.valpha) * V;
+    s->u_beta_V = f(d->pwm->volt.vbeta) * V;
+    s->u_m_ref_V = f(d->loop->pi_id.out) * V;
+    s->u_t_ref_V = f(d->loop->pi_iq.out) * V;
     for (i = 0; i < RLS_N; i++) {
-        s->K[i] = f(d->id.rls.theta[i]);
+        s->K[i] = f(d->id->rls.theta[i]);
     }
-    s->y1 = f(d->id.reg.y1);
-    s->y2 = f(d->id.reg.y2);
-    s->i_mf = f(d->id.reg.i_mf);
-    s->u_mf = f(d->id.reg.u_mf);
-    s->i_tf = f(d->id.reg.i_tf);
-    s->u_tf = f(d->id.reg.u_tf);
-    s->wr_f = f(d->id.reg.wr_f);
-    s->rls_updates = d->id.rls.n_updates;
-    extract_si(h, &d->id.live, &s->live_Rs_ohm, &s->live_Rr_ohm, &s->live_Lm_H, &s->live_Lr_H,
+    s->y1 = f(d->id->reg.y1);
+    s->y2 = f(d->id->reg.y2);
+    s->i_mf = f(d->id->reg.i_mf);
+    s->u_mf = f(d->id->reg.u_mf);
+    s->i_tf = f(d->id->reg.i_tf);
+    s->u_tf = f(d->id->reg.u_tf);
+    s->wr_f = f(d->id->reg.wr_f);
+    s->rls_updates = d->id->rls.n_updates;
+    extract_si(h, &d->id->live, &s->live_Rs_ohm, &s->live_Rr_ohm, &s->live_Lm_H, &s->live_Lr_H,
                &s->live_psi_r_Wb, &s->live_Tr_s);
-    /* the published set: the telemetry's, what the drive reports (not d->id.pex, which
+    /* the published set: the telemetry's, what the drive reports (not d->id->pex, which
      * with tracking is the RLS's last extraction, not what is published) */
-    t = &d->telemetry;
+    t = d->telemetry;
     {
         const _iq q[6] = {t->Rs, t->Rr, t->Lm, t->Lr, t->psi_r, t->Tr};
         params_si(h, q, &s->Rs_ohm, &s->Rr_ohm, &s->Lm_H, &s->Lr_H, &s->psi_r_Wb, &s->Tr_s);
     }
-    s->pass = d->telemetry.pass;
-    s->track_valid = d->telemetry.track_valid;
-    s->params_tracked = d->telemetry.params_tracked;
-    s->Rs_dc_ohm = f(d->telemetry.Rs_dc) * d->base.Z_base_ohm;
-    s->sigma_ls_dc_H = f(d->telemetry.sigma_ls_dc) * d->base.L_base_H;
-    s->Rr_track_ohm = f(d->telemetry.Rr_track) * d->base.Z_base_ohm;
-    s->Tr_track_s = (double)_IQ20toF(d->telemetry.Tr_track) * d->base.t_base_s;   /* Q20 */
-    s->extract_valid = d->id.pex.valid;
-    extract_si(h, &d->id.pex, &s->extract_Rs_ohm, &s->extract_Rr_ohm, &s->extract_Lm_H,
+    s->pass = d->telemetry->pass;
+    s->track_valid = d->telemetry->track_valid;
+    s->params_tracked = d->telemetry->params_tracked;
+    s->Rs_dc_ohm = f(d->telemetry->Rs_dc) * d->base->Z_base_ohm;
+    s->sigma_ls_dc_H = f(d->telemetry->sigma_ls_dc) * d->base->L_base_H;
+    s->Rr_track_ohm = f(d->telemetry->Rr_track) * d->base->Z_base_ohm;
+    s->Tr_track_s = (double)_IQ20toF(d->telemetry->Tr_track) * d->base->t_base_s;   /* Q20 */
+    s->extract_valid = d->id->pex.valid;
+    extract_si(h, &d->id->pex, &s->extract_Rs_ohm, &s->extract_Rr_ohm, &s->extract_Lm_H,
                &s->extract_Lr_H, &s->extract_psi_r_Wb, &s->extract_Tr_s);
     s->publish_reason = t->publish_reason;
     s->conf_Rs = f(t->conf[0]);
@@ -380,7 +382,7 @@ int32_t imfoc_get_signals(const imfoc_t *h, imfoc_signals_t *s)
     s->conf_Tr = f(t->conf[5]);
     s->conf_residual = f(t->conf_residual);
     s->conf_amplification = f(t->conf_amp);
-    s->conf_excitation = f(d->verdict.conf.excitation);
+    s->conf_excitation = f(d->verdict->conf.excitation);
     return IMFOC_OK;
 }
 

@@ -51,7 +51,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "drive_types.h"
+#include "drive_probe.h"
 #include "hal_host.h"
 #include "plant.h"
 #include "sim_config.h"
@@ -74,6 +74,7 @@ static const char *const k_state_names[N_STATES] = {
 
 typedef struct {
     drive_t drive;
+    drive_probe_t pv;           /* what the rig reads of it */
     plant_t plant;
     hal_host_port_t port;
     hal_pwm_compare_t active;
@@ -85,11 +86,12 @@ static int run_start(run_t *r, const sim_config_t *cfg)
     drive_config_t dc;
     char err[SIM_CONFIG_ERR_LEN];
     sim_config_to_drive(cfg, &dc);
+    drive_probe(&r->drive, &r->pv);
     if (drive_init(&r->drive, &dc) != DRIVE_CFG_OK ||
-        plant_init(&r->plant, cfg, r->drive.k.t1pr, err, sizeof err) != 0) {
+        plant_init(&r->plant, cfg, r->pv.k->t1pr, err, sizeof err) != 0) {
         return 1;
     }
-    hal_host_port_init(&r->port, r->drive.k.t1pr);
+    hal_host_port_init(&r->port, r->pv.k->t1pr);
     hal_host_bind(&r->port);
     r->active = r->port.cmp;
     r->k = 0u;
@@ -171,7 +173,7 @@ void __sanitizer_cov_trace_pc(void)
 /* one period's two ISRs, their blocks recorded under their class */
 static void run_isrs(run_t *r, uint16_t state, uint8_t mark)
 {
-    const uint16_t slot = r->drive.sched.slot;
+    const uint16_t slot = r->pv.sched->slot;
     g_cov_mark = mark;
     g_cov_class = cov_class(state, slot, 0u);
     (void)drive_isr(&r->drive);
@@ -296,8 +298,8 @@ int main(int argc, char **argv)
         goto fail;
     }
     for (k = 0u; k < n_isr; k++) {
-        uint16_t st = (uint16_t)run.drive.seq.state;
-        uint16_t slot = run.drive.sched.slot;
+        uint16_t st = (uint16_t)run.pv.seq->state;
+        uint16_t slot = run.pv.sched->slot;
         state_at[k] = (uint8_t)((st < N_STATES) ? st : 0u);
         g_class_n[state_at[k]][slot]++;
         run_before_isr(&run);
@@ -358,7 +360,7 @@ int main(int argc, char **argv)
         }
         {
             uint32_t iq_fast[N_OPS];
-            uint16_t slot = run.drive.sched.slot;
+            uint16_t slot = run.pv.sched->slot;
             run_before_isr(&run);
             sample_isr(&run.drive, state_at[k], slot, 0u, out, k);
             /* its slow ISR, a sample of its own (dir s<k>_slow, "iq_slow") */

@@ -9,7 +9,7 @@
 
 #include "drift.h"
 #include "drive_limits.h"
-#include "drive_types.h"
+#include "drive_probe.h"
 #include "vi_curve.h"
 #include "hal_host.h"
 #include "sim_limits.h"
@@ -103,14 +103,14 @@ static void errors_pct(const sim_params_t *v, const sim_params_t *truth, sim_par
  * drive's own fused set (drive_fused_set, what it would have published), so
  * that a refusal is judged on the set it concerned, not on the RLS's own Rr
  * and Tr that the fused set does not use.  0 when there was no such set. */
-static uint16_t refused_fused_si(const drive_t *d, sim_params_t *o)
+static uint16_t refused_fused_si(const drive_t *drv, const drive_probe_t *d, sim_params_t *o)
 {
     drive_params_t f;
-    if (d->telemetry.publish_reason == (uint16_t)DRIVE_PUB_PENDING ||
-        drive_fused_set(d, &f) == 0u) {
+    if (d->telemetry->publish_reason == (uint16_t)DRIVE_PUB_PENDING ||
+        drive_fused_set(drv, &f) == 0u) {
         return 0u;
     }
-    params_si(&d->base, &f, o);
+    params_si(d->base, &f, o);
     return 1u;
 }
 
@@ -133,10 +133,10 @@ static void live_extremes(const base_values_t *b, const param_extract_t *p,
     extreme(pct(l.Tr_s, truth->Tr_s), &r->live_min_pct, &r->live_max_pct);
 }
 
-static void observe_protection(const drive_t *d, sim_result_t *r, double t)
+static void observe_protection(const drive_probe_t *d, sim_result_t *r, double t)
 {
-    double e = (double)_IQtoF(d->prot.feedback.e_f);
-    const current_model_check_t *m = &d->prot.model.cmc;
+    double e = (double)_IQtoF(d->prot->feedback.e_f);
+    const current_model_check_t *m = &d->prot->model.cmc;
     double sls = (double)_IQtoF(m->sigma_ls), rs = (double)_IQtoF(m->rs);
     if (e > r->max_cur_check_pu) {
         r->max_cur_check_pu = e;
@@ -148,8 +148,8 @@ static void observe_protection(const drive_t *d, sim_result_t *r, double t)
      * the check judges them in */
     const uint16_t judged = (uint16_t)(m->at_speed >= m->seq_settle &&
                                        m->model_n >= m->seq_settle);
-    if (sls > 0.0 && (d->sched.slot == 1u || d->sched.slot == 3u)) {
-        double ib = d->base.I_base_A;
+    if (sls > 0.0 && (d->sched->slot == 1u || d->sched->slot == 3u)) {
+        double ib = d->base->I_base_A;
         double rr = sqrt((double)_IQtoF(m->r2)) / sls * ib;
         double ia = (double)_IQtoF(m->i_alpha), ibt = (double)_IQtoF(m->i_beta);
         double imag = sqrt(ia * ia + ibt * ibt);
@@ -191,7 +191,7 @@ static void observe_protection(const drive_t *d, sim_result_t *r, double t)
             }
             if (rs > 0.0) {
                 /* d_max_tau / d_max = tau_r (pu time) */
-                double dc = sqrt((double)_IQtoF(m->dc2)) / (rs * d->prot.model.tau_r_pu) * ib;
+                double dc = sqrt((double)_IQtoF(m->dc2)) / (rs * d->prot->model.tau_r_pu) * ib;
                 if (dc > r->max_cmc_dc_A) {
                     r->max_cmc_dc_A = dc;
                     r->t_max_cmc_dc_s = t;
@@ -202,32 +202,32 @@ static void observe_protection(const drive_t *d, sim_result_t *r, double t)
 }
 
 /* Control-path flags after the magnetisation, and the RLS estimate range. */
-static void observe_soak(const drive_t *d, sim_result_t *r, double t)
+static void observe_soak(const drive_probe_t *d, sim_result_t *r, double t)
 {
     uint16_t i;
-    if (d->seq.state == ID_ACCELERATE && d->sense.bus.vdc > 0) {
-        double head = (double)_IQtoF(d->target.u_f) / ((double)_IQtoF(d->sense.bus.vdc) / sqrt(3.0));
+    if (d->seq->state == ID_ACCELERATE && d->sense->bus.vdc > 0) {
+        double head = (double)_IQtoF(d->target->u_f) / ((double)_IQtoF(d->sense->bus.vdc) / sqrt(3.0));
         if (head > r->max_volt_head) {
             r->max_volt_head = head;
         }
     }
-    if (d->seq.state == ID_ACCELERATE || d->seq.state == ID_SETTLE || d->seq.state == ID_RUN) {
-        if (d->pwm.svgen.overmod != 0u) {
+    if (d->seq->state == ID_ACCELERATE || d->seq->state == ID_SETTLE || d->seq->state == ID_RUN) {
+        if (d->pwm->svgen.overmod != 0u) {
             if (r->n_overmod == 0u) {
                 r->t_first_overmod_s = t;
             }
             r->t_last_overmod_s = t;
             r->n_overmod++;
         }
-        if (d->loop.pi_id.sat != 0u || d->loop.pi_iq.sat != 0u) { r->n_current_pi_sat++; }
-        if (d->frame.ifo.imr_low != 0u) { r->n_imr_low++; }
-        if (d->sense.qep.speed_raw >= _IQmpyI32(d->sense.qep.k_speed, d->sense.qep.d_max) ||
-            d->sense.qep.speed_raw <= -_IQmpyI32(d->sense.qep.k_speed, d->sense.qep.d_max)) {
+        if (d->loop->pi_id.sat != 0u || d->loop->pi_iq.sat != 0u) { r->n_current_pi_sat++; }
+        if (d->frame->ifo.imr_low != 0u) { r->n_imr_low++; }
+        if (d->sense->qep.speed_raw >= _IQmpyI32(d->sense->qep.k_speed, d->sense->qep.d_max) ||
+            d->sense->qep.speed_raw <= -_IQmpyI32(d->sense->qep.k_speed, d->sense->qep.d_max)) {
             r->n_speed_sat++;
         }
     }
     for (i = 0u; i < RLS_N; i++) {
-        double a = fabs((double)_IQtoF(d->id.rls.theta[i]));
+        double a = fabs((double)_IQtoF(d->id->rls.theta[i]));
         if (a > r->max_abs_theta) {
             r->max_abs_theta = a;
         }
@@ -240,11 +240,11 @@ static void observe_soak(const drive_t *d, sim_result_t *r, double t)
  * along and across the period-mean current, averaged over the steady state
  * (SETTLE and RUN: constant speed, so the mean is the bias of the
  * fundamental).  Along the current it acts as a resistance error. */
-static void observe_voltage(const drive_t *d, const plant_t *p, double V_base_V, sim_result_t *r)
+static void observe_voltage(const drive_probe_t *d, const plant_t *p, double V_base_V, sim_result_t *r)
 {
     const inverter_t *inv = &p->inv;
     double ia, ib, im, ea, eb;
-    if (d->seq.state != ID_SETTLE && d->seq.state != ID_RUN) {
+    if (d->seq->state != ID_SETTLE && d->seq->state != ID_RUN) {
         return;
     }
     /* period-mean current: the start of the period (phase currents held by
@@ -255,8 +255,8 @@ static void observe_voltage(const drive_t *d, const plant_t *p, double V_base_V,
     if (im < 1e-6) {
         return;
     }
-    ea = (double)_IQtoF(d->pwm.volt.valpha) * V_base_V - inv->v_alpha_V;
-    eb = (double)_IQtoF(d->pwm.volt.vbeta) * V_base_V - inv->v_beta_V;
+    ea = (double)_IQtoF(d->pwm->volt.valpha) * V_base_V - inv->v_alpha_V;
+    eb = (double)_IQtoF(d->pwm->volt.vbeta) * V_base_V - inv->v_beta_V;
     r->v_err_along_i_V += (ea * ia + eb * ib) / im;
     r->v_err_across_i_V += (eb * ia - ea * ib) / im;
     r->i_mag_steady_A += im;
@@ -279,15 +279,15 @@ static int trace_header(FILE *f)
 }
 
 /* The appended columns of a trace row, and its end. */
-static int trace_row_adaptation(FILE *f, const drive_t *d, const plant_t *p)
+static int trace_row_adaptation(FILE *f, const drive_probe_t *d, const plant_t *p)
 {
-    const drive_telemetry_t *t = &d->telemetry;
-    double z = d->base.Z_base_ohm;
+    const drive_telemetry_t *t = d->telemetry;
+    double z = d->base->Z_base_ohm;
     return fprintf(f, ",%.6g,%.6g,%u,%u,%.6g,%.6g,%.9g,%.9g,%.9g\n", p->motor.p.Rr_ohm,
                    (double)_IQtoF(t->Rr_track) * z, t->track_valid, t->pass,
-                   (double)_IQtoF(t->Rs_dc) * z, (double)_IQ20toF(t->Tr_track) * d->base.t_base_s,
-                   (double)_IQtoF(d->id.reg.m_mf), (double)_IQtoF(d->id.reg.m_tf),
-                   (double)_IQtoF(d->id.reg.wm_tf));
+                   (double)_IQtoF(t->Rs_dc) * z, (double)_IQ20toF(t->Tr_track) * d->base->t_base_s,
+                   (double)_IQtoF(d->id->reg.m_mf), (double)_IQtoF(d->id->reg.m_tf),
+                   (double)_IQtoF(d->id->reg.wm_tf));
 }
 
 double sim_vi_test_s(const sim_config_t *c)
@@ -356,17 +356,17 @@ uint64_t sim_run_periods(const sim_config_t *c, double duration_s)
 /* The identification is complete: RUN after the last pass (a sequence of
  * several passes may go through RUN between them; pass 0 is a firmware
  * without passes, i.e. one). */
-static int ident_complete(const drive_t *d, const sim_config_t *c)
+static int ident_complete(const drive_probe_t *d, const sim_config_t *c)
 {
-    double pass = (d->telemetry.pass == 0u) ? 1.0 : (double)d->telemetry.pass;
-    return d->telemetry.state == ID_RUN && pass >= c->ident.passes;
+    double pass = (d->telemetry->pass == 0u) ? 1.0 : (double)d->telemetry->pass;
+    return d->telemetry->state == ID_RUN && pass >= c->ident.passes;
 }
 
 /* The drift scenario in one PWM period: start it when the identification
  * is complete, set the plant's Rr and load, observe the window.  The motor
  * model derives nothing from Rr (it reads p.Rr_ohm in every derivative), so
  * setting it between two periods is exactly a step of the parameter. */
-static void drift_period(drift_t *dr, const drive_t *d, const sim_config_t *c, plant_t *p,
+static void drift_period(drift_t *dr, const drive_probe_t *d, const sim_config_t *c, plant_t *p,
                          double t, double psi_d, double psi_q)
 {
     if (dr->t0_s < 0.0 && ident_complete(d, c)) {
@@ -379,36 +379,37 @@ static void drift_period(drift_t *dr, const drive_t *d, const sim_config_t *c, p
         o.psi_d_Wb = psi_d;
         o.psi_q_Wb = psi_q;
         o.speed_err_rpm =
-            (double)_IQtoF(d->loop.speed_ramp.out) * d->base.n_base_rpm - p->motor.n_rpm;
+            (double)_IQtoF(d->loop->speed_ramp.out) * d->base->n_base_rpm - p->motor.n_rpm;
         o.rr_true_ohm = p->motor.p.Rr_ohm;
-        o.rr_track_ohm = (double)_IQtoF(d->telemetry.Rr_track) * d->base.Z_base_ohm;
-        o.track_valid = d->telemetry.track_valid;
+        o.rr_track_ohm = (double)_IQtoF(d->telemetry->Rr_track) * d->base->Z_base_ohm;
+        o.track_valid = d->telemetry->track_valid;
         drift_observe(dr, &o);
     }
 }
 
 /* The publication's verdict and the confidences at the end of the run (%). */
-static void conf_figures(const drive_t *d, sim_result_t *r)
+static void conf_figures(const drive_probe_t *d, sim_result_t *r)
 {
-    const ident_conf_t *c = &d->verdict.conf;
+    const ident_conf_t *c = &d->verdict->conf;
     unsigned i;
     for (i = 0; i < 6u; i++) {
-        double v = (double)_IQtoF(d->telemetry.conf[i]);
+        double v = (double)_IQtoF(d->telemetry->conf[i]);
         r->conf_pct[i] = (v < 0.0) ? -1.0 : 100.0 * v;
         r->bound_pct[i] = 100.0 * (double)_IQtoF(c->bound[i]);
         r->drift_pct[i] = 100.0 * (double)_IQtoF(c->drift[i]);
     }
-    r->conf_residual = (double)_IQtoF(d->telemetry.conf_residual);
-    r->conf_amp = (double)_IQtoF(d->telemetry.conf_amp);
-    r->conf_samples = d->id.snap_acc.n;
+    r->conf_residual = (double)_IQtoF(d->telemetry->conf_residual);
+    r->conf_amp = (double)_IQtoF(d->telemetry->conf_amp);
+    r->conf_samples = d->id->snap_acc.n;
     r->conf_excitation = (double)_IQtoF(c->excitation);
-    r->conf_pd = d->id.snap_pd;
+    r->conf_pd = d->id->snap_pd;
 }
 
 int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res, char *err,
             unsigned err_len)
 {
     static drive_t drive;   /* large; one run at a time */
+    drive_probe_t pv;       /* what the simulator reads of it */
     drive_config_t dc;
     plant_t plant;
     hal_host_port_t port;
@@ -429,8 +430,10 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     uint16_t last_fault = 0u, prev_state = ID_IDLE;
     int scen_done = 0;
     clock_t c0 = clock();
-    const base_values_t *b = &drive.base;
+    const base_values_t *b;
 
+    drive_probe(&drive, &pv);
+    b = pv.base;
     memset(res, 0, sizeof *res);
     res->converge_s = -1.0;
     res->t_fault_visible_s = -1.0;
@@ -465,10 +468,10 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                  drive_cfg_status_str(st), why);
         return 1;
     }
-    if (plant_init(&plant, cfg, drive.k.t1pr, err, err_len) != 0) {
+    if (plant_init(&plant, cfg, pv.k->t1pr, err, err_len) != 0) {
         return 2;
     }
-    hal_host_port_init(&port, drive.k.t1pr);
+    hal_host_port_init(&port, pv.k->t1pr);
     hal_host_bind(&port);
     active = port.cmp;
 
@@ -550,14 +553,14 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                 break;
             }
         }
-        if (drive.telemetry.fault != 0u && port.outputs_enabled != 0u) {
+        if (pv.telemetry->fault != 0u && port.outputs_enabled != 0u) {
             res->pwm_periods_with_fault++;
         }
-        if (drive.seq.extract_now != 0u && drive.seq.pass >= drive.seq.passes) {
+        if (pv.seq->extract_now != 0u && pv.seq->pass >= pv.seq->passes) {
             res->extracted = 1u;
         }
-        if (res->t_decided_s < 0.0 && drive.verdict.run != 0u &&
-            drive.telemetry.publish_reason != (uint16_t)DRIVE_PUB_PENDING) {
+        if (res->t_decided_s < 0.0 && pv.verdict->run != 0u &&
+            pv.telemetry->publish_reason != (uint16_t)DRIVE_PUB_PENDING) {
             res->t_decided_s = t;
         }
         if (opt->stop_when_decided != 0u && res->t_decided_s >= 0.0 &&
@@ -565,12 +568,12 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
             res->duration_s = t;   /* the verdict is in: the run has told what it can */
             break;
         }
-        observe_protection(&drive, res, t);
-        observe_soak(&drive, res, t);
-        observe_voltage(&drive, &plant, b->V_base_V, res);
-        if (drive.telemetry.params_valid != 0u) {
+        observe_protection(&pv, res, t);
+        observe_soak(&pv, res, t);
+        observe_voltage(&pv, &plant, b->V_base_V, res);
+        if (pv.telemetry->params_valid != 0u) {
             sim_params_t pub;
-            published_si(b, &drive.telemetry, &pub);
+            published_si(b, pv.telemetry, &pub);
             if (!pub_seen) {
                 pub_seen = 1;
                 res->t_first_published_s = t;
@@ -580,8 +583,8 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                  * published word counts */
                 res->published_changed = 1u;
             }
-            if (drive.id.live.valid != 0u) {
-                live_extremes(b, &drive.id.live, &res->truth, res);
+            if (pv.id->live.valid != 0u) {
+                live_extremes(b, &pv.id->live, &res->truth, res);
             }
             if (res->n_faults_seen > 0u && t >= res->fault_time_s[0] + 0.002) {
                 double w = fabs(pct(pub.Rs_ohm, res->truth.Rs_ohm));
@@ -603,7 +606,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
             /* the frame angle of this sample, theta_k (ifo or observer) */
             double th = (double)_IQtoF(drive_frame_angle(&drive)) * 2.0 * M_PI;
             double pd, pq;
-            uint16_t state = drive.telemetry.state;
+            uint16_t state = pv.telemetry->state;
             motor_rotor_flux_dq(m, th, &pd, &pq);
             psi_d = pd;
             psi_q = pq;
@@ -631,7 +634,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
             }
             if (state == ID_ACCELERATE && res->t_accel_start_s >= 0.0 &&
                 t > res->t_accel_start_s + 0.2) {
-                double e = fabs((double)_IQtoF(drive.loop.speed_ramp.out) * rpm_per_pu - m->n_rpm);
+                double e = fabs((double)_IQtoF(pv.loop->speed_ramp.out) * rpm_per_pu - m->n_rpm);
                 if (e > res->max_speed_err_rpm_ramp) {
                     res->max_speed_err_rpm_ramp = e;
                 }
@@ -640,52 +643,52 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                 t_run = t;
                 res->t_published_s = t;
                 res->truth.psi_r_Wb = sqrt(pd * pd + pq * pq);
-                res->settle_timeout = drive.seq.settle_timeout;
-                res->target_rpm = (double)_IQtoF(drive.seq.speed_target) * b->n_base_rpm;
+                res->settle_timeout = pv.seq->settle_timeout;
+                res->target_rpm = (double)_IQtoF(pv.seq->speed_target) * b->n_base_rpm;
             }
-            if (drive.telemetry.fault != 0u && drive.telemetry.fault != last_fault &&
+            if (pv.telemetry->fault != 0u && pv.telemetry->fault != last_fault &&
                 res->n_faults_seen < SIM_MAX_FAULTS) {
-                res->fault_code[res->n_faults_seen] = drive.telemetry.fault;
+                res->fault_code[res->n_faults_seen] = pv.telemetry->fault;
                 res->fault_time_s[res->n_faults_seen] = t;
                 res->fault_state[res->n_faults_seen] = prev_state;
-                res->fault_pass[res->n_faults_seen] = drive.seq.pass;
+                res->fault_pass[res->n_faults_seen] = pv.seq->pass;
                 /* the model check's cause bits, and the feedback check as 8 */
                 res->fault_cause[res->n_faults_seen] =
-                    (uint16_t)(drive.prot.model.cmc.cause | ((drive.prot.feedback.fault != 0u) ? 8u : 0u));
+                    (uint16_t)(pv.prot->model.cmc.cause | ((pv.prot->feedback.fault != 0u) ? 8u : 0u));
                 res->n_faults_seen++;
             }
-            last_fault = drive.telemetry.fault;
+            last_fault = pv.telemetry->fault;
             prev_state = state;
 
             if ((k % (uint64_t)(cfg->board.pwm_freq_Hz / 100.0)) == 0u && n_rows < cap_rows) {
                 rows[n_rows].t = t;
-                to_si(b, &drive.id.live, &rows[n_rows].p);
+                to_si(b, &pv.id->live, &rows[n_rows].p);
                 n_rows++;
             }
             if (trace != NULL && (k % trace_div) == 0u) {
                 sim_params_t lp;
-                to_si(b, &drive.id.live, &lp);
+                to_si(b, &pv.id->live, &lp);
                 trace_bytes += (double)fprintf(trace,
                         "%.5f,%u,%u,%u,%.3f,%.3f,%.3f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.5f,"
                         "%.5f,%.6f,%.6f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%u,%.6g,%.6g,%.6g,%.6g,"
                         "%u,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g",
-                        t, state, drive.telemetry.fault, drive.telemetry.pwm_on,
-                        (double)_IQtoF(drive.loop.speed_ramp.out) * rpm_per_pu, m->n_rpm,
-                        (double)_IQtoF(drive.sense.qep.speed) * rpm_per_pu,
-                        (double)_IQtoF(drive.loop.park.ds) * b->I_base_A,
-                        (double)_IQtoF(drive.loop.park.qs) * b->I_base_A, m->ia_A, m->ib_A,
-                        (double)_IQtoF(drive.id.reg.u_mf) * b->V_base_V,
-                        (double)_IQtoF(drive.id.reg.u_tf) * b->V_base_V,
-                        (double)_IQtoF(drive.sense.bus.vdc) * b->V_base_V, m->Te_Nm, m->TL_Nm,
+                        t, state, pv.telemetry->fault, pv.telemetry->pwm_on,
+                        (double)_IQtoF(pv.loop->speed_ramp.out) * rpm_per_pu, m->n_rpm,
+                        (double)_IQtoF(pv.sense->qep.speed) * rpm_per_pu,
+                        (double)_IQtoF(pv.loop->park.ds) * b->I_base_A,
+                        (double)_IQtoF(pv.loop->park.qs) * b->I_base_A, m->ia_A, m->ib_A,
+                        (double)_IQtoF(pv.id->reg.u_mf) * b->V_base_V,
+                        (double)_IQtoF(pv.id->reg.u_tf) * b->V_base_V,
+                        (double)_IQtoF(pv.sense->bus.vdc) * b->V_base_V, m->Te_Nm, m->TL_Nm,
                         sqrt(pd * pd + pq * pq), (pd > 1e-9) ? pq / pd : 0.0, lp.Rs_ohm,
-                        lp.Rr_ohm, lp.Lm_H, lp.Lr_H, lp.psi_r_Wb, lp.Tr_s, drive.id.live.valid,
-                        (double)_IQtoF(drive.id.rls.theta[0]), (double)_IQtoF(drive.id.rls.theta[1]),
-                        (double)_IQtoF(drive.id.rls.theta[2]), (double)_IQtoF(drive.id.rls.theta[3]),
-                        drive.seq.rls_on, (double)_IQtoF(drive.id.reg.y1),
-                        (double)_IQtoF(drive.id.reg.y2), (double)_IQtoF(drive.id.reg.i_mf),
-                        (double)_IQtoF(drive.id.reg.u_mf), (double)_IQtoF(drive.id.reg.i_tf),
-                        (double)_IQtoF(drive.id.reg.u_tf), (double)_IQtoF(drive.id.reg.wr_f));
-                trace_bytes += (double)trace_row_adaptation(trace, &drive, &plant);
+                        lp.Rr_ohm, lp.Lm_H, lp.Lr_H, lp.psi_r_Wb, lp.Tr_s, pv.id->live.valid,
+                        (double)_IQtoF(pv.id->rls.theta[0]), (double)_IQtoF(pv.id->rls.theta[1]),
+                        (double)_IQtoF(pv.id->rls.theta[2]), (double)_IQtoF(pv.id->rls.theta[3]),
+                        pv.seq->rls_on, (double)_IQtoF(pv.id->reg.y1),
+                        (double)_IQtoF(pv.id->reg.y2), (double)_IQtoF(pv.id->reg.i_mf),
+                        (double)_IQtoF(pv.id->reg.u_mf), (double)_IQtoF(pv.id->reg.i_tf),
+                        (double)_IQtoF(pv.id->reg.u_tf), (double)_IQtoF(pv.id->reg.wr_f));
+                trace_bytes += (double)trace_row_adaptation(trace, &pv, &plant);
                 if (opt->trace_max_bytes > 0.0 && trace_bytes > opt->trace_max_bytes) {
                     /* the trace ends here, the run goes on (motor_sim sizes the trace
                      * before a run of known length so that this is not reached; a
@@ -710,12 +713,12 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                 t_soak_load = t_run - 1.0;
             }
             if (t >= t_soak_rev + 4.0) {
-                double e = fabs((double)_IQtoF(drive.loop.speed_ramp.out) * rpm_per_pu -
+                double e = fabs((double)_IQtoF(pv.loop->speed_ramp.out) * rpm_per_pu -
                                 plant.motor.n_rpm);
                 if (e > res->max_settled_speed_err_rpm) {
                     res->max_settled_speed_err_rpm = e;
                 }
-                drive_set_speed(&drive, -drive.seq.speed_target);
+                drive_set_speed(&drive, -pv.seq->speed_target);
                 t_soak_rev = t;
             }
             if (t >= t_soak_load + 4.0) {
@@ -726,7 +729,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                                       : 0.0;
         }
         if (opt->scenario == SCEN_DRIFT) {
-            drift_period(&drift, &drive, cfg, &plant, t, psi_d, psi_q);
+            drift_period(&drift, &pv, cfg, &plant, t, psi_d, psi_q);
             if (opt->duration_s <= 0.0 && drift.t0_s >= 0.0 && t >= drift_end_s(&drift)) {
                 res->duration_s = t;   /* the default run ends with the window */
                 break;
@@ -734,7 +737,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
         }
         if (t_run >= 0.0 && !scen_done) {
             if (opt->scenario == SCEN_REVERSAL && t >= t_run + 0.5) {
-                drive_set_speed(&drive, -drive.seq.speed_target);
+                drive_set_speed(&drive, -pv.seq->speed_target);
                 scen_done = 1;
             } else if (opt->scenario == SCEN_LOAD_STEPS && t >= t_run + 0.5) {
                 plant.extra_load_Nm = (t < t_run + 1.5) ? 0.5 * (cfg->load.const_Nm +
@@ -777,56 +780,56 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     }
     res->final_speed_rpm = plant.motor.n_rpm;
     if (t_run < 0.0) {
-        res->target_rpm = (double)_IQtoF(drive.seq.speed_target) * b->n_base_rpm;
+        res->target_rpm = (double)_IQtoF(pv.seq->speed_target) * b->n_base_rpm;
     }
-    res->target_lowered = drive.seq.target_lowered;
+    res->target_lowered = pv.seq->target_lowered;
     res->max_true_phase_A = plant.i_phase_peak_A;
     res->max_true_leg_A = plant.i_leg_peak_A;
     res->hw_trips = plant.hw_trips;
     res->t_hw_trip_s = plant.t_hw_first_s;
-    res->final_state = drive.telemetry.state;
-    res->final_fault = drive.telemetry.fault;
+    res->final_state = pv.telemetry->state;
+    res->final_fault = pv.telemetry->fault;
     res->final_pwm_on = port.outputs_enabled;
     res->t_fault_visible_s = plant.t_visible_s;
-    res->rls_sat_count = drive.id.rls.sat_count;
-    res->rls_pd_count = drive.id.rls.pd_count;
-    res->theta_rejects = drive.id.guard.reject_count;
-    res->publish_rejects = drive.telemetry.publish_rejects;
-    res->publish_reason = drive.telemetry.publish_reason;
-    res->identified = (uint16_t)(drive.telemetry.params_valid != 0u &&
+    res->rls_sat_count = pv.id->rls.sat_count;
+    res->rls_pd_count = pv.id->rls.pd_count;
+    res->theta_rejects = pv.id->guard.reject_count;
+    res->publish_rejects = pv.telemetry->publish_rejects;
+    res->publish_reason = pv.telemetry->publish_reason;
+    res->identified = (uint16_t)(pv.telemetry->params_valid != 0u &&
                                  res->publish_reason == (uint16_t)DRIVE_PUB_PUBLISHED);
-    res->params_withdrawn = drive.telemetry.params_withdrawn;
-    res->withdraw_reason = drive.telemetry.withdraw_reason;
-    res->final_pass = drive.telemetry.pass;
-    conf_figures(&drive, res);
-    res->Rs_dc_ohm = (double)_IQtoF(drive.telemetry.Rs_dc) * b->Z_base_ohm;
-    res->sensor_gain_pct = 100.0 * (double)drive.verdict.sensor_gain;
-    res->adapt_timeouts = drive.seq.adapt_timeouts;
-    vi_curve_fit(&drive.vi.test, b->I_base_A, b->V_base_V, &res->vi);
+    res->params_withdrawn = pv.telemetry->params_withdrawn;
+    res->withdraw_reason = pv.telemetry->withdraw_reason;
+    res->final_pass = pv.telemetry->pass;
+    conf_figures(&pv, res);
+    res->Rs_dc_ohm = (double)_IQtoF(pv.telemetry->Rs_dc) * b->Z_base_ohm;
+    res->sensor_gain_pct = 100.0 * (double)pv.verdict->sensor_gain;
+    res->adapt_timeouts = pv.seq->adapt_timeouts;
+    vi_curve_fit(&pv.vi->test, b->I_base_A, b->V_base_V, &res->vi);
     if (res->vi.status == VI_FIT_OK) {
-        res->vi.status = (vi_fit_status_t)drive.vi.status;   /* the drive's own checks */
+        res->vi.status = (vi_fit_status_t)pv.vi->status;   /* the drive's own checks */
     }
     res->vi_true_e_pole_V = plant.inv.p.vdc_V * plant.inv.td_frac + plant.inv.v_drop_V;
     res->vi_true_band_A = plant.inv.p.i_band_A;
-    res->vi_i1_A = (double)drive.vi.test.i1 * b->I_base_A;
-    res->vi_retried = (int)drive.vi.retried;
+    res->vi_i1_A = (double)pv.vi->test.i1 * b->I_base_A;
+    res->vi_retried = (int)pv.vi->retried;
     drift_figures(&drift, res);
     if (res->identified) {
-        published_si(b, &drive.telemetry, &res->published_end);
-        res->params_tracked = drive.telemetry.params_tracked;
+        published_si(b, pv.telemetry, &res->published_end);
+        res->params_tracked = pv.telemetry->params_tracked;
         errors_pct(&res->published_end, &res->truth, &res->published_end_error_pct);
     } else {
-        res->refused_fused = refused_fused_si(&drive, &res->refused_set);
+        res->refused_fused = refused_fused_si(&drive, &pv, &res->refused_set);
         if (res->refused_fused != 0u) {
             errors_pct(&res->refused_set, &res->truth, &res->refused_set_error_pct);
         }
     }
     if (res->extracted) {
         /* the RLS's last extraction, published or refused (the paper's method) */
-        to_si(b, &drive.id.pex, &res->ident);
-        res->ident_valid = drive.id.pex.valid;
+        to_si(b, &pv.id->pex, &res->ident);
+        res->ident_valid = pv.id->pex.valid;
         errors_pct(&res->ident, &res->truth, &res->error_pct);
-        if (res->t_accel_start_s >= 0.0 && drive.id.pex.valid != 0u) {
+        if (res->t_accel_start_s >= 0.0 && pv.id->pex.valid != 0u) {
             res->converge_s = converge_time(rows, n_rows, &res->ident, res->t_accel_start_s);
         }
     }

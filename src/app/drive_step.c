@@ -427,6 +427,8 @@ void drive_slow_isr(drive_t *d)
     }
 }
 
+void drive_set_hw_trip(drive_t *d, uint16_t tripped) { d->prot.trip.hw_trip = tripped; }
+
 uint16_t drive_isr(drive_t *d)
 {
     hal_adc_sample_t adc;

@@ -8,13 +8,14 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "drive_types.h"
+#include "drive_probe.h"
 #include "hal_host.h"
 #include "plant.h"
 #include "sim_config.h"
 
 typedef struct {
     drive_t drive;
+    drive_probe_t pv;           /* what the rig reads of it */
     plant_t plant;
     hal_host_port_t port;
     hal_pwm_compare_t active;   /* the compares the plant runs this period */
@@ -33,11 +34,12 @@ static inline int drive_rig_start(drive_rig_t *r, const char *ini)
         return -1;
     }
     sim_config_to_drive(&cfg, &dc);
+    drive_probe(&r->drive, &r->pv);
     if (drive_init(&r->drive, &dc) != DRIVE_CFG_OK ||
-        plant_init(&r->plant, &cfg, r->drive.k.t1pr, err, sizeof err) != 0) {
+        plant_init(&r->plant, &cfg, r->pv.k->t1pr, err, sizeof err) != 0) {
         return -1;
     }
-    hal_host_port_init(&r->port, r->drive.k.t1pr);
+    hal_host_port_init(&r->port, r->pv.k->t1pr);
     hal_host_bind(&r->port);
     r->active = r->port.cmp;
     drive_command(&r->drive, DRIVE_CMD_START_IDENT);
