@@ -405,35 +405,37 @@ static void conf_figures(const drive_probe_t *d, sim_result_t *r)
     r->conf_pd = d->id->snap_pd;
 }
 
-int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res, char *err,
-            unsigned err_len)
-{
-    static drive_t drive;   /* large; one run at a time */
-    drive_probe_t pv;       /* what the simulator reads of it */
-    drive_config_t dc;
+/* One run's state: the drive, the plant and the host HAL between them, the
+ * trace, and what the observers carry from one period to the next. */
+typedef struct {
+    const sim_config_t *cfg;
+    const sim_options_t *opt;
+    sim_result_t *res;
+    drive_t *drive;             /* the firmware's instance (static in sim_run: large) */
+    drive_probe_t pv;           /* what the simulator reads of it */
+    const base_values_t *b;
     plant_t plant;
     hal_host_port_t port;
-    hal_pwm_compare_t active;
-    FILE *trace = NULL;
-    live_row_t *rows = NULL;
+    hal_pwm_compare_t active;   /* the compares the plant runs this period */
+    double Ts, duration;
+    FILE *trace;
+    uint64_t trace_div;         /* one trace row every trace_div periods */
+    double trace_bytes;         /* written so far (the size guard) */
+    int trace_full;             /* 1: cut at the size limit, 2: and its close failed */
+    live_row_t *rows;           /* the live estimates at 100 Hz (the convergence time) */
+    size_t n_rows, cap_rows;
     drift_t drift;
-    size_t n_rows = 0, cap_rows;
-    int16_t st;
-    uint64_t k, n_steps, trace_div;
-    double trace_bytes = 0.0;   /* written so far (the size guard) */
-    int trace_full = 0;
-    double Ts, duration, t_run = -1.0, rpm_per_pu;
-    uint16_t fault_applied[SIM_MAX_FAULTS] = {0};
-    uint16_t cmd_given[SIM_MAX_CMDS] = {0};
-    double t_soak_rev = -1.0, t_soak_load = -1.0;
-    int pub_seen = 0;
-    uint16_t last_fault = 0u, prev_state = ID_IDLE;
-    int scen_done = 0;
-    clock_t c0 = clock();
-    const base_values_t *b;
+    uint16_t fault_applied[SIM_MAX_FAULTS];
+    uint16_t cmd_given[SIM_MAX_CMDS];
+    double t_run;               /* RUN first entered (-1: not yet) */
+    double t_soak_rev, t_soak_load;
+    int pub_seen, scen_done;
+    uint16_t last_fault, prev_state;
+} sim_ctx_t;
 
-    drive_probe(&drive, &pv);
-    b = pv.base;
+static void result_defaults(sim_result_t *res)
+{
+    unsigned i;
     memset(res, 0, sizeof *res);
     res->converge_s = -1.0;
     res->t_fault_visible_s = -1.0;
@@ -446,15 +448,26 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     res->t_over_trip_first_s = -1.0;
     res->t_over_trip_last_s = -1.0;
     res->max_pub_err_after_fault_pct = -1.0;
-    for (k = 0; k < SIM_MAX_FAULTS; k++) {
-        res->t_injected_s[k] = -1.0;
+    for (i = 0; i < SIM_MAX_FAULTS; i++) {
+        res->t_injected_s[i] = -1.0;
     }
-    for (k = 0; k < SIM_STATES; k++) {
-        res->t_state_s[k] = -1.0;
+    for (i = 0; i < SIM_STATES; i++) {
+        res->t_state_s[i] = -1.0;
     }
     res->t_decided_s = -1.0;
+}
+
+/* The drive, the plant, the HAL, the buffers and the trace.  0, or the
+ * sim_run error code with @p err set. */
+static int run_open(sim_ctx_t *c, char *err, unsigned err_len)
+{
+    const sim_config_t *cfg = c->cfg;
+    sim_result_t *res = c->res;
+    drive_config_t dc;
+    int16_t st;
+
     sim_config_to_drive(cfg, &dc);
-    st = drive_init(&drive, &dc);
+    st = drive_init(c->drive, &dc);
     if (st != DRIVE_CFG_OK) {
         /* sim_config_load refuses such a file; a test may set the values */
         drive_limit_fail_t f;
@@ -468,384 +481,500 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
                  drive_cfg_status_str(st), why);
         return 1;
     }
-    if (plant_init(&plant, cfg, pv.k->t1pr, err, err_len) != 0) {
+    if (plant_init(&c->plant, cfg, c->pv.k->t1pr, err, err_len) != 0) {
         return 2;
     }
-    hal_host_port_init(&port, pv.k->t1pr);
-    hal_host_bind(&port);
-    active = port.cmp;
+    hal_host_port_init(&c->port, c->pv.k->t1pr);
+    hal_host_bind(&c->port);
+    c->active = c->port.cmp;
 
-    Ts = 1.0 / cfg->board.pwm_freq_Hz;
-    duration = sim_run_duration_s(cfg, opt);
-    res->duration_s = duration;
-    n_steps = (uint64_t)(duration / Ts + 0.5);   /* = sim_run_periods() */
-    trace_div = sim_trace_every(cfg, opt);
-    cap_rows = (size_t)(duration * 100.0) + 16;
-    rows = (live_row_t *)calloc(cap_rows, sizeof *rows);
-    if (rows == NULL) {
+    c->Ts = 1.0 / cfg->board.pwm_freq_Hz;
+    c->duration = sim_run_duration_s(cfg, c->opt);
+    res->duration_s = c->duration;
+    c->trace_div = sim_trace_every(cfg, c->opt);
+    c->cap_rows = (size_t)(c->duration * 100.0) + 16;
+    c->rows = (live_row_t *)calloc(c->cap_rows, sizeof *c->rows);
+    if (c->rows == NULL) {
         snprintf(err, err_len, "out of memory");
         return 3;
     }
-    if (drift_init(&drift, cfg, (opt->scenario == SCEN_DRIFT) ? duration : 0.0) != 0) {
+    if (drift_init(&c->drift, cfg, (c->opt->scenario == SCEN_DRIFT) ? c->duration : 0.0) != 0) {
         snprintf(err, err_len, "out of memory");
-        free(rows);
+        free(c->rows);
         return 3;
     }
-    if (opt->trace_path != NULL) {
-        trace = fopen(opt->trace_path, "w");
-        if (trace == NULL) {
-            snprintf(err, err_len, "cannot write %s", opt->trace_path);
-            free(rows);
-            drift_free(&drift);
+    if (c->opt->trace_path != NULL) {
+        c->trace = fopen(c->opt->trace_path, "w");
+        if (c->trace == NULL) {
+            snprintf(err, err_len, "cannot write %s", c->opt->trace_path);
+            free(c->rows);
+            drift_free(&c->drift);
             return 4;
         }
-        trace_bytes += (double)trace_header(trace);
+        c->trace_bytes += (double)trace_header(c->trace);
     }
-    rpm_per_pu = b->n_base_rpm;
     res->truth.Rs_ohm = cfg->plant.Rs_ohm;
     res->truth.Rr_ohm = cfg->plant.Rr_ohm;
     res->truth.Lm_H = cfg->plant.Lm_H;
     res->truth.Lr_H = cfg->plant.Lm_H + cfg->plant.Llr_H;
     res->truth.Tr_s = res->truth.Lr_H / cfg->plant.Rr_ohm;
+    return 0;
+}
 
-    if (opt->no_autostart == 0u) {
-        drive_command(&drive, DRIVE_CMD_START_IDENT);
-    }
-    drive_background(&drive);
-
-    for (k = 0; k < n_steps; k++) {
-        double t = (double)k * Ts;
-        const motor_t *m = &plant.motor;
-        double psi_d, psi_q;   /* true rotor flux in the drive's frame, this sample */
-        unsigned i;
-
-        for (i = 0; i < opt->n_faults; i++) {
-            const sim_fault_t *f = &opt->faults[i];
-            const double t0 = (f->at_state == 0u)
-                                  ? 0.0
-                                  : ((f->at_state < SIM_STATES) ? res->t_state_s[f->at_state]
-                                                                : -1.0);
-            if (!fault_applied[i] && t0 >= 0.0 && t >= t0 + f->t_s) {
-                plant_inject(&plant, f->kind, f->value);
-                fault_applied[i] = 1u;
-                res->t_injected_s[i] = t;
-            }
-        }
-        for (i = 0; i < opt->n_cmds; i++) {
-            if (!cmd_given[i] && t >= opt->cmds[i].t_s) {
-                if (opt->cmds[i].cmd == DRIVE_CMD_RESET_FAULT) {
-                    (void)hal_host_clear_trip(&port);   /* the board's latch first (main.c) */
-                }
-                drive_command(&drive, (drive_cmd_t)opt->cmds[i].cmd);
-                cmd_given[i] = 1u;
-            }
-        }
-        /* period start: ADC and QEP, then the ISR */
-        plant_sample(&plant, &port);
-        port.trip_input = plant_trip_line(&plant);
-        drive_isr(&drive);
-        drive_slow_isr(&drive);   /* the target's INT14, right after (hal_slow_isr_request) */
-        if ((k % BACKGROUND_DIV) == 0u) {
-            drive_background(&drive);
-            if (opt->background_hook != NULL &&
-                opt->background_hook(opt->hook_ctx, &drive, k + 1u, t) != 0) {
-                res->duration_s = t;   /* ended by the hook (the serial link closed) */
-                break;
-            }
-        }
-        if (pv.telemetry->fault != 0u && port.outputs_enabled != 0u) {
-            res->pwm_periods_with_fault++;
-        }
-        if (pv.seq->extract_now != 0u && pv.seq->pass >= pv.seq->passes) {
-            res->extracted = 1u;
-        }
-        if (res->t_decided_s < 0.0 && pv.verdict->run != 0u &&
-            pv.telemetry->publish_reason != (uint16_t)DRIVE_PUB_PENDING) {
-            res->t_decided_s = t;
-        }
-        if (opt->stop_when_decided != 0u && res->t_decided_s >= 0.0 &&
-            t >= res->t_decided_s + DECIDED_GRACE_S) {
-            res->duration_s = t;   /* the verdict is in: the run has told what it can */
-            break;
-        }
-        observe_protection(&pv, res, t);
-        observe_soak(&pv, res, t);
-        observe_voltage(&pv, &plant, b->V_base_V, res);
-        if (pv.telemetry->params_valid != 0u) {
-            sim_params_t pub;
-            published_si(b, pv.telemetry, &pub);
-            if (!pub_seen) {
-                pub_seen = 1;
-                res->t_first_published_s = t;
-                res->published_first = pub;
-            } else if (memcmp(&pub, &res->published_first, sizeof pub) != 0) { /* NOLINT */
-                /* bitwise on purpose (hence the NOLINT): any change of a
-                 * published word counts */
-                res->published_changed = 1u;
-            }
-            if (pv.id->live.valid != 0u) {
-                live_extremes(b, &pv.id->live, &res->truth, res);
-            }
-            if (res->n_faults_seen > 0u && t >= res->fault_time_s[0] + 0.002) {
-                double w = fabs(pct(pub.Rs_ohm, res->truth.Rs_ohm));
-                w = fmax(w, fabs(pct(pub.Rr_ohm, res->truth.Rr_ohm)));
-                w = fmax(w, fabs(pct(pub.Lm_H, res->truth.Lm_H)));
-                w = fmax(w, fabs(pct(pub.Lr_H, res->truth.Lr_H)));
-                w = fmax(w, fabs(pct(pub.Tr_s, res->truth.Tr_s)));
-                if (res->truth.psi_r_Wb > 0.0) {
-                    w = fmax(w, fabs(pct(pub.psi_r_Wb, res->truth.psi_r_Wb)));
-                }
-                res->max_pub_err_after_fault_pct = fmax(res->max_pub_err_after_fault_pct, w);
-            }
-        }
-
-        /* observe (state at the sample instant, firmware's frame theta_k) */
-        {
-            double ia = fabs(m->ia_A), ib = fabs(m->ib_A), ic = fabs(m->ic_A);
-            double imax = fmax(ia, fmax(ib, ic));
-            /* the frame angle of this sample, theta_k (ifo or observer) */
-            double th = (double)_IQtoF(drive_frame_angle(&drive)) * 2.0 * M_PI;
-            double pd, pq;
-            uint16_t state = pv.telemetry->state;
-            motor_rotor_flux_dq(m, th, &pd, &pq);
-            psi_d = pd;
-            psi_q = pq;
-            if (imax > res->max_abs_i_A) {
-                res->max_abs_i_A = imax;
-            }
-            if (imax > cfg->controller.overcurrent_A) {
-                if (res->t_over_trip_first_s < 0.0) {
-                    res->t_over_trip_first_s = t;
-                }
-                res->t_over_trip_last_s = t;
-                res->over_trip_s += Ts;
-            }
-            if (state < SIM_STATES && res->t_state_s[state] < 0.0) {
-                res->t_state_s[state] = t;
-            }
-            if (state == ID_ACCELERATE && prev_state != ID_ACCELERATE && res->t_accel_start_s < 0.0) {
-                res->t_accel_start_s = t;
-            }
-            if ((state == ID_ACCELERATE || state == ID_SETTLE || state == ID_RUN) && pd > 1e-6) {
-                double r = fabs(pq / pd);
-                if (r > res->max_flux_q_over_d) {
-                    res->max_flux_q_over_d = r;
-                }
-            }
-            if (state == ID_ACCELERATE && res->t_accel_start_s >= 0.0 &&
-                t > res->t_accel_start_s + 0.2) {
-                double e = fabs((double)_IQtoF(pv.loop->speed_ramp.out) * rpm_per_pu - m->n_rpm);
-                if (e > res->max_speed_err_rpm_ramp) {
-                    res->max_speed_err_rpm_ramp = e;
-                }
-            }
-            if (state == ID_RUN && prev_state != ID_RUN) {
-                t_run = t;
-                res->t_published_s = t;
-                res->truth.psi_r_Wb = sqrt(pd * pd + pq * pq);
-                res->settle_timeout = pv.seq->settle_timeout;
-                res->target_rpm = (double)_IQtoF(pv.seq->speed_target) * b->n_base_rpm;
-            }
-            if (pv.telemetry->fault != 0u && pv.telemetry->fault != last_fault &&
-                res->n_faults_seen < SIM_MAX_FAULTS) {
-                res->fault_code[res->n_faults_seen] = pv.telemetry->fault;
-                res->fault_time_s[res->n_faults_seen] = t;
-                res->fault_state[res->n_faults_seen] = prev_state;
-                res->fault_pass[res->n_faults_seen] = pv.seq->pass;
-                /* the model check's cause bits, and the feedback check as 8 */
-                res->fault_cause[res->n_faults_seen] =
-                    (uint16_t)(pv.prot->model.cmc.cause | ((pv.prot->feedback.fault != 0u) ? 8u : 0u));
-                res->n_faults_seen++;
-            }
-            last_fault = pv.telemetry->fault;
-            prev_state = state;
-
-            if ((k % (uint64_t)(cfg->board.pwm_freq_Hz / 100.0)) == 0u && n_rows < cap_rows) {
-                rows[n_rows].t = t;
-                to_si(b, &pv.id->live, &rows[n_rows].p);
-                n_rows++;
-            }
-            if (trace != NULL && (k % trace_div) == 0u) {
-                sim_params_t lp;
-                to_si(b, &pv.id->live, &lp);
-                trace_bytes += (double)fprintf(trace,
-                        "%.5f,%u,%u,%u,%.3f,%.3f,%.3f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.5f,"
-                        "%.5f,%.6f,%.6f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%u,%.6g,%.6g,%.6g,%.6g,"
-                        "%u,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g",
-                        t, state, pv.telemetry->fault, pv.telemetry->pwm_on,
-                        (double)_IQtoF(pv.loop->speed_ramp.out) * rpm_per_pu, m->n_rpm,
-                        (double)_IQtoF(pv.sense->qep.speed) * rpm_per_pu,
-                        (double)_IQtoF(pv.loop->park.ds) * b->I_base_A,
-                        (double)_IQtoF(pv.loop->park.qs) * b->I_base_A, m->ia_A, m->ib_A,
-                        (double)_IQtoF(pv.id->reg.u_mf) * b->V_base_V,
-                        (double)_IQtoF(pv.id->reg.u_tf) * b->V_base_V,
-                        (double)_IQtoF(pv.sense->bus.vdc) * b->V_base_V, m->Te_Nm, m->TL_Nm,
-                        sqrt(pd * pd + pq * pq), (pd > 1e-9) ? pq / pd : 0.0, lp.Rs_ohm,
-                        lp.Rr_ohm, lp.Lm_H, lp.Lr_H, lp.psi_r_Wb, lp.Tr_s, pv.id->live.valid,
-                        (double)_IQtoF(pv.id->rls.theta[0]), (double)_IQtoF(pv.id->rls.theta[1]),
-                        (double)_IQtoF(pv.id->rls.theta[2]), (double)_IQtoF(pv.id->rls.theta[3]),
-                        pv.seq->rls_on, (double)_IQtoF(pv.id->reg.y1),
-                        (double)_IQtoF(pv.id->reg.y2), (double)_IQtoF(pv.id->reg.i_mf),
-                        (double)_IQtoF(pv.id->reg.u_mf), (double)_IQtoF(pv.id->reg.i_tf),
-                        (double)_IQtoF(pv.id->reg.u_tf), (double)_IQtoF(pv.id->reg.wr_f));
-                trace_bytes += (double)trace_row_adaptation(trace, &pv, &plant);
-                if (opt->trace_max_bytes > 0.0 && trace_bytes > opt->trace_max_bytes) {
-                    /* the trace ends here, the run goes on (motor_sim sizes the trace
-                     * before a run of known length so that this is not reached; a
-                     * serial-link session has none) */
-                    trace_full = 1;
-                    res->trace_truncated_at_s = t;
-                    if (fclose(trace) != 0) {
-                        trace_full = 2;
-                    }
-                    trace = NULL;
-                }
-            }
-        }
-
-        /* scenario events after the identification */
-        if (t_run >= 0.0 && opt->scenario == SCEN_SOAK) {
-            /* each event from a settled state: the load step 2 s after each
-             * reversal (the 1.4 s ramp is over); a step at the end of a
-             * reversal at rated speed reaches the 60 V bus's voltage limit */
-            if (t_soak_rev < 0.0) {
-                t_soak_rev = t_run;
-                t_soak_load = t_run - 1.0;
-            }
-            if (t >= t_soak_rev + 4.0) {
-                double e = fabs((double)_IQtoF(pv.loop->speed_ramp.out) * rpm_per_pu -
-                                plant.motor.n_rpm);
-                if (e > res->max_settled_speed_err_rpm) {
-                    res->max_settled_speed_err_rpm = e;
-                }
-                drive_set_speed(&drive, -pv.seq->speed_target);
-                t_soak_rev = t;
-            }
-            if (t >= t_soak_load + 4.0) {
-                t_soak_load = t;
-            }
-            plant.extra_load_Nm = (t < t_soak_load + 1.0 && t >= t_soak_load)
-                                      ? 0.5 * (cfg->load.const_Nm + cfg->load.fan_Nm)
-                                      : 0.0;
-        }
-        if (opt->scenario == SCEN_DRIFT) {
-            drift_period(&drift, &pv, cfg, &plant, t, psi_d, psi_q);
-            if (opt->duration_s <= 0.0 && drift.t0_s >= 0.0 && t >= drift_end_s(&drift)) {
-                res->duration_s = t;   /* the default run ends with the window */
-                break;
-            }
-        }
-        if (t_run >= 0.0 && !scen_done) {
-            if (opt->scenario == SCEN_REVERSAL && t >= t_run + 0.5) {
-                drive_set_speed(&drive, -pv.seq->speed_target);
-                scen_done = 1;
-            } else if (opt->scenario == SCEN_LOAD_STEPS && t >= t_run + 0.5) {
-                plant.extra_load_Nm = (t < t_run + 1.5) ? 0.5 * (cfg->load.const_Nm +
-                                                                 cfg->load.fan_Nm)
-                                                        : 0.0;
-                scen_done = (t >= t_run + 1.5);
-            }
-        }
-        if (opt->stop_after_fault_s > 0.0 && res->n_faults_seen > 0u &&
-            t >= res->fault_time_s[0] + opt->stop_after_fault_s) {
-            res->duration_s = t;   /* ended after the fault (sim_options_t.stop_after_fault_s) */
-            break;
-        }
-        if (!opt->quiet && duration > 5.0 && (k % (uint64_t)cfg->board.pwm_freq_Hz) == 0u &&
-            k > 0) {
-            fprintf(stderr, "\r  simulated %.0f of %.0f s", t, duration);
-        }
-
-        /* one PWM period: the compare values written by the previous ISR are
-         * loaded at this underflow; the output enable acts at once */
-        plant_period(&plant, &active, port.outputs_enabled);
-        if (plant.hw_fired != 0u) {
-            hal_host_pdpinta_pulse(&port);   /* the bridge's comparator pulled PDPINTA */
-        }
-        active = port.cmp;
-        if (!plant_finite(&plant)) {
-            /* nothing after this is a result: end the run here */
-            res->plant_diverged_at_s = t + Ts;
-            break;
+/* The faults and commands due at @p t (--fault, --cmd). */
+static void inject_events(sim_ctx_t *c, double t)
+{
+    const sim_options_t *opt = c->opt;
+    unsigned i;
+    for (i = 0; i < opt->n_faults; i++) {
+        const sim_fault_t *f = &opt->faults[i];
+        const double t0 = (f->at_state == 0u)
+                              ? 0.0
+                              : ((f->at_state < SIM_STATES) ? c->res->t_state_s[f->at_state]
+                                                            : -1.0);
+        if (!c->fault_applied[i] && t0 >= 0.0 && t >= t0 + f->t_s) {
+            plant_inject(&c->plant, f->kind, f->value);
+            c->fault_applied[i] = 1u;
+            c->res->t_injected_s[i] = t;
         }
     }
-    if (!opt->quiet && duration > 5.0) {
-        fprintf(stderr, "\n");
+    for (i = 0; i < opt->n_cmds; i++) {
+        if (!c->cmd_given[i] && t >= opt->cmds[i].t_s) {
+            if (opt->cmds[i].cmd == DRIVE_CMD_RESET_FAULT) {
+                (void)hal_host_clear_trip(&c->port);   /* the board's latch first (main.c) */
+            }
+            drive_command(c->drive, (drive_cmd_t)opt->cmds[i].cmd);
+            c->cmd_given[i] = 1u;
+        }
     }
-    res->wall_s = (double)(clock() - c0) / CLOCKS_PER_SEC;
+}
+
+/* Period start: ADC and QEP, the control ISR, its slow ISR and, every
+ * BACKGROUND_DIV periods, the background.  1 when the background hook ends
+ * the run. */
+static int run_firmware(sim_ctx_t *c, uint64_t k, double t)
+{
+    plant_sample(&c->plant, &c->port);
+    c->port.trip_input = plant_trip_line(&c->plant);
+    drive_isr(c->drive);
+    drive_slow_isr(c->drive);   /* the target's INT14, right after (hal_slow_isr_request) */
+    if ((k % BACKGROUND_DIV) == 0u) {
+        drive_background(c->drive);
+        if (c->opt->background_hook != NULL &&
+            c->opt->background_hook(c->opt->hook_ctx, c->drive, k + 1u, t) != 0) {
+            c->res->duration_s = t;   /* ended by the hook (the serial link closed) */
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* The extraction and the verdict; 1 when the run has told what it can
+ * (stop_when_decided). */
+static int observe_verdict(sim_ctx_t *c, double t)
+{
+    const drive_probe_t *d = &c->pv;
+    sim_result_t *res = c->res;
+    if (d->telemetry->fault != 0u && c->port.outputs_enabled != 0u) {
+        res->pwm_periods_with_fault++;
+    }
+    if (d->seq->extract_now != 0u && d->seq->pass >= d->seq->passes) {
+        res->extracted = 1u;
+    }
+    if (res->t_decided_s < 0.0 && d->verdict->run != 0u &&
+        d->telemetry->publish_reason != (uint16_t)DRIVE_PUB_PENDING) {
+        res->t_decided_s = t;
+    }
+    if (c->opt->stop_when_decided != 0u && res->t_decided_s >= 0.0 &&
+        t >= res->t_decided_s + DECIDED_GRACE_S) {
+        res->duration_s = t;   /* the verdict is in */
+        return 1;
+    }
+    return 0;
+}
+
+/* The published set: when it first came, whether it changed, the live
+ * estimates' extremes, its error after a fault. */
+static void observe_publication(sim_ctx_t *c, double t)
+{
+    const drive_probe_t *d = &c->pv;
+    sim_result_t *res = c->res;
+    sim_params_t pub;
+    if (d->telemetry->params_valid == 0u) {
+        return;
+    }
+    published_si(c->b, d->telemetry, &pub);
+    if (!c->pub_seen) {
+        c->pub_seen = 1;
+        res->t_first_published_s = t;
+        res->published_first = pub;
+    } else if (memcmp(&pub, &res->published_first, sizeof pub) != 0) { /* NOLINT */
+        /* bitwise on purpose (hence the NOLINT): any change of a
+         * published word counts */
+        res->published_changed = 1u;
+    }
+    if (d->id->live.valid != 0u) {
+        live_extremes(c->b, &d->id->live, &res->truth, res);
+    }
+    if (res->n_faults_seen > 0u && t >= res->fault_time_s[0] + 0.002) {
+        double w = fabs(pct(pub.Rs_ohm, res->truth.Rs_ohm));
+        w = fmax(w, fabs(pct(pub.Rr_ohm, res->truth.Rr_ohm)));
+        w = fmax(w, fabs(pct(pub.Lm_H, res->truth.Lm_H)));
+        w = fmax(w, fabs(pct(pub.Lr_H, res->truth.Lr_H)));
+        w = fmax(w, fabs(pct(pub.Tr_s, res->truth.Tr_s)));
+        if (res->truth.psi_r_Wb > 0.0) {
+            w = fmax(w, fabs(pct(pub.psi_r_Wb, res->truth.psi_r_Wb)));
+        }
+        res->max_pub_err_after_fault_pct = fmax(res->max_pub_err_after_fault_pct, w);
+    }
+}
+
+/* One trace row (the columns of trace_header). */
+static void trace_row(sim_ctx_t *c, double t, uint16_t state, double pd, double pq)
+{
+    const drive_probe_t *d = &c->pv;
+    const base_values_t *b = c->b;
+    const motor_t *m = &c->plant.motor;
+    const double rpm_per_pu = b->n_base_rpm;
+    sim_params_t lp;
+    to_si(b, &d->id->live, &lp);
+    c->trace_bytes += (double)fprintf(c->trace,
+            "%.5f,%u,%u,%u,%.3f,%.3f,%.3f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.5f,"
+            "%.5f,%.6f,%.6f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%u,%.6g,%.6g,%.6g,%.6g,"
+            "%u,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g,%.8g",
+            t, state, d->telemetry->fault, d->telemetry->pwm_on,
+            (double)_IQtoF(d->loop->speed_ramp.out) * rpm_per_pu, m->n_rpm,
+            (double)_IQtoF(d->sense->qep.speed) * rpm_per_pu,
+            (double)_IQtoF(d->loop->park.ds) * b->I_base_A,
+            (double)_IQtoF(d->loop->park.qs) * b->I_base_A, m->ia_A, m->ib_A,
+            (double)_IQtoF(d->id->reg.u_mf) * b->V_base_V,
+            (double)_IQtoF(d->id->reg.u_tf) * b->V_base_V,
+            (double)_IQtoF(d->sense->bus.vdc) * b->V_base_V, m->Te_Nm, m->TL_Nm,
+            sqrt(pd * pd + pq * pq), (pd > 1e-9) ? pq / pd : 0.0, lp.Rs_ohm,
+            lp.Rr_ohm, lp.Lm_H, lp.Lr_H, lp.psi_r_Wb, lp.Tr_s, d->id->live.valid,
+            (double)_IQtoF(d->id->rls.theta[0]), (double)_IQtoF(d->id->rls.theta[1]),
+            (double)_IQtoF(d->id->rls.theta[2]), (double)_IQtoF(d->id->rls.theta[3]),
+            d->seq->rls_on, (double)_IQtoF(d->id->reg.y1),
+            (double)_IQtoF(d->id->reg.y2), (double)_IQtoF(d->id->reg.i_mf),
+            (double)_IQtoF(d->id->reg.u_mf), (double)_IQtoF(d->id->reg.i_tf),
+            (double)_IQtoF(d->id->reg.u_tf), (double)_IQtoF(d->id->reg.wr_f));
+    c->trace_bytes += (double)trace_row_adaptation(c->trace, d, &c->plant);
+    if (c->opt->trace_max_bytes > 0.0 && c->trace_bytes > c->opt->trace_max_bytes) {
+        /* the trace ends here, the run goes on (motor_sim sizes the trace
+         * before a run of known length so that this is not reached; a
+         * serial-link session has none) */
+        c->trace_full = 1;
+        c->res->trace_truncated_at_s = t;
+        if (fclose(c->trace) != 0) {
+            c->trace_full = 2;
+        }
+        c->trace = NULL;
+    }
+}
+
+/* The motor at the sample instant, in the firmware's frame (theta_k): the
+ * true currents against the trip, the states' times, the flux's alignment,
+ * the speed error, the faults; the live series and the trace.  The true
+ * rotor flux in the drive's frame into @p psi_d, @p psi_q. */
+static void observe_sample(sim_ctx_t *c, uint64_t k, double t, double *psi_d, double *psi_q)
+{
+    const drive_probe_t *d = &c->pv;
+    sim_result_t *res = c->res;
+    const motor_t *m = &c->plant.motor;
+    double ia = fabs(m->ia_A), ib = fabs(m->ib_A), ic = fabs(m->ic_A);
+    double imax = fmax(ia, fmax(ib, ic));
+    /* the frame angle of this sample, theta_k (ifo or observer) */
+    double th = (double)_IQtoF(drive_frame_angle(c->drive)) * 2.0 * M_PI;
+    double pd, pq;
+    uint16_t state = d->telemetry->state;
+    motor_rotor_flux_dq(m, th, &pd, &pq);
+    *psi_d = pd;
+    *psi_q = pq;
+    if (imax > res->max_abs_i_A) {
+        res->max_abs_i_A = imax;
+    }
+    if (imax > c->cfg->controller.overcurrent_A) {
+        if (res->t_over_trip_first_s < 0.0) {
+            res->t_over_trip_first_s = t;
+        }
+        res->t_over_trip_last_s = t;
+        res->over_trip_s += c->Ts;
+    }
+    if (state < SIM_STATES && res->t_state_s[state] < 0.0) {
+        res->t_state_s[state] = t;
+    }
+    if (state == ID_ACCELERATE && c->prev_state != ID_ACCELERATE && res->t_accel_start_s < 0.0) {
+        res->t_accel_start_s = t;
+    }
+    if ((state == ID_ACCELERATE || state == ID_SETTLE || state == ID_RUN) && pd > 1e-6) {
+        double r = fabs(pq / pd);
+        if (r > res->max_flux_q_over_d) {
+            res->max_flux_q_over_d = r;
+        }
+    }
+    if (state == ID_ACCELERATE && res->t_accel_start_s >= 0.0 &&
+        t > res->t_accel_start_s + 0.2) {
+        double e = fabs((double)_IQtoF(d->loop->speed_ramp.out) * c->b->n_base_rpm - m->n_rpm);
+        if (e > res->max_speed_err_rpm_ramp) {
+            res->max_speed_err_rpm_ramp = e;
+        }
+    }
+    if (state == ID_RUN && c->prev_state != ID_RUN) {
+        c->t_run = t;
+        res->t_published_s = t;
+        res->truth.psi_r_Wb = sqrt(pd * pd + pq * pq);
+        res->settle_timeout = d->seq->settle_timeout;
+        res->target_rpm = (double)_IQtoF(d->seq->speed_target) * c->b->n_base_rpm;
+    }
+    if (d->telemetry->fault != 0u && d->telemetry->fault != c->last_fault &&
+        res->n_faults_seen < SIM_MAX_FAULTS) {
+        res->fault_code[res->n_faults_seen] = d->telemetry->fault;
+        res->fault_time_s[res->n_faults_seen] = t;
+        res->fault_state[res->n_faults_seen] = c->prev_state;
+        res->fault_pass[res->n_faults_seen] = d->seq->pass;
+        /* the model check's cause bits, and the feedback check as 8 */
+        res->fault_cause[res->n_faults_seen] =
+            (uint16_t)(d->prot->model.cmc.cause | ((d->prot->feedback.fault != 0u) ? 8u : 0u));
+        res->n_faults_seen++;
+    }
+    c->last_fault = d->telemetry->fault;
+    c->prev_state = state;
+
+    if ((k % (uint64_t)(c->cfg->board.pwm_freq_Hz / 100.0)) == 0u && c->n_rows < c->cap_rows) {
+        c->rows[c->n_rows].t = t;
+        to_si(c->b, &d->id->live, &c->rows[c->n_rows].p);
+        c->n_rows++;
+    }
+    if (c->trace != NULL && (k % c->trace_div) == 0u) {
+        trace_row(c, t, state, pd, pq);
+    }
+}
+
+/* The scenario's events after the identification (--scenario); 1 when the
+ * drift scenario's window ends the run. */
+static int scenario_events(sim_ctx_t *c, double t, double psi_d, double psi_q)
+{
+    const sim_config_t *cfg = c->cfg;
+    const sim_options_t *opt = c->opt;
+    const drive_probe_t *d = &c->pv;
+    if (c->t_run >= 0.0 && opt->scenario == SCEN_SOAK) {
+        /* each event from a settled state: the load step 2 s after each
+         * reversal (the 1.4 s ramp is over); a step at the end of a
+         * reversal at rated speed reaches the 60 V bus's voltage limit */
+        if (c->t_soak_rev < 0.0) {
+            c->t_soak_rev = c->t_run;
+            c->t_soak_load = c->t_run - 1.0;
+        }
+        if (t >= c->t_soak_rev + 4.0) {
+            double e = fabs((double)_IQtoF(d->loop->speed_ramp.out) * c->b->n_base_rpm -
+                            c->plant.motor.n_rpm);
+            if (e > c->res->max_settled_speed_err_rpm) {
+                c->res->max_settled_speed_err_rpm = e;
+            }
+            drive_set_speed(c->drive, -d->seq->speed_target);
+            c->t_soak_rev = t;
+        }
+        if (t >= c->t_soak_load + 4.0) {
+            c->t_soak_load = t;
+        }
+        c->plant.extra_load_Nm = (t < c->t_soak_load + 1.0 && t >= c->t_soak_load)
+                                     ? 0.5 * (cfg->load.const_Nm + cfg->load.fan_Nm)
+                                     : 0.0;
+    }
+    if (opt->scenario == SCEN_DRIFT) {
+        drift_period(&c->drift, d, cfg, &c->plant, t, psi_d, psi_q);
+        if (opt->duration_s <= 0.0 && c->drift.t0_s >= 0.0 && t >= drift_end_s(&c->drift)) {
+            c->res->duration_s = t;   /* the default run ends with the window */
+            return 1;
+        }
+    }
+    if (c->t_run >= 0.0 && !c->scen_done) {
+        if (opt->scenario == SCEN_REVERSAL && t >= c->t_run + 0.5) {
+            drive_set_speed(c->drive, -d->seq->speed_target);
+            c->scen_done = 1;
+        } else if (opt->scenario == SCEN_LOAD_STEPS && t >= c->t_run + 0.5) {
+            c->plant.extra_load_Nm = (t < c->t_run + 1.5) ? 0.5 * (cfg->load.const_Nm +
+                                                                   cfg->load.fan_Nm)
+                                                          : 0.0;
+            c->scen_done = (t >= c->t_run + 1.5);
+        }
+    }
+    return 0;
+}
+
+/* One PWM period of the plant: the compare values written by the ISR of
+ * this period's start are loaded at this underflow; the output enable acts
+ * at once.  1 when the plant diverged (nothing after it is a result). */
+static int plant_step(sim_ctx_t *c, double t)
+{
+    plant_period(&c->plant, &c->active, c->port.outputs_enabled);
+    if (c->plant.hw_fired != 0u) {
+        hal_host_pdpinta_pulse(&c->port);   /* the bridge's comparator pulled PDPINTA */
+    }
+    c->active = c->port.cmp;
+    if (!plant_finite(&c->plant)) {
+        c->res->plant_diverged_at_s = t + c->Ts;
+        return 1;
+    }
+    return 0;
+}
+
+/* The run's figures from the drive and the plant at its end. */
+static void run_results(sim_ctx_t *c)
+{
+    const drive_probe_t *d = &c->pv;
+    const base_values_t *b = c->b;
+    const plant_t *plant = &c->plant;
+    sim_result_t *res = c->res;
     if (res->n_v_err > 0u) {
         res->v_err_along_i_V /= (double)res->n_v_err;
         res->v_err_across_i_V /= (double)res->n_v_err;
         res->i_mag_steady_A /= (double)res->n_v_err;
     }
-    res->final_speed_rpm = plant.motor.n_rpm;
-    if (t_run < 0.0) {
-        res->target_rpm = (double)_IQtoF(pv.seq->speed_target) * b->n_base_rpm;
+    res->final_speed_rpm = plant->motor.n_rpm;
+    if (c->t_run < 0.0) {
+        res->target_rpm = (double)_IQtoF(d->seq->speed_target) * b->n_base_rpm;
     }
-    res->target_lowered = pv.seq->target_lowered;
-    res->max_true_phase_A = plant.i_phase_peak_A;
-    res->max_true_leg_A = plant.i_leg_peak_A;
-    res->hw_trips = plant.hw_trips;
-    res->t_hw_trip_s = plant.t_hw_first_s;
-    res->final_state = pv.telemetry->state;
-    res->final_fault = pv.telemetry->fault;
-    res->final_pwm_on = port.outputs_enabled;
-    res->t_fault_visible_s = plant.t_visible_s;
-    res->rls_sat_count = pv.id->rls.sat_count;
-    res->rls_pd_count = pv.id->rls.pd_count;
-    res->theta_rejects = pv.id->guard.reject_count;
-    res->publish_rejects = pv.telemetry->publish_rejects;
-    res->publish_reason = pv.telemetry->publish_reason;
-    res->identified = (uint16_t)(pv.telemetry->params_valid != 0u &&
+    res->target_lowered = d->seq->target_lowered;
+    res->max_true_phase_A = plant->i_phase_peak_A;
+    res->max_true_leg_A = plant->i_leg_peak_A;
+    res->hw_trips = plant->hw_trips;
+    res->t_hw_trip_s = plant->t_hw_first_s;
+    res->final_state = d->telemetry->state;
+    res->final_fault = d->telemetry->fault;
+    res->final_pwm_on = c->port.outputs_enabled;
+    res->t_fault_visible_s = plant->t_visible_s;
+    res->rls_sat_count = d->id->rls.sat_count;
+    res->rls_pd_count = d->id->rls.pd_count;
+    res->theta_rejects = d->id->guard.reject_count;
+    res->publish_rejects = d->telemetry->publish_rejects;
+    res->publish_reason = d->telemetry->publish_reason;
+    res->identified = (uint16_t)(d->telemetry->params_valid != 0u &&
                                  res->publish_reason == (uint16_t)DRIVE_PUB_PUBLISHED);
-    res->params_withdrawn = pv.telemetry->params_withdrawn;
-    res->withdraw_reason = pv.telemetry->withdraw_reason;
-    res->final_pass = pv.telemetry->pass;
-    conf_figures(&pv, res);
-    res->Rs_dc_ohm = (double)_IQtoF(pv.telemetry->Rs_dc) * b->Z_base_ohm;
-    res->sensor_gain_pct = 100.0 * (double)pv.verdict->sensor_gain;
-    res->adapt_timeouts = pv.seq->adapt_timeouts;
-    vi_curve_fit(&pv.vi->test, b->I_base_A, b->V_base_V, &res->vi);
+    res->params_withdrawn = d->telemetry->params_withdrawn;
+    res->withdraw_reason = d->telemetry->withdraw_reason;
+    res->final_pass = d->telemetry->pass;
+    conf_figures(d, res);
+    res->Rs_dc_ohm = (double)_IQtoF(d->telemetry->Rs_dc) * b->Z_base_ohm;
+    res->sensor_gain_pct = 100.0 * (double)d->verdict->sensor_gain;
+    res->adapt_timeouts = d->seq->adapt_timeouts;
+    vi_curve_fit(&d->vi->test, b->I_base_A, b->V_base_V, &res->vi);
     if (res->vi.status == VI_FIT_OK) {
-        res->vi.status = (vi_fit_status_t)pv.vi->status;   /* the drive's own checks */
+        res->vi.status = (vi_fit_status_t)d->vi->status;   /* the drive's own checks */
     }
-    res->vi_true_e_pole_V = plant.inv.p.vdc_V * plant.inv.td_frac + plant.inv.v_drop_V;
-    res->vi_true_band_A = plant.inv.p.i_band_A;
-    res->vi_i1_A = (double)pv.vi->test.i1 * b->I_base_A;
-    res->vi_retried = (int)pv.vi->retried;
-    drift_figures(&drift, res);
+    res->vi_true_e_pole_V = plant->inv.p.vdc_V * plant->inv.td_frac + plant->inv.v_drop_V;
+    res->vi_true_band_A = plant->inv.p.i_band_A;
+    res->vi_i1_A = (double)d->vi->test.i1 * b->I_base_A;
+    res->vi_retried = (int)d->vi->retried;
+    drift_figures(&c->drift, res);
     if (res->identified) {
-        published_si(b, pv.telemetry, &res->published_end);
-        res->params_tracked = pv.telemetry->params_tracked;
+        published_si(b, d->telemetry, &res->published_end);
+        res->params_tracked = d->telemetry->params_tracked;
         errors_pct(&res->published_end, &res->truth, &res->published_end_error_pct);
     } else {
-        res->refused_fused = refused_fused_si(&drive, &pv, &res->refused_set);
+        res->refused_fused = refused_fused_si(c->drive, d, &res->refused_set);
         if (res->refused_fused != 0u) {
             errors_pct(&res->refused_set, &res->truth, &res->refused_set_error_pct);
         }
     }
     if (res->extracted) {
         /* the RLS's last extraction, published or refused (the paper's method) */
-        to_si(b, &pv.id->pex, &res->ident);
-        res->ident_valid = pv.id->pex.valid;
+        to_si(b, &d->id->pex, &res->ident);
+        res->ident_valid = d->id->pex.valid;
         errors_pct(&res->ident, &res->truth, &res->error_pct);
-        if (res->t_accel_start_s >= 0.0 && pv.id->pex.valid != 0u) {
-            res->converge_s = converge_time(rows, n_rows, &res->ident, res->t_accel_start_s);
+        if (res->t_accel_start_s >= 0.0 && d->id->pex.valid != 0u) {
+            res->converge_s = converge_time(c->rows, c->n_rows, &res->ident, res->t_accel_start_s);
         }
     }
-    free(rows);
-    drift_free(&drift);
-    if (trace != NULL) {
+}
+
+/* Frees the buffers and closes the trace: 0, or 4 with @p err set when the
+ * trace could not be written whole. */
+static int run_close(sim_ctx_t *c, char *err, unsigned err_len)
+{
+    free(c->rows);
+    drift_free(&c->drift);
+    if (c->trace != NULL) {
         /* a full disk must not pass for a complete trace */
-        int write_failed = ferror(trace);
-        if (fclose(trace) != 0 || write_failed != 0) {
-            snprintf(err, err_len, "error writing %s", opt->trace_path);
+        int write_failed = ferror(c->trace);
+        if (fclose(c->trace) != 0 || write_failed != 0) {
+            snprintf(err, err_len, "error writing %s", c->opt->trace_path);
             return 4;
         }
     }
-    if (trace_full == 2) {
-        snprintf(err, err_len, "error writing %s", opt->trace_path);
+    if (c->trace_full == 2) {
+        snprintf(err, err_len, "error writing %s", c->opt->trace_path);
         return 4;
     }
     return 0;
+}
+
+int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res, char *err,
+            unsigned err_len)
+{
+    static drive_t drive;   /* large; one run at a time */
+    static sim_ctx_t ctx;   /* (the plant and the port are large too) */
+    sim_ctx_t *c = &ctx;
+    uint64_t k, n_periods;
+    clock_t c0 = clock();
+    int rc;
+
+    memset(c, 0, sizeof *c);
+    c->cfg = cfg;
+    c->opt = opt;
+    c->res = res;
+    c->drive = &drive;
+    c->t_run = -1.0;
+    c->t_soak_rev = -1.0;
+    c->t_soak_load = -1.0;
+    c->prev_state = ID_IDLE;
+    drive_probe(&drive, &c->pv);
+    c->b = c->pv.base;
+    result_defaults(res);
+    rc = run_open(c, err, err_len);
+    if (rc != 0) {
+        return rc;
+    }
+    n_periods = (uint64_t)(c->duration / c->Ts + 0.5);   /* = sim_run_periods() */
+
+    if (opt->no_autostart == 0u) {
+        drive_command(&drive, DRIVE_CMD_START_IDENT);
+    }
+    drive_background(&drive);
+
+    for (k = 0; k < n_periods; k++) {
+        const double t = (double)k * c->Ts;
+        double psi_d, psi_q;   /* true rotor flux in the drive's frame, this sample */
+
+        inject_events(c, t);
+        if (run_firmware(c, k, t) != 0 || observe_verdict(c, t) != 0) {
+            break;
+        }
+        observe_protection(&c->pv, res, t);
+        observe_soak(&c->pv, res, t);
+        observe_voltage(&c->pv, &c->plant, c->b->V_base_V, res);
+        observe_publication(c, t);
+        observe_sample(c, k, t, &psi_d, &psi_q);
+        if (scenario_events(c, t, psi_d, psi_q) != 0) {
+            break;
+        }
+        if (opt->stop_after_fault_s > 0.0 && res->n_faults_seen > 0u &&
+            t >= res->fault_time_s[0] + opt->stop_after_fault_s) {
+            res->duration_s = t;   /* ended after the fault (sim_options_t.stop_after_fault_s) */
+            break;
+        }
+        if (!opt->quiet && c->duration > 5.0 && (k % (uint64_t)cfg->board.pwm_freq_Hz) == 0u &&
+            k > 0) {
+            fprintf(stderr, "\r  simulated %.0f of %.0f s", t, c->duration);
+        }
+        if (plant_step(c, t) != 0) {
+            break;
+        }
+    }
+    if (!opt->quiet && c->duration > 5.0) {
+        fprintf(stderr, "\n");
+    }
+    res->wall_s = (double)(clock() - c0) / CLOCKS_PER_SEC;
+    run_results(c);
+    return run_close(c, err, err_len);
 }
