@@ -58,7 +58,7 @@
 
 /* The sequence's inputs, all of them here, from their owners (the state
  * each owner keeps; the sequence only reads its copy). */
-static void sequence_inputs(drive_t *d)
+static inline void sequence_inputs(drive_t *d)
 {
     id_sequence_t *s = &d->seq;
     s->cal_done = drive_cal_done(d);
