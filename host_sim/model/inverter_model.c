@@ -89,8 +89,10 @@ static double inv_sgn(const inverter_t *inv, double i_A)
 
 double inverter_bus_voltage_V(const inverter_t *inv, double t_s, double i_dc_A)
 {
-    return inv->p.vdc_V + inv->ripple_V * sin(INV_TWO_PI * inv->p.ripple_Hz * t_s) -
-           inv->r_source_ohm * i_dc_A;
+    /* no ripple: no sin (vdc + 0 is vdc exactly) */
+    const double ripple =
+        (inv->ripple_V != 0.0) ? inv->ripple_V * sin(INV_TWO_PI * inv->p.ripple_Hz * t_s) : 0.0;
+    return inv->p.vdc_V + ripple - inv->r_source_ohm * i_dc_A;
 }
 
 void inverter_step(inverter_t *inv, double t_s, const double duty[3],

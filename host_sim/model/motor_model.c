@@ -139,76 +139,96 @@ void motor_lock_speed(motor_t *m, uint16_t locked)
     m->speed_locked = (locked != 0u) ? 1u : 0u;
 }
 
-/* dx/dt at state x, time t, stator voltage u (ignored when open). */
+/* dx/dt at state x, time t, stator voltage u (ignored when open).  The
+ * state and the parameters are read into locals first and dx written last:
+ * the compiler then need not reload them after each store through dx (the
+ * same operations in the same order as the equations: the results are
+ * bit for bit those of the direct form).  x and dx must not overlap. */
 static void mm_deriv(const motor_t *m, const double *x, double t, double ua,
                      double ub, double *dx)
 {
-    const double Lm = m->p.Lm_H;
+    const double Lm = m->p.Lm_H, Lr = m->Lr_H, Ls = m->Ls_H, D = m->D_H2;
+    const double Rs = m->p.Rs_ohm, Rr = m->p.Rr_ohm;
     const double pp = (double)m->p.pole_pairs;
-    const double we = pp * x[X_WM];
-    double isa, isb, ira, irb, te;
+    const double psa = x[X_PSA], psb = x[X_PSB], pra = x[X_PRA], prb = x[X_PRB];
+    const double wm = x[X_WM];
+    const double we = pp * wm;
+    double isa, isb, ira, irb, te, d_psa, d_psb, d_pra, d_prb, d_wm;
 
     if (m->open != 0u) {
         /* i_s = 0: i_r = psi_r / Lr, psi_s = (Lm/Lr) psi_r follows */
-        ira = x[X_PRA] / m->Lr_H;
-        irb = x[X_PRB] / m->Lr_H;
-        dx[X_PRA] = -m->p.Rr_ohm * ira - we * x[X_PRB];
-        dx[X_PRB] = -m->p.Rr_ohm * irb + we * x[X_PRA];
-        dx[X_PSA] = (Lm / m->Lr_H) * dx[X_PRA];
-        dx[X_PSB] = (Lm / m->Lr_H) * dx[X_PRB];
+        ira = pra / Lr;
+        irb = prb / Lr;
+        d_pra = -Rr * ira - we * prb;
+        d_prb = -Rr * irb + we * pra;
+        d_psa = (Lm / Lr) * d_pra;
+        d_psb = (Lm / Lr) * d_prb;
         te = 0.0;
     } else {
-        isa = (m->Lr_H * x[X_PSA] - Lm * x[X_PRA]) / m->D_H2;
-        isb = (m->Lr_H * x[X_PSB] - Lm * x[X_PRB]) / m->D_H2;
-        ira = (m->Ls_H * x[X_PRA] - Lm * x[X_PSA]) / m->D_H2;
-        irb = (m->Ls_H * x[X_PRB] - Lm * x[X_PSB]) / m->D_H2;
-        dx[X_PSA] = ua - m->p.Rs_ohm * isa;
-        dx[X_PSB] = ub - m->p.Rs_ohm * isb;
+        isa = (Lr * psa - Lm * pra) / D;
+        isb = (Lr * psb - Lm * prb) / D;
+        ira = (Ls * pra - Lm * psa) / D;
+        irb = (Ls * prb - Lm * psb) / D;
+        d_psa = ua - Rs * isa;
+        d_psb = ub - Rs * isb;
         /* shorted rotor seen from the stator frame: the rotor turns at w_e,
          * hence the motional term + j w_e psi_r */
-        dx[X_PRA] = -m->p.Rr_ohm * ira - we * x[X_PRB];
-        dx[X_PRB] = -m->p.Rr_ohm * irb + we * x[X_PRA];
-        te = 1.5 * pp * (x[X_PSA] * isb - x[X_PSB] * isa);
+        d_pra = -Rr * ira - we * prb;
+        d_prb = -Rr * irb + we * pra;
+        te = 1.5 * pp * (psa * isb - psb * isa);
     }
     if (m->speed_locked != 0u) {
-        dx[X_WM] = 0.0;
+        d_wm = 0.0;
     } else {
-        dx[X_WM] = (te - load_torque_Nm(&m->load, t, x[X_WM]) -
-                    m->p.B_Nm_s * x[X_WM]) / m->p.J_kgm2;
+        d_wm = (te - load_torque_Nm(&m->load, t, wm) - m->p.B_Nm_s * wm) / m->p.J_kgm2;
     }
-    dx[X_TH] = x[X_WM];
+    dx[X_PSA] = d_psa;
+    dx[X_PSB] = d_psb;
+    dx[X_PRA] = d_pra;
+    dx[X_PRB] = d_prb;
+    dx[X_WM] = d_wm;
+    dx[X_TH] = wm;
 }
 
+/* RK4 over dt_s in n_sub steps.  The state is kept in a local copy during
+ * the steps (no reload through m after each stage's store). */
 static void mm_integrate(motor_t *m, double ua, double ub, double dt_s,
                          uint16_t n_sub)
 {
-    double k1[X_N], k2[X_N], k3[X_N], k4[X_N], xt[X_N];
+    double k1[X_N], k2[X_N], k3[X_N], k4[X_N], xt[X_N], x[X_N];
     const uint16_t n = (n_sub == 0u) ? 1u : n_sub;
     const double h = dt_s / (double)n;
+    const double h2 = 0.5 * h, h6 = h / 6.0;
     const double t0 = m->t_s;
     uint16_t s;
     int i;
 
+    for (i = 0; i < X_N; i++) {
+        x[i] = m->x[i];
+    }
     for (s = 0u; s < n; s++) {
         /* time from the start of the call, not accumulated, so that long
          * runs do not drift */
         const double t = t0 + h * (double)s;
-        mm_deriv(m, m->x, t, ua, ub, k1);
+        mm_deriv(m, x, t, ua, ub, k1);
         for (i = 0; i < X_N; i++) {
-            xt[i] = m->x[i] + 0.5 * h * k1[i];
+            xt[i] = x[i] + h2 * k1[i];
         }
-        mm_deriv(m, xt, t + 0.5 * h, ua, ub, k2);
+        mm_deriv(m, xt, t + h2, ua, ub, k2);
         for (i = 0; i < X_N; i++) {
-            xt[i] = m->x[i] + 0.5 * h * k2[i];
+            xt[i] = x[i] + h2 * k2[i];
         }
-        mm_deriv(m, xt, t + 0.5 * h, ua, ub, k3);
+        mm_deriv(m, xt, t + h2, ua, ub, k3);
         for (i = 0; i < X_N; i++) {
-            xt[i] = m->x[i] + h * k3[i];
+            xt[i] = x[i] + h * k3[i];
         }
         mm_deriv(m, xt, t + h, ua, ub, k4);
         for (i = 0; i < X_N; i++) {
-            m->x[i] += (h / 6.0) * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+            x[i] += h6 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
         }
+    }
+    for (i = 0; i < X_N; i++) {
+        m->x[i] = x[i];
     }
     m->t_s = t0 + dt_s;
 }
