@@ -11,8 +11,8 @@
  * so code c stands for pin voltages in [c, c + 1) LSB: the + 8 (half a
  * code of 16 raw counts) reads the centre of that interval.  Without it
  * the bus read half a code low on average (0.12 V of a 600 V bus, -2e-4),
- * which the identification saw as a resistance-like voltage error (15 kW
- * motor in steady state: -0.043 V along the current, now 0.0004 V).
+ * which the identification would see as a resistance-like voltage error
+ * (about -0.04 V along the current on the 15 kW motor in steady state).
  * vdc is the instantaneous value (one raw LSB of 16 counts is
  * V_fs/4095 volts); vdc_filt is a first-order low-pass of it for the
  * protections and the display (the modulator uses vdc, which follows the

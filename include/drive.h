@@ -1,9 +1,9 @@
 /**
  * @file drive.h
  * The drive application: owns one instance of every control and estimation
- * module and runs them in the order of the 15 kHz ISR.  (CONTRACT STUB: the
- * full struct is filled in by the integration work; the signatures below are
- * fixed and used by firmware/ and host_sim/.)
+ * module and runs them in the order of the 15 kHz ISR.  drive_t itself is in
+ * drive_types.h (its rooms: docs/architecture.md); outside src/app it is read
+ * only through drive_probe.h (host, tests) or drive_get_telemetry (firmware).
  *
  * drive_isr()  = hal_adc_read + hal_qep_read_count + drive_step + hal_pwm_write
  * drive_step() = the pure core: raw inputs in, compare values out, no HAL,

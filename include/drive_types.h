@@ -94,11 +94,13 @@ typedef struct {
     uint16_t config_status;     /* drive_cfg_status_t of drive_init */
 } drive_consts_t;
 
-/** What the ISR hands to the background for the parameter extraction. */
+/** An estimate for the parameter extraction: taken by drive_rls_drain at
+ *  the queue's event (DRIVE_RLSQ_EXTRACT, DRIVE_RLSQ_LIVE), in the RLS's
+ *  own order, and extracted by drive_background right after the drain (both
+ *  background: no hand-over between contexts). */
 typedef struct {
-    _iq theta[RLS_N];   /* RLS estimate at the snapshot */
+    _iq theta[RLS_N];   /* RLS estimate at the snapshot (the guard's last good) */
     _iq i_m;            /* steady (filtered) M current, pu */
-    uint16_t ready;     /* set by the ISR, cleared by the background */
 } drive_snapshot_t;
 
 /** ISR -> background: the regression's samples for the RLS.  The RLS and

@@ -72,8 +72,8 @@
  *                   definiteness).
  * The limits are drive_init's (drive_design.h says where they come from).
  *
- * Scaling.  Accumulation (ISR, ident_conf_acc_step, once per completed RLS
- * sample): the prediction phi' theta in Q22 (inputs clamped by _IQsat to
+ * Scaling.  Accumulation (ident_conf_acc_step, once per completed RLS
+ * sample, in the RLS's context: the drive's background, drive_rls_bg.c): the prediction phi' theta in Q22 (inputs clamped by _IQsat to
  * the RLS's |phi| <= 8, |y| <= 64; theta < 16: |sum| < 448 < 512), eps
  * clamped to +-0.7 pu, eps^2 in Q31 added to J (Q24) with the part below
  * 1/2 LSB24 kept in J_res (Q48, estim_accumulate): exact to 2^-48 per term,
@@ -121,7 +121,7 @@ typedef enum {
     IDENT_CONF_LOW_CONFIDENCE
 } ident_conf_verdict_t;
 
-/** ISR side: what the RLS samples leave for the confidence. */
+/** The RLS's side: what its samples leave for the confidence. */
 typedef struct {
     _iq J;          /* Q24 pu^2: sum of eps1^2 + eps2^2 */
     _iq J_res;      /* Q48: the part of J below 1/2 LSB24 (estim_accumulate) */

@@ -284,10 +284,9 @@ static void take_set(drive_t *d)
          * 7.9, 1/Lm <= 16: the product < 128; ifo_align clamps i_mr to
          * [0, 4]).  Not fobs.theta: that is the angle at the observer's
          * last sample, 7 periods before this slot's, and the rotor has
-         * turned since (at 50 Hz 0.15 rad: the hand-over put the flux 0.15
-         * off the M axis, a transient of Tr that the tracker's first fits
-         * saw; measured on the family's 30 kW 8-pole: max q/d in RUN
-         * 0.153, now 0.014) */
+         * turned since (at 50 Hz 0.15 rad: the hand-over would put the flux
+         * 0.15 off the M axis, a transient of Tr that the tracker's first
+         * fits would see; docs/accuracy.md) */
         ifo_align(&d->frame.ifo, d->frame.obs_theta,
                   _IQmpy(_IQsat(d->frame.fobs.psi_mag, _IQ(7.9), _IQ(0.0)), s->inv_lm));
         drive_set_run_ifo(d, 1u);

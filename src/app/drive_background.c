@@ -1,12 +1,8 @@
 /**
- * Background work of the drive (main loop, below the ISR): commands, and the
- * parameter extraction (method §4), which needs square roots and divisions
- * and has no reason to run at 15 kHz.
- *
- * ISR -> background hand-over: a one-slot mailbox per snapshot.  The ISR
- * writes a snapshot only while its `ready` is 0 and sets `ready` last; the
- * background reads only while `ready` is 1 and clears it last.  With one
- * producer and one consumer no snapshot is ever read half-written.
+ * Background work of the drive (the main loop, below both ISRs): commands,
+ * the RLS on the slow task's queued samples (drive_rls_bg.c), the parameter
+ * extraction (method §4), which needs square roots and divisions and has no
+ * reason to run at 15 kHz, the verdict and the publication.
  */
 #include <math.h>
 
@@ -520,22 +516,21 @@ static void handle_requests(drive_t *d, uint16_t req)
 
 void drive_background(drive_t *d)
 {
+    uint16_t taken;
     uint16_t req = d->cmd_requests;
     d->cmd_requests = 0u;
     handle_requests(d, req);
 
-    drive_rls_drain(d);   /* the RLS on the ISR's queued samples, and their snapshots */
-
-    if (d->id.snap.ready != 0u) {
+    /* the RLS on the slow task's queued samples, and their snapshots */
+    taken = drive_rls_drain(d);
+    if ((taken & DRIVE_RLSQ_EXTRACT) != 0u) {
         extract(&d->id.pex, &d->id.snap, d->id.rls.form);
         extraction_done(d);
         after_extraction(d);
-        d->id.snap.ready = 0u;
     }
-    if (d->id.live_snap.ready != 0u) {
+    if ((taken & DRIVE_RLSQ_LIVE) != 0u) {
         extract(&d->id.live, &d->id.live_snap, d->id.rls.form);
         capture_mid(d, &d->id.live_snap);
-        d->id.live_snap.ready = 0u;
     }
     drive_vi_background(d);      /* the bridge's curve, once measured (drive_vi.c) */
     drive_adapt_background(d);   /* the adaptation's models and constants (drive_adapt_bg.c) */

@@ -18,8 +18,10 @@ rls_status_t drive_rls_start(drive_t *d);
 static inline void drive_set_run_ifo(drive_t *d, uint16_t on);
 
 /** Background: run the RLS and its guard on every queued sample, in order,
- *  with the events they carry (drive_rls_bg.c). */
-void drive_rls_drain(drive_t *d);
+ *  with the events they carry (drive_rls_bg.c).  Returns the snapshots it
+ *  took (DRIVE_RLSQ_EXTRACT into id.snap, the drain's last; DRIVE_RLSQ_LIVE
+ *  into id.live_snap, its first) for drive_background to extract. */
+uint16_t drive_rls_drain(drive_t *d);
 
 /** The slow task of @p slot (drive_slot_t), one per ISR (drive_slow.c). */
 void drive_slow_task(drive_t *d, uint16_t slot);

@@ -22,8 +22,7 @@
  */
 #include "drive_internal.h"
 
-/* The last good theta and the filtered i_M for the extraction: data
- * first, the ready flag last (the extraction runs in this same context). */
+/* The last good theta and the filtered i_M for the extraction. */
 static void take_snapshot(drive_snapshot_t *snap, const drive_t *d, _iq i_mf)
 {
     uint16_t i;
@@ -31,7 +30,6 @@ static void take_snapshot(drive_snapshot_t *snap, const drive_t *d, _iq i_mf)
         snap->theta[i] = d->id.guard.theta_good[i];
     }
     snap->i_m = i_mf;
-    snap->ready = 1u;
 }
 
 /* The extraction's i_M: the filtered M current, or with the period-mean
@@ -69,10 +67,11 @@ static void rls_update_queued(drive_t *d, const drive_rls_sample_t *e)
     theta_guard_step(&d->id.guard);
 }
 
-void drive_rls_drain(drive_t *d)
+uint16_t drive_rls_drain(drive_t *d)
 {
     drive_rls_queue_t *q = &d->id.rlsq;
     uint16_t tail = q->tail;
+    uint16_t taken = 0u;
 
     while (tail != q->head) {
         const drive_rls_sample_t *e = &q->e[tail];
@@ -89,9 +88,11 @@ void drive_rls_drain(drive_t *d)
             d->id.snap_acc = d->id.acc;
             d->id.snap_pd = d->id.rls.pd_count;
             take_snapshot(&d->id.snap, d, snapshot_im(d, e));
+            taken |= DRIVE_RLSQ_EXTRACT;   /* the last one of the drain */
         }
-        if ((e->flags & DRIVE_RLSQ_LIVE) != 0u && d->id.live_snap.ready == 0u) {
+        if ((e->flags & DRIVE_RLSQ_LIVE) != 0u && (taken & DRIVE_RLSQ_LIVE) == 0u) {
             take_snapshot(&d->id.live_snap, d, snapshot_im(d, e));
+            taken |= DRIVE_RLSQ_LIVE;      /* the first one of the drain */
         }
         if ((e->flags & DRIVE_RLSQ_UPDATE) != 0u) {
             rls_update_queued(d, e);
@@ -105,4 +106,5 @@ void drive_rls_drain(drive_t *d)
     d->telemetry.rls_sat_count = d->id.rls.sat_count;
     d->telemetry.theta_rejects = d->id.guard.reject_count;
     d->telemetry.rls_dropped = q->dropped;
+    return taken;
 }

@@ -9,7 +9,7 @@
 #error "ident_conf.c writes the 4 columns out"
 #endif
 
-/* ------------------------------------------------------------------ ISR */
+/* ------------------------------- accumulation (with each RLS update) */
 
 void ident_conf_acc_reset(ident_conf_acc_t *a)
 {
@@ -36,8 +36,8 @@ static _iq conf_clamp(_iq x, _iq lim, uint32_t *sat)
 
 void ident_conf_acc_step(ident_conf_acc_t *a, const rls_t *r)
 {
-    /* clamps by _IQsat (not counted: the ISR's share is kept small; the
-     * bounds are the RLS's own input ranges) */
+    /* clamps by _IQsat (not counted: the bounds are the RLS's own input
+     * ranges, which its update enforces too) */
     const _iq phi_max = _IQ(RLS_PHI_MAX);
     const _iq22 eps_max = _IQ22(0.7);     /* eps1^2 + eps2^2 < 1: one Q31 term */
     _iq c, c2, d1, y1, y2;

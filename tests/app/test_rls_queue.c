@@ -131,7 +131,6 @@ static void test_full_queue_counts_and_keeps_events(void **state)
     assert_int_equal(d->id.rlsq.dropped, pushes - (DRIVE_RLSQ_LEN - 1u));
     /* an event while full waits for the next free entry */
     d->id.rlsq.pending |= DRIVE_RLSQ_EXTRACT;
-    d->id.snap.ready = 0u;
     while (d->sched.slot != DRIVE_SLOT_FILTERS_C) {
         isr(l);
     }
