@@ -190,13 +190,13 @@ static void test_start_then_stop_in_one_slow_period(void **state)
         (void)drive_isr(&r->drive);
         drive_slow_isr(&r->drive);
         switched += r->port.outputs_enabled;
-        assert_int_equal(r->drive.seq.state, ID_IDLE);
+        assert_int_equal(r->pv.seq->state, ID_IDLE);
         drive_rig_period(r);
     }
     drive_background(&r->drive);
     assert_int_equal(switched, 0u);
-    assert_int_equal(r->drive.telemetry.publish_reason, DRIVE_PUB_STOPPED);
-    assert_int_equal(r->drive.telemetry.fault, FAULT_NONE);
+    assert_int_equal(r->pv.telemetry->publish_reason, DRIVE_PUB_STOPPED);
+    assert_int_equal(r->pv.telemetry->fault, FAULT_NONE);
 }
 
 /* A start while the rotor still coasts after a stop: refused with the reason

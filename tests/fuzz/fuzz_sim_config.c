@@ -18,7 +18,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "drive_types.h"
+#include "drive_probe.h"
 #include "fuzz_target.h"
 #include "sim_config.h"
 
@@ -72,6 +72,7 @@ static void check_accepted(const sim_config_t *cfg)
     drive_config_t dc;
     hal_adc_sample_t adc = {0x8000u, 0x8000u, 0x9990u};   /* zero current, 60 V of 100 V */
     hal_pwm_compare_t out;
+    drive_probe_t pv;
     int16_t st;
 
     for (i = 0; i < n; i++) {
@@ -86,12 +87,13 @@ static void check_accepted(const sim_config_t *cfg)
     }
     drive_command(&g_drive, DRIVE_CMD_START_IDENT);
     drive_background(&g_drive);
+    drive_probe(&g_drive, &pv);
     for (i = 0; i < 64u; i++) {
         unsigned j;
         drive_step(&g_drive, &adc, (uint16_t)i, &out);
         for (j = 0; j < 3u; j++) {
-            if (out.cmpr[j] > g_drive.k.t1pr) {
-                fuzz_fail("compare value above T1PR", i, (long)out.cmpr[j], (long)g_drive.k.t1pr);
+            if (out.cmpr[j] > pv.k->t1pr) {
+                fuzz_fail("compare value above T1PR", i, (long)out.cmpr[j], (long)pv.k->t1pr);
             }
         }
     }
