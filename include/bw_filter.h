@@ -78,6 +78,17 @@
 /** Largest number of corrector passes accepted. */
 #define BW_FILTER_N_MAX 50u
 
+/** The largest corner, pu of w_base: Wc Ts stays small enough for the
+ *  improved Euler's D (bw_filter_init). */
+#define BW_FILTER_WC_MAX_PU 4.0f
+/** 1 if the corner @p wc_rad_s is one bw_filter_init accepts on the base
+ *  @p w_base_rad_s (> 0): 0 < Wc < BW_FILTER_WC_MAX_PU w_base.  The one test
+ *  of it, also the configuration's (drive_limits.c).  Float: init only. */
+static inline int16_t bw_filter_wc_ok(float wc_rad_s, float w_base_rad_s)
+{
+    return (int16_t)((wc_rad_s > 0.0f) && (wc_rad_s / w_base_rad_s < BW_FILTER_WC_MAX_PU));
+}
+
 typedef enum {
     BW_FILTER_OK = 0,
     BW_FILTER_ERR_WC,      /* Wc not > 0, or Wc/w_base >= 4 (Q29 range) */

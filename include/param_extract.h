@@ -94,6 +94,13 @@ typedef struct {
 
 /** Convert the SI ranges with the bases.  On error the struct is zeroed
  *  (valid = 0). */
+/** The largest pu value of a range held in Q24 (Q24 holds < 128). */
+#define PARAM_EXTRACT_PU_MAX 127.0f
+/** 1 if the SI range @p si = {lo, hi} on @p base is 0 <= lo < hi < @p max
+ *  in pu: the test param_extract_init applies to each range, also the
+ *  configuration's (drive_limits.c).  Float: init only. */
+int16_t param_extract_range_ok(const float si[2], float base, float max);
+
 param_init_status_t param_extract_init(param_extract_t *p, const base_values_t *b,
                                        const param_limits_t *lim);
 

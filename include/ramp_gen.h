@@ -22,6 +22,17 @@
 /** Largest accepted |out_min|, |out_max|, pu: keeps target' - out in Q24. */
 #define RAMP_GEN_LIMIT_MAX 63.0f
 
+/** The least step, pu per sample: 2^-20 (16 LSB24), the slope's
+ *  quantisation below 1/32 (1 LSB of truncation over 16). */
+#define RAMP_GEN_STEP_MIN_PU 9.5367431640625e-7f
+/** 1 if @p step_pu (rate x Ts) is one ramp_gen_init accepts: in
+ *  [RAMP_GEN_STEP_MIN_PU, 1] pu per sample.  The one test of it, also the
+ *  configuration's (drive_limits.c).  Float: init only. */
+static inline int16_t ramp_gen_step_ok(float step_pu)
+{
+    return (int16_t)(step_pu >= RAMP_GEN_STEP_MIN_PU && step_pu <= 1.0f);
+}
+
 typedef enum {
     RAMP_GEN_OK = 0,
     RAMP_GEN_ERR_PERIOD,   /* Ts_s not in (0, 0.01] */

@@ -11,11 +11,14 @@
 #include <stddef.h>
 #include <string.h>
 
+#include "bw_filter.h"
 #include "drive.h"
 #include "drive_adapt.h"
 #include "drive_design.h"
 #include "drive_target.h"
 #include "drive_vi.h"
+#include "param_extract.h"
+#include "ramp_gen.h"
 
 #define LO_OPEN DRIVE_LIMIT_LO_OPEN
 #define HI_OPEN DRIVE_LIMIT_HI_OPEN
@@ -23,9 +26,6 @@
 
 /* Constants of other modules that are not in their headers; used here only
  * to say a limit in the user's units (the checks are the modules' own). */
-#define PE_Q24_MAX 127.0f          /* param_extract.c: largest pu value of a range */
-#define BW_WC_MAX_PU 4.0f          /* bw_filter.c: Wc below 4 w_base */
-#define RAMP_STEP_MIN 9.5367431640625e-7f   /* ramp_gen.c: 2^-20 pu per period */
 #define Q24_HEADROOM 127.0f        /* a pu value converted to Q24 (< 128) */
 #define NO_UPPER FLT_MAX           /* a limit with a lower bound only */
 
@@ -373,8 +373,8 @@ static int16_t check_loops(const drive_limit_t *l, const limit_ctx_t *x,
         return own_range(l, g->spd_ki, f);
     case DRIVE_LD_RAMP: {   /* ramp_gen_init */
         float step = g->ramp * g->Ts_slow;   /* the ramp steps in the slow task */
-        return verdict((int16_t)(g->ramp > 0.0f && step >= RAMP_STEP_MIN && step <= 1.0f), f,
-                       c->control.speed_ramp_rpm_s, RAMP_STEP_MIN * b->n_base_rpm / g->Ts_slow,
+        return verdict((int16_t)(g->ramp > 0.0f && ramp_gen_step_ok(step) != 0), f,
+                       c->control.speed_ramp_rpm_s, RAMP_GEN_STEP_MIN_PU * b->n_base_rpm / g->Ts_slow,
                        b->n_base_rpm / g->Ts_slow, 0u);
     }
     default:
@@ -543,11 +543,10 @@ static int16_t check_voltage_model(const drive_limit_t *l, const limit_ctx_t *x,
     }
 }
 
-/* param_extract_init's test of one range (its pe_range) */
+/* param_extract_init's test of one Q24 range */
 static int16_t pe_range_ok(const float si[2], float base)
 {
-    float lo = si[0] / base, hi = si[1] / base;
-    return (int16_t)(lo >= 0.0f && hi > lo && hi < PE_Q24_MAX);
+    return param_extract_range_ok(si, base, PARAM_EXTRACT_PU_MAX);
 }
 
 /* bw_filter_init, theta_guard_init, param_extract_init */
@@ -566,8 +565,8 @@ static int16_t check_estimator(const drive_limit_t *l, const limit_ctx_t *x,
     case DRIVE_LD_FILT:
         return own_range(l, wc / DRIVE_TWO_PI_F, f);
     case DRIVE_LD_FILT_WB:
-        return verdict((int16_t)(wc / b->w_base_rad_s < BW_WC_MAX_PU), f, wc / DRIVE_TWO_PI_F, 0.0f,
-                       BW_WC_MAX_PU * b->f_base_Hz, BOTH_OPEN);
+        return verdict(bw_filter_wc_ok(wc, b->w_base_rad_s), f, wc / DRIVE_TWO_PI_F, 0.0f,
+                       BW_FILTER_WC_MAX_PU * b->f_base_Hz, BOTH_OPEN);
     case DRIVE_LD_FILT_STEP:
         /* the filters run in the slow task (ident_regressor_init) */
         return verdict((int16_t)(wc * x->g.Ts_slow <= BW_FILTER_A_MAX), f, wc / DRIVE_TWO_PI_F,
@@ -601,7 +600,7 @@ static int16_t check_estimator(const drive_limit_t *l, const limit_ctx_t *x,
     case DRIVE_LD_PE_PSI:
         return verdict(pe_range_ok(lim.psi_Wb, b->psi_base_Wb), f,
                        c->motor.Lm_H * c->motor.magnetizing_current_A, 0.0f,
-                       PE_Q24_MAX / 4.0f * b->psi_base_Wb, BOTH_OPEN);
+                       PARAM_EXTRACT_PU_MAX / 4.0f * b->psi_base_Wb, BOTH_OPEN);
     default:
         return 0;
     }

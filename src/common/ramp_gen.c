@@ -22,9 +22,7 @@ ramp_gen_status_t ramp_gen_init(ramp_gen_t *r, float rate_pu_s, float Ts_s, floa
         return RAMP_GEN_ERR_PERIOD;
     }
     step = rate_pu_s * Ts_s;
-    /* >= 2^-20 pu (16 LSB): slope quantisation below 1/32 (1 LSB truncation
-     * over 16); <= 1 pu per sample */
-    if (!(rate_pu_s > 0.0f) || !(step >= 9.5367431640625e-7f && step <= 1.0f)) {
+    if (!(rate_pu_s > 0.0f) || ramp_gen_step_ok(step) == 0) {
         return RAMP_GEN_ERR_RATE;
     }
     if (!(out_min_pu >= -RAMP_GEN_LIMIT_MAX && out_max_pu <= RAMP_GEN_LIMIT_MAX &&

@@ -42,7 +42,7 @@ bw_filter_status_t bw_filter_init(bw_filter_t *f, float wc_rad_s, uint16_t n_pas
     memset(f, 0, sizeof *f);
     /* "!(x > 0)" also rejects NaN */
     if (!(w_base_rad_s > 0.0f)) { return BW_FILTER_ERR_BASE; }
-    if (!(wc_rad_s > 0.0f) || !(wc_rad_s / w_base_rad_s < 4.0f)) { return BW_FILTER_ERR_WC; }
+    if (bw_filter_wc_ok(wc_rad_s, w_base_rad_s) == 0) { return BW_FILTER_ERR_WC; }
     if (!(Ts_s > 0.0f) || Ts_s > 0.01f) { return BW_FILTER_ERR_TS; }
     if (n_pass < 1u || n_pass > BW_FILTER_N_MAX) { return BW_FILTER_ERR_N; }
     a = wc_rad_s * Ts_s;       /* = h * Wc_pu: pu time cancels */

@@ -5,7 +5,7 @@
 #include <math.h>
 #include <string.h>
 
-#define PE_Q24_MAX 127.0f   /* largest pu value accepted (Q24 holds < 128) */
+#define PE_Q24_MAX PARAM_EXTRACT_PU_MAX
 #define PE_Q20_MAX 2047.0f  /* largest Tr accepted, pu time (Q20 holds < 2048) */
 
 /* v (|v| below the Q's range) to Q q, rounded to nearest; the float as is */
@@ -24,16 +24,21 @@ static _iq pe_q24(float v)
     return pe_qn(v, 16777216.0f);
 }
 
+int16_t param_extract_range_ok(const float si[2], float base, float max)
+{
+    float lo = si[0] / base, hi = si[1] / base;
+    return (int16_t)(lo >= 0.0f && hi > lo && hi < max);
+}
+
 /* An SI range in pu, in Q (2^q = two_q, largest value max): 1 if it is not
  * 0 <= lo < hi < max. */
 static int16_t pe_range_q(_iq out[2], const float si[2], float base, float max, float two_q)
 {
-    float lo = si[0] / base, hi = si[1] / base;
-    if (!(lo >= 0.0f) || !(hi > lo) || !(hi < max)) {
+    if (param_extract_range_ok(si, base, max) == 0) {
         return 1;
     }
-    out[0] = pe_qn(lo, two_q);
-    out[1] = pe_qn(hi, two_q);
+    out[0] = pe_qn(si[0] / base, two_q);
+    out[1] = pe_qn(si[1] / base, two_q);
     return 0;
 }
 
