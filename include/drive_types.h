@@ -169,7 +169,7 @@ typedef struct {
 typedef struct {
     flux_obs_model_t fobs;    /* the observer's model (7 words); sigma Ls also decouples */
     ifo_tr_t ifo;             /* ifo's Tr constants (3) */
-    pi_gains_t cur;           /* the current PIs' gains, both axes (3) */
+    pi_gains_t pi;            /* the current PIs' gains, both axes (3) */
     _iq lm2_lr;               /* Lm^2 / Lr, pu of L_base: the back-EMF feed-forward */
     _iq inv_lm;               /* 1 / Lm (<= 16): ifo_align's flux -> i_mr */
     _iq theta0;               /* the tracker's start 1/Tr (DRIVE_SET_TRACK_START) */
@@ -220,10 +220,10 @@ typedef struct {
     uint16_t blend_ticks;     /* ticks of a whole blend */
     _iq tr_rate;              /* largest relative change of the applied Tr per tracker update */
     /* the model the ISR runs (the last set it applied) and its constants;
-     * in cur, posted, from and to each parameter in Q24 pu except
+     * in applied, posted, from and to each parameter in Q24 pu except
      * [DRIVE_P_TR], Q20 pu time (as ifo_tr_t.tr: large motors' Tr > 128) */
-    _iq cur[DRIVE_ADAPT_NP];
-    drive_model_set_t cur_set;
+    _iq applied[DRIVE_ADAPT_NP];
+    drive_model_set_t applied_set;
     _iq posted[DRIVE_ADAPT_NP];   /* the model of the set in the mailbox */
     uint16_t pending;         /* a set was posted and its answer (taken) not yet read */
     /* the blend towards a pass's model */

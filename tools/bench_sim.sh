@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
-# The simulator's speed: simulated seconds per wall-clock second of motor_sim
-# (IQ_MATH build, no trace, the paper motor), the best of several runs of
+# Simulator speed: simulated seconds per wall-clock second of motor_sim's
+# closed loop (the report's wall_s: configuration and start-up excluded), the
+# paper motor, no trace (one row at the start), best of N runs, for
 #   - the default identification run (standstill to the drive's verdict), and
-#   - 20 s of it (the steady part weighs more),
-# and, with --before COMMIT, the same for that commit built beside this tree
-# (a git worktree under build/bench_sim_before), so that both figures come
-# from the same machine and load.
+#   - 10 s of it,
+# in the IQ_MATH and FLOAT_MATH builds.  With --before COMMIT the same for
+# that commit, built beside this tree in build/bench_sim_before (a git
+# worktree), so that both figures come from the same machine and load.
+# A benchmark, not a test.
 #
 #   tools/bench_sim.sh [--before COMMIT] [--runs N]
 set -euo pipefail
@@ -16,64 +18,55 @@ while [ $# -gt 0 ]; do
   case "$1" in
     --before) before="${2:?--before needs a commit}"; shift 2 ;;
     --runs) runs="${2:?--runs needs a number}"; shift 2 ;;
-    -h|--help) sed -n '2,11p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
     *) echo "bench_sim: unknown option $1" >&2; exit 1 ;;
   esac
 done
+tools/install_deps.sh >/dev/null
+py=.venv/bin/python
 
-build() {   # $1 source tree, $2 build dir
-  cmake -S "$1" -B "$2" -DMATH_TYPE=IQ_MATH -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+build() {   # $1 source tree, $2 build dir, $3 MATH_TYPE
+  cmake -S "$1" -B "$2" -DMATH_TYPE="$3" -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
   cmake --build "$2" -j"$(nproc)" --target motor_sim >/dev/null
 }
 
-# best wall time of $runs runs of motor_sim $2.. built in $1; prints "sim_s wall_s"
-measure() {
-  local exe="$1/host_sim/sim/motor_sim"; shift
-  local cfg="$1"; shift
-  python3 - "$exe" "$cfg" "$runs" "$@" <<'PY'
-import subprocess, sys, time
-exe, cfg, runs, extra = sys.argv[1], sys.argv[2], int(sys.argv[3]), sys.argv[4:]
-best = None
-for _ in range(runs):
-    t0 = time.perf_counter()
-    # --quiet, no --out: no trace (sim_seconds asks the run's length)
-    subprocess.run([exe, "--config", cfg, "--quiet"] + extra, check=False,
-                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    w = time.perf_counter() - t0
-    best = w if best is None else min(best, w)
-print(best)
+# "<label> default run S s: Nx; 10 s: Mx" for motor_sim in build dir $2
+report() {
+  "$py" - "$1" "$2/host_sim/sim/motor_sim" "$runs" <<'PY'
+import json, subprocess, sys, tempfile
+label, exe, runs = sys.argv[1], sys.argv[2], int(sys.argv[3])
+cfg = "host_sim/config/paper_motor.ini"
+def best(extra):
+    top, dur = 0.0, 0.0
+    for _ in range(runs):
+        with tempfile.TemporaryDirectory() as d:
+            subprocess.run([exe, "--config", cfg, "--quiet", "--out", d,
+                            "--trace-every", "1000000000"] + extra,
+                           check=False, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            r = json.load(open(f"{d}/report.json"))
+        dur = r["duration_s"]
+        top = max(top, dur / max(r["wall_s"], 1e-9))
+    return dur, top
+d0, x0 = best([])
+_, x10 = best(["--duration", "10"])
+print(f"{label:<24} default run ({d0:.2f} s simulated) {x0:4.0f}x real time;"
+      f" 10 s {x10:4.0f}x")
 PY
 }
 
-sim_seconds() {   # simulated seconds of the default run (one run with a report)
-  local exe="$1/host_sim/sim/motor_sim" d
-  d=$(mktemp -d)
-  "$exe" --config "$2" --quiet --out "$d" >/dev/null 2>&1 || true
-  python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['duration_s'])" "$d/report.json"
-  rm -rf "$d"
-}
-
-report() {   # $1 label, $2 build dir
-  local cfg=host_sim/config/paper_motor.ini s w20 w
-  s=$(sim_seconds "$2" "$cfg")
-  w=$(measure "$2" "$cfg")
-  w20=$(measure "$2" "$cfg" --duration 20)
-  python3 -c "
-import sys
-s, w, w20 = float(sys.argv[2]), float(sys.argv[3]), float(sys.argv[4])
-print(f'{sys.argv[1]:<10} default run {s:.2f} s in {w*1e3:.0f} ms: {s/w:.0f}x real time;'
-      f' 20 s in {w20*1e3:.0f} ms: {20/w20:.0f}x')" "$1" "$s" "$w" "$w20"
-}
-
-build . build/bench_sim
-echo "motor_sim, IQ_MATH, no trace, paper motor, best of $runs (wall clock incl. start-up):"
-report "this tree" build/bench_sim
+echo "motor_sim, paper motor, no trace, best of $runs:"
+for mt in IQ_MATH FLOAT_MATH; do
+  build . "build/bench_sim/$mt" "$mt"
+  report "this tree, $mt" "build/bench_sim/$mt"
+done
 if [ -n "$before" ]; then
   wt=build/bench_sim_before
   rm -rf "$wt"
   git worktree prune
   git worktree add -q --detach "$wt/src" "$before"
-  build "$wt/src" "$wt/build"
-  report "$(git rev-parse --short "$before")" "$wt/build"
+  for mt in IQ_MATH FLOAT_MATH; do
+    build "$wt/src" "$wt/$mt" "$mt"
+    report "$(git rev-parse --short "$before"), $mt" "$wt/$mt"
+  done
   git worktree remove --force "$wt/src"
 fi

@@ -552,16 +552,16 @@ static void inject_events(sim_ctx_t *c, double t)
 /* Period start: ADC and QEP, the control ISR, its slow ISR and, every
  * BACKGROUND_DIV periods, the background.  1 when the background hook ends
  * the run. */
-static int run_firmware(sim_ctx_t *c, uint64_t k, double t)
+static int run_firmware(sim_ctx_t *c, uint64_t period, double t)
 {
     plant_sample(&c->plant, &c->port);
     c->port.trip_input = plant_trip_line(&c->plant);
     drive_isr(c->drive);
     drive_slow_isr(c->drive);   /* the target's INT14, right after (hal_slow_isr_request) */
-    if ((k % BACKGROUND_DIV) == 0u) {
+    if ((period % BACKGROUND_DIV) == 0u) {
         drive_background(c->drive);
         if (c->opt->background_hook != NULL &&
-            c->opt->background_hook(c->opt->hook_ctx, c->drive, k + 1u, t) != 0) {
+            c->opt->background_hook(c->opt->hook_ctx, c->drive, period + 1u, t) != 0) {
             c->res->duration_s = t;   /* ended by the hook (the serial link closed) */
             return 1;
         }
@@ -676,7 +676,7 @@ static void trace_row(sim_ctx_t *c, double t, uint16_t state, double pd, double 
  * true currents against the trip, the states' times, the flux's alignment,
  * the speed error, the faults; the live series and the trace.  The true
  * rotor flux in the drive's frame into @p psi_d, @p psi_q. */
-static void observe_sample(sim_ctx_t *c, uint64_t k, double t, double *psi_d, double *psi_q)
+static void observe_sample(sim_ctx_t *c, uint64_t period, double t, double *psi_d, double *psi_q)
 {
     const drive_probe_t *d = &c->pv;
     sim_result_t *res = c->res;
@@ -740,12 +740,12 @@ static void observe_sample(sim_ctx_t *c, uint64_t k, double t, double *psi_d, do
     c->last_fault = d->telemetry->fault;
     c->prev_state = state;
 
-    if ((k % (uint64_t)(c->cfg->board.pwm_freq_Hz / 100.0)) == 0u && c->n_rows < c->cap_rows) {
+    if ((period % (uint64_t)(c->cfg->board.pwm_freq_Hz / 100.0)) == 0u && c->n_rows < c->cap_rows) {
         c->rows[c->n_rows].t = t;
         to_si(c->b, &d->id->live, &c->rows[c->n_rows].p);
         c->n_rows++;
     }
-    if (c->trace != NULL && (k % c->trace_div) == 0u) {
+    if (c->trace != NULL && (period % c->trace_div) == 0u) {
         trace_row(c, t, state, pd, pq);
     }
 }
@@ -915,7 +915,7 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     static drive_t drive;   /* large; one run at a time */
     static sim_ctx_t ctx;   /* (the plant and the port are large too) */
     sim_ctx_t *c = &ctx;
-    uint64_t k, n_periods;
+    uint64_t period, n_periods;
     clock_t c0 = clock();
     int rc;
 
@@ -942,19 +942,19 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
     }
     drive_background(&drive);
 
-    for (k = 0; k < n_periods; k++) {
-        const double t = (double)k * c->Ts;
+    for (period = 0; period < n_periods; period++) {
+        const double t = (double)period * c->Ts;
         double psi_d, psi_q;   /* true rotor flux in the drive's frame, this sample */
 
         inject_events(c, t);
-        if (run_firmware(c, k, t) != 0 || observe_verdict(c, t) != 0) {
+        if (run_firmware(c, period, t) != 0 || observe_verdict(c, t) != 0) {
             break;
         }
         observe_protection(&c->pv, res, t);
         observe_soak(&c->pv, res, t);
         observe_voltage(&c->pv, &c->plant, c->b->V_base_V, res);
         observe_publication(c, t);
-        observe_sample(c, k, t, &psi_d, &psi_q);
+        observe_sample(c, period, t, &psi_d, &psi_q);
         if (scenario_events(c, t, psi_d, psi_q) != 0) {
             break;
         }
@@ -963,8 +963,8 @@ int sim_run(const sim_config_t *cfg, const sim_options_t *opt, sim_result_t *res
             res->duration_s = t;   /* ended after the fault (sim_options_t.stop_after_fault_s) */
             break;
         }
-        if (!opt->quiet && c->duration > 5.0 && (k % (uint64_t)cfg->board.pwm_freq_Hz) == 0u &&
-            k > 0) {
+        if (!opt->quiet && c->duration > 5.0 && (period % (uint64_t)cfg->board.pwm_freq_Hz) == 0u &&
+            period > 0) {
             fprintf(stderr, "\r  simulated %.0f of %.0f s", t, c->duration);
         }
         if (plant_step(c, t) != 0) {

@@ -106,7 +106,7 @@ static void init_background(drive_t *d, const drive_config_t *c, float Ts)
     const drive_motor_t *m = &c->motor;
     const base_values_t *b = &d->base;
     drive_adapt_bg_t *g = &d->adapt.bg;
-    drive_model_set_t *s = &g->cur_set;
+    drive_model_set_t *s = &g->applied_set;
     float wc = DRIVE_TWO_PI_F * c->control.current_bw_Hz;
     float rs_pu = m->Rs_ohm / b->Z_base_ohm;
     float lm_pu = m->Lm_H / b->L_base_H;
@@ -121,19 +121,19 @@ static void init_background(drive_t *d, const drive_config_t *c, float Ts)
     g->blend_step = _IQ(Ts_slow / DRIVE_ADAPT_BLEND_S);
     g->blend_ticks = (uint16_t)ceilf(DRIVE_ADAPT_BLEND_S / Ts_slow);
     g->tr_rate = _IQ(DRIVE_ADAPT_TR_RATE * (float)DRIVE_ADAPT_TRACK_DECIM * Ts_slow);
-    g->cur[DRIVE_P_RS] = d->frame.fobs.rs;
-    g->cur[DRIVE_P_LM] = d->frame.fobs.lm;
-    g->cur[DRIVE_P_LR] = _IQ(m->Lr_H / b->L_base_H);
-    g->cur[DRIVE_P_LS] = _IQ(m->Ls_H / b->L_base_H);
-    g->cur[DRIVE_P_TR] = d->frame.fobs.tr;
-    g->lr = g->cur[DRIVE_P_LR];
+    g->applied[DRIVE_P_RS] = d->frame.fobs.rs;
+    g->applied[DRIVE_P_LM] = d->frame.fobs.lm;
+    g->applied[DRIVE_P_LR] = _IQ(m->Lr_H / b->L_base_H);
+    g->applied[DRIVE_P_LS] = _IQ(m->Ls_H / b->L_base_H);
+    g->applied[DRIVE_P_TR] = d->frame.fobs.tr;
+    g->lr = g->applied[DRIVE_P_LR];
     flux_obs_get_model(&d->frame.fobs, &s->fobs);
     s->ifo.tr = d->frame.ifo.tr;
     s->ifo.inv_tr = d->frame.ifo.inv_tr;
     s->ifo.kf = d->frame.ifo.kf;
-    s->cur.kp = d->loop.pi_id.kp;
-    s->cur.ki = d->loop.pi_id.ki;
-    s->cur.e_max = d->loop.pi_id.e_max;
+    s->pi.kp = d->loop.pi_id.kp;
+    s->pi.ki = d->loop.pi_id.ki;
+    s->pi.e_max = d->loop.pi_id.e_max;
     s->lm2_lr = d->k.lm2_lr;
     s->inv_lm = _IQ(fminf(1.0f / lm_pu, 16.0f));
 }
@@ -259,8 +259,8 @@ static void take_set(drive_t *d)
     }
     flux_obs_apply_model(&d->frame.fobs, &s->fobs);
     ifo_apply_tr(&d->frame.ifo, &s->ifo);
-    pi_apply_gains(&d->loop.pi_id, &s->cur);
-    pi_apply_gains(&d->loop.pi_iq, &s->cur);
+    pi_apply_gains(&d->loop.pi_id, &s->pi);
+    pi_apply_gains(&d->loop.pi_iq, &s->pi);
     d->k.sigma_ls = s->fobs.sigma_ls;
     d->k.lm2_lr = s->lm2_lr;
     a->blending = (uint16_t)((f & DRIVE_SET_BLENDING) != 0u);

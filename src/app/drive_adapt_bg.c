@@ -34,7 +34,7 @@
  * is written through a volatile lvalue and ready is volatile, so the
  * compiler keeps every store of the set before the one of ready.  So the
  * ISR never sees half a set, and the background always knows which model
- * the ISR runs (cur, cur_set).
+ * the ISR runs (applied, applied_set).
  */
 #include "drive_adapt.h"
 #include "drive_internal.h"
@@ -62,7 +62,7 @@ static void design(const drive_adapt_bg_t *g, const _iq v[DRIVE_ADAPT_NP], drive
     const float lm = _IQtoF(v[DRIVE_P_LM]);
     const float lr = _IQtoF(v[DRIVE_P_LR]);
 
-    *s = g->cur_set;
+    *s = g->applied_set;
     (void)flux_obs_design_rs(&s->fobs, _IQtoF(v[DRIVE_P_RS]));
     if (flux_obs_design_l(&s->fobs, lm, lr, _IQtoF(v[DRIVE_P_LS])) == FLUX_OBS_OK) {
         s->lm2_lr = _IQ(lm * lm / lr);            /* < Lm < 16 */
@@ -72,7 +72,7 @@ static void design(const drive_adapt_bg_t *g, const _iq v[DRIVE_ADAPT_NP], drive
     /* ifo runs on the observer's Tr */
     (void)ifo_design_tr(&s->ifo, g->ts_pu, _IQ20toF(s->fobs.tr), g->imr_min_pu);
     /* kp = w_c sigma Ls <= 100, ki = w_c Ts Rs <= 1: else refused */
-    (void)pi_design_gains(&s->cur, g->kp_per_sls * _IQtoF(s->fobs.sigma_ls),
+    (void)pi_design_gains(&s->pi, g->kp_per_sls * _IQtoF(s->fobs.sigma_ls),
                           g->ki_per_rs * _IQtoF(s->fobs.rs));
     s->theta0 = _IQ(0.0);
     s->flags = 0u;
@@ -98,11 +98,11 @@ static void post(drive_t *d, const drive_model_set_t *s, const _iq v[DRIVE_ADAPT
 static void post_ready(drive_t *d, uint16_t st, uint16_t pass)
 {
     drive_adapt_bg_t *g = &d->adapt.bg;
-    drive_model_set_t s = g->cur_set;
+    drive_model_set_t s = g->applied_set;
     s.flags = DRIVE_SET_READY;
     s.state = st;
     s.pass = pass;
-    post(d, &s, g->cur);
+    post(d, &s, g->applied);
 }
 
 /* The ISR's answer to the last post: applied (the model in use is now the
@@ -122,9 +122,9 @@ static uint16_t answer(drive_t *d)
     }
     if (box->taken == DRIVE_BOX_APPLIED) {
         for (i = 0u; i < DRIVE_ADAPT_NP; i++) {
-            g->cur[i] = g->posted[i];
+            g->applied[i] = g->posted[i];
         }
-        g->cur_set = box->set;
+        g->applied_set = box->set;
     } else {
         g->blending = 0u;
     }
@@ -163,7 +163,7 @@ static void standstill_set(drive_t *d)
         return;
     }
     for (i = 0u; i < DRIVE_ADAPT_NP; i++) {
-        v[i] = g->cur[i];
+        v[i] = g->applied[i];
     }
     v[DRIVE_P_RS] = rs;
     d->telemetry.Rs_dc = rs;
@@ -179,7 +179,7 @@ static void standstill_set(drive_t *d)
         standstill_z_finish(&z);
         if (z.valid != 0u) {
             /* keep the believed Lm, Lr: Ls = sigma Ls + Lm^2/Lr (< 8 + 16) */
-            _iq ls = z.sigma_ls + _IQmpy(g->cur_set.fobs.lm, g->cur_set.fobs.lm_lr);
+            _iq ls = z.sigma_ls + _IQmpy(g->applied_set.fobs.lm, g->applied_set.fobs.lm_lr);
             v[DRIVE_P_LS] = within_factor_2(ls, v[DRIVE_P_LS], _IQ(120.0));
             d->telemetry.sigma_ls_dc = z.sigma_ls;
         }
@@ -228,13 +228,13 @@ static void take_mail(drive_t *d)
          * +0.13 % a pass).  With both held, the passes refine only Lm, Lr
          * and Tr, which reach the angle only below the crossover. */
         if (d->telemetry.Rs_dc != _IQ(0.0) || g->m_full == 0u) {
-            g->to[DRIVE_P_RS] = g->cur[DRIVE_P_RS];
+            g->to[DRIVE_P_RS] = g->applied[DRIVE_P_RS];
         }
         /* with tracking the tracker is the authority on Tr (the RLS's Tr
          * comes from K3, ill-conditioned when w_r Tr is large: 15 kW motor,
          * Tr +10 %); it starts from the RLS's value when there is one */
         if (a->track_rr != 0u || g->m_full == 0u) {
-            g->to[DRIVE_P_TR] = g->cur[DRIVE_P_TR];
+            g->to[DRIVE_P_TR] = g->applied[DRIVE_P_TR];
         }
         if (d->telemetry.sigma_ls_dc != _IQ(0.0)) {
             /* Ls = sigma Ls + Lm^2/Lr of the new Lm, Lr (Lr > Lm > 0: the
@@ -245,9 +245,9 @@ static void take_mail(drive_t *d)
         }
         for (i = 0u; i < DRIVE_ADAPT_NP; i++) {
             /* Q24 parameters below 120 pu, Tr (Q20) below IFO_TR_MAX_PU */
-            g->to[i] = within_factor_2(g->to[i], g->cur[i],
+            g->to[i] = within_factor_2(g->to[i], g->applied[i],
                                        (i == DRIVE_P_TR) ? _IQ20(IFO_TR_MAX_PU) : _IQ(120.0));
-            g->from[i] = g->cur[i];
+            g->from[i] = g->applied[i];
         }
         g->lr = g->to[DRIVE_P_LR];
         g->blending = 1u;
@@ -343,7 +343,7 @@ static void track(drive_t *d)
         return;   /* the next pass takes these updates too */
     }
     for (i = 0u; i < DRIVE_ADAPT_NP; i++) {
-        v[i] = g->cur[i];
+        v[i] = g->applied[i];
     }
     /* each update moves the Tr in use by at most tr_rate of itself (the
      * updates since the last set, counted from a restart's 0) */

@@ -315,13 +315,13 @@ void drive_safety_slow(drive_t *d)
         m->r_allow_emf = _IQsat(
             _IQmpy(_IQmpy(k_emf, (ws_abs < ws_enc) ? ws_abs : ws_enc), psi), _IQ(2.0), 0);
     }
-    current_model_check_residual(m);   /* the sequence tests' halves: drive_safety_seq */
+    current_model_check_residual(m);   /* the sequence tests' halves: drive_safety_symmetrical */
     drive_safety_latch_cmc(d);
     s->test_done = (uint16_t)(s->stest.state == SENSOR_TEST_PASSED);
     publish_guard_tick(&s->pguard, (uint16_t)d->prot.trip.fault);
 }
 
-void drive_safety_seq(drive_t *d, uint16_t phase)
+void drive_safety_symmetrical(drive_t *d, uint16_t phase)
 {
     current_model_check_half(&d->prot.model.cmc, phase);
     drive_safety_latch_cmc(d);

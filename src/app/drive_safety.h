@@ -54,7 +54,7 @@ void drive_safety_slow(drive_t *d);
  *  half: current_model_check_half), a trip latched there.  Half a slow
  *  period later than in SAFETY's own ISR: 0.5 ms against their detection
  *  times of 12-64 ms (drive_safety.c). */
-void drive_safety_seq(drive_t *d, uint16_t phase);
+void drive_safety_symmetrical(drive_t *d, uint16_t phase);
 
 /** Latch the model check's trip (FAULT_CURRENT_SENSOR). */
 static inline void drive_safety_latch_cmc(drive_t *d)

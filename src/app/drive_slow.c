@@ -214,7 +214,7 @@ static void voltage_limits(drive_t *d)
 
 static void task_speed(drive_t *d)
 {
-    drive_safety_seq(d, 0u);   /* the model check's positive sequence (drive_safety.h) */
+    drive_safety_symmetrical(d, 0u);   /* the model check's positive sequence (drive_safety.h) */
     /* the encoder's speeds right before the speed loop uses them (every
      * sample of delay in its feedback costs phase at a reversal) */
     qep_speed_update(&d->sense.qep);
@@ -385,7 +385,7 @@ void drive_slow_task(drive_t *d, uint16_t slot)
         break;
     case DRIVE_SLOT_FILTERS_B:
         ident_regressor_filter_b(&d->id.reg);
-        drive_safety_seq(d, 1u);   /* the model check's other sequence tests */
+        drive_safety_symmetrical(d, 1u);   /* the model check's other sequence tests */
         break;
     case DRIVE_SLOT_FILTERS_C:
         task_filters_c(d);

@@ -145,9 +145,9 @@ static void set_words(const drive_model_set_t *s, _iq w[16])
     w[0] = s->fobs.rs;   w[1] = s->fobs.lm;     w[2] = s->fobs.sigma_ls;
     w[3] = s->fobs.lr_lm; w[4] = s->fobs.lm_lr; w[5] = s->fobs.tr;
     w[6] = s->fobs.kf;   w[7] = s->ifo.tr;      w[8] = s->ifo.inv_tr;
-    w[9] = s->ifo.kf;    w[10] = s->cur.kp;     w[11] = s->cur.ki;
-    w[12] = s->cur.e_max; w[13] = s->fobs.sigma_ls; w[14] = s->lm2_lr;
-    w[15] = s->cur.kp;
+    w[9] = s->ifo.kf;    w[10] = s->pi.kp;     w[11] = s->pi.ki;
+    w[12] = s->pi.e_max; w[13] = s->fobs.sigma_ls; w[14] = s->lm2_lr;
+    w[15] = s->pi.kp;
 }
 
 /* The set's constants are those the inits compute from the same SI model.
@@ -223,7 +223,7 @@ static void test_set_equals_init(void **state)
     assert_true(fabs(to_d(d->k.lm2_lr) - (double)lm * (double)lm / (double)lr) <=
                 LSB + 2e-7 * (double)lm);
     /* the background's record of the model in use */
-    assert_true(d->adapt.bg.cur[DRIVE_P_RS] == _IQ(rs) && d->adapt.bg.cur[DRIVE_P_TR] == _IQ20(tr));
+    assert_true(d->adapt.bg.applied[DRIVE_P_RS] == _IQ(rs) && d->adapt.bg.applied[DRIVE_P_TR] == _IQ20(tr));
     assert_int_equal(d->adapt.bg.blending, 0u);
     assert_int_equal(d->adapt.isr.blending, 0u);
 }
@@ -260,14 +260,14 @@ static void test_mailbox_whole_sets(void **state)
 
     /* (b) */
     mail(d, _IQmpy(d->frame.fobs.rs, _IQ(0.8)), _IQmpy(d->frame.fobs.lm, _IQ(1.3)),
-         _IQmpy(d->adapt.bg.cur[DRIVE_P_LR], _IQ(1.2)), _IQmpy(d->frame.fobs.tr, _IQ(0.8)));
+         _IQmpy(d->adapt.bg.applied[DRIVE_P_LR], _IQ(1.2)), _IQmpy(d->frame.fobs.tr, _IQ(0.8)));
     background(d);
     assert_int_equal(d->adapt.box.ready, 1u);
     posted = d->adapt.box.set;
     for (k = 0u; k < 50u; k++) {
         d->adapt.isr.ticks = (uint16_t)(d->adapt.isr.ticks + 7u);   /* the blend runs on */
         if (k == 10u) {
-            mail(d, d->frame.fobs.rs, d->frame.fobs.lm, d->adapt.bg.cur[DRIVE_P_LR], d->frame.fobs.tr);
+            mail(d, d->frame.fobs.rs, d->frame.fobs.lm, d->adapt.bg.applied[DRIVE_P_LR], d->frame.fobs.tr);
         }
         d->adapt.track.n_updates += 3u;
         background(d);
@@ -283,7 +283,7 @@ static void test_mailbox_whole_sets(void **state)
     for (i = 0u; i < 16u; i++) {
         assert_true(w[i] == want[i]);
     }
-    assert_true(d->loop.pi_iq.ki == posted.cur.ki && d->loop.pi_iq.e_max == posted.cur.e_max);
+    assert_true(d->loop.pi_iq.ki == posted.pi.ki && d->loop.pi_iq.e_max == posted.pi.e_max);
     assert_int_equal(d->adapt.isr.blending, 1u);   /* a blend step: more follow */
 }
 
@@ -358,7 +358,7 @@ static void test_preemption(void **state)
     d->adapt.isr.track_rr = 0u;
     a[0] = d->frame.fobs.rs;
     a[1] = d->frame.fobs.lm;
-    a[2] = d->adapt.bg.cur[DRIVE_P_LR];
+    a[2] = d->adapt.bg.applied[DRIVE_P_LR];
     a[3] = d->frame.fobs.tr;
     bm[0] = _IQmpy(a[0], _IQ(1.25));
     bm[1] = _IQmpy(a[1], _IQ(1.25));
@@ -486,9 +486,9 @@ static void test_standstill(void **state)
     ref.psi_cm_alpha = d->frame.fobs.psi_cm_alpha;   /* the observer's own (not re-seated) */
     ref.psi_cm_beta = d->frame.fobs.psi_cm_beta;
     assert_memory_equal(&d->frame.fobs, &ref, sizeof ref);
-    assert_true(d->k.sigma_ls == s.fobs.sigma_ls && d->loop.pi_id.kp == s.cur.kp);
+    assert_true(d->k.sigma_ls == s.fobs.sigma_ls && d->loop.pi_id.kp == s.pi.kp);
     background(d);   /* reads the answer */
-    assert_true(d->adapt.bg.cur[DRIVE_P_RS] == d->telemetry.Rs_dc);
+    assert_true(d->adapt.bg.applied[DRIVE_P_RS] == d->telemetry.Rs_dc);
 
     /* implausible: |u| >= 4 |i| */
     fresh(d, ID_MAGNETIZE, 1u);
@@ -521,7 +521,7 @@ static void test_stale_dropped(void **state)
 
     fresh(d, ID_REFINE, 1u);
     d->adapt.isr.track_rr = 0u;
-    mail(d, _IQmpy(d->frame.fobs.rs, _IQ(0.8)), d->frame.fobs.lm, d->adapt.bg.cur[DRIVE_P_LR],
+    mail(d, _IQmpy(d->frame.fobs.rs, _IQ(0.8)), d->frame.fobs.lm, d->adapt.bg.applied[DRIVE_P_LR],
          _IQmpy(d->frame.fobs.tr, _IQ(1.2)));
     background(d);
     assert_int_equal(d->adapt.box.ready, 1u);
@@ -541,7 +541,7 @@ static void test_stale_dropped(void **state)
     assert_int_equal(d->adapt.bg.blending, 0u);
     assert_int_equal(d->adapt.bg.pending, 0u);
     assert_int_equal(d->adapt.box.ready, 0u);
-    assert_memory_equal(d->adapt.bg.cur, before.adapt.bg.cur, sizeof d->adapt.bg.cur);
+    assert_memory_equal(d->adapt.bg.applied, before.adapt.bg.applied, sizeof d->adapt.bg.applied);
 }
 
 /* Tracking.  The last pass's extraction in RUN: a blend whose first set
@@ -571,14 +571,14 @@ static void test_tracking(void **state)
 
     fresh(d, ID_RUN, 2u);
     assert_int_equal(d->adapt.isr.track_rr, 1u);
-    mail(d, d->frame.fobs.rs, d->frame.fobs.lm, g->cur[DRIVE_P_LR], _IQmpy(d->frame.fobs.tr, _IQ(0.9)));
+    mail(d, d->frame.fobs.rs, d->frame.fobs.lm, g->applied[DRIVE_P_LR], _IQmpy(d->frame.fobs.tr, _IQ(0.9)));
     background(d);
     assert_int_equal(d->adapt.box.set.flags, DRIVE_SET_BLENDING | DRIVE_SET_TRACK_START);
     isr(d);
     assert_int_equal(d->adapt.isr.track_armed, 1u);
     assert_int_equal(d->adapt.isr.blending, 1u);
-    assert_true(fabs(to_d(d->adapt.track.theta) - 1.0 / (0.9 * to_d20(g->cur[DRIVE_P_TR]))) <=
-                1e-3 / to_d20(g->cur[DRIVE_P_TR]));
+    assert_true(fabs(to_d(d->adapt.track.theta) - 1.0 / (0.9 * to_d20(g->applied[DRIVE_P_TR]))) <=
+                1e-3 / to_d20(g->applied[DRIVE_P_TR]));
     for (k = 0u; k < 400u && g->blending != 0u; k++) {
         background(d);
         isr(d);
@@ -590,7 +590,7 @@ static void test_tracking(void **state)
     assert_int_equal(d->adapt.track.n_updates, 0u);
 
     /* one update towards Tr x 1.3 */
-    tr0 = g->cur[DRIVE_P_TR];
+    tr0 = g->applied[DRIVE_P_TR];
     target = _IQmpy(tr0, _IQ(1.3));
     theta = _IQ20div(_IQ(1.0), target);   /* Q24 / Q20 -> Q24 */
     d->adapt.track.theta = theta;
@@ -631,7 +631,7 @@ static void test_tracking(void **state)
 
     /* within one step: exactly the target */
     background(d);
-    theta = _IQ20div(_IQ(1.0), g->cur[DRIVE_P_TR] + _IQmpy(g->cur[DRIVE_P_TR], _IQ(1e-5)));
+    theta = _IQ20div(_IQ(1.0), g->applied[DRIVE_P_TR] + _IQmpy(g->applied[DRIVE_P_TR], _IQ(1e-5)));
     d->adapt.track.theta = theta;
     {
         const drive_motor_t *m = &g_dc.motor;
@@ -710,16 +710,16 @@ static void test_large_tr(void **state)
     print_message("large Tr: %.3f pu (Q20 %.6f)\n", tr0, to_d20(d->frame.fobs.tr));
     assert_true(tr0 > 128.0 && 3.0 * 1.8 * tr0 < 2047.0);
     assert_true(fabs(to_d20(d->frame.fobs.tr) - tr0) <= LSB20 + 1e-7 * tr0);
-    assert_true(d->frame.ifo.tr == d->frame.fobs.tr && g->cur[DRIVE_P_TR] == d->frame.fobs.tr);
+    assert_true(d->frame.ifo.tr == d->frame.fobs.tr && g->applied[DRIVE_P_TR] == d->frame.fobs.tr);
 
     /* a pass's Tr x 1.8, taken (not the tracker's) */
     d->adapt.isr.track_rr = 0u;
-    mail(d, d->frame.fobs.rs, d->frame.fobs.lm, g->cur[DRIVE_P_LR], _IQ20(1.8 * tr0));
+    mail(d, d->frame.fobs.rs, d->frame.fobs.lm, g->applied[DRIVE_P_LR], _IQ20(1.8 * tr0));
     (void)run_until_ready(d, 1000u);
     background(d);
     want = to_d20(_IQ20(1.8 * tr0));
     print_message("large Tr x 1.8: %.4f pu, want %.4f\n", to_d20(d->frame.fobs.tr), want);
-    assert_true(g->cur[DRIVE_P_TR] == _IQ20(1.8 * tr0));
+    assert_true(g->applied[DRIVE_P_TR] == _IQ20(1.8 * tr0));
     assert_true(fabs(to_d20(d->frame.fobs.tr) - want) <= LSB20 + 1e-7 * want);
     (void)ifo_design_tr(&it, g->ts_pu, _IQ20toF(d->frame.fobs.tr), g->imr_min_pu);
     (void)flux_obs_design_tr(&om, g->obs_ts_pu, _IQ20toF(d->frame.fobs.tr));
@@ -727,25 +727,25 @@ static void test_large_tr(void **state)
     assert_true(d->frame.fobs.tr == om.tr && d->frame.fobs.kf == om.kf);
 
     /* x 3 of the Tr in use: limited to x 2 */
-    tr_in_use = g->cur[DRIVE_P_TR];
+    tr_in_use = g->applied[DRIVE_P_TR];
     fresh(d, ID_REFINE, 1u);
     d->adapt.isr.track_rr = 0u;
-    g->cur[DRIVE_P_TR] = tr_in_use;   /* the record the limit is taken from */
-    mail(d, d->frame.fobs.rs, d->frame.fobs.lm, g->cur[DRIVE_P_LR], _IQ20(3.0 * to_d20(tr_in_use)));
+    g->applied[DRIVE_P_TR] = tr_in_use;   /* the record the limit is taken from */
+    mail(d, d->frame.fobs.rs, d->frame.fobs.lm, g->applied[DRIVE_P_LR], _IQ20(3.0 * to_d20(tr_in_use)));
     background(d);
     assert_true(g->to[DRIVE_P_TR] == tr_in_use + tr_in_use);
 
     /* tracking: theta = 1/400 pu */
     fresh(d, ID_RUN, 2u);
     assert_int_equal(d->adapt.isr.track_rr, 1u);
-    mail(d, d->frame.fobs.rs, d->frame.fobs.lm, g->cur[DRIVE_P_LR], d->frame.fobs.tr);
+    mail(d, d->frame.fobs.rs, d->frame.fobs.lm, g->applied[DRIVE_P_LR], d->frame.fobs.tr);
     for (k = 0u; k < 400u && (g->blending != 0u || g->pending != 0u || k == 0u); k++) {
         background(d);
         isr(d);
     }
     background(d);
     assert_int_equal(g->blending, 0u);
-    tr_in_use = g->cur[DRIVE_P_TR];
+    tr_in_use = g->applied[DRIVE_P_TR];
     d->adapt.track.theta = _IQ(1.0 / 400.0);
     d->adapt.track.n_updates = 1u;
     background(d);
