@@ -76,7 +76,9 @@ typedef enum {
     SENSOR_TEST_IDLE = 0,   /* waiting for run */
     SENSOR_TEST_RUNNING,
     SENSOR_TEST_PASSED,
-    SENSOR_TEST_FAILED
+    SENSOR_TEST_FAILED,
+    SENSOR_TEST_JUDGING     /* the pulses are over, a vector's verdict is still due
+                               (sensor_test_judge); then PASSED or FAILED */
 } sensor_test_state_t;
 
 typedef struct {
@@ -96,12 +98,22 @@ typedef struct {
     sensor_test_state_t state;
     _iq u_alpha, u_beta;    /* Q24 pu: the voltage to apply over the next period */
     uint16_t off;           /* 1: the bridge off over the next period */
-    uint16_t fail_bits;     /* SENSOR_TEST_x bits (kept until the next run starts) */
+    uint16_t fail_bits;     /* SENSOR_TEST_x bits (kept until the next run starts): the
+                               limit's from sensor_test_step, the vectors' from
+                               sensor_test_judge, merged at the verdict */
     _iq par[3], perp[3];    /* Q24 pu: each vector's response (diagnostic) */
     /* state */
     uint16_t vec;           /* 0..2 */
     uint16_t j;             /* ISR within the vector's schedule */
     _iq i0a, i0b, i1a, i1b; /* samples at the start and at the end of the + half */
+    /* the vectors' verdicts, judged at the slow rate (sensor_test_judge):
+     * each vector's response S per sensor, taken by sensor_test_step, and
+     * its flag; the step sets a flag (1) only after writing the S, the
+     * judge clears it (0) only after writing judge_bits: one writer each
+     * way per word, no read-modify-write across the two contexts */
+    _iq sa[3], sb[3];       /* Q24 pu: S = (i1 - i0) - (i2 - i1) per sensor, |.| <= 16 */
+    volatile uint16_t judge_due[3];
+    uint16_t judge_bits;    /* SENSOR_TEST_DIR_x, _SIZE_x bits of the judged vectors */
 } sensor_test_t;
 
 /**
@@ -119,7 +131,22 @@ sensor_test_status_t sensor_test_init(sensor_test_t *t, float Ts_s, float sigma_
                                       float d_target_A, float tol_abs, float tol_dir);
 
 /** Every ISR: advance the test with this ISR's currents; sets u_alpha,
- *  u_beta for the next period. */
+ *  u_beta for the next period.  A vector's response is judged later, by
+ *  sensor_test_judge; after the last vector the state is JUDGING until every
+ *  verdict is in, then PASSED or FAILED (set here, the next ISR). */
 void sensor_test_step(sensor_test_t *t);
+
+/** 1 while a vector's verdict is due (the drive calls sensor_test_judge
+ *  only then). */
+static inline uint16_t sensor_test_judge_due(const sensor_test_t *t)
+{
+    return (uint16_t)(t->judge_due[0] | t->judge_due[1] | t->judge_due[2]);
+}
+
+/** The slow rate (it may be preempted by sensor_test_step): judge every
+ *  vector whose response is due: its par and perp (diagnostic) and its
+ *  SENSOR_TEST_DIR_x / SIZE_x bits.  The samples of a vector are its own, so
+ *  a verdict may come any time before the test's end. */
+void sensor_test_judge(sensor_test_t *t);
 
 #endif /* SENSOR_TEST_H */

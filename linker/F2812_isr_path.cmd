@@ -95,11 +95,11 @@
 *(.text:_drive_safety_test_period)
 *(.text:_drive_test_voltage)
 *(.text:_drive_vi_modulate)
-*(.text:_judge)
 *(.text:_pc_load_offset)
 *(.text:_phase_current_cal_start)
 *(.text:_phase_current_cal_step)
 *(.text:_phase_unit)
 *(.text:_sat4)
+*(.text:_sensor_test_judge_due)
 *(.text:_sensor_test_step)
 #endif

@@ -89,7 +89,7 @@
  * The flash image runs them from flash (.text, not named here; their wait
  * states costed by tools/bench_isr.py); the RAM image defines
  * ISR_FLASH_SET_IN_RAM and keeps them on chip with the rest of this set.
- * 35 functions.
+ * 38 functions.
  */
 #ifdef ISR_FLASH_SET_IN_RAM
 *(.text:_angle_acc_from_pu)
@@ -98,6 +98,7 @@
 *(.text:_clamp)
 *(.text:_clear_state)
 *(.text:_drive_ifo_frame)
+*(.text:_drive_safety_test_verdict)
 *(.text:_drive_set_run_ifo)
 *(.text:_drive_vi_slow)
 *(.text:_enter)
@@ -111,11 +112,13 @@
 *(.text:_id_sequence_step)
 *(.text:_ifo_align)
 *(.text:_ifo_apply_tr)
+*(.text:_judge)
 *(.text:_model_ready)
 *(.text:_period_mean_window)
 *(.text:_pi_apply_gains)
 *(.text:_rls_update)
 *(.text:_rotor_turned)
+*(.text:_sensor_test_judge)
 *(.text:_stall_check_decide)
 *(.text:_standstill)
 *(.text:_standstill_z_samples)

@@ -45,7 +45,12 @@ board; BENCHMARKS.md section b states every assumption):
     every branch) and every peripheral register access at its wait states.
  3. Per class, the WORST ISR is costed with every line at the largest count
     any sampled ISR of the class ran it: a sum of maxima, never below the
-    largest single sample.
+    largest single sample.  A class is a state and a slot; CALIBRATE's
+    phases are classes apart (the offsets' calibration, the sensor test, the
+    bridge's curve test: the sequence's outputs choose one for a whole
+    control ISR, so their code never runs in one ISR together), each with its
+    own samples of every block it runs; CALIBRATE's worst is its worst
+    phase's.
     Per state: mean = the mean over the uniform samples of its classes (each
     slot is 1/S of the ISRs), worst = the worst of its classes.  Reported
     beside it, not the estimate: the same with each coverage sample's lines
@@ -800,7 +805,10 @@ def estimate(build, config, uniform, jobs):
         raise BenchError("IQmath calls per line fewer than the counted ones "
                          f"(ISR, which, operation, by line, counted): {mismatch[:5]}")
     states = {}
-    for (state, slot), members in sorted(classes.items()):
+    for (raw_state, slot), members in sorted(classes.items()):
+        # a state's phases (isr_cost: "CALIBRATE.sensor_test") are classes
+        # of the state: never in one ISR together, each a sum of maxima alone
+        state, _, phase = raw_state.partition(".")
         one = {}
         for key, fw in (("fast", fixed),
                         ("slow", fixed_slow + (log_cost if slot == data["log_slot"] else 0))):
@@ -808,7 +816,7 @@ def estimate(build, config, uniform, jobs):
             mods = dict(mods)
             mods[FIRMWARE] = fw
             # lines no sample of the class ran (none, unless the passes differ)
-            extra = missed_cost.get((state, slot, key), 0.0)
+            extra = missed_cost.get((raw_state, slot, key), 0.0)
             if extra:
                 mods["unsampled lines (priced once each)"] = extra
             # for comparison, not the estimate: the sum of maxima over the
@@ -823,7 +831,8 @@ def estimate(build, config, uniform, jobs):
                         "apart": fw + apart + extra}
         uni = [m["s"] for m in members if m["s"]["uniform"]] or [m["s"] for m in members]
         st = states.setdefault(state, {"classes": {}})
-        st["classes"][slot] = {
+        st["classes"][(phase, slot)] = {
+            "slot": slot, "phase": phase,
             "worst": max(one["fast"]["worst"], one["slow"]["worst"]),
             "fast": one["fast"], "slow": one["slow"],
             # the period: both ISRs' worsts (a sum of maxima, errs high)
@@ -839,7 +848,13 @@ def estimate(build, config, uniform, jobs):
     for state, st in states.items():
         cl = st["classes"]
         wslot = max(cl, key=lambda k: cl[k]["worst"])
-        out[state] = {"mean": sum(c["mean"] for c in cl.values()) / data["slots"],
+        # the mean: each phase's (its slots alike) weighted by its ISRs
+        weights = {ph: data["state_isrs"].get(f"{state}.{ph}" if ph else state, 0)
+                   for ph in {c["phase"] for c in cl.values()}}
+        total = sum(weights.values()) or 1
+        mean = sum(weights[ph] * sum(c["mean"] for c in cl.values() if c["phase"] == ph)
+                   / data["slots"] for ph in weights) / total
+        out[state] = {"mean": mean,
                       "worst": cl[wslot]["worst"], "worst_slot": wslot,
                       "worst_fast": max(c["fast"]["worst"] for c in cl.values()),
                       "worst_slow": max(c["slow"]["worst"] for c in cl.values()),
@@ -848,13 +863,21 @@ def estimate(build, config, uniform, jobs):
                       "apart_slow": max(c["slow"]["apart"] for c in cl.values()),
                       "sample_fast": max(c["sample_fast"] for c in cl.values()),
                       "sample_slow": max(c["sample_slow"] for c in cl.values()),
-                      "isrs": data["state_isrs"].get(state, 0), "classes": cl}
+                      "isrs": sum(n for s, n in data["state_isrs"].items()
+                                  if s.partition(".")[0] == state),
+                      "classes": cl}
     return {"states": out, "fixed": fixed, "firmware_functions": fw_fns,
             "unsampled_lines": missed, "coverage_samples": data["coverage_samples"],
             "blocks": data["blocks"], "samples": len(samples),
             "fixed_slow": fixed_slow, "slow_firmware_functions": slow_fns,
             "log_slot_cycles": log_cost, "log_slot_functions": log_fns,
             "slots": data["slots"], "log_slot": data["log_slot"], "isrs": data["isrs"]}
+
+
+def class_name(key):
+    """A class key (phase, slot) as text: "slot 3", "sensor_test slot 3"."""
+    phase, slot = key
+    return f"{phase} slot {slot}" if phase else f"slot {slot}"
 
 
 def summary(res):
@@ -904,8 +927,8 @@ def print_markdown(configs, results, sums):
     print("| worst slow ISR per slot | " + " | ".join(str(k) for k in range(slots)) + " |")
     print("|---|" + "---:|" * slots)
     for n in names:
-        worst = [max(v["classes"][k]["slow"]["worst"] for v in results[n]["states"].values()
-                     if k in v["classes"]) for k in range(slots)]
+        worst = [max(c["slow"]["worst"] for v in results[n]["states"].values()
+                     for c in v["classes"].values() if c["slot"] == k) for k in range(slots)]
         print(f"| {n} | " + " | ".join(f"{w:.0f}" for w in worst) + " |")
 
 
@@ -982,7 +1005,7 @@ def main(argv=None):
             mods = ", ".join(f"{k} {c:.0f}" for k, c in
                              sorted(cl["modules"].items(), key=lambda kv: -kv[1]) if c >= 1)
             print(f"  {state:<11} {v['isrs']:>7} {v['mean']:>7.0f} {v['worst_fast']:>7.0f} "
-                  f"{v['worst_slow']:>7.0f} {v['worst_period']:>7.0f}  slot {ws}: {mods}")
+                  f"{v['worst_slow']:>7.0f} {v['worst_period']:>7.0f}  {class_name(ws)}: {mods}")
         s = sums[name]
         print("  for comparison: one-off events apart (not stacked in one ISR): control "
               + ", ".join(f"{k} {v['apart_fast']:.0f}" for k, v in r["states"].items()
@@ -1005,8 +1028,10 @@ def main(argv=None):
                 for state in STATES:
                     if state in r["states"]:
                         cl = r["states"][state]["classes"]
-                        print(f"    {state:<11} " + " ".join(f"{cl[k][key]['worst']:6.0f}"
-                                                             for k in sorted(cl)))
+                        for ph in sorted({c["phase"] for c in cl.values()}):
+                            name = f"{state}.{ph}" if ph else state
+                            print(f"    {name:<22} " + " ".join(
+                                f"{cl[k][key]['worst']:6.0f}" for k in sorted(cl) if k[0] == ph))
         print(f"  worst single ISR {s['worst_isr_cycles']} cycles = "
               f"{100 * s['worst_isr_cycles'] / BUDGET:.1f} % of {BUDGET}; goal {GOAL}: "
               f"{'met' if s['worst_isr_cycles'] <= GOAL else 'NOT met'} (control ISR "
@@ -1016,7 +1041,11 @@ def main(argv=None):
         if a.hot:
             worst_state = a.hot_state or max(r["states"], key=lambda k: r["states"][k]["worst"])
             v = r["states"][worst_state]
-            slot = v["worst_slot"] if a.hot_slot is None else a.hot_slot
+            if a.hot_slot is None:
+                slot = v["worst_slot"]
+            else:
+                slot = max((k for k in v["classes"] if k[1] == a.hot_slot),
+                           key=lambda k: v["classes"][k]["worst"])
             c2 = v["classes"][slot]
             if a.hot_isr == "worst":
                 cl = c2["fast"] if c2["fast"]["worst"] >= c2["slow"]["worst"] else c2["slow"]
@@ -1025,7 +1054,7 @@ def main(argv=None):
             which = "control" if cl is c2["fast"] else "slow"
             mods = ", ".join(f"{k} {c:.0f}" for k, c in
                              sorted(cl["modules"].items(), key=lambda kv: -kv[1]) if c >= 1)
-            print(f"  costliest lines of the worst ISR ({worst_state}, slot {slot}, {which} "
+            print(f"  costliest lines of the worst ISR ({worst_state}, {class_name(slot)}, {which} "
                   f"ISR, {cl['worst']:.0f} cycles: {mods}):")
             for c, where, code in sorted(cl["hot"], reverse=True)[:a.hot]:
                 print(f"    {c:6.0f}  {where:34s} {code[:60]}")

@@ -153,6 +153,8 @@ FLASH_ROOTS = {
                                 "the sensor test's pulses, the bridge test's voltage",
     "sensor_test_step": "from drive_safety_test_period, and once from drive_safety_state "
                         "to disarm the test as the sequence leaves CALIBRATE",
+    "drive_safety_test_verdict": "slot SAFETY, CALIBRATE only (and once after it): the sensor "
+                                 "test's verdicts (sensor_test_judge)",
     "phase_current_cal_start": "control ISR, CALIBRATE only (calibrate(): seq.calibrating): "
                                "the current offsets, the bridge off",
     "phase_current_cal_step": "control ISR, CALIBRATE only (as phase_current_cal_start)",

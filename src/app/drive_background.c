@@ -108,7 +108,10 @@ static uint16_t judge_rls(drive_t *d, const param_extract_t *end)
         d->verdict.sensor_gain = fminf(drive_safety_sensor_gain(d), 1.0f);
         if (widen_by_sensor(c->conf, c->mask, d->verdict.sensor_gain, c->conf_max) != 0u &&
             c->verdict == (uint16_t)IDENT_CONF_OK) {
-            c->verdict = (uint16_t)IDENT_CONF_LOW_CONFIDENCE;
+            /* refused now: named as ident_conf names a refusal (a small
+             * signal is low excitation, ident_conf.h) */
+            c->verdict = (c->excitation < c->exc_ref) ? (uint16_t)IDENT_CONF_LOW_EXCITATION
+                                                      : (uint16_t)IDENT_CONF_LOW_CONFIDENCE;
         }
         if (d->adapt.isr.fused != 0u) {
             /* Rs, Rr, Tr are judge_fused's: not available until it runs

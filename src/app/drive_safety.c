@@ -270,6 +270,15 @@ static _iq model_inputs(drive_t *d, current_model_check_t *m)
     return e;
 }
 
+void drive_safety_test_verdict(drive_t *d)
+{
+    drive_safety_t *s = &d->prot.model;
+    if (sensor_test_judge_due(&s->stest) != 0u) {
+        sensor_test_judge(&s->stest);   /* a vector's verdict */
+    }
+    s->test_done = (uint16_t)(s->stest.state == SENSOR_TEST_PASSED);
+}
+
 void drive_safety_slow(drive_t *d)
 {
     drive_safety_t *s = &d->prot.model;
@@ -317,7 +326,9 @@ void drive_safety_slow(drive_t *d)
     }
     current_model_check_residual(m);   /* the sequence tests' halves: drive_safety_symmetrical */
     drive_safety_latch_cmc(d);
-    s->test_done = (uint16_t)(s->stest.state == SENSOR_TEST_PASSED);
+    if (d->seq.state == ID_CALIBRATE || s->test_done != 0u) {
+        drive_safety_test_verdict(d);   /* (and once after CALIBRATE: test_done falls) */
+    }
     publish_guard_tick(&s->pguard, (uint16_t)d->prot.trip.fault);
 }
 

@@ -45,9 +45,15 @@ static inline uint16_t drive_safety_modulate(drive_t *d, hal_pwm_compare_t *out,
 }
 
 /** ISR, slot SAFETY: the model check's step over the slow window, the
- *  encoder's count step, the sensor test's verdict to the sequence, the
- *  publish guard's tick; latches their faults. */
+ *  encoder's count step, the sensor test's verdict to the sequence
+ *  (drive_safety_test_verdict, in CALIBRATE), the publish guard's tick;
+ *  latches their faults. */
 void drive_safety_slow(drive_t *d);
+
+/** Slot SAFETY, in CALIBRATE (and once after it): the sensor test's vectors
+ *  judged (sensor_test_judge: out of the control ISR), its verdict to the
+ *  sequence (test_done). */
+void drive_safety_test_verdict(drive_t *d);
 
 /** ISR, two slots after SAFETY's (drive_slow.c), one per half: the model
  *  check's sequence tests on SAFETY's last residual (each window runs one

@@ -9,7 +9,7 @@
 
 /* The unit vector of phase a, b or c in alpha-beta (amplitude-invariant
  * Clarke), Q24 constants (no float at run time). */
-static void phase_unit(uint16_t v, _iq *c, _iq *s)
+static inline void phase_unit(uint16_t v, _iq *c, _iq *s)
 {
     if (v == 0u) {
         *c = _IQ(1.0);
@@ -63,19 +63,17 @@ sensor_test_status_t sensor_test_init(sensor_test_t *t, float Ts_s, float sigma_
     return SENSOR_TEST_OK;
 }
 
-static _iq sat4(_iq x)
+static inline _iq sat4(_iq x)
 {
     return _IQsat(x, _IQ(4.0), _IQ(-4.0));
 }
 
-/* The vector's response: par and perp of S (pu); both < 32. */
-static void judge(sensor_test_t *t, _iq ia2, _iq ib2)
+/* Vector v's response: par and perp of S (pu); both < 32. */
+static void judge(sensor_test_t *t, uint16_t v)
 {
-    const uint16_t v = t->vec;
-    /* S = (i1 - i0) - (i2 - i1) per sensor, |.| <= 16 */
-    const _iq sa = (t->i1a - t->i0a) - (ia2 - t->i1a);
-    const _iq sb = (t->i1b - t->i0b) - (ib2 - t->i1b);
-    /* Clarke: alpha = a, beta = (a + 2 b) / sqrt(3) */
+    const _iq sa = t->sa[v];
+    const _iq sb = t->sb[v];
+    /* Clarke: alpha = a, beta = (a + 2 b) / sqrt(3); |sa + 2 sb| <= 48 */
     const _iq s_al = sa;
     const _iq s_be = _IQmpy(sa + sb + sb, _IQ(ONE_OVER_SQRT3));
     _iq c, s, par, perp, dev;
@@ -86,10 +84,21 @@ static void judge(sensor_test_t *t, _iq ia2, _iq ib2)
     t->par[v] = par;
     t->perp[v] = perp;
     if (!(par > 0) || _IQabs(perp) > _IQmpy(t->tol_dir, par)) {
-        t->fail_bits |= (uint16_t)(SENSOR_TEST_DIR_A << v);
+        t->judge_bits |= (uint16_t)(SENSOR_TEST_DIR_A << v);
     }
     if (_IQabs(dev) > _IQmpy(t->tol_abs, t->s_exp)) {
-        t->fail_bits |= (uint16_t)(SENSOR_TEST_SIZE_A << v);
+        t->judge_bits |= (uint16_t)(SENSOR_TEST_SIZE_A << v);
+    }
+}
+
+void sensor_test_judge(sensor_test_t *t)
+{
+    uint16_t v;
+    for (v = 0u; v < 3u; v++) {
+        if (t->judge_due[v] != 0u) {
+            judge(t, v);
+            t->judge_due[v] = 0u;   /* last: the bits are written */
+        }
     }
 }
 
@@ -113,6 +122,13 @@ void sensor_test_step(sensor_test_t *t)
         t->vec = 0u;
         t->j = 0u;
         t->fail_bits = 0u;
+        t->judge_bits = 0u;
+        t->judge_due[0] = t->judge_due[1] = t->judge_due[2] = 0u;
+    }
+    if (t->state == SENSOR_TEST_JUDGING && sensor_test_judge_due(t) == 0u) {
+        /* every vector judged (judge_bits written before the last flag fell) */
+        t->fail_bits |= t->judge_bits;
+        t->state = (t->fail_bits != 0u) ? SENSOR_TEST_FAILED : SENSOR_TEST_PASSED;
     }
     if (t->state != SENSOR_TEST_RUNNING) {
         return;   /* idle, passed or failed: the zero vector (the drive may switch off) */
@@ -132,7 +148,11 @@ void sensor_test_step(sensor_test_t *t)
         t->i1a = ia;
         t->i1b = ib;
     } else if (j == 2u * n + 1u) {
-        judge(t, ia, ib);
+        /* the vector's response, judged at the slow rate: S first, then
+         * its flag */
+        t->sa[t->vec] = (t->i1a - t->i0a) - (ia - t->i1a);
+        t->sb[t->vec] = (t->i1b - t->i0b) - (ib - t->i1b);
+        t->judge_due[t->vec] = 1u;
     } else {
         /* between samples */
     }
@@ -156,7 +176,7 @@ void sensor_test_step(sensor_test_t *t)
         t->j = 0u;
         t->vec++;
         if (t->vec >= 3u) {
-            t->state = (t->fail_bits != 0u) ? SENSOR_TEST_FAILED : SENSOR_TEST_PASSED;
+            t->state = SENSOR_TEST_JUDGING;   /* the verdict when every vector is judged */
         }
     }
 }

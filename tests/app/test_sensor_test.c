@@ -58,7 +58,9 @@ static sensor_test_state_t run(const sensors_t *s, sensor_test_t *t)
                      SENSOR_TEST_OK);
     t->armed = 1u;
     t->run = 1u;
-    for (k = 0; k < 2000u && (k < 2u || t->state == SENSOR_TEST_RUNNING); k++) {
+    for (k = 0; k < 2000u && (k < 2u || t->state == SENSOR_TEST_RUNNING ||
+                              t->state == SENSOR_TEST_JUDGING);
+         k++) {
         /* the ISR: this sample's readings (pu) */
         t->ia = _IQ((float)((s->ga * ia + s->oa + s->short_A + s->noise * gauss()) / IBASE));
         t->ib = _IQ((float)((s->gb * ib + s->ob - s->short_A + s->noise * gauss()) / IBASE));
@@ -86,6 +88,10 @@ static sensor_test_state_t run(const sensors_t *s, sensor_test_t *t)
         }
         u_next_a = (double)_IQtoF(t->u_alpha) * VBASE;
         u_next_b = (double)_IQtoF(t->u_beta) * VBASE;
+        /* the drive's slow task (its SAFETY slot, one period in 8) */
+        if ((k % 8u) == 7u && sensor_test_judge_due(t) != 0u) {
+            sensor_test_judge(t);
+        }
     }
     return t->state;
 }
