@@ -49,8 +49,8 @@
  * computed then (drive_step.c), so an ISR runs one SVPWM as in MAGNETIZE;
  * idle: one compare.  The evaluation (8 multiplies) once per vector.
  *
- * Scaling and overflow: currents Q24 pu saturated to +-4 before any
- * difference (|S| <= 16, Clarke components <= 16 x 1.2), constants below 2;
+ * Scaling and overflow: a sample is taken only after the limit check
+ * (|i| <= i_abort < 4 pu, compared without _IQabs) so |S| <= 16 ( Clarke components <= 16 x 1.2), constants below 2;
  * the products par, perp < 32; the thresholds < 32.  No division.
  */
 #ifndef SENSOR_TEST_H

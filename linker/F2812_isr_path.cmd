@@ -89,7 +89,7 @@
  * The flash image runs them from flash (.text, not named here; their wait
  * states costed by tools/bench_isr.py); the RAM image defines
  * ISR_FLASH_SET_IN_RAM and keeps them on chip with the rest of this set.
- * 10 functions.
+ * 9 functions.
  */
 #ifdef ISR_FLASH_SET_IN_RAM
 *(.text:_drive_safety_test_period)
@@ -99,7 +99,6 @@
 *(.text:_phase_current_cal_start)
 *(.text:_phase_current_cal_step)
 *(.text:_phase_unit)
-*(.text:_sat4)
 *(.text:_sensor_test_judge_due)
 *(.text:_sensor_test_step)
 #endif

@@ -76,9 +76,9 @@ static inline void sequence_inputs(drive_t *d)
     /* the acceleration ends where the voltage's headroom does (drive_target.h;
      * the low-pass in check_current) */
     s->volt_limit = (uint16_t)(s->state == ID_ACCELERATE && d->target.at_limit != 0u);
-    if (d->seq.vi_test != 0u) {
-        drive_vi_slow(d);   /* the bridge's voltage-error test in CALIBRATE (drive_vi.c);
-                               the test off (the default), not even the call */
+    if ((d->seq.vi_test != 0u) & (d->vi.done == 0u)) {
+        drive_vi_slow(d);   /* the bridge's voltage-error test in CALIBRATE (drive_vi.c,
+                               from flash); the test off or done: not even the call */
     }
     s->vi_done = drive_vi_done(d);
 }

@@ -63,11 +63,6 @@ sensor_test_status_t sensor_test_init(sensor_test_t *t, float Ts_s, float sigma_
     return SENSOR_TEST_OK;
 }
 
-static inline _iq sat4(_iq x)
-{
-    return _IQsat(x, _IQ(4.0), _IQ(-4.0));
-}
-
 /* Vector v's response: par and perp of S (pu); both < 32. */
 static void judge(sensor_test_t *t, uint16_t v)
 {
@@ -104,7 +99,10 @@ void sensor_test_judge(sensor_test_t *t)
 
 void sensor_test_step(sensor_test_t *t)
 {
-    const _iq ia = sat4(t->ia), ib = sat4(t->ib);
+    /* no clamp needed: a current is used only after the limit check below
+     * (|.| <= i_abort < 4 pu), which compares without _IQabs (no overflow
+     * at the Q24 range's end) */
+    const _iq ia = t->ia, ib = t->ib;
     const uint16_t n = t->n;
     uint16_t j;
 
@@ -133,7 +131,7 @@ void sensor_test_step(sensor_test_t *t)
     if (t->state != SENSOR_TEST_RUNNING) {
         return;   /* idle, passed or failed: the zero vector (the drive may switch off) */
     }
-    if (_IQabs(ia) > t->i_abort || _IQabs(ib) > t->i_abort) {
+    if (ia > t->i_abort || ia < -t->i_abort || ib > t->i_abort || ib < -t->i_abort) {
         t->fail_bits |= SENSOR_TEST_LIMIT;
         t->state = SENSOR_TEST_FAILED;
         return;

@@ -193,7 +193,7 @@ void standstill_z_step(standstill_z_t *z)
     if (z->k >= z->lead) {
         _iq u = sat_in(z->u_m);
         /* mean of i(k-1), i(k): the instant of u (header); |.| <= 4 */
-        _iq i_mid = _IQmpy(im + z->i_prev, _IQ(0.5));
+        _iq i_mid = _IQdiv2(im + z->i_prev);   /* an arithmetic shift: _IQmpy by 0.5 bit for bit */
         /* rounded products (iq_rmpy.h: _IQrmpy bit for bit, |.| <= 4 * 0.5) */
         z->us += iq_rmpy(u, sn);
         z->uc += iq_rmpy(u, cn);
