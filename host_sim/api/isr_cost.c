@@ -64,11 +64,43 @@ void __gcov_dump(void);
 void __gcov_reset(void);
 
 #define N_OPS IQMATH_FN_COUNT
-#define N_STATES 8          /* id_state_t: IDLE .. REFINE */
+/* The classes' states: id_state_t (IDLE .. REFINE), and CALIBRATE's phases
+ * apart.  The sequence's outputs choose a phase for a whole control ISR (it
+ * steps in the slow task): the offsets' calibration (seq.calibrating), the
+ * sensor test (sensor_testing), the bridge's curve test (vi_testing); their
+ * code never runs in one ISR together, so each phase is a class of its own
+ * (bench_isr.py reports them as CALIBRATE, its worst the worst phase's). */
+#define N_ID_STATES 8       /* id_state_t: IDLE .. REFINE */
+#define ST_CAL_OFFSETS 8
+#define ST_CAL_SENSOR_TEST 9
+#define ST_CAL_BRIDGE_TEST 10
+#define N_STATES 11
 #define MAX_SAMPLES_CLASS 64u
 
 static const char *const k_state_names[N_STATES] = {
-    "IDLE", "CALIBRATE", "MAGNETIZE", "ACCELERATE", "SETTLE", "RUN", "FAULT", "REFINE"};
+    "IDLE", "CALIBRATE", "MAGNETIZE", "ACCELERATE", "SETTLE", "RUN", "FAULT", "REFINE",
+    "CALIBRATE.offsets", "CALIBRATE.sensor_test", "CALIBRATE.bridge_test"};
+
+/* The class state of the next ISR, from the sequence as it stands. */
+static uint8_t class_state(const drive_probe_t *p)
+{
+    const uint16_t st = (uint16_t)p->seq->state;
+    if (st >= N_ID_STATES) {
+        return 0u;
+    }
+    if (st == (uint16_t)ID_CALIBRATE) {
+        if (p->seq->calibrating != 0u) {
+            return ST_CAL_OFFSETS;
+        }
+        if (p->seq->sensor_testing != 0u) {
+            return ST_CAL_SENSOR_TEST;
+        }
+        if (p->seq->vi_testing != 0u) {
+            return ST_CAL_BRIDGE_TEST;
+        }
+    }
+    return (uint8_t)st;
+}
 
 /* ---- the closed loop --------------------------------------------------- */
 
@@ -298,9 +330,8 @@ int main(int argc, char **argv)
         goto fail;
     }
     for (k = 0u; k < n_isr; k++) {
-        uint16_t st = (uint16_t)run.pv.seq->state;
         uint16_t slot = run.pv.sched->slot;
-        state_at[k] = (uint8_t)((st < N_STATES) ? st : 0u);
+        state_at[k] = class_state(&run.pv);
         g_class_n[state_at[k]][slot]++;
         run_before_isr(&run);
         g_cov_new = 0;
