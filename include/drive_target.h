@@ -110,13 +110,12 @@ int16_t drive_target_init(drive_target_t *t, const drive_config_t *c, const base
                           float Ts_slow_s);
 
 /** Slow ISR, once a slow period: the commanded voltage's magnitude @p u
- *  into the low-pass; 1 when that is at the limit @p lim (Q24 pu, both
- *  below 64: |difference| < 64, the product < 64, no overflow). */
-static inline uint16_t drive_target_step(drive_target_t *t, _iq u, _iq lim)
+ *  into the low-pass; at_limit 1 when that is at the limit @p lim (Q24 pu,
+ *  both below 64: |difference| < 64, the product < 64, no overflow). */
+static inline void drive_target_step(drive_target_t *t, _iq u, _iq lim)
 {
     t->u_f += _IQmpy(t->k_lpf, u - t->u_f);
     t->at_limit = (uint16_t)(t->u_f >= lim);
-    return t->at_limit;
 }
 
 #endif /* DRIVE_TARGET_H */

@@ -166,7 +166,7 @@ static void check_current(drive_t *d)
     const _iq lim = _IQmpy(sv->vdc, _IQ(DRIVE_VLIM_OF_VDC));
     d->prot.feedback.limited |= (uint16_t)(u >= lim);
     /* low-passed, the acceleration's end (drive_target.h) */
-    (void)drive_target_step(&d->target, u, lim);   /* target.at_limit */
+    drive_target_step(&d->target, u, lim);   /* -> target.at_limit */
     d->prot.feedback.i_m_ref = d->loop.pi_id.ref;
     d->prot.feedback.i_m = d->loop.park.ds;
     d->prot.feedback.i_t_ref = d->loop.pi_iq.ref;
