@@ -34,6 +34,12 @@ void bg_loop_apply(drive_t *d, datalog_t *dlog, tlm_cmd_t cmd)
     case TLM_CMD_RESET_FAULT:
         drive_command(d, DRIVE_CMD_RESET_FAULT);
         break;
+    case TLM_CMD_SELECT_STANDSTILL:
+        drive_command(d, DRIVE_CMD_SELECT_STANDSTILL);
+        break;
+    case TLM_CMD_SELECT_ROTATING:
+        drive_command(d, DRIVE_CMD_SELECT_ROTATING);
+        break;
     case TLM_CMD_DLOG_ARM:
         if (dlog != NULL) {
             datalog_arm(dlog);

@@ -182,6 +182,8 @@ static tlm_cmd_t parse_command(telemetry_t *t)
     case (uint16_t)'X': return TLM_CMD_STOP;
     case (uint16_t)'R': return TLM_CMD_RESET_FAULT;
     case (uint16_t)'D': return TLM_CMD_DLOG_ARM;
+    case (uint16_t)'Z': return TLM_CMD_SELECT_STANDSTILL;
+    case (uint16_t)'M': return TLM_CMD_SELECT_ROTATING;
     default: return TLM_CMD_NONE;
     }
 }

@@ -72,7 +72,9 @@ typedef enum {
     TLM_CMD_START,
     TLM_CMD_STOP,
     TLM_CMD_RESET_FAULT,
-    TLM_CMD_DLOG_ARM
+    TLM_CMD_DLOG_ARM,
+    TLM_CMD_SELECT_STANDSTILL,   /* "$C,Z": the next starts at standstill */
+    TLM_CMD_SELECT_ROTATING      /* "$C,M": the next starts the configured rotating sequence */
 } tlm_cmd_t;
 
 typedef struct {

@@ -26,7 +26,13 @@ typedef enum {
     DRIVE_CMD_NONE = 0,
     DRIVE_CMD_START_IDENT,   /* calibrate, magnetise, accelerate, identify */
     DRIVE_CMD_STOP,          /* ramp to zero speed, PWM off */
-    DRIVE_CMD_RESET_FAULT    /* clear a latched fault once its cause is gone */
+    DRIVE_CMD_RESET_FAULT,   /* clear a latched fault once its cause is gone */
+    DRIVE_CMD_SELECT_STANDSTILL,  /* the next starts run the standstill sequence (IDLE only;
+                                     a drive configured without the standstill test,
+                                     ident.standstill = 0, refuses the next start instead:
+                                     DRIVE_PUB_NO_STANDSTILL) */
+    DRIVE_CMD_SELECT_ROTATING     /* the next starts run the configured rotating sequence
+                                     (IDLE only) */
 } drive_cmd_t;
 
 /** Why the last identification's set is, or is not, published
@@ -52,6 +58,9 @@ typedef enum {
     DRIVE_PUB_TORQUE_LIMIT,     /* SETTLE's limit ran out with the speed loop at its torque
                                    current's limit: the load needs more torque than
                                    controller.max_torque_current_A gives at the target */
+    DRIVE_PUB_NO_STANDSTILL,    /* not started: the standstill sequence was selected and this
+                                   configuration cannot run it (ident.standstill = 0, or its
+                                   injection out of range): nothing turned */
     DRIVE_PUB_N
 } drive_pub_reason_t;
 

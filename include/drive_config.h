@@ -84,6 +84,10 @@ typedef struct {
     uint16_t track_rr;         /* 1: track Rr (and Tr) in RUN from the observer's slip; with
                                   standstill = 1 the published set is fused (drive_adapt.c) */
     float track_memory_s;      /* tracker's forgetting time constant, s (0.2 .. 20) */
+    uint16_t static_id;        /* 1: the standstill sequence (with standstill = 1, one pass, no
+                                  tracker): after the magnetisation a low-frequency multisine
+                                  on i_M at standstill, every parameter from it, nothing turns
+                                  (drive_static.h) */
     uint16_t vi_test;          /* 1 (with dead_time_comp): the bridge's voltage error measured
                                   at standstill in CALIBRATE (vi_curve.h) and the compensation
                                   run on that curve; board.dead_time_band_A then unused */

@@ -38,6 +38,7 @@
 #include "theta_guard.h"
 #include "drive_target.h"
 #include "standstill_z.h"
+#include "standstill_lf.h"
 #include "tr_track.h"
 #include "vi_curve.h"
 #include "volt_calc.h"
@@ -155,6 +156,8 @@ typedef struct {
     uint16_t starve_ticks;    /* ... that start the excitation (DRIVE_EXCITE_STARVE_S) */
     uint16_t ready;           /* the model the sequence waits for is applied (drive_adapt_ready) */
     uint16_t excite;          /* RUN: a free shaft, the speed swings (drive_adapt_excite) */
+    uint16_t static_count0;   /* INJECT: the encoder's count at its start */
+    uint16_t static_moved;    /* ... and the largest |count - count0| since, counts */
 } drive_adapt_t;
 
 /** Background -> ISR: one complete model set, computed by the background
@@ -352,9 +355,7 @@ typedef struct {
     ident_regressor_t reg;
     uint16_t reg_count;         /* encoder count at the last FILTERS slot (the regression's window) */
     drive_rls_queue_t rlsq;     /* [S] -> [B]: the RLS's samples and events */
-    rls_t rls;
-    rls_t rls_start;            /* the RLS as drive_rls_start leaves it: copied in at the start
-                                   of each further pass (no float in the ISR) */
+    rls_t rls;                  /* [B]; each pass starts it afresh (drive_rls_start) */
     theta_guard_t guard;        /* last good theta: what the snapshots carry */
     param_extract_t pex;
     drive_snapshot_t snap;      /* [B]: the steady-state extraction's estimate */
@@ -382,6 +383,9 @@ typedef struct {
     uint32_t trk_updates;       /* the tracker's n_updates at the last sample taken */
     uint16_t run;               /* an identification was started (a verdict is owed) */
     uint16_t judged;            /* fused set: the final pass's RLS part passed its verdict */
+    uint16_t static_judged;     /* the standstill sequence's set judged (drive_static.c) */
+    uint16_t static_unavailable;   /* the standstill sequence was selected and cannot run:
+                                      starts are refused (drive_static_select) */
     _iq fused_lm, fused_lr, fused_psi;   /* fused mode: the last good magnetic set */
     uint16_t fused_ready;
     float sensor_gain;          /* the current sensors' possible gain error at the verdict
@@ -423,6 +427,7 @@ typedef struct {
     volatile drive_adapt_capture_t cap;     /* [S] -> [B]: the standstill values */
     tr_track_t track;           /* Rr/Tr tracker in RUN (track_rr) */
     standstill_z_t ssz;         /* standstill sigma Ls (standstill) */
+    standstill_lf_t lf;         /* the standstill sequence's injection (static_id) */
 } drive_adaptation_t;
 
 /** The protections: the trips, the sensors' plausibility, the ISR monitor

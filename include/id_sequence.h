@@ -30,6 +30,17 @@
  *   any  -> FAULT (from the protections; PWM off) ; STOP -> IDLE
  *   CALIBRATE, MAGNETIZE -> IDLE when the rotor turns (id_sequence_set_rest)
  *
+ * The standstill sequence (static_id, id_sequence_set_static; beyond the
+ * paper): the end of MAGNETIZE (with its wait for the standstill Rs and
+ * sigma Ls) leads instead to
+ *        -> INJECT (the frame held, i_M plus the drive's low-frequency
+ *                   multisine: standstill_lf.h; no speed loop, no RLS;
+ *                   for inject_samples: the test's own length and a margin)
+ *        -> IDLE (the bridge off; static_done: the drive fits and judges
+ *                 the set from what it measured)
+ * The rotor never turns: the current stays on one axis of a fixed frame.
+ *   INJECT -> IDLE when the rotor turns, as CALIBRATE and MAGNETIZE.
+ *
  * Several passes (beyond the paper; passes > 1): the extraction at
  * the end of SETTLE then leads, while pass < passes, to
  *        -> REFINE (speed ramps down to refine_speed; the drive blends the
@@ -68,7 +79,8 @@ typedef enum {
     ID_SETTLE,
     ID_RUN,
     ID_FAULT,
-    ID_REFINE      /* between passes (passes > 1); after FAULT so the codes 0..6 keep their meaning */
+    ID_REFINE,     /* between passes (passes > 1); after FAULT so the codes 0..6 keep their meaning */
+    ID_INJECT      /* the standstill sequence's low-frequency injection (static_id) */
 } id_state_t;
 
 #define ID_PASSES_MAX 4u
@@ -115,6 +127,8 @@ typedef struct {
     _iq excite_floor;         /* the lowest excite_low, pu (id_sequence_set_excite) */
     uint16_t sensor_test;     /* 1: CALIBRATE ends with the sensor test (0 after init) */
     uint16_t vi_test;         /* 1: then with the voltage-error test (0 after init) */
+    uint16_t static_id;       /* 1: the standstill sequence (MAGNETIZE -> INJECT -> IDLE) */
+    uint32_t inject_samples;  /* INJECT's length (the drive's test and a margin) */
     /* outputs */
     id_state_t state;
     uint16_t pwm_on;          /* the bridge should switch */
@@ -139,7 +153,8 @@ typedef struct {
     uint16_t target_lowered;  /* the acceleration ended at the voltage limit (volt_limit), below
                                  the target it started with (0 at start) */
     uint16_t rotor_moved;     /* the sequence went back to IDLE because the rotor turned in
-                                 CALIBRATE or MAGNETIZE (0 at start) */
+                                 CALIBRATE, MAGNETIZE or INJECT (0 at start) */
+    uint16_t static_done;     /* the standstill sequence's INJECT completed (0 at start) */
     uint16_t exciting;        /* RUN with excite: the speed swings (the drive's faster ramp) */
     _iq excite_low;           /* its lower speed, pu: EXCITE_LOW_OF_TARGET of the target, at
                                  least excite_floor, at most EXCITE_HIGH_OF_TARGET of it */
@@ -194,6 +209,12 @@ void id_sequence_set_rest(id_sequence_t *s, _iq rest_speed);
 void id_sequence_set_excite(id_sequence_t *s, _iq floor);
 #define EXCITE_LOW_OF_TARGET 0.6
 #define EXCITE_HIGH_OF_TARGET 0.9
+
+/** The standstill sequence (@p on 1): MAGNETIZE ends in INJECT, not
+ *  ACCELERATE (static_id), and INJECT lasts @p inject_samples.  Returns 0,
+ *  or 1 (nothing changed) if @p on > 1, or on with no samples.
+ *  id_sequence_init sets 0. */
+int16_t id_sequence_set_static(id_sequence_t *s, uint16_t on, uint32_t inject_samples);
 
 /** Request a start (background context): taken by the next step in IDLE. */
 void id_sequence_start(id_sequence_t *s);

@@ -89,16 +89,20 @@
  * The flash image runs them from flash (.text, not named here; their wait
  * states costed by tools/bench_isr.py); the RAM image defines
  * ISR_FLASH_SET_IN_RAM and keeps them on chip with the rest of this set.
- * 9 functions.
+ * 13 functions.
  */
 #ifdef ISR_FLASH_SET_IN_RAM
 *(.text:_drive_safety_test_period)
+*(.text:_drive_static_slow)
 *(.text:_drive_test_voltage)
 *(.text:_drive_vi_modulate)
+*(.text:_lf_angle)
 *(.text:_pc_load_offset)
 *(.text:_phase_current_cal_start)
 *(.text:_phase_current_cal_step)
 *(.text:_phase_unit)
 *(.text:_sensor_test_judge_due)
 *(.text:_sensor_test_step)
+*(.text:_standstill_lf_start)
+*(.text:_standstill_lf_step)
 #endif

@@ -75,9 +75,10 @@ ROOT = Path(__file__).resolve().parents[1]
 BUDGET = 10000          # 150 MHz / 15 kHz
 GOAL = 3000             # 30 % of the period: 70 % left for margin, background, compiler
 # IDLE: the ISRs before the start command is taken (the first one enters CALIBRATE)
-STATES = ("IDLE", "CALIBRATE", "MAGNETIZE", "ACCELERATE", "SETTLE", "RUN", "REFINE")
+STATES = ("IDLE", "CALIBRATE", "MAGNETIZE", "ACCELERATE", "SETTLE", "RUN", "REFINE", "INJECT")
 DEFAULT_CONFIGS = (("paper", "host_sim/config/paper_motor.ini"),
-                   ("adaptive", "host_sim/config/paper_motor_wrong_nameplate.ini"))
+                   ("adaptive", "host_sim/config/paper_motor_wrong_nameplate.ini"),
+                   ("standstill", "host_sim/config/paper_motor_standstill.ini"))
 
 # TI IQmath V1.4c read-me, C28x cycles including the call
 TI_CYCLES = {"_IQmpy": 5, "_IQrmpy": 22, "_IQrsmpy": 30, "_IQdiv": 73, "_IQsqrt": 70,

@@ -165,6 +165,8 @@ FLASH_ROOTS = {
     "state_change": "slot SEQUENCE, once per state change (the adaptation's resets)",
     "standstill": "slot SEQUENCE, the adaptive sequence's MAGNETIZE (the standstill test)",
     "take_set": "slot SEQUENCE, once per adapted set (adapt.box.ready)",
+    "drive_static_slow": "slot SEQUENCE, the standstill sequence's INJECT only (its multisine "
+                         "and lock-in: standstill_lf_step)",
     "stall_check_decide": "slot FILTERS_C, only after the encoder's frozen test tripped",
     "excite": "slot SEQUENCE, the adaptive sequence's RUN while its verdict is owed (a free "
               "shaft's excitation, drive_adapt.c)",
@@ -545,6 +547,24 @@ def flash_set(graph):
             and not rel(graph.func[t]["file"]).startswith("firmware/")}
 
 
+# Flash-set roots of the slow ISR whose flash set the RAM image keeps in the
+# fast include's block (L0+L1, `ramfuncs`) instead of H0: the RAM image's H0
+# holds the slow ISR's RAM set and the rest of its flash set at 90 %, L0+L1
+# has room.  Where a function runs changes nothing but its speed.
+FLASH_SET_IN_FAST = ("drive_static_slow",)
+
+
+def flash_set_in_fast(graph):
+    """The flash-set titles that only FLASH_SET_IN_FAST's roots reach."""
+    flash = flash_set(graph)
+    roots = [t for t in flash if graph.func[t]["name"] in FLASH_SET_IN_FAST]
+    below, _ = graph.reach(roots, stop=is_iqmath)
+    others = [t for t in flash if graph.func[t]["name"] in FLASH_ROOTS
+              and graph.func[t]["name"] not in FLASH_SET_IN_FAST]
+    rest, _ = graph.reach(others, stop=is_iqmath)
+    return (below & flash) - rest
+
+
 def slow_cmd_path(fast_path):
     """The slow set's include next to the fast one: F2812_isr_path.cmd ->
     F2812_isr_slow.cmd (other names: <stem>_slow.cmd)."""
@@ -576,7 +596,8 @@ def isr_cmd_texts(graph, abi="coffabi"):
     # a name of the flash set that another (static) function on the path
     # shares is in RAM anyway (the input section name matches both)
     ram = set(fast_names) | set(slow_names)
-    flash_fast = sorted(src_names(graph, fast & flash) - ram)
+    to_fast = flash_set_in_fast(graph)
+    flash_fast = sorted(src_names(graph, (fast & flash) | to_fast) - ram)
     flash_slow = sorted(src_names(graph, slow & flash) - ram - set(flash_fast))
 
     def flash_block(names, which):
@@ -756,6 +777,7 @@ def report(args, srcs, g):
     isr = fast | slow
     # the flash set runs from .text (flash) unless the linker file keeps it on chip
     flash_run = set() if plan["flash_set_in_ram"] else flash_set(g)
+    to_fast = flash_set_in_fast(g) if plan["flash_set_in_ram"] else set()
     _all, isr_ext = g.reach(g.roots(ISR_ROOTS), stop=is_iqmath)
     # the host IQmathLib.h's inline helpers (TI's intrinsics: _IQmpy, _IQsat,
     # _IQabs ...) that the compiler left as functions count where IQmath goes
@@ -780,6 +802,8 @@ def report(args, srcs, g):
             sec = plan["iqmath_in"]
         elif t in flash_run:
             sec = FLASH_TEXT
+        elif t in to_fast:
+            sec = FAST_SECTION   # the RAM image: FLASH_SET_IN_FAST's in L0+L1
         else:
             sec = FAST_SECTION if t in fast else SLOW_SECTION
         rows.append({"function": f["name"], "file": rel(f["file"]), "kind": kind,

@@ -4,7 +4,8 @@ tools/family/motors.py (the CI subset of 8, the grid of 56) under a grid of
 operating choices, in both builds and both identification sequences.
 
     family_sweep.py [--subset ci|grid|all] [--motors NAME,...] [--ops nominal|all|OP,...]
-                    [--seq paper,adaptive,paper_pm] [--plant realistic|ideal|ideal_bridge]
+                    [--seq paper,adaptive,paper_pm,standstill]
+                    [--plant realistic|ideal|ideal_bridge]
                     [--builds iq,float | --exe MOTOR_SIM] [--jobs N]
                     [--out DIR] [--json] [--markdown [--summary-only]] [--no-plot]
                     [--check-bounds FILE] [--keep]
@@ -17,6 +18,10 @@ Sequences (`[controller]`/`[ident]` keys merged into each motor's file):
                default (docs/method.md "Beyond the paper"; host_sim/config/paper_motor.ini)
     paper_pm   the paper's on the period-mean regression (period_mean 1,
                include/ident_regressor.h; tools/study/regression_bias.md §5)
+    standstill `[ident] sequence = standstill` with the rotor held (`[load]
+               locked = 1`): every parameter at standstill (include/drive_static.h);
+               judged against 3 % on Rs, Lm, Lr, psi_r and 5 % on Rr and Tr
+               (STANDSTILL_BOUNDS_PCT); its time to the verdict (t_decided_s)
 
 Plants: `realistic` (default: the generator's bridge and sensors), `ideal`
 (motors.py IDEAL_PLANT: no dead time, drop, ripple, sensor errors or noise) or
@@ -90,7 +95,13 @@ SEQUENCES = {
     # the paper's sequence on the period-mean regression (ident_regressor.h)
     "paper_pm": {("controller", "orientation"): 0, ("ident", "standstill"): 0,
                  ("ident", "passes"): 1, ("ident", "track_rr"): 0, ("ident", "period_mean"): 1},
+    # every parameter at standstill, the rotor held (a load that cannot turn)
+    "standstill": {("ident", "sequence"): "standstill", ("load", "locked"): 1},
 }
+# the standstill sequence's goals per parameter (its Rr and Tr rest on the
+# rotor branch's small share of the impedance at standstill)
+STANDSTILL_BOUNDS_PCT = {"Rs_ohm": 3.0, "Rr_ohm": 5.0, "Lm_H": 3.0, "Lr_H": 3.0,
+                         "psi_r_Wb": 3.0, "Tr_s": 5.0}
 PLANTS = {"realistic": {}, "ideal": fam.IDEAL_PLANT, "ideal_bridge": fam.IDEAL_BRIDGE}
 BUILDS = {"iq": "host-iq", "float": "host-float"}
 # motor_sim's exit status (motor_sim --help)
@@ -176,6 +187,8 @@ def run_one(job):
     row["reason"] = rep.get("publish_reason", "")
     row["settle_timeout"] = rep.get("settle_timeout")
     row["t_published_s"] = rep.get("t_published_s")
+    row["t_decided_s"] = rep.get("t_decided_s")
+    row["rotor_counts"] = rep.get("rotor_turn_counts")
     # the identification's target as the drive ran it (drive_target.h: lowered
     # where the voltage ran out), and per unit of the rated speed
     row["target_rpm"] = rep.get("target_rpm")

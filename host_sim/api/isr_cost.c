@@ -64,21 +64,21 @@ void __gcov_dump(void);
 void __gcov_reset(void);
 
 #define N_OPS IQMATH_FN_COUNT
-/* The classes' states: id_state_t (IDLE .. REFINE), and CALIBRATE's phases
+/* The classes' states: id_state_t (IDLE .. INJECT), and CALIBRATE's phases
  * apart.  The sequence's outputs choose a phase for a whole control ISR (it
  * steps in the slow task): the offsets' calibration (seq.calibrating), the
  * sensor test (sensor_testing), the bridge's curve test (vi_testing); their
  * code never runs in one ISR together, so each phase is a class of its own
  * (bench_isr.py reports them as CALIBRATE, its worst the worst phase's). */
-#define N_ID_STATES 8       /* id_state_t: IDLE .. REFINE */
-#define ST_CAL_OFFSETS 8
-#define ST_CAL_SENSOR_TEST 9
-#define ST_CAL_BRIDGE_TEST 10
-#define N_STATES 11
+#define N_ID_STATES 9       /* id_state_t: IDLE .. INJECT */
+#define ST_CAL_OFFSETS 9
+#define ST_CAL_SENSOR_TEST 10
+#define ST_CAL_BRIDGE_TEST 11
+#define N_STATES 12
 #define MAX_SAMPLES_CLASS 64u
 
 static const char *const k_state_names[N_STATES] = {
-    "IDLE", "CALIBRATE", "MAGNETIZE", "ACCELERATE", "SETTLE", "RUN", "FAULT", "REFINE",
+    "IDLE", "CALIBRATE", "MAGNETIZE", "ACCELERATE", "SETTLE", "RUN", "FAULT", "REFINE", "INJECT",
     "CALIBRATE.offsets", "CALIBRATE.sensor_test", "CALIBRATE.bridge_test"};
 
 /* The class state of the next ISR, from the sequence as it stands. */

@@ -60,7 +60,7 @@ static void write_config(FILE *f, const drive_config_t *d, const char *ini)
     F(ident, filter_wc_rad_s); U(ident, euler_passes); U(ident, paper_regressor); U(ident, period_mean);
     F(ident, rls_p0); F(ident, forgetting); F(ident, magnetize_time_s);
     F(ident, target_speed_rpm); F(ident, rls_tail_s); U(ident, passes); U(ident, standstill); U(ident, vi_test);
-    U(ident, track_rr); F(ident, track_memory_s);
+    U(ident, track_rr); F(ident, track_memory_s); U(ident, static_id);
     fprintf(f, "    },\n};\n");
 }
 

@@ -21,6 +21,7 @@ int plant_init(plant_t *p, const sim_config_t *c, uint16_t t1pr, char *err, unsi
     p->load_const_Nm = c->load.const_Nm;
     p->load_prop_Nm_s = c->load.prop_Nm_s;
     p->load_fan_Nm = c->load.fan_Nm;
+    p->locked = (uint16_t)(c->load.locked != 0.0);
     p->w_rated_m_rad_s = c->nameplate.rated_speed_rpm * 2.0 * M_PI / 60.0;
     p->hall_a_gain_fault = 1.0;
     p->vdc_scale = 1.0;
@@ -47,6 +48,7 @@ int plant_init(plant_t *p, const sim_config_t *c, uint16_t t1pr, char *err, unsi
         snprintf(err, err_len, "motor model rejected the [plant] parameters");
         return 1;
     }
+    p->theta_m0_rad = p->motor.theta_m_rad;
 
     p->i_per_V = inverter_current_gain(p->Ts_s, mp.Rs_ohm, mp.Rr_ohm, mp.Lm_H, mp.Lls_H,
                                        mp.Llr_H);
@@ -132,6 +134,14 @@ static double plant_period_load_Nm(plant_t *p)
     const double tc = p->load_const_Nm;
     const double other = plant_load_Nm(p, w) - ((w > 0.0) ? tc : ((w < 0.0) ? -tc : 0.0));
     const double net = m->Te_Nm - other;
+    p->turn_peak_rad = fmax(p->turn_peak_rad, fabs(m->theta_m_rad - p->theta_m0_rad));
+    if (p->locked != 0u) {
+        /* a load that cannot turn: whatever the motor's torque, it holds */
+        motor_set_speed(m, 0.0);
+        motor_lock_speed(m, 1u);
+        p->te_hold_peak_Nm = fmax(p->te_hold_peak_Nm, fabs(m->Te_Nm));
+        return m->Te_Nm;
+    }
     if (tc > 0.0 && fabs(w) <= tc * p->Ts_s / p->J_kgm2 && fabs(net) <= tc) {
         motor_set_speed(m, 0.0);
         motor_lock_speed(m, 1u);

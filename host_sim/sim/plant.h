@@ -101,6 +101,11 @@ typedef struct {
      * and the instant the comparator turned the outputs off) */
     double i_phase_peak_A;    /* largest |motor phase current| */
     double i_leg_peak_A;      /* largest |leg current| (with the short's) */
+    /* [load] locked: the rotor held at rest, the holding (reaction) torque */
+    uint16_t locked;
+    double te_hold_peak_Nm;   /* largest |torque| the lock held */
+    double theta_m0_rad;      /* the rotor's angle at the start */
+    double turn_peak_rad;     /* largest |theta_m - theta_m0|, locked or not */
 } plant_t;
 
 /** Returns 0 or a message-worthy non-zero status (the sub-model that refused). */

@@ -311,6 +311,8 @@ int report_write_json(const char *path, const sim_config_t *cfg, const char *con
     jw_field(&w, "max_volt_head", r->max_volt_head);
     jw_field(&w, "max_true_phase_A", r->max_true_phase_A);
     jw_field(&w, "max_true_leg_A", r->max_true_leg_A);
+    jw_field(&w, "rotor_turn_counts", r->rotor_turn_counts);
+    jw_field(&w, "locked_torque_peak_Nm", r->locked_torque_peak_Nm);
     jw_field(&w, "over_trip_s", r->over_trip_s);
     jw_field(&w, "t_over_trip_first_s", r->t_over_trip_first_s);
     jw_field(&w, "t_over_trip_last_s", r->t_over_trip_last_s);
@@ -419,6 +421,14 @@ void report_print_table(FILE *f, const sim_result_t *r)
             drive_pub_reason_str(r->publish_reason),
             r->publish_reason == 0u ? " (the run ended before the drive's verdict)" : "",
             r->conf_residual, r->conf_amp, (unsigned)r->conf_samples);
+    if (r->t_accel_start_s < 0.0) {
+        /* nothing accelerated: the standstill sequence (or a run stopped before) */
+        fprintf(f, "\nno acceleration; verdict at %.3f s; the rotor turned %.2f encoder counts "
+                   "at most (true angle)%s\n",
+                r->t_decided_s, r->rotor_turn_counts,
+                (r->locked_torque_peak_Nm > 0.0) ? "; held by the locked load" : "");
+        return;
+    }
     fprintf(f, "\nacceleration started at %.3f s; verdict at %.3f s%s;\n"
                "all estimates within 2 %% of their final values %.3f s after the start of the "
                "acceleration.\n",

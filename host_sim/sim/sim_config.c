@@ -110,6 +110,15 @@ static const key_spec_t k_keys[] = {
     D(ident, standstill, OPT, 0, DRIVE, "1: Rs and sigma Ls at standstill (orientation 1)"),
     D(ident, track_rr, OPT, 0, DRIVE, "1: Rr/Tr tracked in RUN (orientation 1)"),
     D(ident, track_memory_s, OPT, 1.0, DRIVE, "the tracker's forgetting time constant"),
+    D(ident, static_id, OPT, 0, DRIVE,
+      "1: the standstill sequence (standstill 1, passes 1, track_rr 0): every parameter at "
+      "standstill, nothing turns"),
+    /* a name in the file (on_key): the keys it implies are set after the
+     * defaults (apply_sequence); SIM_SEQ_NONE: not given */
+    K(ident, sequence, OPT, SIM_SEQ_NONE, NULL, SIM_SEQ_NONE, SIM_SEQ_STANDSTILL, 1,
+      "paper|adaptive|standstill", DRIVE,
+      "the identification: sets orientation, standstill, passes, track_rr, static_id, "
+      "vi_test"),
     D(ident, vi_test, OPT, 1, DRIVE,
       "1: the bridge's voltage error measured at standstill, the compensation on it "
       "(0: a study without the test; the drive then assumes a linear zone of 3 codes "
@@ -159,6 +168,8 @@ static const key_spec_t k_keys[] = {
       "Coulomb friction with stiction: opposes the motion, holds the rotor at rest"),
     K(load, prop_Nm_s, OPT, 0, NULL, 0, 1e3, 0, "N m s", SIM, "load proportional to speed"),
     K(load, fan_Nm, OPT, 0, NULL, 0, 1e4, 0, "N m at rated speed", SIM, "quadratic (fan) load"),
+    K(load, locked, OPT, 0, NULL, 0, 1, 1, "0/1", SIM,
+      "1: the rotor held at rest (a load that cannot turn); its reaction torque reported"),
     /* the thermal-drift scenario (--scenario drift), times after publication */
     K(drift, rr_rise_pct, OPT, 40, NULL, 0, 100, 0, "% of plant.Rr_ohm", SIM, "rotor warming"),
     K(drift, ramp_s, OPT, 60, NULL, 1, 600, 0, "s", SIM, "duration of the rise"),
@@ -276,6 +287,66 @@ static int check_value(const key_spec_t *k, double v, char *err, size_t len)
     return 0;
 }
 
+static const key_spec_t *find_key(const char *section_dot_key);
+
+const char *sim_sequence_name(sim_sequence_t seq)
+{
+    switch (seq) {
+    case SIM_SEQ_PAPER: return "paper";
+    case SIM_SEQ_ADAPTIVE: return "adaptive";
+    case SIM_SEQ_STANDSTILL: return "standstill";
+    case SIM_SEQ_NONE:
+    default: return NULL;
+    }
+}
+
+/* [ident] sequence = paper | adaptive | standstill (a name, not a number) */
+static int sequence_key(parse_ctx_t *ctx, size_t i, const char *value)
+{
+    int s;
+    for (s = SIM_SEQ_PAPER; s <= SIM_SEQ_STANDSTILL; s++) {
+        if (strcmp(value, sim_sequence_name((sim_sequence_t)s)) == 0) {
+            *field(ctx->cfg, &k_keys[i]) = (double)s;
+            ctx->seen[i] = 1;
+            return 1;
+        }
+    }
+    sim_config_set_err(ctx->err, sizeof ctx->err,
+                       "key 'ident.sequence': '%s' is not a sequence (paper, adaptive or "
+                       "standstill)", value);
+    return 0;
+}
+
+/* The keys a sequence implies, after the defaults: each one the file also
+ * gives must agree (an old file's keys alone keep working: no sequence). */
+static int apply_sequence(parse_ctx_t *ctx, char *err, size_t len)
+{
+    static const char *const implied[] = {"controller.orientation", "ident.standstill",
+                                          "ident.passes", "ident.track_rr", "ident.static_id",
+                                          "ident.vi_test"};
+    sim_config_t want;
+    size_t i, j;
+    const double seq = ctx->cfg->ident.sequence;
+    if (seq == (double)SIM_SEQ_NONE) {
+        return 0;
+    }
+    want = *ctx->cfg;
+    sim_config_set_sequence(&want, (sim_sequence_t)seq);
+    for (j = 0; j < sizeof implied / sizeof implied[0]; j++) {
+        const key_spec_t *k = find_key(implied[j]);
+        i = (size_t)(k - k_keys);
+        if (ctx->seen[i] && *field(ctx->cfg, k) != *field(&want, k)) {
+            sim_config_set_err(err, len, "key '%s' = %g contradicts [ident] sequence = %s "
+                               "(which sets it to %g): give one of them", implied[j],
+                               *field(ctx->cfg, k), sim_sequence_name((sim_sequence_t)seq),
+                               *field(&want, k));
+            return 1;
+        }
+    }
+    *ctx->cfg = want;
+    return 0;
+}
+
 static int on_key(void *user, const char *section, const char *name, const char *value)
 {
     parse_ctx_t *ctx = (parse_ctx_t *)user;
@@ -302,6 +373,9 @@ static int on_key(void *user, const char *section, const char *name, const char 
     if (ctx->seen[i]) {
         sim_config_set_err(ctx->err, sizeof ctx->err, "key '%s.%s' given twice", section, name);
         return 0;
+    }
+    if (strcmp(section, "ident") == 0 && strcmp(name, "sequence") == 0) {
+        return sequence_key(ctx, i, value);
     }
     errno = 0;
     v = strtod(value, &end);
@@ -438,6 +512,9 @@ static int load(const char *path, sim_config_t *cfg, int drive_only, char *err,
     }
     rc = apply_defaults(&ctx, ctx.err, sizeof ctx.err);
     if (rc == 0) {
+        rc = apply_sequence(&ctx, ctx.err, sizeof ctx.err);
+    }
+    if (rc == 0) {
         rc = drive_only ? sim_config_drive_check(cfg, ctx.err, sizeof ctx.err)
                         : sim_config_cross_check(cfg, ctx.err, sizeof ctx.err);
     }
@@ -505,8 +582,19 @@ double sim_config_target_rpm(const sim_config_t *c)
 void sim_config_set_sequence(sim_config_t *c, sim_sequence_t seq)
 {
     const double a = (seq == SIM_SEQ_ADAPTIVE) ? 1.0 : 0.0;
-    c->controller.orientation = a;
-    c->ident.standstill = a;
+    const double s = (seq == SIM_SEQ_STANDSTILL) ? 1.0 : 0.0;
+    c->controller.orientation = a + s;
+    c->ident.standstill = a + s;
     c->ident.passes = 1.0 + a;
     c->ident.track_rr = a;
+    c->ident.static_id = s;
+    /* the standstill sequence needs no curve of the bridge: its lock-ins
+     * ride on i_M, every phase current keeps its sign and the bridge's
+     * error is a constant they reject; the compensation runs on the set
+     * band.  On a large motor the curve's test (3-6 Tr a level) would be
+     * most of the run: 48 s of 82 s at Tr = 0.93 s (55 kW 2-pole). */
+    if (seq == SIM_SEQ_STANDSTILL) {
+        c->ident.vi_test = 0.0;   /* the others leave it as it is */
+    }
+    c->ident.sequence = (double)seq;
 }

@@ -71,6 +71,8 @@ typedef struct {
     double track_rr;         /* 1: Rr tracked in RUN */
     double track_memory_s;   /* the tracker's forgetting time constant */
     double vi_test;          /* 1: the bridge's voltage error measured at standstill */
+    double static_id;        /* 1: the standstill sequence (drive_config.h) */
+    double sequence;         /* sim_sequence_t, or SIM_SEQ_NONE: the keys above decide */
 } sim_ident_t;
 
 /** [plant] (sim): the true motor, each parameter the nameplate's unless given. */
@@ -99,6 +101,8 @@ typedef struct {
 /** [load] (sim): T_load = const + prop w_m + fan (w_m/w_rated)^2 (sign of w_m). */
 typedef struct {
     double const_Nm, prop_Nm_s, fan_Nm;
+    double locked;           /* 1: the rotor held at rest (a load that cannot turn; its
+                                reaction torque reported) */
 } sim_load_t;
 
 /** [drift] (sim): the thermal-drift scenario (sim_run.h, SCEN_DRIFT). */
@@ -142,9 +146,15 @@ double sim_config_target_rpm(const sim_config_t *c);
 
 /** The identification sequences (the keys each implies: docs/method.md). */
 typedef enum {
+    SIM_SEQ_NONE = -1,   /* [ident] sequence not given: the keys it would set decide */
     SIM_SEQ_PAPER = 0,   /* orientation 0, standstill 0, passes 1, track_rr 0: the paper's */
-    SIM_SEQ_ADAPTIVE     /* orientation 1, standstill 1, passes 2, track_rr 1: the default */
+    SIM_SEQ_ADAPTIVE,    /* orientation 1, standstill 1, passes 2, track_rr 1: the default */
+    SIM_SEQ_STANDSTILL   /* orientation 1, standstill 1, passes 1, track_rr 0, static_id 1:
+                            nothing turns (drive_static.h) */
 } sim_sequence_t;
+
+/** The sequence's name in a file ("paper", "adaptive", "standstill"), or NULL. */
+const char *sim_sequence_name(sim_sequence_t seq);
 
 /** Set the keys of sequence @p seq in a loaded configuration (for tests and
  *  studies that run a shipped motor file with the other sequence). */

@@ -91,5 +91,6 @@ void sim_config_to_drive(const sim_config_t *c, drive_config_t *d)
     d->ident.standstill = u16(id->standstill);
     d->ident.vi_test = u16(id->vi_test);
     d->ident.track_rr = u16(id->track_rr);
+    d->ident.static_id = u16(id->static_id);
     d->ident.track_memory_s = f32(id->track_memory_s);
 }

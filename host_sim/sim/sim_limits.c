@@ -85,6 +85,10 @@ static const char *const k_why[DRIVE_LD_COUNT] = {
                             "the test with its pause in the second half of ident.magnetize_s",
     [DRIVE_LD_TRACKER] = "the Rr/Tr tracker (ident.track_rr = 1): its range Tr/4 .. 4 Tr within "
                          "30 pu of 1/Tr, and its guard",
+    [DRIVE_LD_STATIC] = "the standstill sequence (ident.static_id = 1, [ident] sequence = "
+                        "standstill): ident.standstill = 1, ident.passes = 1, ident.track_rr = 0, "
+                        "and its multisine's period (4 pi Tr) within 64 .. 2^20 samples of the "
+                        "slow task",
     [DRIVE_LD_PERIOD_MEAN] = "the period-mean regression (ident.period_mean = 1) regresses on "
                              "ifo's rotor flux: it needs controller.orientation = 0 and "
                              "ident.paper_regressor = 0",

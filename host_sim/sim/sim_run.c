@@ -10,6 +10,8 @@
 #include "drift.h"
 #include "drive_limits.h"
 #include "drive_probe.h"
+#include "drive_static.h"
+#include "standstill_lf.h"
 #include "vi_curve.h"
 #include "hal_host.h"
 #include "sim_limits.h"
@@ -305,11 +307,32 @@ double sim_vi_test_s(const sim_config_t *c)
  * and the longest SETTLE (3 s), once per pass (a later pass slows down and
  * accelerates again), then what the scenario does after the identification.
  * The drift scenario ends earlier, when its window is over (sim_run). */
+/* The standstill sequence's injection (drive_static.c's set-up), s; 0 if
+ * the drive would refuse it. */
+static double static_inject_s(const sim_config_t *c)
+{
+    const sim_nameplate_t *n = &c->nameplate;
+    const double ts_slow = (double)DRIVE_SLOTS / c->board.pwm_freq_Hz;
+    const double im_pu = c->controller.magnetizing_current_A / c->board.current_full_scale_A;
+    standstill_lf_t z;
+    if (standstill_lf_init(&z, (float)ts_slow, (float)((n->Lm_H + n->Llr_H) / n->Rr_ohm),
+                           (float)(DRIVE_STATIC_AMPL_OF_IM * im_pu), (float)im_pu,
+                           DRIVE_STATIC_WINDOW_S) != STANDSTILL_LF_OK) {
+        return 0.0;
+    }
+    return (double)standstill_lf_samples(&z) * ts_slow;
+}
+
 static double default_duration_s(const sim_config_t *c, sim_scenario_t s)
 {
     double ident = 0.1 + c->ident.magnetize_s +
                    sim_config_target_rpm(c) / c->controller.speed_ramp_rpm_s + 3.2;
     double d = ident * c->ident.passes + sim_vi_test_s(c);
+    if (c->ident.static_id != 0.0) {
+        /* nothing turns: the magnetisation (with its wait for the standstill
+         * set), the injection, the background's fit */
+        d = 0.1 + c->ident.magnetize_s + 0.5 + static_inject_s(c) + sim_vi_test_s(c) + 0.5;
+    }
     if (c->ident.track_rr != 0.0) {
         /* the fused set: the tracker valid once it has forgotten RUN's start
          * (tr_track_settle_s, as drive_init), then its fit judged for 0.5 s */
@@ -719,6 +742,11 @@ static void observe_sample(sim_ctx_t *c, uint64_t period, double t, double *psi_
             res->max_speed_err_rpm_ramp = e;
         }
     }
+    if (state == ID_INJECT && c->prev_state != ID_INJECT) {
+        /* the standstill sequence: the flux at the end of the magnetisation,
+         * i_M at its reference for >= 5 Tr (psi_r = Lm i_M, as extracted) */
+        res->truth.psi_r_Wb = sqrt(pd * pd + pq * pq);
+    }
     if (state == ID_RUN && c->prev_state != ID_RUN) {
         c->t_run = t;
         res->t_published_s = t;
@@ -838,6 +866,8 @@ static void run_results(sim_ctx_t *c)
     res->target_lowered = d->seq->target_lowered;
     res->max_true_phase_A = plant->i_phase_peak_A;
     res->max_true_leg_A = plant->i_leg_peak_A;
+    res->rotor_turn_counts = plant->turn_peak_rad * 4.0 * c->cfg->board.encoder_lines / (2.0 * M_PI);
+    res->locked_torque_peak_Nm = plant->te_hold_peak_Nm;
     res->hw_trips = plant->hw_trips;
     res->t_hw_trip_s = plant->t_hw_first_s;
     res->final_state = d->telemetry->state;

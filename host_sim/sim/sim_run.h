@@ -157,6 +157,9 @@ typedef struct {
     double max_true_phase_A;        /* largest |motor phase current| at any period end or
                                        comparator trip instant */
     double max_true_leg_A;          /* the same for the legs (with an a-b short's current) */
+    double rotor_turn_counts;       /* the rotor's largest excursion from its start angle, in
+                                       encoder counts (4 lines a revolution; the TRUE angle) */
+    double locked_torque_peak_Nm;   /* [load] locked: the largest torque the lock held */
     double over_trip_s;             /* time the true phase current spent above
                                        controller.overcurrent_A (sample instants) */
     double t_over_trip_first_s, t_over_trip_last_s;   /* -1: never above */

@@ -61,6 +61,7 @@
 #include "drive_adapt.h"
 #include "drive_design.h"
 #include "drive_internal.h"
+#include "drive_static.h"
 
 #include <math.h>
 
@@ -182,6 +183,9 @@ int16_t drive_adapt_init(drive_t *d, const drive_config_t *c, float Ts)
         return 1;
     }
     if (id->track_rr != 0u && drive_adapt_track_init(&d->adapt.track, c, b, Ts) != TR_TRACK_OK) {
+        return 1;
+    }
+    if (drive_static_init(d, c, Ts) != 0) {
         return 1;
     }
     init_background(d, c, Ts);
@@ -384,6 +388,8 @@ void drive_adapt_slow(drive_t *d)
         state_change(d, st);
     } else if (st == (uint16_t)ID_MAGNETIZE && a->standstill != 0u) {
         standstill(d);
+    } else if (st == (uint16_t)ID_INJECT) {
+        drive_static_slow(d);   /* the standstill sequence's test (drive_static.c, from flash) */
     }
     if (d->seq.rls_restart != 0u) {
         /* the background's RLS restarts before the next queued sample */

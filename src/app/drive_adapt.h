@@ -67,7 +67,8 @@ static inline void drive_adapt_fast(drive_t *d)
     standstill_z_t *z = &d->adapt.ssz;
 
     if (z->running == 0u) {
-        d->loop.im_inject = _IQ(0.0);
+        /* the standstill sequence's multisine in INJECT (drive_static.c), else none */
+        d->loop.im_inject = (d->seq.state == ID_INJECT) ? d->adapt.lf.i_add : _IQ(0.0);
         return;
     }
     /* the sequence's i_M reference plus the injection (drive_step.c) */

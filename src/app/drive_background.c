@@ -9,6 +9,7 @@
 #include "drive_adapt.h"
 #include "drive_design.h"
 #include "drive_internal.h"
+#include "drive_static.h"
 #include "drive_safety.h"
 #include "drive_target.h"
 #include "drive_vi.h"
@@ -22,7 +23,7 @@ const char *drive_pub_reason_str(uint16_t reason)
     static const char *const names[DRIVE_PUB_N] = {
         "pending", "published", "not_converged", "low_excitation", "high_residual",
         "low_confidence", "implausible", "fault", "timeout", "stopped", "bus_low",
-        "rotor_turning", "torque_limit"};
+        "rotor_turning", "torque_limit", "no_standstill"};
     return (reason < (uint16_t)DRIVE_PUB_N) ? names[reason] : "unknown";
 }
 
@@ -168,7 +169,7 @@ static void count_reject(drive_telemetry_t *t)
 /* Only a set the data stand behind is published (the verdict of
  * judge_rls); a refused one leaves the last good set (and params_valid)
  * untouched and is counted. */
-static void publish(drive_telemetry_t *t, const param_extract_t *p, uint16_t reason)
+void drive_publish(drive_telemetry_t *t, const param_extract_t *p, uint16_t reason)
 {
     t->publish_reason = reason;
     if (reason != (uint16_t)DRIVE_PUB_PUBLISHED) {
@@ -379,6 +380,12 @@ static void start_identification(drive_t *d)
 
     /* a new verdict is owed for this run */
     d->verdict.run = 1u;
+    if (d->verdict.static_unavailable != 0u) {
+        /* the standstill sequence was asked for: never a rotating one instead */
+        t->publish_reason = (uint16_t)DRIVE_PUB_NO_STANDSTILL;
+        count_reject(t);
+        return;
+    }
     if (_IQabs(d->sense.qep.speed) > d->k.rest_speed) {
         t->publish_reason = (uint16_t)DRIVE_PUB_ROTOR_TURNING;
         count_reject(t);
@@ -395,6 +402,7 @@ static void start_identification(drive_t *d)
     drive_safety_sensor_gain_reset(d);
     d->verdict.fused_ready = 0u;
     d->verdict.judged = 0u;
+    d->verdict.static_judged = 0u;
     d->verdict.mid = 0u;
     d->verdict.pass = 0u;
     tracker_reset(d);
@@ -403,6 +411,9 @@ static void start_identification(drive_t *d)
      * only at the end of the magnetisation, not in IDLE */
     t->Rs_dc = _IQ(0.0);
     t->sigma_ls_dc = _IQ(0.0);
+    /* the standstill sequence's test afresh (the ISR runs it only in INJECT) */
+    d->adapt.lf.running = 0u;
+    d->adapt.lf.done = 0u;
     id_sequence_start(&d->seq);
 }
 
@@ -434,6 +445,12 @@ static void handle_command(drive_t *d, drive_cmd_t cmd)
         d->prot.trip.current_fault = 0u;
         if (d->k.config_status == DRIVE_CFG_OK && protect_clear(&d->prot.trip) != 0u) {
             id_sequence_clear_fault(&d->seq);
+        }
+        break;
+    case DRIVE_CMD_SELECT_STANDSTILL:
+    case DRIVE_CMD_SELECT_ROTATING:
+        if (d->seq.state == ID_IDLE) {
+            drive_static_select(d, (uint16_t)(cmd == DRIVE_CMD_SELECT_STANDSTILL));
         }
         break;
     case DRIVE_CMD_NONE:
@@ -490,7 +507,7 @@ static void extraction_done(drive_t *d)
     }
     reason = judge_rls(d, end);
     if (d->adapt.isr.fused == 0u) {
-        publish(&d->telemetry, &d->id.pex, reason);
+        drive_publish(&d->telemetry, &d->id.pex, reason);
         return;
     }
     d->verdict.judged = 1u;
@@ -507,6 +524,13 @@ static void handle_requests(drive_t *d, uint16_t req)
 {
     if ((req & DRIVE_CMD_BIT(DRIVE_CMD_RESET_FAULT)) != 0u) {
         handle_command(d, DRIVE_CMD_RESET_FAULT);
+    }
+    /* a selection before the start it is for (the last one if both came) */
+    if ((req & DRIVE_CMD_BIT(DRIVE_CMD_SELECT_STANDSTILL)) != 0u) {
+        handle_command(d, DRIVE_CMD_SELECT_STANDSTILL);
+    }
+    if ((req & DRIVE_CMD_BIT(DRIVE_CMD_SELECT_ROTATING)) != 0u) {
+        handle_command(d, DRIVE_CMD_SELECT_ROTATING);
     }
     if ((req & DRIVE_CMD_BIT(DRIVE_CMD_STOP)) != 0u) {
         handle_command(d, DRIVE_CMD_STOP);
@@ -537,6 +561,7 @@ void drive_background(drive_t *d)
     }
     drive_vi_background(d);      /* the bridge's curve, once measured (drive_vi.c) */
     drive_adapt_background(d);   /* the adaptation's models and constants (drive_adapt_bg.c) */
+    drive_static_background(d);  /* the standstill sequence's verdict (drive_static.c) */
     fused_verdict(d);
     publish_tracked(d);
     drive_safety_background(d);   /* nothing learned while a fault developed stays published */

@@ -107,13 +107,10 @@ rls_status_t drive_rls_start(drive_t *d)
 {
     const drive_ident_t *id = &d->id.cfg;
     rls_form_t form = (id->paper_regressor != 0u) ? RLS_FORM_PAPER : RLS_FORM_CONST;
-    rls_status_t st;
     if (id->period_mean != 0u) {
         form = RLS_FORM_FLUX;
     }
-    st = rls_init(&d->id.rls, form, id->rls_p0, id->forgetting, 0.0f, NULL);
-    d->id.rls_start = d->id.rls;   /* each further pass starts from this copy */
-    return st;
+    return rls_init(&d->id.rls, form, id->rls_p0, id->forgetting, 0.0f, NULL);
 }
 
 /* The regression's filters, the RLS and the sequence run in the slow task

@@ -9,7 +9,8 @@
 static inline uint16_t drive_cal_done(const drive_t *d) { return d->sense.cal_done; }
 
 /** (Re)start the RLS from d->id.cfg: P(0) = p0 I, theta(0) = 0, the
- *  configured regressor form and forgetting.  Returns the rls_init status. */
+ *  configured regressor form and forgetting (float: background and init
+ *  only; the same state every time).  Returns the rls_init status. */
 rls_status_t drive_rls_start(drive_t *d);
 
 /** Hand the control frame to ifo (@p on = 1) or back to the observer; the
@@ -22,6 +23,10 @@ static inline void drive_set_run_ifo(drive_t *d, uint16_t on);
  *  took (DRIVE_RLSQ_EXTRACT into id.snap, the drain's last; DRIVE_RLSQ_LIVE
  *  into id.live_snap, its first) for drive_background to extract. */
 uint16_t drive_rls_drain(drive_t *d);
+
+/** Publish @p p with @p reason (DRIVE_PUB_PUBLISHED), or count the refusal
+ *  and keep the last good set (drive_background.c). */
+void drive_publish(drive_telemetry_t *t, const param_extract_t *p, uint16_t reason);
 
 /** The slow task of @p slot (drive_slot_t), one per ISR (drive_slow.c). */
 void drive_slow_task(drive_t *d, uint16_t slot);

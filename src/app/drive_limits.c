@@ -14,6 +14,7 @@
 #include "bw_filter.h"
 #include "drive.h"
 #include "drive_adapt.h"
+#include "drive_static.h"
 #include "drive_design.h"
 #include "drive_target.h"
 #include "drive_vi.h"
@@ -119,6 +120,7 @@ static const drive_limit_t k_limits[] = {
     FIELD_U("ident.standstill", ident.standstill, "0/1", DRIVE_CFG_IDENT, 0.0f, 1.0f),
     FIELD_U("ident.vi_test", ident.vi_test, "0/1", DRIVE_CFG_VOLTAGE_MODEL, 0.0f, 1.0f),
     FIELD_U("ident.track_rr", ident.track_rr, "0/1", DRIVE_CFG_IDENT, 0.0f, 1.0f),
+    FIELD_U("ident.static_id", ident.static_id, "0/1", DRIVE_CFG_IDENT, 0.0f, 1.0f),
     FIELD_F("ident.track_memory_s", ident.track_memory_s, "s", DRIVE_CFG_IDENT, 0.2f, 20.0f),
     FIELD_F("ident.magnetize_s", ident.magnetize_time_s, "s", DRIVE_CFG_SEQUENCE, 0.001f, 100.0f),
     FIELD_F("ident.target_speed_rpm", ident.target_speed_rpm, "r/min (0: rated)",
@@ -186,6 +188,7 @@ static const drive_limit_t k_limits[] = {
                   0u, 1.0f, 1.0f),
     DERIVED("ident.standstill", "-", DRIVE_CFG_IDENT, DRIVE_LD_STANDSTILL),
     DERIVED("ident.track_rr", "-", DRIVE_CFG_IDENT, DRIVE_LD_TRACKER),
+    DERIVED("ident.static_id", "-", DRIVE_CFG_IDENT, DRIVE_LD_STATIC),
     DERIVED_RANGE("ident.period_mean", "-", DRIVE_CFG_IDENT, DRIVE_LD_PERIOD_MEAN, 0u, 0.0f,
                   0.0f),
     DERIVED("ident.target_speed_rpm", "r/min", DRIVE_CFG_SEQUENCE, DRIVE_LD_TARGET),
@@ -656,6 +659,23 @@ static int16_t check_adaptation(const drive_limit_t *l, const limit_ctx_t *x,
         }
         return report_as(f, DRIVE_LT("ident.magnetize_s"), DRIVE_LT("s"), id->magnetize_time_s, (float)need * Ts,
                          100.0f, 0u);
+    }
+    if (which == DRIVE_LD_STATIC && id->static_id != 0u) {
+        const float tr_s = c->motor.Lr_H / c->motor.Rr_ohm;
+        const float im_pu = c->motor.magnetizing_current_A / b->I_base_A;
+        if (id->standstill == 0u || id->passes > 1u || id->track_rr != 0u) {
+            /* the standstill sequence: its Rs and sigma Ls from the standstill
+             * test, one pass, nothing to track */
+            return verdict(0, f, (float)id->static_id, 0.0f, 0.0f, 0u);
+        }
+        if (standstill_lf_check(Ts * (float)DRIVE_SLOTS, tr_s, DRIVE_STATIC_AMPL_OF_IM * im_pu,
+                                im_pu, DRIVE_STATIC_WINDOW_S) != STANDSTILL_LF_OK) {
+            /* its fundamental's period 2 pi Tr / 0.5 within 64 .. 2^20 slow samples */
+            return report_as(f, DRIVE_LT("Tr"), DRIVE_LT("s"), tr_s,
+                             64.0f * Ts * (float)DRIVE_SLOTS * 0.5f / 6.2831853f,
+                             1048576.0f * Ts * (float)DRIVE_SLOTS * 0.5f / 6.2831853f, 0u);
+        }
+        return 0;
     }
     if (which == DRIVE_LD_TRACKER && id->track_rr != 0u) {
         tr_track_t t;

@@ -76,7 +76,7 @@ uint16_t drive_rls_drain(drive_t *d)
     while (tail != q->head) {
         const drive_rls_sample_t *e = &q->e[tail];
         if ((e->flags & DRIVE_RLSQ_RESTART) != 0u) {
-            d->id.rls = d->id.rls_start;
+            (void)drive_rls_start(d);   /* as drive_init left it (float: the background's) */
             theta_guard_reset(&d->id.guard);
         }
         if ((e->flags & DRIVE_RLSQ_WINDOW) != 0u) {

@@ -290,8 +290,11 @@ static void task_observer_b(drive_t *d)
      * integrates with its Rs error, which the correction removes only over
      * ~1/w_c (believed Rs +30 %: the observer flux reversed 7 ms into the
      * magnetisation).  The current builds the flux along the encoder angle,
-     * so the observer's angle agrees with it when the acceleration starts. */
-    d->frame.fobs_hold = (uint16_t)(o->psi_mag < d->k.psi_min || d->seq.state == ID_MAGNETIZE);
+     * so the observer's angle agrees with it when the acceleration starts.
+     * The standstill sequence's INJECT holds it too: its current stays on
+     * the axis the flux was built on (no torque by construction). */
+    d->frame.fobs_hold = (uint16_t)(o->psi_mag < d->k.psi_min || d->seq.state == ID_MAGNETIZE ||
+                                    d->seq.state == ID_INJECT);
     /* theta was the flux angle at the sample of part a, one period ago: this
      * sample's is one step further; the fast path adds the step from the
      * next one on (f_base Ts revolutions per pu speed: Q24 * Q30 -> Q24) */

@@ -66,6 +66,16 @@ int16_t id_sequence_set_wait(id_sequence_t *s, uint16_t at_magnetize, uint32_t m
     return 0;
 }
 
+int16_t id_sequence_set_static(id_sequence_t *s, uint16_t on, uint32_t inject_samples)
+{
+    if (on > 1u || (on != 0u && inject_samples == 0u)) {
+        return 1;
+    }
+    s->static_id = on;
+    s->inject_samples = inject_samples;
+    return 0;
+}
+
 void id_sequence_set_rest(id_sequence_t *s, _iq rest_speed) { s->rest_speed = rest_speed; }
 
 void id_sequence_set_excite(id_sequence_t *s, _iq floor) { s->excite_floor = floor; }
@@ -98,7 +108,8 @@ static const uint16_t k_state_out[] = {
     OUT_PWM | OUT_IM | OUT_SPEED | OUT_RLS, /* SETTLE: rls_on until the tail's end */
     OUT_PWM | OUT_IM | OUT_SPEED,           /* RUN */
     0u,                                     /* FAULT */
-    OUT_PWM | OUT_IM | OUT_SPEED            /* REFINE */
+    OUT_PWM | OUT_IM | OUT_SPEED,           /* REFINE */
+    OUT_PWM | OUT_IM                        /* INJECT */
 };
 
 static void enter(id_sequence_t *s, id_state_t next)
@@ -200,7 +211,8 @@ void id_sequence_step(id_sequence_t *s)
         s->t_state++;
     }
 
-    if ((s->state == ID_CALIBRATE || s->state == ID_MAGNETIZE) && rotor_turned(s) != 0u) {
+    if ((s->state == ID_CALIBRATE || s->state == ID_MAGNETIZE || s->state == ID_INJECT) &&
+        rotor_turned(s) != 0u) {
         s->rotor_moved = 1u;
         enter(s, ID_IDLE);
     }
@@ -214,6 +226,7 @@ void id_sequence_step(id_sequence_t *s)
             s->settle_timeout = 0u;
             s->torque_limited = 0u;
             s->rotor_moved = 0u;
+            s->static_done = 0u;
             enter(s, ID_CALIBRATE);
         }
         break;
@@ -236,7 +249,7 @@ void id_sequence_step(id_sequence_t *s)
             /* once: t_state counts up by one per step */
             s->magnetize_end = (uint16_t)(s->t_state == s->magnetize_samples);
             if (s->wait_magnetize == 0u || model_ready(s) != 0u) {
-                enter(s, ID_ACCELERATE);
+                enter(s, (s->static_id != 0u) ? ID_INJECT : ID_ACCELERATE);
             }
         }
         break;
@@ -300,6 +313,12 @@ void id_sequence_step(id_sequence_t *s)
             s->pass++;
             s->rls_restart = 1u;
             enter(s, ID_ACCELERATE);
+        }
+        break;
+    case ID_INJECT:
+        if (s->t_state >= s->inject_samples) {
+            s->static_done = 1u;
+            enter(s, ID_IDLE);
         }
         break;
     case ID_RUN:

@@ -6,7 +6,7 @@
  * The reference is independent of the queue: an rls_t of its own, stepped
  * right after each ISR whose slow slot formed the rows (FILTERS_C) with the
  * regressor's outputs (d->id.reg) and the sequence's enable, restarted from
- * rls_start where the sequence asks for a new pass.  The closed loop runs
+ * drive_init's state where the sequence asks for a new pass.  The closed loop runs
  * the paper motor from the start of the identification through the
  * acceleration into RUN (3 s), the background called at irregular
  * intervals of 1 to DRIVE_RLSQ_LEN - 2 slow periods. */
@@ -25,6 +25,7 @@
 typedef struct {
     drive_rig_t rig;           /* the drive, plant and host HAL (drive_rig.h) */
     rls_t ref;                 /* the reference RLS */
+    rls_t start;               /* the RLS as drive_init left it (drive_rls_start's state) */
     uint32_t updates;          /* samples the reference took */
 } loop_t;
 
@@ -40,7 +41,7 @@ static void isr(loop_t *l)
     drive_slow_isr(d);
     drive_rig_period(&l->rig);
     if (slot == DRIVE_SLOT_SEQUENCE && d->seq.rls_restart != 0u) {
-        l->ref = d->id.rls_start;   /* a new pass (the adaptive sequence only) */
+        l->ref = l->start;          /* a new pass (the adaptive sequence only) */
     }
     if (slot == DRIVE_SLOT_FILTERS_C && d->seq.rls_on != 0u) {
         const ident_regressor_t *r = &d->id.reg;
@@ -65,7 +66,8 @@ static int setup(void **state)
     if (drive_rig_start(&l->rig, PAPER) != 0) {
         return -1;
     }
-    l->ref = l->rig.drive.id.rls_start;
+    l->start = l->rig.drive.id.rls;   /* as drive_init left it: each pass's start */
+    l->ref = l->start;
     return 0;
 }
 

@@ -221,7 +221,7 @@ static void test_every_field_both_ends(void **state)
     }
     /* every field of drive_config_t but Ls, Lr and the filter's w_c, which
      * the INI gives as Lls_H, Llr_H and filter_cutoff_Hz (derived below) */
-    assert_int_equal(n, 41);
+    assert_int_equal(n, 42);
 }
 
 /* ---- 2. the derived limits ---------------------------------------------- */

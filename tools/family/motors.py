@@ -512,6 +512,8 @@ SECTION_ORDER = {
 
 
 def _fmt(v):
+    if isinstance(v, str):
+        return v   # a name ([ident] sequence = standstill)
     if isinstance(v, int) or (isinstance(v, float) and v.is_integer() and abs(v) < 1e9):
         return str(int(v))
     return f"{v:.6g}"

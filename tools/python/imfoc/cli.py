@@ -2,7 +2,8 @@
 
     imfoc monitor PORT [--config INI] [--csv FILE] [--plot] [--png FILE] [--duration S]
     imfoc start|stop|reset|dlog-arm PORT [--no-wait]
-    imfoc identify PORT --config INI [--out DIR]
+    imfoc select-standstill|select-rotating PORT
+    imfoc identify PORT --config INI [--out DIR] [--sequence configured|standstill|rotating]
 
 PORT is a serial device (/dev/ttyUSB0, COM3, the path motor_sim --serial made).  The
 per-unit values of the telemetry are converted to SI with the bases of --config, the INI
@@ -250,6 +251,9 @@ def cmd_command(a, out):
         if not wait:
             if a.command == "dlog-arm":
                 out.write("(the data log has no telemetry field: read it with CCS)\n")
+            elif a.command.startswith("select-"):
+                out.write("(for the next starts; a drive without the standstill test refuses "
+                          "a start after select-standstill: no_standstill)\n")
             return EXIT_OK
         done = _DONE[a.command]
         deadline = time.monotonic() + a.timeout
@@ -344,6 +348,12 @@ def parser():
     i.add_argument("--config", help="INI the firmware was built from (required)")
     i.add_argument("--out", default=".", help="directory for report.json, trace.csv, run.png, "
                                               "parameters.png (default: .; created)")
+    i.add_argument("--sequence", choices=("configured", "standstill", "rotating"),
+                   default="configured",
+                   help="standstill: every parameter with the rotor at rest (a load that "
+                        "cannot be uncoupled; the drive needs [ident] sequence = adaptive or "
+                        "standstill in its INI); rotating: the INI's rotating sequence; "
+                        "configured (default): whatever the INI says")
     return ap
 
 

@@ -11,11 +11,12 @@ from pathlib import Path
 from .bases import PARAM_FIELDS, SI_FIELDS, ConfigError
 from .link import EXIT_DRIVE, EXIT_OK, EXIT_PORT, EXIT_USAGE, Failure, Link, reason_text
 from .protocol import CONF_FIELDS, REASONS, fault_name, reason_name, state_name
-from .sequence_time import calibrate_s
+from .sequence_time import calibrate_s, configured_standstill, standstill_s
 from .telemetry_log import (DriveClock, TelemetryLog, counters_line, frame_values, params_si)
 from .verdict import confidence_pct, summary
 
-IDLE, CALIBRATE, FAULT = 0, 1, 6
+IDLE, CALIBRATE, ACCELERATE, FAULT = 0, 1, 3, 6
+INJECT = 8
 PROGRESS_EVERY_S = 1.0     # drive seconds between two progress lines within a state
 START_WAIT_S = 1.0         # wall seconds before a start command is taken as lost
 PENDING = REASONS.index("pending")
@@ -42,12 +43,18 @@ class Identify:
     def __init__(self, a, out, bases):
         self.a, self.out, self.bases = a, out, bases
         self.config = str(a.config)
+        self.sequence = getattr(a, "sequence", "configured")
         try:
+            self.standstill = (self.sequence == "standstill" or
+                               (self.sequence == "configured" and configured_standstill(a.config)))
             self.t_calibrate = calibrate_s(a.config)
+            # the standstill sequence's injection: 10 s on the paper motor, 30 s on a 37 kW one
+            self.t_inject = standstill_s(a.config) if self.standstill else 0.0
         except ConfigError as e:
             raise Failure(str(e), EXIT_USAGE) from None
         # a 15 kW motor's CALIBRATE alone is 15 s: the default wait covers it
-        self.timeout = a.timeout if a.timeout is not None else 30.0 + self.t_calibrate
+        self.timeout = (a.timeout if a.timeout is not None
+                        else 30.0 + self.t_calibrate + self.t_inject)
         self.clock = DriveClock(bases.pwm_freq_Hz)
         self.log = None
         self.frames = []
@@ -124,6 +131,8 @@ class Identify:
                 first = self._next_t(link, deadline, "timeout: the drive did not stop "
                                      f"within {self.timeout:g} s")
                 self._check_fault(first, first.raw["state"])
+        if self.sequence != "configured":
+            link.send("select-" + self.sequence)     # taken before the start (drive.h)
         link.send("start")
         self.t_start = self.clock.t(self._seq)
         t_sent, tries = time.monotonic(), 1
@@ -135,6 +144,11 @@ class Identify:
         verdict = t_verdict = None
         while True:
             fr = self._next(link, deadline, self._timeout_text(state))
+            if (fr.type == "Q" and not started and self.standstill and
+                    fr.raw["reason"] == REASONS.index("no_standstill")):
+                raise Failure("the drive cannot run the standstill sequence: its INI has no "
+                              "standstill test ([ident] sequence = adaptive or standstill); "
+                              "nothing turned", EXIT_DRIVE)
             if fr.type == "Q" and started:
                 if fr.raw["reason"] == PENDING:
                     pending_seen = True
@@ -149,6 +163,11 @@ class Identify:
             r = fr.raw
             now = self._now()
             self._check_fault(fr, ran)
+            if self.standstill and r["state"] == ACCELERATE:
+                # never turn a shaft the user said cannot turn
+                link.send("stop")
+                raise Failure("the drive started to accelerate although the standstill "
+                              "sequence was asked for: stopped", EXIT_DRIVE)
             if r["state"] != state:
                 state, t_state = r["state"], now
                 ran = state
@@ -184,6 +203,8 @@ class Identify:
         length, from the INI)."""
         r, b = fr.raw, self.bases
         line = f"{now:7.2f} s    {state_name(r['state'])} {in_state:.1f} s"
+        if r["state"] == INJECT:
+            line += f" of ~{self.t_inject:.1f} s (the low-frequency test at standstill)"
         if r["state"] == CALIBRATE:
             phase = "sensor and bridge tests" if r["pwm_on"] else "current offsets, bridge off"
             line += f" of ~{self.t_calibrate:.1f} s ({phase})"

@@ -27,7 +27,8 @@ later firmware may add some: they are counted by type and skipped).
 from dataclasses import dataclass, field
 
 # include/id_sequence.h id_state_t, in enum order (test_protocol checks it against the header)
-STATES = ("IDLE", "CALIBRATE", "MAGNETIZE", "ACCELERATE", "SETTLE", "RUN", "FAULT", "REFINE")
+STATES = ("IDLE", "CALIBRATE", "MAGNETIZE", "ACCELERATE", "SETTLE", "RUN", "FAULT", "REFINE",
+          "INJECT")
 # include/protect.h fault_code_t, in enum order (likewise)
 FAULTS = ("none", "overcurrent", "bus_overvoltage", "bus_undervoltage", "encoder",
           "current_offset", "adc_rail", "hw_trip", "config", "current_sensor", "isr_overrun",
@@ -36,7 +37,7 @@ FAULTS = ("none", "overcurrent", "bus_overvoltage", "bus_undervoltage", "encoder
 # include/drive.h drive_pub_reason_t, in enum order (likewise)
 REASONS = ("pending", "published", "not_converged", "low_excitation", "high_residual",
            "low_confidence", "implausible", "fault", "timeout", "stopped", "bus_low",
-           "rotor_turning", "torque_limit")
+           "rotor_turning", "torque_limit", "no_standstill")
 CONF_FIELDS = ("conf_Rs", "conf_Rr", "conf_Lm", "conf_Lr", "conf_psi_r", "conf_Tr")
 
 # field layout of each frame type: (uint16 fields, Q24 fields)
@@ -50,7 +51,9 @@ LAYOUT = {
 }
 # the 32-bit fields in Q20 (Tr, pu time, up to 2048), every other one Q24
 Q20_FIELDS = frozenset(("Tr", "Tr_track"))
-COMMANDS = {"start": "S", "stop": "X", "reset": "R", "dlog-arm": "D"}
+# select-*: the sequence of the next starts (include/drive.h DRIVE_CMD_SELECT_*)
+COMMANDS = {"start": "S", "stop": "X", "reset": "R", "dlog-arm": "D",
+            "select-standstill": "Z", "select-rotating": "M"}
 FRAME_MAX = 160        # firmware/telemetry.c TLM_FRAME_MAX: no frame is longer
 LOAD_PERIOD_TICKS = 10000   # $T load: T1 ticks of one PWM period (2 T1PR at 15 kHz)
 

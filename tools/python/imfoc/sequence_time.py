@@ -59,3 +59,44 @@ def calibrate_s(path):
     if v["dead_time_comp"] and v["vi_test"] and v["Rr_ohm"] > 0 and v["pwm_freq_Hz"] > 0:
         t += bridge_test_s((v["Lm_H"] + v["Llr_H"]) / v["Rr_ohm"], v["pwm_freq_Hz"])
     return t
+
+
+# the standstill sequence (include/drive_static.h, include/standstill_lf.h)
+STANDSTILL_KEYS = {
+    "Rr_ohm": ("nameplate", "Rr_ohm", None),
+    "Lm_H": ("nameplate", "Lm_H", None),
+    "Llr_H": ("nameplate", "Llr_H", None),
+    "pwm_freq_Hz": ("board", "pwm_freq_Hz", 15000),
+}
+LF_W1_TR = 0.5            # standstill_lf.h STANDSTILL_LF_W1_TR
+LF_LEAD_TR = 5.0          # STANDSTILL_LF_LEAD_TR
+STATIC_WINDOW_S = 4.0     # drive_static.h DRIVE_STATIC_WINDOW_S
+
+
+def standstill_s(path):
+    """The standstill sequence's injection (standstill_lf_samples) in seconds."""
+    v = read_ini_values(path, STANDSTILL_KEYS)
+    if not (v["Rr_ohm"] > 0 and v["pwm_freq_Hz"] > 0):
+        return 0.0
+    tr = (v["Lm_H"] + v["Llr_H"]) / v["Rr_ohm"]
+    ts_slow = DRIVE_SLOTS / v["pwm_freq_Hz"]
+    per = math.floor(2.0 * math.pi * tr / (LF_W1_TR * ts_slow) + 0.5)
+    periods = max(1, math.ceil(0.5 * STATIC_WINDOW_S / (per * ts_slow)))
+    lead = math.ceil(LF_LEAD_TR * tr / ts_slow)
+    return (lead + 2 * periods * per) * ts_slow
+
+
+def configured_standstill(path):
+    """True if the INI selects the standstill sequence ([ident] sequence = standstill, or
+    the key it implies, static_id = 1)."""
+    import configparser
+    cp = configparser.ConfigParser(inline_comment_prefixes=(";", "#"),
+                                   comment_prefixes=(";", "#"), strict=False)
+    cp.optionxform = str
+    try:
+        with open(path, encoding="utf-8") as f:
+            cp.read_file(f)
+    except (OSError, UnicodeDecodeError, configparser.Error):
+        return False
+    seq = cp.get("ident", "sequence", fallback="").strip()
+    return seq == "standstill" or cp.get("ident", "static_id", fallback="0").strip() in ("1", "1.0")

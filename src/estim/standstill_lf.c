@@ -1,0 +1,155 @@
+/* The standstill sequence's low-frequency impedance test.  See standstill_lf.h. */
+#include "standstill_lf.h"
+
+#include "iq_rmpy.h"
+
+#include <math.h>
+#include <string.h>
+
+#define SUM_GAIN 16.0f
+#define PER_MAX 1048576.0f   /* 2^20 samples per period */
+
+/* the harmonics' multiples of the fundamental's angle */
+static const int32_t k_mult[STANDSTILL_LF_NH] = {1, 2, 4};
+
+static inline _iq sat_in(_iq x)
+{
+    return _IQsat(x, _IQ(STANDSTILL_LF_IN_MAX), -_IQ(STANDSTILL_LF_IN_MAX));
+}
+
+/* The test's shape from the SI set-up: samples per period, periods per
+ * half, lead samples (floats: init only). */
+static standstill_lf_status_t shape(float Ts_s, float tr_s, float ampl_pu, float im_pu,
+                                    float min_window_s, float *per, float *periods,
+                                    float *lead)
+{
+    if (!(Ts_s > 0.0f) || !(tr_s > 0.0f)) {
+        return STANDSTILL_LF_ERR_TIME;
+    }
+    /* the fundamental's period: 2 pi Tr / (w1 Tr) */
+    *per = floorf(6.2831853f * tr_s / (STANDSTILL_LF_W1_TR * Ts_s) + 0.5f);
+    if (!(*per >= (float)STANDSTILL_LF_PER_MIN && *per <= PER_MAX)) {
+        return STANDSTILL_LF_ERR_TIME;
+    }
+    *periods = ceilf(0.5f * min_window_s / (*per * Ts_s));
+    if (!(*periods >= 1.0f)) {
+        *periods = 1.0f;
+    }
+    *lead = ceilf(STANDSTILL_LF_LEAD_TR * tr_s / Ts_s);
+    if (*periods * *per > (float)STANDSTILL_LF_HALF_MAX ||
+        *lead + 2.0f * *periods * *per > 2147483647.0f) {
+        return STANDSTILL_LF_ERR_WINDOW;
+    }
+    if (!(im_pu > 0.0f && im_pu <= 2.0f) || !(ampl_pu > 0.0f) ||
+        ampl_pu > STANDSTILL_LF_AMPL_MAX_OF_IM * im_pu) {
+        return STANDSTILL_LF_ERR_AMPL;
+    }
+    return STANDSTILL_LF_OK;
+}
+
+standstill_lf_status_t standstill_lf_check(float Ts_s, float tr_s, float ampl_pu, float im_pu,
+                                           float min_window_s)
+{
+    float per, periods, lead;
+    return shape(Ts_s, tr_s, ampl_pu, im_pu, min_window_s, &per, &periods, &lead);
+}
+
+standstill_lf_status_t standstill_lf_init(standstill_lf_t *z, float Ts_s, float tr_s,
+                                          float ampl_pu, float im_pu, float min_window_s)
+{
+    float per = 0.0f, periods = 0.0f, lead = 0.0f;
+    standstill_lf_status_t st;
+
+    memset(z, 0, sizeof *z);
+    st = shape(Ts_s, tr_s, ampl_pu, im_pu, min_window_s, &per, &periods, &lead);
+    if (st != STANDSTILL_LF_OK) {
+        return st;
+    }
+    z->per = (uint32_t)per;
+    z->half = (uint32_t)(periods * per);
+    z->lead = (uint32_t)lead;
+    z->ampl = _IQ(ampl_pu);
+    z->gain = _IQ(SUM_GAIN / (periods * per));
+    z->ang_step = _IQ(1.0f / per);
+    /* 2^32 / per rounded, in integers (a 32-bit double, the C28x's and the
+     * AVR's, would round it); per >= 64 keeps it below 2^26 */
+    z->inv_per_q32 = (uint32_t)((((uint64_t)1 << 32) + (uint64_t)(z->per / 2u)) /
+                                (uint64_t)z->per);
+    return STANDSTILL_LF_OK;
+}
+
+uint32_t standstill_lf_samples(const standstill_lf_t *z)
+{
+    return z->lead + 2u * z->half;
+}
+
+float standstill_lf_w1_rad_s(const standstill_lf_t *z, float Ts_s)
+{
+    return (z->per > 0u) ? 6.2831853f / ((float)z->per * Ts_s) : 0.0f;
+}
+
+void standstill_lf_start(standstill_lf_t *z)
+{
+    memset(z->sum, 0, sizeof z->sum);
+    z->k = 0u;
+    z->ph = 0u;
+    z->done = 0u;
+    z->i_add = _IQ(0.0);
+    z->running = (uint16_t)(z->per > 0u);
+}
+
+/* The sample's angle in the fundamental's period, Q24 pu of a revolution:
+ * ph * round(2^32 / per) / 2^8 (ph < per: the product below 2^32 + per/2,
+ * so uint32 holds it but for the last sample's rounding: taken in 64 bits). */
+static inline _iq lf_angle(const standstill_lf_t *z)
+{
+#if MATH_TYPE == IQ_MATH
+    return (_iq)(((uint64_t)z->ph * (uint64_t)z->inv_per_q32) >> (32 - GLOBAL_Q));
+#else
+    return (float)z->ph / (float)z->per;
+#endif
+}
+
+void standstill_lf_step(standstill_lf_t *z)
+{
+    _iq s[STANDSTILL_LF_NH];
+    _iq c[STANDSTILL_LF_NH];
+    const _iq a = lf_angle(z);
+    uint16_t n;
+
+    if (z->running == 0u) {
+        return;
+    }
+    for (n = 0u; n < STANDSTILL_LF_NH; n++) {
+        /* n a < 4 pu: no overflow; the sine wraps the whole turns */
+        const _iq an = _IQmpyI32(a, k_mult[n]);
+        s[n] = _IQsinPU(an);
+        c[n] = _IQcosPU(an);
+    }
+    if (z->k >= z->lead) {
+        const uint32_t j = z->k - z->lead;
+        _iq (*sum)[STANDSTILL_LF_NSUM] = z->sum[(j < z->half) ? 0u : 1u];
+        const _iq u = sat_in(z->u_m);
+        const _iq i = sat_in(z->i_m);
+        for (n = 0u; n < STANDSTILL_LF_NH; n++) {
+            /* |s| <= 1, g <= 0.25: the weights below 0.25; each product
+             * below 1 pu (|u| <= 4): iq_rmpy's range */
+            const _iq ws = iq_rmpy(s[n], z->gain);
+            const _iq wc = iq_rmpy(c[n], z->gain);
+            sum[n][SSLF_US] += iq_rmpy(u, ws);
+            sum[n][SSLF_UC] += iq_rmpy(u, wc);
+            sum[n][SSLF_IS] += iq_rmpy(i, ws);
+            sum[n][SSLF_IC] += iq_rmpy(i, wc);
+        }
+    }
+    /* the injection for the next samples: 3 ampl < 0.9 i_M <= 1.8 pu */
+    z->i_add = _IQmpy(z->ampl, s[0] + s[1] + s[2]);
+    if (++z->ph >= z->per) {
+        z->ph = 0u;
+    }
+    if (++z->k >= z->lead + 2u * z->half) {
+        z->done = 1u;
+        z->running = 0u;
+        z->i_add = _IQ(0.0);
+    }
+}
