@@ -78,13 +78,23 @@ inverter_status_t inverter_init(inverter_t *inv, const inverter_params_t *p)
         inv->ripple_V = p->ripple_V;
     }
     inv->vdc_V = p->vdc_V;
+    inv->ripple_at_s = NAN;
     return INV_OK;
 }
 
 /* s(i): -1..1, linear over |i| < i_band (dead-time transition) */
 static double inv_sgn(const inverter_t *inv, double i_A)
 {
-    return inv_clamp(i_A / inv->p.i_band_A, -1.0, 1.0);
+    /* outside the band without the division: the same values (i >= b
+     * gives i/b >= 1 after rounding, i < b gives i/b <= 1) */
+    const double b = inv->p.i_band_A;
+    if (i_A >= b) {
+        return 1.0;
+    }
+    if (i_A <= -b) {
+        return -1.0;
+    }
+    return inv_clamp(i_A / b, -1.0, 1.0);
 }
 
 double inverter_bus_voltage_V(const inverter_t *inv, double t_s, double i_dc_A)
@@ -141,8 +151,20 @@ void inverter_step_slope(inverter_t *inv, double t_s, const double duty[3],
     }
     inv->started = 1u;
     inv->i_dc_A = i_dc;
-    /* i_dc does not depend on Vdc, so the bus equation is explicit */
-    inv->vdc_V = inverter_bus_voltage_V(inv, t_s + 0.5 * inv->Ts_s, i_dc);
+    /* i_dc does not depend on Vdc, so the bus equation is explicit
+     * (inverter_bus_voltage_V, the ripple's sin kept for the same instant) */
+    {
+        const double tm = t_s + 0.5 * inv->Ts_s;
+        if (inv->ripple_V == 0.0) {
+            inv->vdc_V = inverter_bus_voltage_V(inv, tm, i_dc);
+        } else {
+            if (!(inv->ripple_at_s == tm)) {
+                inv->ripple_at_s = tm;
+                inv->ripple_now_V = inv->ripple_V * sin(INV_TWO_PI * inv->p.ripple_Hz * tm);
+            }
+            inv->vdc_V = inv->p.vdc_V + inv->ripple_now_V - inv->r_source_ohm * i_dc;
+        }
+    }
     for (x = 0; x < 3; x++) {
         inv->v_pole_V[x] = inv->d_eff[x] * inv->vdc_V - inv->v_drop_V * sgn[x] -
                            inv->r_on_ohm * i_mid_A[x];

@@ -109,6 +109,8 @@ typedef struct {
     double duty[3];
     double i_A[3];         /* period-start currents */
     uint16_t started;      /* i_A holds a previous period (for the slope) */
+    double ripple_at_s;    /* the last mid-period time whose ripple was computed */
+    double ripple_now_V;   /* that ripple (the implicit period's two passes share it) */
     /* outputs */
     double vdc_V;          /* bus voltage, period average */
     double i_dc_A;         /* DC-link current drawn from the bus, period average */

@@ -15,9 +15,42 @@ enum { X_PSA = 0, X_PSB, X_PRA, X_PRB, X_WM, X_TH, X_N };
 
 static int mm_pos(double v) { return isfinite(v) && (v > 0.0); }
 
+/* fmod(a, MM_TWO_PI), bit for bit, without the library's loop: the
+ * remainder a - n 2pi (n = trunc(a / 2pi)) is a double exactly, so one fma
+ * gives it exactly; n from the rounded quotient may be one off, which the
+ * remainder's range shows.  Beyond 2^50 (n no longer exact) and for
+ * non-finite a: fmod itself. */
+static double mm_fmod_2pi(double a)
+{
+    double n, r;
+    if (!(fabs(a) < 1125899906842624.0)) {
+        return fmod(a, MM_TWO_PI);
+    }
+    n = trunc(a / MM_TWO_PI);
+    r = fma(-n, MM_TWO_PI, a);
+    if (a >= 0.0) {
+        if (r < 0.0) {
+            r = fma(-(n - 1.0), MM_TWO_PI, a);
+        } else if (r >= MM_TWO_PI) {
+            r = fma(-(n + 1.0), MM_TWO_PI, a);
+        } else {
+            /* n was right */
+        }
+    } else {
+        if (r > 0.0) {
+            r = fma(-(n + 1.0), MM_TWO_PI, a);
+        } else if (r <= -MM_TWO_PI) {
+            r = fma(-(n - 1.0), MM_TWO_PI, a);
+        } else {
+            /* n was right */
+        }
+    }
+    return (r == 0.0) ? copysign(0.0, a) : r;   /* fmod keeps a's sign on 0 */
+}
+
 static double mm_wrap_2pi(double a)
 {
-    double w = fmod(a, MM_TWO_PI);
+    double w = mm_fmod_2pi(a);
     if (w < 0.0) {
         w += MM_TWO_PI;
     }

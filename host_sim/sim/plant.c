@@ -341,7 +341,14 @@ void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_
             di[1] = m->ib_A - i_abc[1];
             di[2] = m->ic_A - i_abc[2];
             *m = m0;
-            p->inv = inv0;
+            {
+                /* as before pass 1, but for the ripple it evaluated (the
+                 * same instant in pass 2) */
+                const double r_at = p->inv.ripple_at_s, r_now = p->inv.ripple_now_V;
+                p->inv = inv0;
+                p->inv.ripple_at_s = r_at;
+                p->inv.ripple_now_V = r_now;
+            }
             (void)inverter_step_implicit(&p->inv, p->t_s, duty, i_abc, di,
                                          p->i_per_V * p->vdc_scale);
             if (p->hw_pending_s >= 0.0) {
