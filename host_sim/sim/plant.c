@@ -253,12 +253,13 @@ static double short_vab(const plant_t *p, const double duty[3])
 
 /* The bridge on for @p t_on of the period (the voltage of the period's
  * second pass), then open for the rest: the comparator's trip. */
-static void period_cut(plant_t *p, const motor_t *m0, const double duty[3], double t_on)
+static void period_cut(plant_t *p, const motor_state_t *m0, const double duty[3],
+                       double t_on)
 {
     motor_t *m = &p->motor;
     double i_sh;
     uint16_t n_on = (uint16_t)ceil((double)p->substeps * t_on / p->Ts_s);
-    *m = *m0;
+    motor_restore(m, m0);
     if (t_on > 0.0) {
         motor_step(m, p->inv.v_alpha_V * p->vdc_scale, p->inv.v_beta_V * p->vdc_scale, t_on,
                    (n_on == 0u) ? 1u : n_on);
@@ -275,18 +276,20 @@ static void period_cut(plant_t *p, const motor_t *m0, const double duty[3], doub
     }
 }
 
-/* The comparator over the period just stepped from @p m0 (and the short's
- * current @p i_sh0 at its start): when a leg crossed the level, the time
- * into the period at which the outputs go off (crossing + delay; may lie
- * beyond the period), else -1. */
-static double comparator_off_time(const plant_t *p, const motor_t *m0, double i_sh0)
+/* The comparator over the period just stepped from the phase currents
+ * @p i0 (and the short's current @p i_sh0) at its start: when a leg crossed
+ * the level, the time into the period at which the outputs go off
+ * (crossing + delay; may lie beyond the period), else -1. */
+static double comparator_off_time(const plant_t *p, const double i0[3], double i_sh0)
 {
     double l0[3], l1[3], t_cross = -1.0;
     int x;
     if (!(p->hw_oc_A > 0.0)) {
         return -1.0;
     }
-    leg_currents(m0, i_sh0, l0);
+    l0[0] = fabs(i0[0] + i_sh0);   /* as leg_currents */
+    l0[1] = fabs(i0[1] - i_sh0);
+    l0[2] = fabs(i0[2]);
     leg_currents(&p->motor, p->i_short_A, l1);
     for (x = 0; x < 3; x++) {
         if (l1[x] > p->hw_oc_A) {
@@ -305,20 +308,19 @@ static double comparator_off_time(const plant_t *p, const motor_t *m0, double i_
 void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_enabled)
 {
     motor_t *m = &p->motor;
-    load_t l;
 
     p->hw_fired = 0u;
-    (void)load_init_constant(&l, plant_period_load_Nm(p));
-    motor_set_load(m, &l);
+    motor_set_load_constant(m, plant_period_load_Nm(p));
     if (outputs_enabled != 0u) {
         double duty[3], i_abc[3];
-        const motor_t m0 = *m;
+        motor_state_t m0;
         const double i_sh0 = p->i_short_A;
         double t_off;
         uint16_t x;
         for (x = 0u; x < 3u; x++) {
             duty[x] = inverter_duty_from_cmpr(active->cmpr[x], p->t1pr);
         }
+        motor_save(m, &m0);
         i_abc[0] = m->ia_A;
         i_abc[1] = m->ib_A;
         i_abc[2] = m->ic_A;
@@ -340,7 +342,7 @@ void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_
             di[0] = m->ia_A - i_abc[0];
             di[1] = m->ib_A - i_abc[1];
             di[2] = m->ic_A - i_abc[2];
-            *m = m0;
+            motor_restore(m, &m0);
             {
                 /* as before pass 1, but for the ripple it evaluated (the
                  * same instant in pass 2) */
@@ -368,7 +370,7 @@ void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_
              * a-b voltage of the period */
             p->i_short_A += short_vab(p, duty) * p->Ts_s / p->short_L_H;
         }
-        t_off = comparator_off_time(p, &m0, i_sh0);
+        t_off = comparator_off_time(p, i_abc, i_sh0);
         if (t_off >= p->Ts_s) {
             p->hw_pending_s = t_off - p->Ts_s;   /* off early in the next period */
         } else if (t_off >= 0.0) {
