@@ -48,6 +48,16 @@ int plant_init(plant_t *p, const sim_config_t *c, uint16_t t1pr, char *err, unsi
         return 1;
     }
 
+    {
+        /* the exact electrical step takes the torque's slope against speed
+         * explicitly over a period: a mechanical time constant (at the
+         * largest rotor flux the drive sets up, as sim_config_check) of at
+         * least a period; a shorter one falls back to RK4 in substeps */
+        double tau_e, tau_m;
+        motor_time_constants(&mp, mp.Lm_H * c->controller.magnetizing_current_A, 0.0, &tau_e,
+                             &tau_m);
+        p->exact = (uint16_t)(tau_m >= p->Ts_s);
+    }
     p->i_per_V = inverter_current_gain(p->Ts_s, mp.Rs_ohm, mp.Rr_ohm, mp.Lm_H, mp.Lls_H,
                                        mp.Llr_H);
 
@@ -226,6 +236,26 @@ void plant_sample(plant_t *p, hal_host_port_t *port)
     }
 }
 
+/* The motor over @p dt with the stator voltage (ua, ub) held / with the
+ * stator open: the exact step, or RK4 in @p n steps (plant_t.exact). */
+static void plant_motor_step(plant_t *p, double ua, double ub, double dt, uint16_t n)
+{
+    if (p->exact != 0u) {
+        motor_step_exact(&p->motor, ua, ub, dt);
+    } else {
+        motor_step(&p->motor, ua, ub, dt, n);
+    }
+}
+
+static void plant_motor_open(plant_t *p, double dt)
+{
+    if (p->exact != 0u) {
+        motor_step_open_exact(&p->motor, dt);
+    } else {
+        motor_step_open(&p->motor, dt, p->substeps);
+    }
+}
+
 /* |current| of each leg at the state @p m with the short's current @p i_sh
  * (out of leg a, into leg b). */
 static void leg_currents(const motor_t *m, double i_sh, double out[3])
@@ -261,12 +291,12 @@ static void period_cut(plant_t *p, const motor_state_t *m0, const double duty[3]
     uint16_t n_on = (uint16_t)ceil((double)p->substeps * t_on / p->Ts_s);
     motor_restore(m, m0);
     if (t_on > 0.0) {
-        motor_step(m, p->inv.v_alpha_V * p->vdc_scale, p->inv.v_beta_V * p->vdc_scale, t_on,
-                   (n_on == 0u) ? 1u : n_on);
+        plant_motor_step(p, p->inv.v_alpha_V * p->vdc_scale, p->inv.v_beta_V * p->vdc_scale,
+                         t_on, (n_on == 0u) ? 1u : n_on);
     }
     i_sh = (p->short_L_H > 0.0) ? p->i_short_A + short_vab(p, duty) * t_on / p->short_L_H : 0.0;
     note_peaks(p, m, i_sh);   /* the currents when the outputs go off */
-    motor_step_open(m, p->Ts_s - t_on, p->substeps);
+    plant_motor_open(p, p->Ts_s - t_on);
     p->i_short_A = 0.0;       /* the short's loop current freewheels out within us */
     p->i_dc_A = p->inv.i_dc_A * t_on / p->Ts_s;
     p->hw_fired = 1u;
@@ -337,12 +367,25 @@ void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_
             const inverter_t inv0 = p->inv;
             double di[3];
             inverter_step(&p->inv, p->t_s, duty, i_abc);
-            motor_step(m, p->inv.v_alpha_V * p->vdc_scale, p->inv.v_beta_V * p->vdc_scale,
-                       p->Ts_s, p->substeps);
-            di[0] = m->ia_A - i_abc[0];
-            di[1] = m->ib_A - i_abc[1];
-            di[2] = m->ic_A - i_abc[2];
-            motor_restore(m, &m0);
+            if (p->exact != 0u) {
+                /* the exact step is affine in the voltage: pass 1's end
+                 * current without stepping (pass 2 reuses its transition) */
+                double i_al, i_be, i_b;
+                motor_predict_current(m, p->inv.v_alpha_V * p->vdc_scale,
+                                      p->inv.v_beta_V * p->vdc_scale, p->Ts_s, &i_al, &i_be);
+                /* the inverse Clarke as the motor's outputs */
+                i_b = -0.5 * i_al + 0.5 * 1.732050807568877293527 * i_be;
+                di[0] = i_al - i_abc[0];
+                di[1] = i_b - i_abc[1];
+                di[2] = (-i_al - i_b) - i_abc[2];
+            } else {
+                motor_step(m, p->inv.v_alpha_V * p->vdc_scale, p->inv.v_beta_V * p->vdc_scale,
+                           p->Ts_s, p->substeps);
+                di[0] = m->ia_A - i_abc[0];
+                di[1] = m->ib_A - i_abc[1];
+                di[2] = m->ic_A - i_abc[2];
+                motor_restore(m, &m0);
+            }
             {
                 /* as before pass 1, but for the ripple it evaluated (the
                  * same instant in pass 2) */
@@ -361,8 +404,8 @@ void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_
                 p->t_s += p->Ts_s;
                 return;
             }
-            motor_step(m, p->inv.v_alpha_V * p->vdc_scale, p->inv.v_beta_V * p->vdc_scale,
-                       p->Ts_s, p->substeps);
+            plant_motor_step(p, p->inv.v_alpha_V * p->vdc_scale,
+                             p->inv.v_beta_V * p->vdc_scale, p->Ts_s, p->substeps);
         }
         p->i_dc_A = p->inv.i_dc_A;
         if (p->short_L_H > 0.0) {
@@ -382,7 +425,7 @@ void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_
     } else {
         p->i_short_A = 0.0;   /* bridge off: the loop current freewheels out within us */
         p->hw_pending_s = -1.0;
-        motor_step_open(m, p->Ts_s, p->substeps);
+        plant_motor_open(p, p->Ts_s);
         p->i_dc_A = 0.0;
     }
     note_peaks(p, m, p->i_short_A);
