@@ -293,17 +293,28 @@ void motor_step_abc(motor_t *m, double ua_V, double ub_V, double uc_V,
     motor_step(m, ual, ube, dt_s, n_sub);
 }
 
-void motor_step_open(motor_t *m, double dt_s, uint16_t n_sub)
+/* The start of an open-stator step of @p dt_s: 0 for no step (dt_s <= 0 or
+ * not finite), else 1 with the motor in open mode (entering it sets
+ * psi_s = (Lm/Lr) psi_r, i_s = 0). */
+static int mm_open_begin(motor_t *m, double dt_s)
 {
-    double dx[X_N];
-
     if (!isfinite(dt_s) || !(dt_s > 0.0)) {
-        return;
+        return 0;
     }
     if (m->open == 0u) {
         m->open = 1u;
         m->x[X_PSA] = (m->p.Lm_H / m->Lr_H) * m->x[X_PRA];
         m->x[X_PSB] = (m->p.Lm_H / m->Lr_H) * m->x[X_PRB];
+    }
+    return 1;
+}
+
+void motor_step_open(motor_t *m, double dt_s, uint16_t n_sub)
+{
+    double dx[X_N];
+
+    if (mm_open_begin(m, dt_s) == 0) {
+        return;
     }
     mm_integrate(m, 0.0, 0.0, dt_s, n_sub);
     /* terminal voltage of the open stator: u_s = dpsi_s/dt (i_s = 0) */
@@ -562,13 +573,8 @@ void motor_step_open_exact(motor_t *m, double dt_s)
 {
     double dx[X_N];
     double we, ra, rb;
-    if (!isfinite(dt_s) || !(dt_s > 0.0)) {
+    if (mm_open_begin(m, dt_s) == 0) {
         return;
-    }
-    if (m->open == 0u) {
-        m->open = 1u;
-        m->x[X_PSA] = (m->p.Lm_H / m->Lr_H) * m->x[X_PRA];
-        m->x[X_PSB] = (m->p.Lm_H / m->Lr_H) * m->x[X_PRB];
     }
     we = (double)m->p.pole_pairs * mm_ex_mid_speed(m, 0.0, dt_s);
     if (!(m->ex_open_dt == dt_s && m->ex_open_we == we && m->ex_open_Rr == m->p.Rr_ohm)) {

@@ -378,6 +378,19 @@ static void test_step_convergence(void **state)
  *    error (3.5 .. 4.5; measured 4.00);
  *  - the open stator (rotor flux decay and turn): within 1e-12 Wb;
  *  - motor_predict_current is the current the step then ends at, to the bit. */
+/* The paper's motor fluxed at a locked speed @p w_m: @p n periods of the
+ * 50 Hz supply (RK4, 4 steps a period) */
+static void fluxed_locked(motor_t *m, double w_m, int n)
+{
+    int k;
+    init_default(m);
+    motor_set_speed(m, w_m);
+    motor_lock_speed(m, 1u);
+    for (k = 0; k < n; k++) {
+        step_sine(m, U_PEAK, 2.0 * PI * F_SUPPLY, 4u);
+    }
+}
+
 static double exact_vs_rk4(uint16_t locked, int n_exact, double *dw_max)
 {
     motor_t a, b;
@@ -421,12 +434,7 @@ static void test_exact_step(void **state)
         /* at a locked speed any step is exact: 30 periods at once (the
          * transition's closed form beyond its series' range) against RK4 in
          * 1920 steps */
-        init_default(&a);
-        motor_set_speed(&a, 140.0);
-        motor_lock_speed(&a, 1u);
-        for (k = 0; k < 300; k++) {
-            step_sine(&a, U_PEAK, 2.0 * PI * F_SUPPLY, 4u);
-        }
+        fluxed_locked(&a, 140.0, 300);
         b = a;
         motor_step_exact(&a, 10.0, -20.0, 30.0 * TS);
         motor_step(&b, 10.0, -20.0, 30.0 * TS, 1920u);
@@ -444,12 +452,7 @@ static void test_exact_step(void **state)
     CHECK_ABS("exact: halved step, error ratio i", di1 / di2, 4.0, 0.5);
     CHECK_ABS("exact: halved step, error ratio w", dw1 / dw2, 4.0, 0.5);
     /* open stator from a running, fluxed motor */
-    init_default(&a);
-    motor_set_speed(&a, 146.0);
-    motor_lock_speed(&a, 1u);
-    for (k = 0; k < 1500; k++) {
-        step_sine(&a, U_PEAK, 2.0 * PI * F_SUPPLY, 4u);
-    }
+    fluxed_locked(&a, 146.0, 1500);
     b = a;
     for (k = 0; k < 300; k++) {
         motor_step_open_exact(&a, TS);
