@@ -57,7 +57,11 @@ double hall_measure(hall_t *h, double i_A, double dt_s)
         h->primed = 1u;
     } else if (dt_s > 0.0) {
         /* exact zero-order-hold discretisation of tau dy/dt = i - y */
-        h->y_A += (1.0 - exp(-dt_s / h->tau_s)) * (i_A - h->y_A);
+        if (!(h->k_dt_s == dt_s)) {   /* the gain kept for a recurring step */
+            h->k_dt_s = dt_s;
+            h->k = 1.0 - exp(-dt_s / h->tau_s);
+        }
+        h->y_A += h->k * (i_A - h->y_A);
     } else {
         /* no time elapsed: the filter holds */
     }

@@ -44,6 +44,8 @@ typedef struct {
     /* state */
     double y_A;            /* filter state */
     uint16_t primed;       /* 0 until the first call (filter starts at i) */
+    double k_dt_s;         /* the step the filter gain k was computed for (0: none) */
+    double k;              /* 1 - exp(-k_dt_s / tau_s) */
     model_rng_t rng;
 } hall_t;
 

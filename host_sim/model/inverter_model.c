@@ -78,13 +78,23 @@ inverter_status_t inverter_init(inverter_t *inv, const inverter_params_t *p)
         inv->ripple_V = p->ripple_V;
     }
     inv->vdc_V = p->vdc_V;
+    inv->ripple_at_s = NAN;
     return INV_OK;
 }
 
 /* s(i): -1..1, linear over |i| < i_band (dead-time transition) */
 static double inv_sgn(const inverter_t *inv, double i_A)
 {
-    return inv_clamp(i_A / inv->p.i_band_A, -1.0, 1.0);
+    /* outside the band without the division: the same values (i >= b
+     * gives i/b >= 1 after rounding, i < b gives i/b <= 1) */
+    const double b = inv->p.i_band_A;
+    if (i_A >= b) {
+        return 1.0;
+    }
+    if (i_A <= -b) {
+        return -1.0;
+    }
+    return inv_clamp(i_A / b, -1.0, 1.0);
 }
 
 double inverter_bus_voltage_V(const inverter_t *inv, double t_s, double i_dc_A)
@@ -141,18 +151,32 @@ void inverter_step_slope(inverter_t *inv, double t_s, const double duty[3],
     }
     inv->started = 1u;
     inv->i_dc_A = i_dc;
-    /* i_dc does not depend on Vdc, so the bus equation is explicit */
-    inv->vdc_V = inverter_bus_voltage_V(inv, t_s + 0.5 * inv->Ts_s, i_dc);
+    /* i_dc does not depend on Vdc, so the bus equation is explicit
+     * (inverter_bus_voltage_V, the ripple's sin kept for the same instant) */
+    {
+        const double tm = t_s + 0.5 * inv->Ts_s;
+        if (inv->ripple_V == 0.0) {
+            inv->vdc_V = inverter_bus_voltage_V(inv, tm, i_dc);
+        } else {
+            if (!(inv->ripple_at_s == tm)) {
+                inv->ripple_at_s = tm;
+                inv->ripple_now_V = inv->ripple_V * sin(INV_TWO_PI * inv->p.ripple_Hz * tm);
+            }
+            inv->vdc_V = inv->p.vdc_V + inv->ripple_now_V - inv->r_source_ohm * i_dc;
+        }
+    }
     for (x = 0; x < 3; x++) {
         inv->v_pole_V[x] = inv->d_eff[x] * inv->vdc_V - inv->v_drop_V * sgn[x] -
                            inv->r_on_ohm * i_mid_A[x];
     }
-    vn = (inv->v_pole_V[0] + inv->v_pole_V[1] + inv->v_pole_V[2]) / 3.0;
+    /* by the constants' reciprocals (a division's latency, twice a period,
+     * for the last bit) */
+    vn = (inv->v_pole_V[0] + inv->v_pole_V[1] + inv->v_pole_V[2]) * (1.0 / 3.0);
     for (x = 0; x < 3; x++) {
         inv->v_phase_V[x] = inv->v_pole_V[x] - vn;
     }
     inv->v_alpha_V = inv->v_phase_V[0];
-    inv->v_beta_V = (inv->v_phase_V[1] - inv->v_phase_V[2]) / INV_SQRT3;
+    inv->v_beta_V = (inv->v_phase_V[1] - inv->v_phase_V[2]) * (1.0 / INV_SQRT3);
 }
 
 /* One pole's period-average voltage loss against the ideal d vdc, and its
@@ -249,24 +273,87 @@ static int inv_solve3(double a[3][3], double r[3], double z[3])
 #define INV_NEWTON_MAX 40
 #define INV_NEWTON_TOL_A 1e-9
 
+/* 1 when the current i0 + f di is outside the transition band on one and
+ * the same side at both changes @p da and @p db (its s(.) the same +-1) */
+static int inv_same_side(double i0, double f, double da, double db, double band)
+{
+    const double qa = i0 + f * da, qb = i0 + f * db;
+    return ((qa >= band) && (qb >= band)) || ((qa <= -band) && (qb <= -band));
+}
+
+/* The implicit period in closed form where every pole stays in one affine
+ * piece from the first pass's slope @p di_1st to the solution: its
+ * mid-period and edge currents outside the transition band on the same
+ * side at both, and the dead time leaving its duty unclamped.  There the
+ * pole's loss is v_drop s + r_on i_mid + td/Ts s_edges vdc with the signs
+ * fixed, e(di) - e1 = (r_on/2)(di - di_1st), and the residual
+ * di - di1 + g P (e(di) - e1) = 0 is (I + k P) di = di1 + k P di_1st,
+ * k = g r_on / 2, whose inverse is I - k/(1+k) P (P^2 = P).  Returns 1 with
+ * the solution in @p di, 0 where a pole leaves its piece (Newton's case). */
+static int inv_implicit_affine(const inverter_t *inv, const double d[3], const double i0[3],
+                               const double di_1st[3], const double di1[3], double g,
+                               double di[3])
+{
+    const double k = 0.5 * g * inv->r_on_ohm;
+    const double band = inv->p.i_band_A;
+    double y[3], m;
+    int x;
+    m = (di_1st[0] + di_1st[1] + di_1st[2]) / 3.0;
+    for (x = 0; x < 3; x++) {
+        y[x] = di1[x] + k * (di_1st[x] - m);
+    }
+    m = (y[0] + y[1] + y[2]) / 3.0;
+    for (x = 0; x < 3; x++) {
+        di[x] = y[x] - (k / (1.0 + k)) * (y[x] - m);
+    }
+    for (x = 0; x < 3; x++) {
+        const double dx = d[x], a = di_1st[x], b = di[x];
+        if (!inv_same_side(i0[x], 0.5, a, b, band)) {
+            return 0;
+        }
+        if ((dx > 0.0) && (dx < 1.0)) {
+            const double f_on = 0.5 * (1.0 - dx), f_off = 0.5 * (1.0 + dx);
+            double d_eff;
+            if (!inv_same_side(i0[x], f_on, a, b, band) ||
+                !inv_same_side(i0[x], f_off, a, b, band)) {
+                return 0;
+            }
+            d_eff = dx - inv->td_frac * 0.5 * (((i0[x] + f_on * a) > 0.0 ? 1.0 : -1.0) +
+                                               ((i0[x] + f_off * a) > 0.0 ? 1.0 : -1.0));
+            if (!((d_eff > 0.0) && (d_eff < 1.0))) {
+                return 0;
+            }
+        }
+    }
+    return 1;
+}
+
 uint16_t inverter_step_implicit(inverter_t *inv, double t_s, const double duty[3],
                                 const double i_abc_A[3], const double di1_A[3],
                                 double g_A_per_V)
 {
     const double vdc = inv->vdc_V;
     const double g = (isfinite(g_A_per_V) && g_A_per_V > 0.0) ? g_A_per_V : 0.0;
-    double d[3], i0[3], di[3], di1[3], e1[3], de[3], r[3], norm;
+    double d[3], i0[3], di[3], di1[3], di_1st[3], e1[3], de[3], r[3], norm;
     uint16_t it = 0u;
     int x, y;
 
     for (x = 0; x < 3; x++) {
         /* the first pass's slope: inverter_step's extrapolation */
-        const double di_1st = (inv->started != 0u) ? (i_abc_A[x] - inv->i_A[x]) : 0.0;
+        di_1st[x] = (inv->started != 0u) ? (i_abc_A[x] - inv->i_A[x]) : 0.0;
         d[x] = isfinite(duty[x]) ? inv_clamp(duty[x], 0.0, 1.0) : 0.0;
         i0[x] = i_abc_A[x];
         di1[x] = isfinite(di1_A[x]) ? di1_A[x] : 0.0;
+    }
+    if (inv_implicit_affine(inv, d, i0, di_1st, di1, g, di)) {
+        /* every pole in one affine piece: the solution itself (Newton would
+         * stop within INV_NEWTON_TOL_A of it, after one step) */
+        inverter_step_slope(inv, t_s, duty, i_abc_A, di);
+        return 1u;
+    }
+    for (x = 0; x < 3; x++) {
         di[x] = di1[x];
-        e1[x] = inv_pole_loss(inv, vdc, d[x], i0[x], di_1st, &de[x]);
+        e1[x] = inv_pole_loss(inv, vdc, d[x], i0[x], di_1st[x], &de[x]);
     }
     norm = inv_residual(inv, vdc, d, i0, di, di1, e1, g, r, de);
     while ((norm > INV_NEWTON_TOL_A) && (it < INV_NEWTON_MAX)) {

@@ -109,6 +109,8 @@ typedef struct {
     double duty[3];
     double i_A[3];         /* period-start currents */
     uint16_t started;      /* i_A holds a previous period (for the slope) */
+    double ripple_at_s;    /* the last mid-period time whose ripple was computed */
+    double ripple_now_V;   /* that ripple (the implicit period's two passes share it) */
     /* outputs */
     double vdc_V;          /* bus voltage, period average */
     double i_dc_A;         /* DC-link current drawn from the bus, period average */
@@ -160,9 +162,12 @@ void inverter_step_slope(inverter_t *inv, double t_s, const double duty[3],
  * e the pole errors by their edge currents i0 + di (1 -+ d)/2; solved for di
  * by Newton's method with a halving line search (e is piecewise linear and
  * rises with the current, so the Jacobian I + g P |de/ddi| is regular), then
- * inverter_step_slope with that di.  The bus is taken at its last value in
- * the solve only (the step itself evaluates it).  Returns the iterations
- * taken (0: di1 already consistent).
+ * inverter_step_slope with that di.  Where every pole's currents stay outside
+ * the transition band (and its duty unclamped) from di_1st to the solution,
+ * e is affine there and the solution is taken in closed form (what Newton
+ * reaches within its 1e-9 A after one step).  The bus is taken at its last
+ * value in the solve only (the step itself evaluates it).  Returns the
+ * iterations taken (0: di1 already consistent; 1: the closed form).
  */
 uint16_t inverter_step_implicit(inverter_t *inv, double t_s, const double duty[3],
                                 const double i_abc_A[3], const double di1_A[3],

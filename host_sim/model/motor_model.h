@@ -83,6 +83,8 @@ typedef struct {
     motor_params_t p;
     double Ls_H, Lr_H;     /* self-inductances */
     double D_H2;           /* Ls Lr - Lm^2 (> 0 since the leakages are > 0) */
+    double Lr_D, Lm_D;     /* Lr / D, Lm / D (the stator current's gains, 1/H) */
+    double J_inv;          /* 1 / J */
     /* inputs (the last ones applied) */
     double u_alpha_V, u_beta_V;  /* stator voltage; in open mode the back-EMF */
     load_t load;                 /* load profile (motor_set_load) */
@@ -105,7 +107,30 @@ typedef struct {
     double x[6];           /* psi_sa, psi_sb, psi_ra, psi_rb, w_m, theta_m */
     uint16_t speed_locked; /* 1: dw_m/dt = 0 */
     uint16_t open;         /* 1 while the last step was motor_step_open */
+    /* motor_step_exact's transition over half a step (a pure function of
+     * w_e, the step and the resistances, which a caller may change between
+     * steps (a warming rotor): recomputed when any differs) */
+    double ex_we, ex_dt;   /* what it was computed for (ex_dt 0: none yet) */
+    double ex_Rs, ex_Rr;
+    double ex_phi[8];      /* 2x2 complex exp(M dt/2), row-major, re/im */
+    double ex_gam[4];      /* 2x1 complex: its response to a unit stator voltage */
+    double ex_emu_mod;     /* |e^(tr M dt/4)| (a function of dt and the resistances) */
+    double ex_open[2];     /* open stator: exp((-Rr/Lr + j w_e) dt) */
+    double ex_open_we, ex_open_dt, ex_open_Rr;
 } motor_t;
+
+/** What motor_restore() needs to put a motor back where it was (the state,
+ *  time, voltage and stator mode; its load and speed lock are left as they
+ *  are, the outputs recomputed): a period redone from its start. */
+typedef struct {
+    double x[6];
+    double t_s;
+    double u_alpha_V, u_beta_V;
+    uint16_t open;
+} motor_state_t;
+
+void motor_save(const motor_t *m, motor_state_t *s);
+void motor_restore(motor_t *m, const motor_state_t *s);
 
 /** The paper's motor (method §6): Rs = 1.031, Rr = 0.465 ohm, Lm = 6.4 mH,
  *  Lls = Llr = 2.8 mH (Ls = Lr = 9.2 mH), 2 pole pairs; J = 5e-4 kg m^2
@@ -122,6 +147,9 @@ motor_status_t motor_init(motor_t *m, const motor_params_t *p);
 
 /** Copy a load profile into the motor. */
 void motor_set_load(motor_t *m, const load_t *l);
+/** The same for a constant load torque @p T_Nm (what load_init_constant
+ *  makes), without copying a whole profile. */
+void motor_set_load_constant(motor_t *m, double T_Nm);
 /** Set the mechanical speed state (e.g. to start a test at speed). */
 void motor_set_speed(motor_t *m, double w_m_rad_s);
 /** Set the unwrapped mechanical angle. */
@@ -141,6 +169,34 @@ void motor_step_abc(motor_t *m, double ua_V, double ub_V, double uc_V,
 /** Advance with the stator open (all phase currents zero); see the file
  *  comment.  Entering this mode sets psi_s = (Lm/Lr) psi_r (i_s = 0). */
 void motor_step_open(motor_t *m, double dt_s, uint16_t n_sub);
+
+/**
+ * One step of @p dt_s with the stator voltage held, the electrical part
+ * integrated exactly (the plant's integrator; motor_step's RK4 is its
+ * reference).  Over a step the electrical equations are linear at a given
+ * speed: with psi_s, psi_r as complex numbers,
+ *   d/dt (psi_s, psi_r) = M (psi_s, psi_r) + (u, 0),
+ *   M = [ -Rs Lr/D   Rs Lm/D ; Rr Lm/D   -Rr Ls/D + j w_e ],
+ * whose transition over half the step, exp(M dt/2) (closed form for 2x2),
+ * and response to u are computed once for a w_e (again only when w_e or
+ * dt_s differ from the last call's).  The speed the electrical part sees is
+ * the mid-step speed predicted from the start (w_m + dt/2 dw_m/dt): second
+ * order in the speed's change over the step.  The mechanics, with the
+ * torque at the start, the middle and the end of the step, by classical
+ * RK4 (the torque a given forcing).  Needs dt_s well inside the mechanical
+ * time constant (the torque's slope against speed is taken explicitly: the
+ * plant checks tau_m >= its period, else uses motor_step).
+ */
+void motor_step_exact(motor_t *m, double u_alpha_V, double u_beta_V, double dt_s);
+/** The stator current (alpha, beta) motor_step_exact(m, u, dt_s) would end
+ *  at, without stepping (the same transition: a later motor_step_exact of
+ *  the same state and dt_s reuses it). */
+void motor_predict_current(motor_t *m, double u_alpha_V, double u_beta_V, double dt_s,
+                           double *i_alpha_A, double *i_beta_A);
+/** motor_step_open with the rotor flux's decay and turn integrated exactly
+ *  (dpsi_r/dt = (-Rr/Lr + j w_e) psi_r at the predicted mid-step speed),
+ *  the mechanics as motor_step_exact. */
+void motor_step_open_exact(motor_t *m, double dt_s);
 
 /**
  * The fastest time constants of the model, which the integration step must

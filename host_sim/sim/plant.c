@@ -50,6 +50,16 @@ int plant_init(plant_t *p, const sim_config_t *c, uint16_t t1pr, char *err, unsi
     }
     p->theta_m0_rad = p->motor.theta_m_rad;
 
+    {
+        /* the exact electrical step takes the torque's slope against speed
+         * explicitly over a period: a mechanical time constant (at the
+         * largest rotor flux the drive sets up, as sim_config_check) of at
+         * least a period; a shorter one falls back to RK4 in substeps */
+        double tau_e, tau_m;
+        motor_time_constants(&mp, mp.Lm_H * c->controller.magnetizing_current_A, 0.0, &tau_e,
+                             &tau_m);
+        p->exact = (uint16_t)(tau_m >= p->Ts_s);
+    }
     p->i_per_V = inverter_current_gain(p->Ts_s, mp.Rs_ohm, mp.Rr_ohm, mp.Lm_H, mp.Lls_H,
                                        mp.Llr_H);
 
@@ -236,6 +246,26 @@ void plant_sample(plant_t *p, hal_host_port_t *port)
     }
 }
 
+/* The motor over @p dt with the stator voltage (ua, ub) held / with the
+ * stator open: the exact step, or RK4 in @p n steps (plant_t.exact). */
+static void plant_motor_step(plant_t *p, double ua, double ub, double dt, uint16_t n)
+{
+    if (p->exact != 0u) {
+        motor_step_exact(&p->motor, ua, ub, dt);
+    } else {
+        motor_step(&p->motor, ua, ub, dt, n);
+    }
+}
+
+static void plant_motor_open(plant_t *p, double dt)
+{
+    if (p->exact != 0u) {
+        motor_step_open_exact(&p->motor, dt);
+    } else {
+        motor_step_open(&p->motor, dt, p->substeps);
+    }
+}
+
 /* |current| of each leg at the state @p m with the short's current @p i_sh
  * (out of leg a, into leg b). */
 static void leg_currents(const motor_t *m, double i_sh, double out[3])
@@ -263,19 +293,20 @@ static double short_vab(const plant_t *p, const double duty[3])
 
 /* The bridge on for @p t_on of the period (the voltage of the period's
  * second pass), then open for the rest: the comparator's trip. */
-static void period_cut(plant_t *p, const motor_t *m0, const double duty[3], double t_on)
+static void period_cut(plant_t *p, const motor_state_t *m0, const double duty[3],
+                       double t_on)
 {
     motor_t *m = &p->motor;
     double i_sh;
     uint16_t n_on = (uint16_t)ceil((double)p->substeps * t_on / p->Ts_s);
-    *m = *m0;
+    motor_restore(m, m0);
     if (t_on > 0.0) {
-        motor_step(m, p->inv.v_alpha_V * p->vdc_scale, p->inv.v_beta_V * p->vdc_scale, t_on,
-                   (n_on == 0u) ? 1u : n_on);
+        plant_motor_step(p, p->inv.v_alpha_V * p->vdc_scale, p->inv.v_beta_V * p->vdc_scale,
+                         t_on, (n_on == 0u) ? 1u : n_on);
     }
     i_sh = (p->short_L_H > 0.0) ? p->i_short_A + short_vab(p, duty) * t_on / p->short_L_H : 0.0;
     note_peaks(p, m, i_sh);   /* the currents when the outputs go off */
-    motor_step_open(m, p->Ts_s - t_on, p->substeps);
+    plant_motor_open(p, p->Ts_s - t_on);
     p->i_short_A = 0.0;       /* the short's loop current freewheels out within us */
     p->i_dc_A = p->inv.i_dc_A * t_on / p->Ts_s;
     p->hw_fired = 1u;
@@ -285,18 +316,20 @@ static void period_cut(plant_t *p, const motor_t *m0, const double duty[3], doub
     }
 }
 
-/* The comparator over the period just stepped from @p m0 (and the short's
- * current @p i_sh0 at its start): when a leg crossed the level, the time
- * into the period at which the outputs go off (crossing + delay; may lie
- * beyond the period), else -1. */
-static double comparator_off_time(const plant_t *p, const motor_t *m0, double i_sh0)
+/* The comparator over the period just stepped from the phase currents
+ * @p i0 (and the short's current @p i_sh0) at its start: when a leg crossed
+ * the level, the time into the period at which the outputs go off
+ * (crossing + delay; may lie beyond the period), else -1. */
+static double comparator_off_time(const plant_t *p, const double i0[3], double i_sh0)
 {
     double l0[3], l1[3], t_cross = -1.0;
     int x;
     if (!(p->hw_oc_A > 0.0)) {
         return -1.0;
     }
-    leg_currents(m0, i_sh0, l0);
+    l0[0] = fabs(i0[0] + i_sh0);   /* as leg_currents */
+    l0[1] = fabs(i0[1] - i_sh0);
+    l0[2] = fabs(i0[2]);
     leg_currents(&p->motor, p->i_short_A, l1);
     for (x = 0; x < 3; x++) {
         if (l1[x] > p->hw_oc_A) {
@@ -315,20 +348,19 @@ static double comparator_off_time(const plant_t *p, const motor_t *m0, double i_
 void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_enabled)
 {
     motor_t *m = &p->motor;
-    load_t l;
 
     p->hw_fired = 0u;
-    (void)load_init_constant(&l, plant_period_load_Nm(p));
-    motor_set_load(m, &l);
+    motor_set_load_constant(m, plant_period_load_Nm(p));
     if (outputs_enabled != 0u) {
         double duty[3], i_abc[3];
-        const motor_t m0 = *m;
+        motor_state_t m0;
         const double i_sh0 = p->i_short_A;
         double t_off;
         uint16_t x;
         for (x = 0u; x < 3u; x++) {
             duty[x] = inverter_duty_from_cmpr(active->cmpr[x], p->t1pr);
         }
+        motor_save(m, &m0);
         i_abc[0] = m->ia_A;
         i_abc[1] = m->ib_A;
         i_abc[2] = m->ic_A;
@@ -345,13 +377,33 @@ void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_
             const inverter_t inv0 = p->inv;
             double di[3];
             inverter_step(&p->inv, p->t_s, duty, i_abc);
-            motor_step(m, p->inv.v_alpha_V * p->vdc_scale, p->inv.v_beta_V * p->vdc_scale,
-                       p->Ts_s, p->substeps);
-            di[0] = m->ia_A - i_abc[0];
-            di[1] = m->ib_A - i_abc[1];
-            di[2] = m->ic_A - i_abc[2];
-            *m = m0;
-            p->inv = inv0;
+            if (p->exact != 0u) {
+                /* the exact step is affine in the voltage: pass 1's end
+                 * current without stepping (pass 2 reuses its transition) */
+                double i_al, i_be, i_b;
+                motor_predict_current(m, p->inv.v_alpha_V * p->vdc_scale,
+                                      p->inv.v_beta_V * p->vdc_scale, p->Ts_s, &i_al, &i_be);
+                /* the inverse Clarke as the motor's outputs */
+                i_b = -0.5 * i_al + 0.5 * 1.732050807568877293527 * i_be;
+                di[0] = i_al - i_abc[0];
+                di[1] = i_b - i_abc[1];
+                di[2] = (-i_al - i_b) - i_abc[2];
+            } else {
+                motor_step(m, p->inv.v_alpha_V * p->vdc_scale, p->inv.v_beta_V * p->vdc_scale,
+                           p->Ts_s, p->substeps);
+                di[0] = m->ia_A - i_abc[0];
+                di[1] = m->ib_A - i_abc[1];
+                di[2] = m->ic_A - i_abc[2];
+                motor_restore(m, &m0);
+            }
+            {
+                /* as before pass 1, but for the ripple it evaluated (the
+                 * same instant in pass 2) */
+                const double r_at = p->inv.ripple_at_s, r_now = p->inv.ripple_now_V;
+                p->inv = inv0;
+                p->inv.ripple_at_s = r_at;
+                p->inv.ripple_now_V = r_now;
+            }
             (void)inverter_step_implicit(&p->inv, p->t_s, duty, i_abc, di,
                                          p->i_per_V * p->vdc_scale);
             if (p->hw_pending_s >= 0.0) {
@@ -362,8 +414,8 @@ void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_
                 p->t_s += p->Ts_s;
                 return;
             }
-            motor_step(m, p->inv.v_alpha_V * p->vdc_scale, p->inv.v_beta_V * p->vdc_scale,
-                       p->Ts_s, p->substeps);
+            plant_motor_step(p, p->inv.v_alpha_V * p->vdc_scale,
+                             p->inv.v_beta_V * p->vdc_scale, p->Ts_s, p->substeps);
         }
         p->i_dc_A = p->inv.i_dc_A;
         if (p->short_L_H > 0.0) {
@@ -371,7 +423,7 @@ void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_
              * a-b voltage of the period */
             p->i_short_A += short_vab(p, duty) * p->Ts_s / p->short_L_H;
         }
-        t_off = comparator_off_time(p, &m0, i_sh0);
+        t_off = comparator_off_time(p, i_abc, i_sh0);
         if (t_off >= p->Ts_s) {
             p->hw_pending_s = t_off - p->Ts_s;   /* off early in the next period */
         } else if (t_off >= 0.0) {
@@ -383,7 +435,7 @@ void plant_period(plant_t *p, const hal_pwm_compare_t *active, uint16_t outputs_
     } else {
         p->i_short_A = 0.0;   /* bridge off: the loop current freewheels out within us */
         p->hw_pending_s = -1.0;
-        motor_step_open(m, p->Ts_s, p->substeps);
+        plant_motor_open(p, p->Ts_s);
         p->i_dc_A = 0.0;
     }
     note_peaks(p, m, p->i_short_A);

@@ -70,7 +70,9 @@ typedef struct {
     double i_per_V;           /* the motor's current change over a period per phase volt
                                  (inverter_current_gain: the implicit bridge) */
     uint16_t t1pr;
-    uint16_t substeps;
+    uint16_t substeps;        /* RK4 steps a period (the fallback integrator only) */
+    uint16_t exact;           /* 1: motor_step_exact (the mechanical time constant is at
+                                 least a period); 0: RK4 in `substeps` steps */
     double load_const_Nm, load_prop_Nm_s, load_fan_Nm, w_rated_m_rad_s;
     double extra_load_Nm;     /* scenario load steps */
     double i_dc_A;            /* last DC-link current */
