@@ -461,9 +461,9 @@ def parse_args(argv):
     ap.add_argument("--motors", help="comma-separated motor names (motors.py list)")
     ap.add_argument("--ops", default="nominal", help="operating choices: nominal (default), "
                     "all, or a list of " + ", ".join(OPS))
-    ap.add_argument("--seq", default="paper,adaptive",
-                    help="sequences: paper, adaptive, paper_pm (the paper's on the "
-                    "period-mean regression, ident.period_mean 1)")
+    ap.add_argument("--seq", default="paper,adaptive,standstill",
+                    help="sequences: paper, adaptive, standstill (the rotor held), paper_pm "
+                    "(the paper's on the period-mean regression, ident.period_mean 1)")
     ap.add_argument("--plant", choices=tuple(PLANTS), default="realistic",
                     help="ideal: no dead time, drop, ripple, sensor errors or noise "
                     "(motors.py IDEAL_PLANT); ideal_bridge: the same with the sensors' noise")

@@ -590,7 +590,8 @@ void drive_background(drive_t *d)
 
 void drive_command(drive_t *d, drive_cmd_t cmd)
 {
-    if (cmd == DRIVE_CMD_START_IDENT || cmd == DRIVE_CMD_STOP || cmd == DRIVE_CMD_RESET_FAULT) {
+    if (cmd == DRIVE_CMD_START_IDENT || cmd == DRIVE_CMD_STOP || cmd == DRIVE_CMD_RESET_FAULT ||
+        cmd == DRIVE_CMD_SELECT_STANDSTILL || cmd == DRIVE_CMD_SELECT_ROTATING) {
         d->cmd_requests = (uint16_t)(d->cmd_requests | DRIVE_CMD_BIT(cmd));
     }   /* DRIVE_CMD_NONE, or a value no command has: nothing to request */
 }

@@ -48,11 +48,11 @@ def imfoc_cmd():
 
 
 class Sim:
-    def __init__(self, tmp, factor=10.0, extra=()):
+    def __init__(self, tmp, factor=10.0, extra=(), config=PAPER):
         self.port = tmp / "port"
         self.out = tmp / "sim"
         self.p = subprocess.Popen(
-            [str(motor_sim()), "--config", str(PAPER), "--serial", str(self.port),
+            [str(motor_sim()), "--config", str(config), "--serial", str(self.port),
              "--realtime-factor", str(factor), "--out", str(self.out), "--quiet", *extra],
             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         line = self.p.stdout.readline()
@@ -134,6 +134,52 @@ def test_pc_tool_identify(sim, tmp_path):
     assert pc["link"]["checksum_errors"] == 0 and pc["link"]["framing_errors"] == 0
     print(f"imfoc identify at real-time factor 10: {wall:.2f} s wall, "
           f"published {pc['t_published_s']:.2f} s after $C,S")
+
+
+def test_pc_tool_identify_standstill(tmp_path):
+    """`imfoc identify --sequence standstill` on a drive built for the adaptive sequence
+    (its INI has the standstill test): the tool selects the standstill sequence ($C,Z)
+    before the start; the drive never accelerates, publishes every parameter from
+    standstill, and the rotor's true angle moved by less than one encoder count."""
+    cfg = CONFIG_DIR / "paper_motor_adaptive.ini"
+    sim = Sim(tmp_path, config=cfg)
+    try:
+        r = imfoc("identify", sim.port, "--config", cfg, "--out", tmp_path / "pc",
+                  "--sequence", "standstill", "--timeout", 60)
+        assert r.returncode == 0, r.stdout + r.stderr
+        states = re.findall(r"^\s+[\d.]+ s  (\w+)$", r.stdout, re.M)
+        assert states == ["IDLE", "CALIBRATE", "MAGNETIZE", "INJECT", "IDLE"], r.stdout
+        # a progress line during INJECT against its expected length (the INI's Tr)
+        assert re.search(r"^\s+[\d.]+ s\s+INJECT [\d.]+ s of ~[\d.]+ s \(the low-frequency",
+                         r.stdout, re.M), r.stdout
+        assert re.search(r"^published, confidence Rs [\d.]+ %", r.stdout, re.M), r.stdout
+        rc, _out, err = sim.wait()
+        assert rc == 0, err
+        simrep = sim.report()
+        assert simrep["published"] and simrep["faults"] == []
+        assert simrep["rotor_turn_counts"] <= 1.0
+        pc = json.loads((tmp_path / "pc" / "report.json").read_text())
+        for k in KEYS:
+            t = simrep["true"][k]
+            assert abs(pc["identified"][k] - t) <= 0.03 * t, (k, pc["identified"][k], t)
+    finally:
+        sim.kill()
+
+
+def test_pc_tool_standstill_refused_without_its_test(tmp_path):
+    """The paper's INI has no standstill test: the drive refuses the start after
+    select-standstill (no_standstill) and the tool says so; nothing turned."""
+    sim = Sim(tmp_path)
+    try:
+        r = imfoc("identify", sim.port, "--config", PAPER, "--out", tmp_path / "pc",
+                  "--sequence", "standstill", "--timeout", 20)
+        assert r.returncode == 1, r.stdout + r.stderr
+        assert "cannot run the standstill sequence" in r.stderr, r.stderr
+        assert "ACCELERATE" not in r.stdout
+        sim.wait()
+        assert sim.report()["rotor_turn_counts"] <= 1.0
+    finally:
+        sim.kill()
 
 
 def test_pc_tool_reports_a_vanished_port(tmp_path):
