@@ -59,7 +59,7 @@
 typedef enum {
     STANDSTILL_FIT_OK = 0,
     STANDSTILL_FIT_ERR_INPUT,    /* sigma Ls, i_M, w1 or a base not > 0 */
-    STANDSTILL_FIT_ERR_CURRENT,  /* a current phasor too small to divide by */
+    STANDSTILL_FIT_ERR_CURRENT,  /* the test not done, or a current phasor too small to divide by */
     STANDSTILL_FIT_ERR_MODEL     /* Tr, L_M, Rs or Ls not > 0 from the fit */
 } standstill_fit_status_t;
 

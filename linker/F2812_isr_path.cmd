@@ -89,9 +89,10 @@
  * The flash image runs them from flash (.text, not named here; their wait
  * states costed by tools/bench_isr.py); the RAM image defines
  * ISR_FLASH_SET_IN_RAM and keeps them on chip with the rest of this set.
- * 13 functions.
+ * 14 functions.
  */
 #ifdef ISR_FLASH_SET_IN_RAM
+*(.text:_accumulate)
 *(.text:_drive_safety_test_period)
 *(.text:_drive_static_slow)
 *(.text:_drive_test_voltage)

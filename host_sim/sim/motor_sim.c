@@ -118,8 +118,9 @@ static void usage(FILE *f)
             "                     session without --duration stops tracing at the limit\n"
             "  --fault NAME@T[=V] inject at T seconds (before the run's last PWM period), or\n"
             "                     NAME@STATE[+T][=V]: T seconds after the sequence first\n"
-            "                     enters calibrate, magnetize, accelerate, settle, run or\n"
-            "                     refine; V must change something (not 0; in its range):\n",
+            "                     enters calibrate, magnetize, accelerate, settle, run,\n"
+            "                     refine or inject; V must change something (not 0; in its\n"
+            "                     range):\n",
             scenario_names(), SIM_TRACE_MAX_MB_DEFAULT, SIM_TRACE_MAX_MB_LIMIT);
     for (i = 0; i < N_FAULTS; i++) {
         const fault_spec_t *k = &k_faults[i];
@@ -217,11 +218,11 @@ static int parse_cmd(const char *arg, sim_cmd_t *c)
 
 /* The time of a --fault: SECONDS from the start, or STATE[+SECONDS] after
  * the sequence first enters that state (calibrate, magnetize, accelerate,
- * settle, run, refine; any case). */
+ * settle, run, refine, inject; any case). */
 static int parse_when(const char *s, sim_fault_t *f)
 {
     static const char *const states[] = {"calibrate", "magnetize", "accelerate", "settle",
-                                         "run", "fault", "refine"};
+                                         "run", "fault", "refine", "inject"};
     char name[16];
     const char *plus = strchr(s, '+');
     size_t n = (plus != NULL) ? (size_t)(plus - s) : strlen(s);
@@ -564,6 +565,9 @@ int main(int argc, char **argv)
     if (sim_config_load(config, &cfg, err, sizeof err) != 0) {
         fprintf(stderr, "motor_sim: %s\n", err);
         return 1;
+    }
+    if (cfg.note[0] != '\0') {
+        fprintf(stderr, "motor_sim: note: %s\n", cfg.note);
     }
     if (ser.link_path != NULL && opt.duration_s <= 0.0) {
         opt.duration_s = 3600.0;   /* the board runs until stopped */

@@ -198,7 +198,7 @@ static void json_confidence(jw_t *w, const sim_result_t *r)
 static const char *state_name(uint16_t state)
 {
     static const char *const names[] = {"idle", "calibrate", "magnetize", "accelerate", "settle",
-                                        "run", "fault", "refine"};
+                                        "run", "fault", "refine", "inject"};
     return (state < sizeof names / sizeof names[0]) ? names[state] : "unknown";
 }
 

@@ -347,6 +347,24 @@ static int apply_sequence(parse_ctx_t *ctx, char *err, size_t len)
     return 0;
 }
 
+/* [inverter] dead_time_s once was the dead time the drive compensated; it is
+ * the bridge's real one now, the compensated one [board] dead_time_s (its
+ * default 1 us): a file that gives the first alone likely means the second. */
+static void old_layout_note(parse_ctx_t *ctx)
+{
+    const key_spec_t *inv = find_key("inverter.dead_time_s");
+    const key_spec_t *brd = find_key("board.dead_time_s");
+    const sim_config_t *c = ctx->cfg;
+    if (ctx->seen[inv - k_keys] && !ctx->seen[brd - k_keys] &&
+        c->inverter.dead_time_s != c->board.dead_time_s) {
+        snprintf(ctx->cfg->note, sizeof ctx->cfg->note,
+                 "[inverter] dead_time_s = %g s is the simulated bridge's real dead time; the "
+                 "drive compensates [board] dead_time_s, not given here (its default %g s): "
+                 "give [board] dead_time_s if the file meant the programmed one (an older "
+                 "layout did)", c->inverter.dead_time_s, c->board.dead_time_s);
+    }
+}
+
 static int on_key(void *user, const char *section, const char *name, const char *value)
 {
     parse_ctx_t *ctx = (parse_ctx_t *)user;
@@ -513,6 +531,9 @@ static int load(const char *path, sim_config_t *cfg, int drive_only, char *err,
     rc = apply_defaults(&ctx, ctx.err, sizeof ctx.err);
     if (rc == 0) {
         rc = apply_sequence(&ctx, ctx.err, sizeof ctx.err);
+    }
+    if (rc == 0) {
+        old_layout_note(&ctx);
     }
     if (rc == 0) {
         rc = drive_only ? sim_config_drive_check(cfg, ctx.err, sizeof ctx.err)

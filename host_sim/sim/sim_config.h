@@ -115,6 +115,8 @@ typedef struct {
     double substeps;
 } sim_numerics_t;
 
+#define SIM_CONFIG_NOTE_LEN 320
+
 typedef struct {
     sim_nameplate_t nameplate;
     sim_board_t board;
@@ -126,6 +128,9 @@ typedef struct {
     sim_load_t load;
     sim_drift_t drift;
     sim_numerics_t simulation;
+    /* what the file says that a reader of an older layout may not mean (one
+     * sentence, "" if nothing): motor_sim prints it as a note, never an error */
+    char note[SIM_CONFIG_NOTE_LEN];
 } sim_config_t;
 
 /** The bridge's comparator level by default, per unit of the firmware's

@@ -601,8 +601,9 @@ static int observe_verdict(sim_ctx_t *c, double t)
     if (d->telemetry->fault != 0u && c->port.outputs_enabled != 0u) {
         res->pwm_periods_with_fault++;
     }
-    if (d->seq->extract_now != 0u && d->seq->pass >= d->seq->passes) {
-        res->extracted = 1u;
+    if ((d->seq->extract_now != 0u && d->seq->pass >= d->seq->passes) ||
+        d->seq->static_done != 0u) {
+        res->extracted = 1u;   /* (the standstill sequence: its fit is the extraction) */
     }
     if (res->t_decided_s < 0.0 && d->verdict->run != 0u &&
         d->telemetry->publish_reason != (uint16_t)DRIVE_PUB_PENDING) {

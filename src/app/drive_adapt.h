@@ -67,8 +67,9 @@ static inline void drive_adapt_fast(drive_t *d)
     standstill_z_t *z = &d->adapt.ssz;
 
     if (z->running == 0u) {
-        /* the standstill sequence's multisine in INJECT (drive_static.c), else none */
-        d->loop.im_inject = (d->seq.state == ID_INJECT) ? d->adapt.lf.i_add : _IQ(0.0);
+        /* the standstill sequence's multisine (drive_static.c): 0 but while
+         * it runs in INJECT (a start clears a test a stop cut short) */
+        d->loop.im_inject = d->adapt.lf.i_add;
         return;
     }
     /* the sequence's i_M reference plus the injection (drive_step.c) */

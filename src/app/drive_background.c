@@ -414,6 +414,7 @@ static void start_identification(drive_t *d)
     /* the standstill sequence's test afresh (the ISR runs it only in INJECT) */
     d->adapt.lf.running = 0u;
     d->adapt.lf.done = 0u;
+    d->adapt.lf.i_add = _IQ(0.0);
     id_sequence_start(&d->seq);
 }
 

@@ -24,10 +24,10 @@ static int impedance(const standstill_lf_t *z, uint16_t h, uint16_t n, float lea
     uint16_t k;
     for (k = 0u; k < STANDSTILL_LF_HALVES; k++) {
         if (h == 2u || h == k) {
-            us += _IQtoF(z->sum[k][n][SSLF_US]);
-            uc += _IQtoF(z->sum[k][n][SSLF_UC]);
-            is += _IQtoF(z->sum[k][n][SSLF_IS]);
-            ic += _IQtoF(z->sum[k][n][SSLF_IC]);
+            us += standstill_lf_sum(z, k, n, SSLF_US);
+            uc += standstill_lf_sum(z, k, n, SSLF_UC);
+            is += standstill_lf_sum(z, k, n, SSLF_IS);
+            ic += standstill_lf_sum(z, k, n, SSLF_IC);
         }
     }
     ur = uc;
@@ -187,6 +187,10 @@ standstill_fit_status_t standstill_fit(standstill_fit_t *f, const standstill_lf_
         !(in->half_ts_pu >= 0.0f)) {
         f->status = (uint16_t)STANDSTILL_FIT_ERR_INPUT;
         return STANDSTILL_FIT_ERR_INPUT;
+    }
+    if (z->done == 0u) {
+        f->status = (uint16_t)STANDSTILL_FIT_ERR_CURRENT;   /* never ran to its end: no phasors */
+        return STANDSTILL_FIT_ERR_CURRENT;
     }
     st = fit_half(z, in, work, 2u, f->p, &f->residual, sd, f->r, f->x);
     if (st == STANDSTILL_FIT_OK) {

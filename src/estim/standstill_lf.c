@@ -9,9 +9,6 @@
 #define SUM_GAIN 16.0f
 #define PER_MAX 1048576.0f   /* 2^20 samples per period */
 
-/* the harmonics' multiples of the fundamental's angle */
-static const int32_t k_mult[STANDSTILL_LF_NH] = {1, 2, 4};
-
 static inline _iq sat_in(_iq x)
 {
     return _IQsat(x, _IQ(STANDSTILL_LF_IN_MAX), -_IQ(STANDSTILL_LF_IN_MAX));
@@ -110,40 +107,68 @@ static inline _iq lf_angle(const standstill_lf_t *z)
 #endif
 }
 
+/* One harmonic's four sums: the weights rounded (a truncated weight is
+ * biased by -1/2 LSB and lets the inputs' DC into the phasors), the
+ * products truncated (_IQmpy: each -1/2 LSB on average, which the reader
+ * gives back: standstill_lf_sum, in the background).  |s|, |c| <= 1, g <= 0.25: each
+ * weight below 0.25, each product below 1 pu (|u| <= 4). */
+static inline void accumulate(_iq sum[STANDSTILL_LF_NSUM], _iq s, _iq c, _iq u, _iq i, _iq g)
+{
+    const _iq ws = iq_rmpy(s, g);
+    const _iq wc = iq_rmpy(c, g);
+    sum[SSLF_US] += _IQmpy(u, ws);
+    sum[SSLF_UC] += _IQmpy(u, wc);
+    sum[SSLF_IS] += _IQmpy(i, ws);
+    sum[SSLF_IC] += _IQmpy(i, wc);
+}
+
+float standstill_lf_sum(const standstill_lf_t *z, uint16_t half, uint16_t h, uint16_t k)
+{
+#if MATH_TYPE == IQ_MATH
+    /* the truncated products' mean bias, -1/2 LSB each, given back: n/2 LSB
+     * on a half of n samples (n <= 2^20: at most 0.03 pu); what stays is the
+     * fractions' spread, about sqrt(n / 12) LSB */
+    return _IQtoF(z->sum[half][h][k]) + ldexpf((float)(z->half / 2u), -GLOBAL_Q);
+#else
+    return _IQtoF(z->sum[half][h][k]);   /* FLOAT rounds to nearest: no bias */
+#endif
+}
+
 void standstill_lf_step(standstill_lf_t *z)
 {
-    _iq s[STANDSTILL_LF_NH];
-    _iq c[STANDSTILL_LF_NH];
     const _iq a = lf_angle(z);
-    uint16_t n;
+    _iq s1, c1, s2, c2, s4, c4, p;
 
     if (z->running == 0u) {
         return;
     }
-    for (n = 0u; n < STANDSTILL_LF_NH; n++) {
-        /* n a < 4 pu: no overflow; the sine wraps the whole turns */
-        const _iq an = _IQmpyI32(a, k_mult[n]);
-        s[n] = _IQsinPU(an);
-        c[n] = _IQcosPU(an);
-    }
+    /* the fundamental's sine and cosine, the harmonics' by the double angle
+     * (sin 2x = 2 s c, cos 2x = 1 - 2 s^2): two library calls instead of
+     * six; each product's truncation (1 LSB) makes the harmonics' weights a
+     * few LSB off a true sine, the same every period (orthogonal over whole
+     * periods as the injection is the same function of the phase) */
+    s1 = _IQsinPU(a);
+    c1 = _IQcosPU(a);
+    p = _IQmpy(s1, c1);
+    s2 = p + p;
+    p = _IQmpy(s1, s1);
+    c2 = _IQ(1.0) - (p + p);
+    p = _IQmpy(s2, c2);
+    s4 = p + p;
+    p = _IQmpy(s2, s2);
+    c4 = _IQ(1.0) - (p + p);
     if (z->k >= z->lead) {
         const uint32_t j = z->k - z->lead;
-        _iq (*sum)[STANDSTILL_LF_NSUM] = z->sum[(j < z->half) ? 0u : 1u];
+        const uint16_t second = (uint16_t)(j >= z->half);
+        _iq (*sum)[STANDSTILL_LF_NSUM] = z->sum[second];
         const _iq u = sat_in(z->u_m);
         const _iq i = sat_in(z->i_m);
-        for (n = 0u; n < STANDSTILL_LF_NH; n++) {
-            /* |s| <= 1, g <= 0.25: the weights below 0.25; each product
-             * below 1 pu (|u| <= 4): iq_rmpy's range */
-            const _iq ws = iq_rmpy(s[n], z->gain);
-            const _iq wc = iq_rmpy(c[n], z->gain);
-            sum[n][SSLF_US] += iq_rmpy(u, ws);
-            sum[n][SSLF_UC] += iq_rmpy(u, wc);
-            sum[n][SSLF_IS] += iq_rmpy(i, ws);
-            sum[n][SSLF_IC] += iq_rmpy(i, wc);
-        }
+        accumulate(sum[0], s1, c1, u, i, z->gain);
+        accumulate(sum[1], s2, c2, u, i, z->gain);
+        accumulate(sum[2], s4, c4, u, i, z->gain);
     }
     /* the injection for the next samples: 3 ampl < 0.9 i_M <= 1.8 pu */
-    z->i_add = _IQmpy(z->ampl, s[0] + s[1] + s[2]);
+    z->i_add = _IQmpy(z->ampl, s1 + s2 + s4);
     if (++z->ph >= z->per) {
         z->ph = 0u;
     }

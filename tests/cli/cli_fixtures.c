@@ -142,6 +142,33 @@ static void write_unusable_values(void)
     base_with_line("Rs_ohm", "colon_key.ini", "Rs_ohm : 1.031");
 }
 
+/* The identification's sequence by name: one that is not a sequence, one the
+ * file's own keys contradict; an older file's [inverter] dead_time_s alone
+ * (the [board] line dropped, the base's [inverter] given one): a note. */
+static void write_sequences(void)
+{
+    static const char bad[] = "sequence = spinning\n";
+    static const char contra[] = "sequence = standstill\npasses = 2\n";
+    static const char inv[] = "dead_time_s = 2e-6\n";
+    const char *m = strstr(g_base, "dead_time_s");
+    const char *eol = (m != NULL) ? strchr(m, '\n') : NULL;
+    const char *sec = strstr(g_base, "[inverter]\n");
+    FILE *f;
+    base_with_after("[ident]\n", "sequence_bad.ini", bad, sizeof bad - 1u);
+    base_with_after("[ident]\n", "sequence_contradicted.ini", contra, sizeof contra - 1u);
+    if (m == NULL || eol == NULL || sec == NULL || sec < eol) {
+        fprintf(stderr, "cli_fixtures: no [board] dead_time_s before [inverter] in the base\n");
+        exit(1);
+    }
+    f = create("old_inverter_dead_time.ini");
+    fwrite(g_base, 1, (size_t)(m - g_base), f);
+    sec += strlen("[inverter]\n");
+    fwrite(eol + 1, 1, (size_t)(sec - (eol + 1)), f);
+    fputs(inv, f);
+    fputs(sec, f);
+    finish(f, "old_inverter_dead_time.ini");
+}
+
 static void write_garbage(void)
 {
     FILE *f = create("garbage_binary.ini");
@@ -374,6 +401,7 @@ int main(int argc, char **argv)
     write_many_keys();
     write_outputs();
     write_unusable_values();
+    write_sequences();
     write_reasons();
     write_paper_15kw(argv[3]);
     return 0;

@@ -25,8 +25,8 @@ PARAMS = [("Rs_ohm", "$R_s$ / $\\Omega$"), ("Rr_ohm", "$R_r$ / $\\Omega$"),
           ("Lm_H", "$L_m$ / H"), ("Lr_H", "$L_r$ / H"), ("psi_r_Wb", "$\\psi_r$ / Wb"),
           ("Tr_s", "$T_r$ / s")]
 # the state axis in the order the sequence passes them (REFINE, 7, sits between SETTLE and
-# the next ACCELERATE), FAULT apart on top
-STATE_AXIS = ("IDLE", "CALIBRATE", "MAGNETIZE", "ACCELERATE", "SETTLE", "REFINE", "RUN",
+# the next ACCELERATE; the standstill sequence's INJECT, 8, after MAGNETIZE), FAULT apart on top
+STATE_AXIS = ("IDLE", "CALIBRATE", "MAGNETIZE", "INJECT", "ACCELERATE", "SETTLE", "REFINE", "RUN",
               "FAULT")
 
 
