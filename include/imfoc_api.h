@@ -75,7 +75,9 @@ typedef enum {
 typedef enum {
     IMFOC_CMD_START_IDENT = 1,  /* calibrate, magnetise, accelerate, identify */
     IMFOC_CMD_STOP = 2,
-    IMFOC_CMD_RESET_FAULT = 3
+    IMFOC_CMD_RESET_FAULT = 3,
+    IMFOC_CMD_SELECT_STANDSTILL = 4,  /* the next starts: the standstill sequence (drive.h) */
+    IMFOC_CMD_SELECT_ROTATING = 5     /* the next starts: the configured rotating sequence */
 } imfoc_cmd_t;
 
 /** Fixed facts of an instance: per-unit bases, timing, board scaling (SI). */

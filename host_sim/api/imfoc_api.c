@@ -167,6 +167,8 @@ int32_t imfoc_command(imfoc_t *h, int32_t cmd)
     case IMFOC_CMD_START_IDENT: c = DRIVE_CMD_START_IDENT; break;
     case IMFOC_CMD_STOP: c = DRIVE_CMD_STOP; break;
     case IMFOC_CMD_RESET_FAULT: c = DRIVE_CMD_RESET_FAULT; break;
+    case IMFOC_CMD_SELECT_STANDSTILL: c = DRIVE_CMD_SELECT_STANDSTILL; break;
+    case IMFOC_CMD_SELECT_ROTATING: c = DRIVE_CMD_SELECT_ROTATING; break;
     default: return IMFOC_ERR_COMMAND;
     }
     drive_command(&h->drive, c);

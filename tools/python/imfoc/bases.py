@@ -33,10 +33,9 @@ class ConfigError(ValueError):
     pass
 
 
-def read_ini_values(path, keys=None):
-    """The quantities of `keys` (default INI_KEYS: name -> (section, key, default or None
-    if required)) in the file as floats; ConfigError naming the file and the key if a
-    required one is missing or not a number."""
+def read_ini(path):
+    """The INI file as the simulator reads it (';' and '#' comments, keys case-kept);
+    ConfigError naming the file if it cannot be read."""
     cp = configparser.ConfigParser(inline_comment_prefixes=(";", "#"),
                                    comment_prefixes=(";", "#"), strict=False)
     cp.optionxform = str
@@ -45,6 +44,14 @@ def read_ini_values(path, keys=None):
             cp.read_file(f)
     except (OSError, UnicodeDecodeError, configparser.Error) as e:
         raise ConfigError(f"{path}: cannot read ({e.__class__.__name__}: {e})") from None
+    return cp
+
+
+def read_ini_values(path, keys=None):
+    """The quantities of `keys` (default INI_KEYS: name -> (section, key, default or None
+    if required)) in the file as floats; ConfigError naming the file and the key if a
+    required one is missing or not a number."""
+    cp = read_ini(path)
     out = {}
     for name, (sec, key, default) in (INI_KEYS if keys is None else keys).items():
         if not cp.has_option(sec, key):

@@ -11,6 +11,8 @@ from .protocol import STATES   # every id_state_t of include/id_sequence.h, REFI
 from .protocol import REASONS  # every drive_pub_reason_t of include/drive.h
 
 CMD_START_IDENT, CMD_STOP, CMD_RESET_FAULT = 1, 2, 3
+# the sequence of the next starts (include/imfoc_api.h): the standstill one, the rotating one
+CMD_SELECT_STANDSTILL, CMD_SELECT_ROTATING = 4, 5
 PUB_PUBLISHED = REASONS.index("published")
 CONFIG_DIR = _lib.REPO_ROOT / "host_sim" / "config"
 
@@ -99,6 +101,12 @@ class Drive:
     def reset_fault(self):
         self.command(CMD_RESET_FAULT)
 
+    def select_sequence(self, standstill):
+        """The next starts run the standstill sequence (True) or the configured rotating
+        one (False); a drive without the standstill test refuses a start after True
+        (publication() reason "no_standstill")."""
+        self.command(CMD_SELECT_STANDSTILL if standstill else CMD_SELECT_ROTATING)
+
     def set_speed_rpm(self, rpm):
         _check(self._lib.imfoc_set_speed_rpm(self._h, float(rpm)))
 
@@ -169,7 +177,7 @@ class Drive:
         parameter can be trusted (ident_conf.h): {"reason": name ("pending",
         "published", "not_converged", "low_excitation", "high_residual",
         "low_confidence", "implausible", "fault", "timeout", "stopped", "bus_low",
-        "rotor_turning", "torque_limit"), "published":
+        "rotor_turning", "torque_limit", "no_standstill"), "published":
         bool, "confidence_pct": {Rs_ohm: %, ...} (None where not available: the
         drive's negative figure, or 0, its "none yet": a figure is never exactly 0),
         "residual_rel", "amplification", "excitation"}."""

@@ -20,7 +20,7 @@ what a first test takes, and the progress line says when it is passed.
 """
 import math
 
-from .bases import read_ini_values
+from .bases import read_ini, read_ini_values
 
 # name -> (section, key, default or None if required), as host_sim/sim/sim_config.c names
 # them (motor_sim --keys)
@@ -88,15 +88,7 @@ def standstill_s(path):
 
 def configured_standstill(path):
     """True if the INI selects the standstill sequence ([ident] sequence = standstill, or
-    the key it implies, static_id = 1)."""
-    import configparser
-    cp = configparser.ConfigParser(inline_comment_prefixes=(";", "#"),
-                                   comment_prefixes=(";", "#"), strict=False)
-    cp.optionxform = str
-    try:
-        with open(path, encoding="utf-8") as f:
-            cp.read_file(f)
-    except (OSError, UnicodeDecodeError, configparser.Error):
-        return False
+    the key it implies, static_id = 1); ConfigError if the file cannot be read."""
+    cp = read_ini(path)
     seq = cp.get("ident", "sequence", fallback="").strip()
     return seq == "standstill" or cp.get("ident", "static_id", fallback="0").strip() in ("1", "1.0")

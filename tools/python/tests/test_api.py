@@ -133,7 +133,7 @@ def test_nothing_published_is_none_not_zeros(drv):
     pub = drv.publication()
     assert pub["reason"] == "pending" and not pub["published"]
     assert all(v is None for v in pub["confidence_pct"].values())
-    assert imfoc.REASONS[1] == "published" and imfoc.REASONS[-1] == "torque_limit"
+    assert imfoc.REASONS[1] == "published" and imfoc.REASONS[-1] == "no_standstill"
     assert imfoc.FAULTS[9] == "current_sensor"
 
 
