@@ -333,10 +333,10 @@ typedef double complex mm_cx;
 #define CMPLX(x, y) ((double)(x) + (double)(y) * (mm_cx)I)
 #endif
 
-static void mm_cx_put(double *v, int k, mm_cx z)
+static void mm_cx_put(double *v, size_t k, mm_cx z)
 {
-    v[2 * k] = creal(z);
-    v[2 * k + 1] = cimag(z);
+    v[2u * k] = creal(z);
+    v[2u * k + 1u] = cimag(z);
 }
 
 /* cos x and sin x; for |x| < 0.1 (the angles a PWM period turns through)

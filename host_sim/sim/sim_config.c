@@ -534,8 +534,6 @@ static int load(const char *path, sim_config_t *cfg, int drive_only, char *err,
     }
     if (rc == 0) {
         old_layout_note(&ctx);
-    }
-    if (rc == 0) {
         rc = drive_only ? sim_config_drive_check(cfg, ctx.err, sizeof ctx.err)
                         : sim_config_cross_check(cfg, ctx.err, sizeof ctx.err);
     }

@@ -89,7 +89,7 @@ static uint16_t static_verdict(drive_t *d, const standstill_fit_t *f, standstill
     if (st != STANDSTILL_FIT_OK || p->valid == 0u) {
         return DRIVE_PUB_IMPLAUSIBLE;
     }
-    for (j = 0u; j < SSFIT_NP; j++) {
+    for (j = 0u; j < (uint16_t)SSFIT_NP; j++) {
         if (!(f->conf[j] <= lim)) {
             return DRIVE_PUB_LOW_CONFIDENCE;
         }
@@ -141,7 +141,7 @@ void drive_static_background(drive_t *d)
                               (uint16_t)(f.p[SSFIT_TR] >= _IQ20toF(p->Tr_lim[0]) &&
                                          f.p[SSFIT_TR] <= _IQ20toF(p->Tr_lim[1])));
     }
-    for (j = 0u; j < SSFIT_NP; j++) {
+    for (j = 0u; j < (uint16_t)SSFIT_NP; j++) {
         d->telemetry.conf[j] = (st == STANDSTILL_FIT_OK) ? _IQ(fminf(f.conf[j], 100.0f))
                                                          : -_IQ(1.0);
     }

@@ -89,16 +89,16 @@ static void deviations(const rls_t *r, const float th[3], float s, float s2,
         tp[j] += h;
         tm[j] -= h;
         if (params_of(tp, s, in, pp) != 0 || params_of(tm, s, in, pm) != 0) {
-            for (k = 0u; k < SSFIT_NP; k++) {
+            for (k = 0u; k < (uint16_t)SSFIT_NP; k++) {
                 sd[k] = 1.0f;   /* the fit sits at the edge of the model: no figure */
             }
             return;
         }
-        for (k = 0u; k < SSFIT_NP; k++) {
+        for (k = 0u; k < (uint16_t)SSFIT_NP; k++) {
             jac[k][j] = (pp[k] - pm[k]) / (2.0f * h);
         }
     }
-    for (k = 0u; k < SSFIT_NP; k++) {
+    for (k = 0u; k < (uint16_t)SSFIT_NP; k++) {
         float v = 0.0f;
         for (i = 0u; i < 3u; i++) {
             for (j = 0u; j < 3u; j++) {
@@ -203,7 +203,7 @@ standstill_fit_status_t standstill_fit(standstill_fit_t *f, const standstill_lf_
     if (st != STANDSTILL_FIT_OK) {
         return st;
     }
-    for (j = 0u; j < SSFIT_NP; j++) {
+    for (j = 0u; j < (uint16_t)SSFIT_NP; j++) {
         f->spread[j] = 0.5f * fabsf(pa[j] - pb[j]) / f->p[j];
         f->sd[j] = sd[j];
         f->conf[j] = STANDSTILL_FIT_K_SD * sd[j] + f->spread[j] + STANDSTILL_FIT_CONF_FLOOR;

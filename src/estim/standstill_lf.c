@@ -128,7 +128,7 @@ float standstill_lf_sum(const standstill_lf_t *z, uint16_t half, uint16_t h, uin
     /* the truncated products' mean bias, -1/2 LSB each, given back: n/2 LSB
      * on a half of n samples (n <= 2^20: at most 0.03 pu); what stays is the
      * fractions' spread, about sqrt(n / 12) LSB */
-    return _IQtoF(z->sum[half][h][k]) + ldexpf((float)(z->half / 2u), -GLOBAL_Q);
+    return _IQtoF(z->sum[half][h][k]) + ldexpf(0.5f * (float)z->half, -GLOBAL_Q);
 #else
     return _IQtoF(z->sum[half][h][k]);   /* FLOAT rounds to nearest: no bias */
 #endif
