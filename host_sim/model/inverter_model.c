@@ -78,7 +78,7 @@ inverter_status_t inverter_init(inverter_t *inv, const inverter_params_t *p)
         inv->ripple_V = p->ripple_V;
     }
     inv->vdc_V = p->vdc_V;
-    inv->ripple_at_s = NAN;
+    inv->ripple_at_s = (double)NAN;
     return INV_OK;
 }
 
