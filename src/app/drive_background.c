@@ -526,7 +526,7 @@ static void handle_requests(drive_t *d, uint16_t req)
     if ((req & DRIVE_CMD_BIT(DRIVE_CMD_RESET_FAULT)) != 0u) {
         handle_command(d, DRIVE_CMD_RESET_FAULT);
     }
-    /* a selection before the start it is for (the last one if both came) */
+    /* a selection before the start it is for (both in one pass: the rotating one wins) */
     if ((req & DRIVE_CMD_BIT(DRIVE_CMD_SELECT_STANDSTILL)) != 0u) {
         handle_command(d, DRIVE_CMD_SELECT_STANDSTILL);
     }
@@ -591,8 +591,8 @@ void drive_background(drive_t *d)
 
 void drive_command(drive_t *d, drive_cmd_t cmd)
 {
-    if (cmd == DRIVE_CMD_START_IDENT || cmd == DRIVE_CMD_STOP || cmd == DRIVE_CMD_RESET_FAULT ||
-        cmd == DRIVE_CMD_SELECT_STANDSTILL || cmd == DRIVE_CMD_SELECT_ROTATING) {
+    /* every command of drive_cmd_t (contiguous from START_IDENT): its request bit */
+    if (cmd >= DRIVE_CMD_START_IDENT && cmd <= DRIVE_CMD_SELECT_ROTATING) {
         d->cmd_requests = (uint16_t)(d->cmd_requests | DRIVE_CMD_BIT(cmd));
     }   /* DRIVE_CMD_NONE, or a value no command has: nothing to request */
 }
