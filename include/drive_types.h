@@ -243,6 +243,7 @@ typedef struct {
     uint16_t m_valid;         /* 0: the extraction was implausible (keep the old model) */
     uint16_t m_full;          /* 1: all parameters; 0: the magnetic part only (lm, lr, ls) */
     uint16_t m_ready;
+    uint16_t m_seed;          /* 1: the standstill sequence's set (drive_adapt_seed), applied at rest */
     /* tracking */
     uint32_t n_seen;          /* the tracker's n_updates the last Tr was made from */
 } drive_adapt_bg_t;

@@ -216,7 +216,8 @@ void id_sequence_set_excite(id_sequence_t *s, _iq floor);
  *  id_sequence_init sets 0. */
 int16_t id_sequence_set_static(id_sequence_t *s, uint16_t on, uint32_t inject_samples);
 
-/** Request a start (background context): taken by the next step in IDLE. */
+/** Request a start (background context): taken by the next step in IDLE;
+ *  the last standstill sequence's static_done cleared at once. */
 void id_sequence_start(id_sequence_t *s);
 /** Request a stop (background context): the next step goes to IDLE, and a
  *  start requested before it and not yet taken is dropped (the later

@@ -96,6 +96,14 @@ void drive_adapt_track(drive_t *d);
  *  drive_adapt_background. */
 void drive_adapt_post(drive_t *d, const param_extract_t *p, uint16_t full);
 
+/** Background, after the standstill sequence published its set
+ *  (drive_static.c): the model a later rotating start begins from, when the
+ *  drive adapts its model (orientation 1 with passes or tracking).  Applied
+ *  whole while the drive rests (IDLE: nothing runs on the model), by the
+ *  next drive_adapt_background; dropped if a start comes first (within a
+ *  slow period of the verdict). */
+void drive_adapt_seed(drive_t *d, const param_extract_t *p);
+
 /** Background, every pass of the loop (float allowed): the standstill
  *  result from the ISR's capture, a pass's blend step by step, the tracked
  *  Tr rate limited; each as a complete model set posted to the ISR; the

@@ -204,6 +204,39 @@ static void standstill_set(drive_t *d)
     post(d, &s, v);
 }
 
+/* The standstill sequence's set as the model in use, whole (at rest nothing
+ * runs on it: no blend): Rs, Lm, Lr, Tr as published; Ls = sigma Ls +
+ * Lm^2/Lr with the standstill test's sigma Ls (its lock-in ran in the
+ * sequence's MAGNETIZE), else Lr (method §4).  Each within a factor 2 of the
+ * model in use, as a pass's (the designs' ranges). */
+static void seed(drive_t *d)
+{
+    drive_adapt_bg_t *g = &d->adapt.bg;
+    drive_model_set_t s;
+    _iq v[DRIVE_ADAPT_NP];
+    uint16_t i;
+
+    v[DRIVE_P_RS] = g->m_rs;
+    v[DRIVE_P_LM] = g->m_lm;
+    v[DRIVE_P_LR] = g->m_lr;
+    v[DRIVE_P_LS] = g->m_ls;
+    v[DRIVE_P_TR] = g->m_tr;
+    if (d->telemetry.sigma_ls_dc != _IQ(0.0)) {
+        /* Lr > Lm > 0: the quotient < 1 by _IQdiv; < 8 + 16 */
+        v[DRIVE_P_LS] = d->telemetry.sigma_ls_dc +
+                        _IQmpy(g->m_lm, _IQdiv(g->m_lm, g->m_lr));
+    }
+    for (i = 0u; i < DRIVE_ADAPT_NP; i++) {
+        v[i] = within_factor_2(v[i], g->applied[i],
+                               (i == DRIVE_P_TR) ? _IQ20(IFO_TR_MAX_PU) : _IQ(120.0));
+    }
+    g->lr = v[DRIVE_P_LR];
+    design(g, v, &s);
+    s.state = ID_IDLE;
+    s.pass = d->seq.pass;
+    post(d, &s, v);
+}
+
 /* A pass's extraction: the blend's target (or, in REFINE with nothing
  * usable, the model in use with READY: the next pass runs on it). */
 static void take_mail(drive_t *d)
@@ -215,6 +248,13 @@ static void take_mail(drive_t *d)
     uint16_t i;
 
     g->m_ready = 0u;
+    if (g->m_seed != 0u) {
+        g->m_seed = 0u;
+        if (g->m_valid != 0u && st == (uint16_t)ID_IDLE) {
+            seed(d);
+        }
+        return;   /* a start came first: the set it would have seeded is dropped */
+    }
     if (g->m_valid != 0u && (st == (uint16_t)ID_REFINE || st == (uint16_t)ID_RUN)) {
         g->to[DRIVE_P_RS] = g->m_rs;
         g->to[DRIVE_P_LM] = g->m_lm;
@@ -375,6 +415,7 @@ void drive_adapt_post(drive_t *d, const param_extract_t *p, uint16_t full)
     if (d->k.orientation != DRIVE_ORIENT_FLUX_OBS || (a->passes <= 1u && a->track_rr == 0u)) {
         return;
     }
+    g->m_seed = 0u;
     g->m_valid = p->valid;
     g->m_full = full;
     g->m_rs = p->Rs;
@@ -383,6 +424,12 @@ void drive_adapt_post(drive_t *d, const param_extract_t *p, uint16_t full)
     g->m_ls = p->Lr;   /* the extraction's Ls = Lr (method §4) */
     g->m_tr = p->Tr;
     g->m_ready = 1u;
+}
+
+void drive_adapt_seed(drive_t *d, const param_extract_t *p)
+{
+    drive_adapt_post(d, p, 1u);
+    d->adapt.bg.m_seed = d->adapt.bg.m_ready;   /* 0 where the drive does not adapt */
 }
 
 void drive_adapt_background(drive_t *d)

@@ -1,6 +1,7 @@
 /* The standstill sequence's drive side.  See drive_static.h. */
 #include "drive_static.h"
 
+#include "drive_adapt.h"
 #include "drive_internal.h"
 #include "standstill_fit.h"
 
@@ -110,6 +111,7 @@ void drive_static_background(drive_t *d)
     standstill_fit_in_t in;
     standstill_fit_t f;
     standstill_fit_status_t st;
+    uint16_t verdict;
     uint16_t j;
 
     if (d->seq.static_done == 0u || d->verdict.static_judged != 0u ||
@@ -148,5 +150,9 @@ void drive_static_background(drive_t *d)
     d->telemetry.conf_residual = (st == STANDSTILL_FIT_OK) ? _IQ(fminf(f.residual, 100.0f))
                                                            : _IQ(0.0);
     d->telemetry.conf_amp = _IQ(0.0);
-    drive_publish(&d->telemetry, p, static_verdict(d, &f, st, p));
+    verdict = static_verdict(d, &f, st, p);
+    drive_publish(&d->telemetry, p, verdict);
+    if (verdict == (uint16_t)DRIVE_PUB_PUBLISHED) {
+        drive_adapt_seed(d, p);   /* a later rotating start begins from this set */
+    }
 }

@@ -80,7 +80,16 @@ void id_sequence_set_rest(id_sequence_t *s, _iq rest_speed) { s->rest_speed = re
 
 void id_sequence_set_excite(id_sequence_t *s, _iq floor) { s->excite_floor = floor; }
 
-void id_sequence_start(id_sequence_t *s) { s->start_req = 1u; }
+void id_sequence_start(id_sequence_t *s)
+{
+    /* the last run's INJECT is over and forgotten before the start shows:
+     * the background judges a standstill set on static_done in IDLE, and
+     * would otherwise judge the new run's empty one before the step takes
+     * the start (the step writes static_done only on leaving IDLE, 0, and at
+     * INJECT's end) */
+    s->static_done = 0u;
+    s->start_req = 1u;
+}
 
 void id_sequence_stop(id_sequence_t *s)
 {

@@ -18,6 +18,7 @@
  *    blend steps) every model the ISR runs is one whole set;
  *  - the standstill result (Rs, sigma Ls, the observer's DC re-seat) against
  *    double references and flux_obs_set_rs_dc;
+ *  - the standstill sequence's set seeds the model at rest (drive_adapt_seed);
  *  - sets for a state the sequence has left are dropped;
  *  - tracking: the rate limit per tracker update against its closed form,
  *    the hand-over to ifo with the first tracked set, the telemetry. */
@@ -164,36 +165,35 @@ static void set_words(const drive_model_set_t *s, _iq w[16])
  * in blend_ticks ISR ticks (one background pass per tick here: the last
  * set is posted on the tick the time is up, applied on the next) and says
  * so (adapt_ready) with its last set. */
-static void test_set_equals_init(void **state)
+/* The dyadic model of the two tests below (pu, exact in float and Q24,
+ * SI values on this base exact: si_for): Rs, Lm, Tr and the first Lr of a
+ * list that has an exact SI value. */
+static void exact_model(const base_values_t *b, float *rs, float *lm, float *lr, float *tr)
 {
-    drive_t *d = &g_d;
-    const base_values_t *b = &d->base;
-    /* Lr: the first of these with an exact SI value on this base */
     static const float lr_try[] = {1.671875f, 1.6875f, 1.65625f, 1.703125f, 1.640625f};
-    const float rs = 0.59375f, lm = 1.15625f, tr = 6.1875f;
-    float lr = 0.0f;
     unsigned i;
+    *rs = 0.59375f;
+    *lm = 1.15625f;
+    *tr = 6.1875f;
+    *lr = 0.0f;
+    for (i = 0u; i < sizeof lr_try / sizeof lr_try[0] && *lr == 0.0f; i++) {
+        if (si_for(lr_try[i], b->L_base_H) != 0.0f) {
+            *lr = lr_try[i];
+        }
+    }
+    assert_true(*lr != 0.0f && si_for(*rs, b->Z_base_ohm) != 0.0f &&
+                si_for(*lm, b->L_base_H) != 0.0f && si_for(*tr, b->t_base_s) != 0.0f);
+}
+
+/* The ISR runs the model (rs, lm, lr, tr; Ls = Lr): every constant as the
+ * inits compute it from the same SI model (flux_obs_init, ifo_init exactly;
+ * the PI gains and the decoupling against double formulas, bounds below). */
+static void assert_runs_model(const drive_t *d, float rs, float lm, float lr, float tr)
+{
+    const base_values_t *b = &d->base;
     flux_obs_t o;
     ifo_t f;
     double wc, sls, kp, ki;
-    uint32_t ticks;
-    (void)state;
-
-    fresh(d, ID_REFINE, 1u);
-    for (i = 0u; i < sizeof lr_try / sizeof lr_try[0] && lr == 0.0f; i++) {
-        if (si_for(lr_try[i], b->L_base_H) != 0.0f) {
-            lr = lr_try[i];
-        }
-    }
-    assert_true(lr != 0.0f && si_for(rs, b->Z_base_ohm) != 0.0f &&
-                si_for(lm, b->L_base_H) != 0.0f && si_for(tr, b->t_base_s) != 0.0f);
-    d->adapt.isr.track_rr = 0u;   /* the pass's Tr is taken (not the tracker's) */
-    mail(d, _IQ(rs), _IQ(lm), _IQ(lr), _IQ20(tr));
-    ticks = run_until_ready(d, 1000u);
-    background(d);   /* reads the answer to the last set */
-    print_message("blend: %u ISR ticks (blend_ticks %u)\n", (unsigned)ticks,
-                  (unsigned)d->adapt.bg.blend_ticks);
-    assert_true(ticks >= d->adapt.bg.blend_ticks && ticks <= d->adapt.bg.blend_ticks + 2u);
 
     assert_int_equal(flux_obs_init(&o, b, si_for(rs, b->Z_base_ohm), si_for(lr, b->L_base_H),
                                    si_for(lr, b->L_base_H), si_for(lm, b->L_base_H),
@@ -224,8 +224,104 @@ static void test_set_equals_init(void **state)
                 LSB + 2e-7 * (double)lm);
     /* the background's record of the model in use */
     assert_true(d->adapt.bg.applied[DRIVE_P_RS] == _IQ(rs) && d->adapt.bg.applied[DRIVE_P_TR] == _IQ20(tr));
+}
+
+/* The set's constants are those the inits compute from the same SI model.
+ * The model: pu values exact in float and in Q24 (dyadic; near the true
+ * motor's, within the factor 2 of the believed one), SI values whose
+ * quotient by the base is exactly that float (si_for).  Then flux_obs_init
+ * and ifo_init see the very floats the background designs from: every
+ * constant equal.  The PI gains against double, kp = (w_c / w_base)
+ * sigma Ls, ki = w_c Ts Rs (pu): sigma Ls = Ls - Lm^2/Lr in float carries
+ * 3 roundings of terms up to Ls (1.67 pu against sigma Ls 0.87: 7e-7
+ * relative), the products 2 more: 1 LSB + 1.5e-6 relative for kp (and
+ * 2e-6 for e_max = 64/kp, one more division), 1 LSB + 3e-7 for ki;
+ * Lm^2/Lr (two roundings): 1 LSB + 2e-7 relative.  The blend reaches it
+ * in blend_ticks ISR ticks (one background pass per tick here: the last
+ * set is posted on the tick the time is up, applied on the next) and says
+ * so (adapt_ready) with its last set. */
+static void test_set_equals_init(void **state)
+{
+    drive_t *d = &g_d;
+    float rs, lm, lr, tr;
+    uint32_t ticks;
+    (void)state;
+
+    fresh(d, ID_REFINE, 1u);
+    exact_model(&d->base, &rs, &lm, &lr, &tr);
+    d->adapt.isr.track_rr = 0u;   /* the pass's Tr is taken (not the tracker's) */
+    mail(d, _IQ(rs), _IQ(lm), _IQ(lr), _IQ20(tr));
+    ticks = run_until_ready(d, 1000u);
+    background(d);   /* reads the answer to the last set */
+    print_message("blend: %u ISR ticks (blend_ticks %u)\n", (unsigned)ticks,
+                  (unsigned)d->adapt.bg.blend_ticks);
+    assert_true(ticks >= d->adapt.bg.blend_ticks && ticks <= d->adapt.bg.blend_ticks + 2u);
+    assert_runs_model(d, rs, lm, lr, tr);
     assert_int_equal(d->adapt.bg.blending, 0u);
     assert_int_equal(d->adapt.isr.blending, 0u);
+}
+
+/* The standstill sequence's published set seeds the model a later rotating
+ * start begins from (drive_adapt_seed): at rest, posted whole (no blend:
+ * one background pass, one ISR tick), the tracker's Tr included (a pass's
+ * keeps the tracker's).  With the standstill test's sigma Ls, Ls = sigma Ls
+ * + Lm^2/Lr: the observer's sigma Ls is that sigma Ls within 2 LSB (the
+ * _IQdiv and _IQmpy truncations) + 1e-6 relative (the design's float
+ * difference of terms up to Ls).  A start before the background's pass:
+ * nothing posted, the model unchanged. */
+static void test_seed_from_standstill(void **state)
+{
+    drive_t *d = &g_d;
+    drive_t before;
+    param_extract_t p;
+    float rs, lm, lr, tr;
+    const double sls = 0.8125;
+    (void)state;
+
+    fresh(d, ID_IDLE, 1u);
+    exact_model(&d->base, &rs, &lm, &lr, &tr);
+    memset(&p, 0, sizeof p);
+    p.valid = 1u;
+    p.Rs = _IQ(rs);
+    p.Lm = _IQ(lm);
+    p.Lr = _IQ(lr);
+    p.Tr = _IQ20(tr);
+    assert_int_equal(d->adapt.isr.track_rr, 1u);   /* the INI's: the tracker would keep its Tr */
+    drive_adapt_seed(d, &p);
+    background(d);
+    assert_int_equal(d->adapt.box.ready, 1u);
+    assert_int_equal(d->adapt.box.set.state, ID_IDLE);
+    assert_int_equal(d->adapt.box.set.flags, 0u);
+    isr(d);
+    assert_int_equal(d->adapt.box.taken, DRIVE_BOX_APPLIED);
+    background(d);   /* reads the answer */
+    assert_int_equal(d->adapt.bg.pending, 0u);
+    assert_int_equal(d->adapt.bg.blending, 0u);
+    assert_runs_model(d, rs, lm, lr, tr);
+    assert_true(d->adapt.bg.lr == _IQ(lr));
+
+    /* with the standstill test's sigma Ls */
+    fresh(d, ID_IDLE, 1u);
+    d->telemetry.sigma_ls_dc = _IQ(sls);
+    drive_adapt_seed(d, &p);
+    background(d);
+    isr(d);
+    print_message("seeded sigma Ls %.8f (the test's %.8f)\n", to_d(d->frame.fobs.sigma_ls), sls);
+    assert_true(fabs(to_d(d->frame.fobs.sigma_ls) - sls) <= 2.0 * LSB + 1e-6 * sls);
+    assert_true(d->frame.fobs.lm == _IQ(lm) && d->frame.ifo.tr == _IQ20(tr));
+
+    /* a start first: the seed is dropped, nothing posted */
+    fresh(d, ID_IDLE, 1u);
+    drive_adapt_seed(d, &p);
+    d->seq.state = ID_CALIBRATE;
+    d->adapt.isr.prev_state = (uint16_t)ID_CALIBRATE;
+    before = *d;
+    background(d);
+    isr(d);
+    assert_int_equal(d->adapt.box.ready, 0u);
+    assert_memory_equal(&d->frame.fobs, &before.frame.fobs, sizeof before.frame.fobs);
+    assert_memory_equal(&d->frame.ifo, &before.frame.ifo, sizeof before.frame.ifo);
+    assert_int_equal(d->adapt.bg.m_seed, 0u);
 }
 
 /* The mailbox protocol, deterministically:
@@ -800,6 +896,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_fused_set),
         cmocka_unit_test(test_set_equals_init),
+        cmocka_unit_test(test_seed_from_standstill),
         cmocka_unit_test(test_mailbox_whole_sets),
         cmocka_unit_test(test_preemption),
         cmocka_unit_test(test_standstill),

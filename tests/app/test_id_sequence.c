@@ -796,6 +796,57 @@ static void test_start_then_stop_before_a_step(void **state)
     assert_int_equal(s.state, ID_CALIBRATE);
 }
 
+/* The standstill sequence (set_static): MAGNETIZE ends in INJECT, which
+ * lasts exactly inject_samples (its entry sample the first), then IDLE with
+ * the bridge off and static_done; the speed loop never runs.  A new start
+ * clears static_done at once, before the step takes it (the background
+ * judges a standstill set on static_done in IDLE: a stale one would be
+ * judged again with the new run's empty sums), and the next step is
+ * CALIBRATE. */
+static void test_static_inject(void **state)
+{
+    id_sequence_t s;
+    pulses_t p;
+    uint32_t k;
+    const uint32_t n_inject = 40u;
+    (void)state;
+    memset(&p, 0, sizeof p);
+    seq_init(&s);
+    assert_int_equal(id_sequence_set_static(&s, 1u, 0u), 1);
+    assert_int_equal(id_sequence_set_static(&s, 2u, n_inject), 1);
+    assert_int_equal(id_sequence_set_static(&s, 1u, n_inject), 0);
+    id_sequence_start(&s);
+    step(&s, &p);
+    assert_int_equal(s.state, ID_CALIBRATE);
+    s.cal_done = 1u;
+    step(&s, &p);
+    assert_int_equal(s.state, ID_MAGNETIZE);
+    for (k = 1u; k < N_MAG; k++) {
+        step(&s, &p);
+    }
+    step(&s, &p);
+    assert_int_equal(s.state, ID_INJECT);
+    assert_int_equal(p.magnetize_end, 1u);
+    for (k = 1u; k < n_inject; k++) {
+        assert_int_equal(s.pwm_on, 1u);
+        assert_int_equal(s.speed_loop_on, 0u);
+        assert_int_equal(s.static_done, 0u);
+        step(&s, &p);
+        assert_int_equal(s.state, ID_INJECT);
+    }
+    step(&s, &p);
+    assert_int_equal(s.state, ID_IDLE);
+    assert_int_equal(s.static_done, 1u);
+    assert_int_equal(s.pwm_on, 0u);
+    step(&s, &p);
+    assert_int_equal(s.static_done, 1u);   /* until the next start */
+    id_sequence_start(&s);
+    assert_int_equal(s.static_done, 0u);   /* before any step */
+    step(&s, &p);
+    assert_int_equal(s.state, ID_CALIBRATE);
+    assert_int_equal(p.extract_now, 0u);
+}
+
 /* The rotor at rest in CALIBRATE and MAGNETIZE: |speed| above rest_speed
  * sends the sequence back to IDLE (bridge off) with rotor_moved; at the
  * limit it stays; ACCELERATE ignores it; a new start clears rotor_moved. */
@@ -906,6 +957,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sensor_test_in_calibrate),
         cmocka_unit_test(test_start_then_stop_before_a_step),
+        cmocka_unit_test(test_static_inject),
         cmocka_unit_test(test_rotor_must_rest),
         cmocka_unit_test(test_volt_limit_ends_acceleration),
         cmocka_unit_test(test_excitation_swings),

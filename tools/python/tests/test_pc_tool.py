@@ -170,6 +170,36 @@ def test_pc_tool_identify_standstill(tmp_path):
         sim.kill()
 
 
+def test_pc_tool_standstill_then_rotating(tmp_path):
+    """A standstill set first, the shaft free later: on the adaptive drive with a
+    nameplate 30 % off, `identify --sequence standstill` publishes, then `identify
+    --sequence rotating` on the same drive (one simulator session) runs its passes
+    from the standstill set (drive_adapt_seed) and gives its own verdict: published,
+    every parameter within 3 % of the simulated motor.  (The second run's verdict
+    was never given before: the background judged the first run's INJECT again on
+    the new start and refused it, low_excitation.)"""
+    cfg = CONFIG_DIR / "paper_motor_wrong_nameplate.ini"
+    sim = Sim(tmp_path, config=cfg, extra=("--serial-keep-open",))
+    try:
+        first = imfoc("identify", sim.port, "--config", cfg, "--out", tmp_path / "pc1",
+                      "--sequence", "standstill", "--timeout", 60)
+        assert first.returncode == 0, first.stdout + first.stderr
+        second = imfoc("identify", sim.port, "--config", cfg, "--out", tmp_path / "pc2",
+                       "--sequence", "rotating", "--timeout", 60)
+        assert second.returncode == 0, second.stdout + second.stderr
+        states = re.findall(r"^\s+[\d.]+ s  (\w+)$", second.stdout, re.M)
+        assert "ACCELERATE" in states and "INJECT" not in states, second.stdout
+        pc = json.loads((tmp_path / "pc2" / "report.json").read_text())
+        assert pc["published"] is True and pc["pass"] == 2
+        true = {"Rs_ohm": 1.031, "Rr_ohm": 0.465, "Lm_H": 0.0064, "Lr_H": 0.0092,
+                "Tr_s": 0.0092 / 0.465}   # the INI's [plant]
+        for k, t in true.items():
+            assert abs(pc["identified"][k] - t) <= 0.03 * t, (k, pc["identified"][k], t)
+        print(f"standstill then rotating: published {pc['t_published_s']:.2f} s after $C,S")
+    finally:
+        sim.kill()
+
+
 def test_pc_tool_standstill_refused_without_its_test(tmp_path):
     """The paper's INI has no standstill test: the drive refuses the start after
     select-standstill (no_standstill) and the tool says so; nothing turned."""
