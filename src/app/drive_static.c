@@ -55,20 +55,22 @@ void drive_static_slow(drive_t *d)
 {
     standstill_lf_t *z = &d->adapt.lf;
     drive_adapt_t *a = &d->adapt.isr;
-    int16_t moved;
+    uint16_t moved;
 
     if (z->running == 0u && z->done == 0u) {
         standstill_lf_start(z);
         a->static_count0 = d->sense.qep.count;
         a->static_moved = 0u;
     }
-    /* the counter's difference modulo 2^16, signed: exact for |moves| < 32768 */
-    moved = (int16_t)(uint16_t)(d->sense.qep.count - a->static_count0);
-    if (moved < 0) {
-        moved = (int16_t)-moved;
+    /* the counter's difference modulo 2^16 and its magnitude as the smaller
+     * way round (unsigned throughout: no int16_t negation of -32768); exact
+     * for |moves| <= 32768 */
+    moved = (uint16_t)(d->sense.qep.count - a->static_count0);
+    if (moved > 32768u) {
+        moved = (uint16_t)(0u - moved);
     }
-    if ((uint16_t)moved > a->static_moved) {
-        a->static_moved = (uint16_t)moved;
+    if (moved > a->static_moved) {
+        a->static_moved = moved;
     }
     z->u_m = d->id.reg.u_mf;
     z->i_m = d->id.reg.i_mf;

@@ -37,6 +37,7 @@
 
 #include "angle.h"
 #include "drive_adapt.h"
+#include "drive_static.h"
 #include "drive_types.h"
 #include "sim_config.h"
 
@@ -322,6 +323,30 @@ static void test_seed_from_standstill(void **state)
     assert_memory_equal(&d->frame.fobs, &before.frame.fobs, sizeof before.frame.fobs);
     assert_memory_equal(&d->frame.ifo, &before.frame.ifo, sizeof before.frame.ifo);
     assert_int_equal(d->adapt.bg.m_seed, 0u);
+}
+
+/* INJECT's encoder watch (drive_static_slow): the largest excursion from
+ * the count at its start, either way, across the 16-bit counter's wrap:
+ * -3, then -6 (the counter below 0), then +40000 modulo 2^16 (25536 the
+ * other way round). */
+static void test_static_encoder_watch(void **state)
+{
+    drive_t *d = &g_d;
+    static const uint16_t counts[] = {2u, 65535u, 40005u, 5u};
+    static const uint16_t moved[] = {3u, 6u, 25536u, 25536u};
+    unsigned i;
+    (void)state;
+
+    fresh(d, ID_INJECT, 1u);
+    assert_true(d->adapt.lf.per > 0u);   /* the INI's standstill test sets the injection up */
+    d->sense.qep.count = 5u;
+    drive_static_slow(d);                /* starts the test: the count at its start */
+    assert_int_equal(d->adapt.isr.static_moved, 0u);
+    for (i = 0u; i < sizeof counts / sizeof counts[0]; i++) {
+        d->sense.qep.count = counts[i];
+        drive_static_slow(d);
+        assert_int_equal(d->adapt.isr.static_moved, moved[i]);
+    }
 }
 
 /* The mailbox protocol, deterministically:
@@ -897,6 +922,7 @@ int main(void)
         cmocka_unit_test(test_fused_set),
         cmocka_unit_test(test_set_equals_init),
         cmocka_unit_test(test_seed_from_standstill),
+        cmocka_unit_test(test_static_encoder_watch),
         cmocka_unit_test(test_mailbox_whole_sets),
         cmocka_unit_test(test_preemption),
         cmocka_unit_test(test_standstill),
