@@ -25,13 +25,14 @@
  * _IQNrmpy(a, b) = x in Q(n) is wanted; returns floor((y + 1) / 2) =
  * floor(x + 1/2), bit-identical to _IQNrmpy (nested floors:
  * floor((floor(z) + 1) / 2) = floor((z + 1) / 2)).  Needs |2x| < 2^31 raw;
- * written as (y - b) / 2 + b, b = the low bit, so that no sum can overflow
- * and no negative value is shifted.
+ * written as floor(y / 2) + b, b = the low bit (= floor((y + 1) / 2): no sum
+ * that can overflow), floor(y / 2) by _IQdiv2, IQmath's arithmetic shift
+ * (the C28x's ASR; host_sim's IQmathLib.h the same), two cycles where a
+ * signed C division by 2 costs a sign correction as well.
  */
 static inline _iq iq_round_half(_iq y)
 {
-    int32_t b = (int32_t)((uint32_t)y & 1u);
-    return (y - b) / 2 + b;
+    return _IQdiv2(y) + (int32_t)((uint32_t)y & 1u);
 }
 #else
 /** FLOAT: the product is exact to float precision; nothing to round. */

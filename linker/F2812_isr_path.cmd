@@ -83,27 +83,36 @@
 *(.text:_volt_calc_zone)
 *(.text:_voltage_model)
 /*
+ * FAST_IN_SLOW_RAM (tools/bench_size.py): what only drive_safety_test_period
+ * reaches, the control ISR's CALIBRATE-only code: in H0 (F2812_isr_slow.cmd)
+ * in the flash image, in L0+L1 (F2812_isr_path.cmd) in the RAM image, which
+ * defines ISR_RAM_IMAGE (its H0 holds the slow ISR's flash set too).
+ * 6 functions.
+ */
+#ifdef ISR_RAM_IMAGE
+*(.text:_drive_safety_test_period)
+*(.text:_drive_test_voltage)
+*(.text:_drive_vi_modulate)
+*(.text:_phase_unit)
+*(.text:_sensor_test_judge_due)
+*(.text:_sensor_test_step)
+#endif
+/*
  * The control ISR's FLASH set: functions that run only in CALIBRATE, on a state
  * change, after a fault, or once per slow period (tools/bench_size.py
  * FLASH_ROOTS says why, each).
  * The flash image runs them from flash (.text, not named here; their wait
  * states costed by tools/bench_isr.py); the RAM image defines
  * ISR_FLASH_SET_IN_RAM and keeps them on chip with the rest of this set.
- * 14 functions.
+ * 8 functions.
  */
 #ifdef ISR_FLASH_SET_IN_RAM
 *(.text:_accumulate)
-*(.text:_drive_safety_test_period)
 *(.text:_drive_static_slow)
-*(.text:_drive_test_voltage)
-*(.text:_drive_vi_modulate)
 *(.text:_lf_angle)
 *(.text:_pc_load_offset)
 *(.text:_phase_current_cal_start)
 *(.text:_phase_current_cal_step)
-*(.text:_phase_unit)
-*(.text:_sensor_test_judge_due)
-*(.text:_sensor_test_step)
 *(.text:_standstill_lf_start)
 *(.text:_standstill_lf_step)
 #endif

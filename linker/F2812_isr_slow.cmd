@@ -6,7 +6,8 @@
  * that ONLY the slow ISR isr_slow reaches (INT14, below the control ISR)
  * (the slot tasks: filters, observer, sequence, adaptation, tracker), found in
  * the call graph of gcc -O1 -fno-inline.  A function also reached on the
- * every-period path is in F2812_isr_path.cmd instead.  Included inside the
+ * every-period path is in F2812_isr_path.cmd instead (but for the
+ * FAST_IN_SLOW_RAM block below).  Included inside the
  * `ramfuncs_slow` output section of F2812_flash.cmd / F2812_ram.cmd (RUN in
  * H0 SARAM, zero wait states as L0/L1; copied at boot by flash_copy_ramfuncs).
  *
@@ -16,12 +17,11 @@
  * name).  Symbol names: COFF ABI prefixes C names with '_', EABI does not
  * (SPRU514 "COFF ABI vs EABI").  This file: --abi=coffabi.  A static function of
  * the same name in two .c files would be matched in both: --check-isr-cmd refuses it.
- * 64 functions.
+ * 62 functions.
  */
 *(.text:_bw_filter_step)
 *(.text:_bw_filter_update)
 *(.text:_check_current)
-*(.text:_correct_axis)
 *(.text:_current_check_abs_err)
 *(.text:_current_check_step)
 *(.text:_current_model_check_half)
@@ -45,7 +45,6 @@
 *(.text:_drive_vi_done)
 *(.text:_encoder_check_frozen)
 *(.text:_estim_asr32)
-*(.text:_flux_obs_step_a)
 *(.text:_flux_obs_step_b)
 *(.text:_ident_mean)
 *(.text:_ident_regressor_filter_a)
@@ -83,13 +82,28 @@
 *(.text:_voltage_limits)
 *(.text:_window_mean)
 /*
+ * FAST_IN_SLOW_RAM (tools/bench_size.py): what only drive_safety_test_period
+ * reaches, the control ISR's CALIBRATE-only code: in H0 (F2812_isr_slow.cmd)
+ * in the flash image, in L0+L1 (F2812_isr_path.cmd) in the RAM image, which
+ * defines ISR_RAM_IMAGE (its H0 holds the slow ISR's flash set too).
+ * 6 functions.
+ */
+#ifndef ISR_RAM_IMAGE
+*(.text:_drive_safety_test_period)
+*(.text:_drive_test_voltage)
+*(.text:_drive_vi_modulate)
+*(.text:_phase_unit)
+*(.text:_sensor_test_judge_due)
+*(.text:_sensor_test_step)
+#endif
+/*
  * The slow ISR's FLASH set: functions that run only in CALIBRATE, on a state
  * change, after a fault, or once per slow period (tools/bench_size.py
  * FLASH_ROOTS says why, each).
  * The flash image runs them from flash (.text, not named here; their wait
  * states costed by tools/bench_isr.py); the RAM image defines
  * ISR_FLASH_SET_IN_RAM and keeps them on chip with the rest of this set.
- * 38 functions.
+ * 41 functions.
  */
 #ifdef ISR_FLASH_SET_IN_RAM
 *(.text:_angle_acc_from_pu)
@@ -97,6 +111,7 @@
 *(.text:_capture)
 *(.text:_clamp)
 *(.text:_clear_state)
+*(.text:_correct_axis)
 *(.text:_drive_ifo_frame)
 *(.text:_drive_safety_test_verdict)
 *(.text:_drive_set_run_ifo)
@@ -108,6 +123,7 @@
 *(.text:_flux_obs_apply_model)
 *(.text:_flux_obs_apply_seat)
 *(.text:_flux_obs_reset)
+*(.text:_flux_obs_step_a)
 *(.text:_id_sequence_set_target)
 *(.text:_id_sequence_step)
 *(.text:_ifo_align)
@@ -119,6 +135,7 @@
 *(.text:_rls_update)
 *(.text:_rotor_turned)
 *(.text:_sensor_test_judge)
+*(.text:_sensor_test_judge_due)
 *(.text:_stall_check_decide)
 *(.text:_standstill)
 *(.text:_standstill_z_samples)

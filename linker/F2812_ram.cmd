@@ -56,6 +56,10 @@ PAGE 1 :
 
 /* the ISR path's flash set on chip (the #ifdef blocks of the two includes) */
 #define ISR_FLASH_SET_IN_RAM
+/* the control ISR's code that the flash image runs from H0 (FAST_IN_SLOW_RAM
+ * of tools/bench_size.py) in L0+L1 here: this image's H0 also holds the slow
+ * ISR's flash set */
+#define ISR_RAM_IMAGE
 
 SECTIONS
 {

@@ -149,10 +149,6 @@ RAMFUNCS_NOT_ISR = {
 # ISR_FLASH_SET_IN_RAM and keeps them on chip (its .text is in external RAM
 # at the XINTF's reset timing, far slower than flash).
 FLASH_ROOTS = {
-    "drive_safety_test_period": "control ISR, CALIBRATE only (drive_safety_modulate's gate): "
-                                "the sensor test's pulses, the bridge test's voltage",
-    "sensor_test_step": "from drive_safety_test_period, and once from drive_safety_state "
-                        "to disarm the test as the sequence leaves CALIBRATE",
     "drive_safety_test_verdict": "slot SAFETY, CALIBRATE only (and once after it): the sensor "
                                  "test's verdicts (sensor_test_judge)",
     "phase_current_cal_start": "control ISR, CALIBRATE only (calibrate(): seq.calibrating): "
@@ -176,6 +172,9 @@ FLASH_ROOTS = {
                    "the bridge off in it)",
     "period_mean_window": "slot FILTERS_A, only with [ident] period_mean = 1 (an option of "
                           "the paper's sequence, off by default): the period-mean rows' window",
+    "flux_obs_step_a": "slot OBSERVER_A only (orientation 1): the slot with the most room in "
+                       "every state (1 385 cycles in RAM; from flash it stays the lightest "
+                       "but two), which frees H0 for the sensor test (FAST_IN_SLOW_RAM)",
 }
 FLASH_SET_DEFINE = "ISR_FLASH_SET_IN_RAM"
 FLASH_TEXT = ".text"                # where the flash image leaves the flash set
@@ -565,6 +564,34 @@ def flash_set_in_fast(graph):
     return (below & flash) - rest
 
 
+# Control-ISR roots whose code runs from H0 (`ramfuncs_slow`'s range) instead
+# of L0+L1: the sensor test's pulses and the bridge test's voltage, CALIBRATE
+# only, whose per-ISR cost from flash made CALIBRATE the worst control ISR;
+# L0+L1 has no room for them within the 70 % rule, H0 has once
+# flux_obs_step_a runs from flash.  Both ranges are zero-wait SARAM: where a
+# function runs changes nothing but the block it fills.
+FAST_IN_SLOW_RAM = ("drive_safety_test_period",)
+# The RAM image (linker/F2812_ram.cmd defines it) keeps them in L0+L1: its H0
+# holds the slow ISR's flash set too.
+RAM_IMAGE_DEFINE = "ISR_RAM_IMAGE"
+
+
+def fast_in_slow_ram(graph):
+    """The fast-set titles that only FAST_IN_SLOW_RAM's roots reach (the
+    control ISR reaches nothing else of them), firmware and IQmath aside."""
+    fast, _slow = isr_sets(graph)
+    roots = [t for t in fast if graph.func[t]["name"] in FAST_IN_SLOW_RAM]
+    missing = set(FAST_IN_SLOW_RAM) - {graph.func[t]["name"] for t in roots}
+    if missing:
+        raise SystemExit(f"bench_size: FAST_IN_SLOW_RAM {sorted(missing)} are not on the "
+                         "control ISR's path")
+    below, _ = graph.reach(roots, stop=is_iqmath)
+    keep, _ = graph.reach(graph.roots(FAST_ROOTS),
+                          stop=lambda f: is_iqmath(f) or f["name"] in FAST_IN_SLOW_RAM)
+    return {t for t in (below & fast) - (keep - set(roots)) if not is_iqmath(graph.func[t])
+            and not rel(graph.func[t]["file"]).startswith("firmware/")}
+
+
 def slow_cmd_path(fast_path):
     """The slow set's include next to the fast one: F2812_isr_path.cmd ->
     F2812_isr_slow.cmd (other names: <stem>_slow.cmd)."""
@@ -591,8 +618,10 @@ def isr_cmd_texts(graph, abi="coffabi"):
     flash = flash_set(graph)
     _seen, ext = graph.reach(graph.roots(ISR_ROOTS), stop=is_iqmath)
     prefix = "_" if abi == "coffabi" else ""
-    fast_names = sorted(src_names(graph, fast - flash))
+    to_slow = fast_in_slow_ram(graph) - flash
+    fast_names = sorted(src_names(graph, fast - flash - to_slow))
     slow_names = sorted(src_names(graph, slow - flash) - set(fast_names))
+    moved = sorted(src_names(graph, to_slow) - set(fast_names) - set(slow_names))
     # a name of the flash set that another (static) function on the path
     # shares is in RAM anyway (the input section name matches both)
     ram = set(fast_names) | set(slow_names)
@@ -613,6 +642,17 @@ def isr_cmd_texts(graph, abi="coffabi"):
             " */",
             f"#ifdef {FLASH_SET_DEFINE}",
         ] + [f"*(.text:{prefix}{n})" for n in names] + ["#endif"]
+    def moved_block(which):
+        return [
+            "/*",
+            f" * FAST_IN_SLOW_RAM (tools/bench_size.py): what only {', '.join(FAST_IN_SLOW_RAM)}",
+            " * reaches, the control ISR's CALIBRATE-only code: in H0 (F2812_isr_slow.cmd)",
+            f" * in the flash image, in L0+L1 (F2812_isr_path.cmd) in the RAM image, which",
+            f" * defines {RAM_IMAGE_DEFINE} (its H0 holds the slow ISR's flash set too).",
+            f" * {len(moved)} functions.",
+            " */",
+            f"#{which} {RAM_IMAGE_DEFINE}",
+        ] + [f"*(.text:{prefix}{n})" for n in moved] + ["#endif"]
     common = [
         " *",
         " * cl2000 --gen_func_subsections=on puts each function in its own subsection",
@@ -640,7 +680,8 @@ def isr_cmd_texts(graph, abi="coffabi"):
         " * (checked by the same test); TI's IQmath functions by the IQmath section.",
         f" * {len(fast_names)} functions.",
         " */",
-    ] + [f"*(.text:{prefix}{n})" for n in fast_names] + flash_block(flash_fast, "control ISR")
+    ] + ([f"*(.text:{prefix}{n})" for n in fast_names] + moved_block("ifdef")
+         + flash_block(flash_fast, "control ISR"))
     slow_lines = [
         "/*",
         " * F2812_isr_slow.cmd: GENERATED by tools/bench_size.py --write-isr-cmd, do not edit.",
@@ -650,13 +691,15 @@ def isr_cmd_texts(graph, abi="coffabi"):
         f" * that ONLY the slow ISR {SLOW_DISPATCH} reaches (INT14, below the control ISR)",
         " * (the slot tasks: filters, observer, sequence, adaptation, tracker), found in",
         " * the call graph of gcc -O1 -fno-inline.  A function also reached on the",
-        " * every-period path is in F2812_isr_path.cmd instead.  Included inside the",
+        " * every-period path is in F2812_isr_path.cmd instead (but for the",
+        " * FAST_IN_SLOW_RAM block below).  Included inside the",
         " * `ramfuncs_slow` output section of F2812_flash.cmd / F2812_ram.cmd (RUN in",
         " * H0 SARAM, zero wait states as L0/L1; copied at boot by flash_copy_ramfuncs).",
     ] + common + [
         f" * {len(slow_names)} functions.",
         " */",
-    ] + ([f"*(.text:{prefix}{n})" for n in slow_names] + flash_block(flash_slow, "slow ISR")
+    ] + ([f"*(.text:{prefix}{n})" for n in slow_names] + moved_block("ifndef")
+         + flash_block(flash_slow, "slow ISR")
          + iqmath_members_text(ti_iqmath(ext)))
     return "\n".join(fast_lines) + "\n", "\n".join(slow_lines) + "\n"
 
@@ -730,6 +773,8 @@ def name_clash_problems(graph):
 def cmd_problems(old_fast, old_slow, new_fast, new_slow, fast_file, slow_file):
     """Errors of the committed includes against the call graph's."""
     def names(t):
+        # FAST_IN_SLOW_RAM's block is in both includes, each for one image
+        t = re.sub(rf"(?ms)^#ifn?def {RAM_IMAGE_DEFINE}$.*?^#endif$", "", t)
         return set(re.findall(r"\(\.text:(\w+)\)", t))
     errs = []
     was_f, was_s, now_f, now_s = names(old_fast), names(old_slow), names(new_fast), names(new_slow)
@@ -778,6 +823,7 @@ def report(args, srcs, g):
     # the flash set runs from .text (flash) unless the linker file keeps it on chip
     flash_run = set() if plan["flash_set_in_ram"] else flash_set(g)
     to_fast = flash_set_in_fast(g) if plan["flash_set_in_ram"] else set()
+    to_slow = fast_in_slow_ram(g)
     _all, isr_ext = g.reach(g.roots(ISR_ROOTS), stop=is_iqmath)
     # the host IQmathLib.h's inline helpers (TI's intrinsics: _IQmpy, _IQsat,
     # _IQabs ...) that the compiler left as functions count where IQmath goes
@@ -804,6 +850,9 @@ def report(args, srcs, g):
             sec = FLASH_TEXT
         elif t in to_fast:
             sec = FAST_SECTION   # the RAM image: FLASH_SET_IN_FAST's in L0+L1
+        elif t in to_slow:
+            # FAST_IN_SLOW_RAM's: control-ISR code in H0 (the RAM image: L0+L1)
+            sec = FAST_SECTION if plan["flash_set_in_ram"] else SLOW_SECTION
         else:
             sec = FAST_SECTION if t in fast else SLOW_SECTION
         rows.append({"function": f["name"], "file": rel(f["file"]), "kind": kind,

@@ -9,6 +9,7 @@
  * FLOAT_MATH: the float expressions against double within float rounding.
  */
 #include "iqmath_test_util.h"
+#include "iq_rmpy.h"
 
 #if MATH_TYPE == IQ_MATH
 /* ---- 128-bit reference (host only; __int128 is a GCC/Clang extension) -- */
@@ -202,9 +203,42 @@ static void test_mpyiqx_exact(void **state)
     assert_int_equal(mismatches, 0);
 }
 
+/** The core's iq_rmpy (include/iq_rmpy.h: _IQmpyIQX one bit finer, then
+ *  iq_round_half) is _IQrmpy bit for bit wherever its header says it is
+ *  valid, |a b| < 2^(30 - GLOBAL_Q) pu: pairs whose product spans that range
+ *  (both signs, odd and even intermediate results, the exact halves that
+ *  round up) and the edge values within it: 0 LSB. */
+static void test_core_rmpy_exact(void **state)
+{
+    prng_t p = {UINT64_C(4242)};
+    const double lim = ldexp(1.0, 30 - GLOBAL_Q);   /* pu */
+    long mismatches = 0, tried = 0;
+    (void)state;
+    for (int i = 0; i < (1 << 18); i++) {
+        int32_t a = (i & 1) ? prng_i32(&p) : prng_i32_mag(&p);
+        int32_t b = (i & 2) ? prng_i32(&p) : prng_i32_mag(&p);
+        if (!(fabs(ldexp((double)a, -GLOBAL_Q) * ldexp((double)b, -GLOBAL_Q)) < lim)) {
+            b = (int32_t)(b >> 16);   /* into range: the same sign, a smaller factor */
+        }
+        if (fabs(ldexp((double)a, -GLOBAL_Q) * ldexp((double)b, -GLOBAL_Q)) < lim) {
+            mismatches += iq_rmpy(a, b) != ref_rmpy(a, b, GLOBAL_Q);
+            tried++;
+        }
+    }
+    /* the halves: a b = (2k + 1) / 2 LSB rounds up (towards +inf), both signs */
+    for (int32_t k = -8; k <= 8; k++) {
+        mismatches += iq_rmpy((int32_t)(2 * k + 1), _IQ(0.5)) != ref_rmpy(2 * k + 1, _IQ(0.5), GLOBAL_Q);
+        mismatches += iq_rmpy(_IQ(0.5), (int32_t)(2 * k + 1)) != k + 1;
+    }
+    print_message("iq_rmpy: %ld pairs within its range, %ld mismatches\n", tried, mismatches);
+    assert_true(tried > (1 << 16));
+    assert_int_equal(mismatches, 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_core_rmpy_exact),
         cmocka_unit_test(test_qn_families_exact),
         cmocka_unit_test(test_global_mpy_exact),
         cmocka_unit_test(test_mpy_semantics),

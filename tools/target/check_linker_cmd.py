@@ -142,7 +142,9 @@ INPUT_SPEC = re.compile(r"^\*\(\.text:\w+\)$"
                         r"|^-l \w+\.lib<[\w. ]+> \(IQmath\)$|^\*\(IQmath\)$"
                         r"|^#ifndef IQMATH_WHOLE_IN_RAM$|^#else$|^#endif$"
                         # the flash set: on chip in the RAM image only (bench_size.py)
-                        r"|^#ifdef ISR_FLASH_SET_IN_RAM$")
+                        r"|^#ifdef ISR_FLASH_SET_IN_RAM$"
+                        # FAST_IN_SLOW_RAM: H0 in the flash image, L0+L1 in the RAM image
+                        r"|^#ifn?def ISR_RAM_IMAGE$")
 IQMATH_MEMBERS = re.compile(r"^-l \w+\.lib<[\w. ]+> \(IQmath\)$", re.M)
 
 
