@@ -81,13 +81,6 @@
 /** The largest corner, pu of w_base: Wc Ts stays small enough for the
  *  improved Euler's D (bw_filter_init). */
 #define BW_FILTER_WC_MAX_PU 4.0f
-/** 1 if the corner @p wc_rad_s is one bw_filter_init accepts on the base
- *  @p w_base_rad_s (> 0): 0 < Wc < BW_FILTER_WC_MAX_PU w_base.  The one test
- *  of it, also the configuration's (drive_limits.c).  Float: init only. */
-static inline int16_t bw_filter_wc_ok(float wc_rad_s, float w_base_rad_s)
-{
-    return (int16_t)((wc_rad_s > 0.0f) && (wc_rad_s / w_base_rad_s < BW_FILTER_WC_MAX_PU));
-}
 
 typedef enum {
     BW_FILTER_OK = 0,
@@ -117,6 +110,13 @@ typedef struct {
     _iq27 x1;         /* Q27: filtered signal */
     _iq27 z2;         /* Q27: derivative / Wc_pu */
 } bw_filter_t;
+
+/** bw_filter_init's check of its arguments alone (no struct), the status it
+ *  would return: _BASE, _WC (Wc not in (0, BW_FILTER_WC_MAX_PU w_base)),
+ *  _TS, _N, _STEP (Wc Ts above BW_FILTER_A_MAX), in that order.  Float:
+ *  init only. */
+bw_filter_status_t bw_filter_check(float wc_rad_s, uint16_t n_pass, float Ts_s,
+                                   float w_base_rad_s);
 
 /**
  * Compute the map from Wc (rad/s), N, Ts (s) and the speed base w_base

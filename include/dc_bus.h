@@ -70,6 +70,12 @@ typedef struct {
     uint16_t primed;       /* 0 until the first step has loaded vdc_filt */
 } dc_bus_t;
 
+/** dc_bus_init's check of its arguments alone (no struct), the status it
+ *  would return: DC_BUS_ERR_BASE, then _FULL_SCALE (V_fs/V_base * 65536/65520
+ *  not below DC_BUS_FULL_SCALE_MAX_PU), then _CUTOFF.  The configuration's
+ *  table of limits calls it too (drive_limits.c).  Float: init only. */
+dc_bus_status_t dc_bus_check(float vdc_full_scale_V, const base_values_t *b, float fc_Hz);
+
 /** @p vdc_full_scale_V: bus voltage that reads 3.0 V at the ADC pin;
  *  @p fc_Hz: cut-off of vdc_filt. */
 dc_bus_status_t dc_bus_init(dc_bus_t *d, float vdc_full_scale_V, const base_values_t *b,

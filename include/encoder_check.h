@@ -61,6 +61,14 @@ typedef struct {
     uint16_t frozen;       /* consecutive frozen samples with torque current */
 } encoder_check_t;
 
+/** encoder_check_init's check of its arguments alone (no struct), the status
+ *  it would return: _ERR_ARG, then _ERR_RESOLUTION (the counts a sample at
+ *  speed_max not in [2, 16384]).  The configuration's table of limits calls
+ *  it too (drive_limits.c).  Float: init only. */
+encoder_check_status_t encoder_check_args_ok(float Ts_s, float frozen_s, float i_t_min_pu,
+                                             float speed_max_pu, float f_base_Hz,
+                                             uint16_t encoder_lines, uint16_t pole_pairs);
+
 /**
  * Ts_s: sample period; frozen_s: frozen-count window; i_t_min_pu: torque
  * current level (pu); speed_max_pu: highest plausible electrical speed (pu

@@ -214,6 +214,14 @@ flux_obs_status_t flux_obs_init(flux_obs_t *o, const base_values_t *b, float Rs_
                                 float Ls_H, float Lr_H, float Lm_H, float Tr_s, float wc_Hz,
                                 float ws_lpf_Hz);
 
+/** flux_obs_init's check of its arguments alone (no struct), the status it
+ *  would return: _BASE (bases, f_base Ts not in (1/2000, 1/128)), _WC,
+ *  _WS_LPF, then the model's ranges in flux_obs_design's order (_RS, _L,
+ *  _TR).  The configuration's table of limits calls it too
+ *  (drive_limits.c).  Float: init only. */
+flux_obs_status_t flux_obs_check(const base_values_t *b, float Rs_ohm, float Ls_H, float Lr_H,
+                                 float Lm_H, float Tr_s, float wc_Hz, float ws_lpf_Hz);
+
 /** Run the observer once every @p n samples (a power of two up to 8: the
  *  drive's slow task) on the step's mean voltage and mean current: the
  *  constants follow the step n Ts (the voltage integral, the current
@@ -224,6 +232,15 @@ flux_obs_status_t flux_obs_init(flux_obs_t *o, const base_values_t *b, float Rs_
  *  low-pass step above 1, or Tr below 10 steps. */
 flux_obs_status_t flux_obs_set_step(flux_obs_t *o, const base_values_t *b, uint16_t n,
                                     float wc_Hz, float ws_lpf_Hz);
+
+/** flux_obs_set_step's check alone, for the Q20 Tr @p tr_pu the observer
+ *  holds (flux_obs_t.tr), each refusal named (flux_obs_set_step returns
+ *  FLUX_OBS_ERR_BASE for every one): _BASE (n not a power of two in
+ *  [1, 8]), _WC (w_c n Ts > 0.05), _WS_LPF (the ws low-pass step 2 pi f n Ts
+ *  not in (0, 1]), _TR (Tr below 10 steps).  Also the table of limits'
+ *  (drive_limits.c).  Float: init only. */
+flux_obs_status_t flux_obs_step_check(const base_values_t *b, uint16_t n, float wc_Hz,
+                                      float ws_lpf_Hz, _iq20 tr_pu);
 
 /** Zero the state and outputs (demagnetised machine: all fluxes 0). */
 void flux_obs_reset(flux_obs_t *o);

@@ -165,6 +165,13 @@ bw_filter_status_t ident_regressor_init(ident_regressor_t *r, float wc_rad_s,
                                         uint16_t n_pass, float Ts_s,
                                         float w_base_rad_s, uint16_t decim_log2);
 
+/** ident_regressor_init's check of its arguments alone (no struct): its
+ *  decimation, then bw_filter_check at the filters' step Ts_s 2^decim_log2.
+ *  The configuration's table of limits calls it too (drive_limits.c).
+ *  Float: init only. */
+bw_filter_status_t ident_regressor_check(float wc_rad_s, uint16_t n_pass, float Ts_s,
+                                         float w_base_rad_s, uint16_t decim_log2);
+
 /** Switch to the period-mean form (file comment) for ifo's frame with the
  *  rotor time constant Tr_s, the nameplate's K2 in pu (k2_nom_pu =
  *  V_base / (sigma Ls I_base w_base)) and its magnetising current in pu

@@ -114,6 +114,21 @@ typedef struct {
  */
 ifo_status_t ifo_init(ifo_t *f, float Tr_s, const base_values_t *b, float imr_min_pu);
 
+/** ifo_init's check of its arguments alone (no struct), before Tr's own
+ *  bounds (ifo_design_tr): IFO_ERR_BASE (bases), IFO_ERR_IMR_MIN
+ *  (@p imr_min_pu not in (0, 1]), IFO_ERR_TR (Tr above IFO_TR_MAX_PU: the
+ *  Q20 headroom), IFO_ERR_BASE (f_base Ts not in (1/2000, 1/128)), in that
+ *  order.  The configuration's table of limits calls it too
+ *  (drive_limits.c).  Float: init only. */
+ifo_status_t ifo_check(float Tr_s, const base_values_t *b, float imr_min_pu);
+
+/** ifo_set_tr's check of a Q20 Tr alone, on the module's Q24 Ts (@p ts_pu,
+ *  ifo_t.ts) and guard (@p imr_min_pu, ifo_t.imr_min): IFO_ERR_TR (Tr not
+ *  in [10 Ts, IFO_TR_MAX_PU]), then IFO_ERR_IMR_MIN (2 / (Tr imr_min) above
+ *  64 pu).  Also the table of limits' test of the believed Tr
+ *  (drive_limits.c).  No float. */
+ifo_status_t ifo_tr_check(_iq ts_pu, _iq imr_min_pu, _iq20 tr_pu);
+
 /**
  * Change Tr (pu time, Q20, e.g. from the identification).  No float: 1/Tr
  * and Ts/Tr by _IQ20div (Q24 / Q20 -> Q24, truncated, < 1 LSB), kf =

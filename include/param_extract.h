@@ -92,15 +92,20 @@ typedef struct {
     uint16_t valid;     /* 1 only if status == PARAM_OK */
 } param_extract_t;
 
-/** Convert the SI ranges with the bases.  On error the struct is zeroed
- *  (valid = 0). */
 /** The largest pu value of a range held in Q24 (Q24 holds < 128). */
 #define PARAM_EXTRACT_PU_MAX 127.0f
-/** 1 if the SI range @p si = {lo, hi} on @p base is 0 <= lo < hi < @p max
- *  in pu: the test param_extract_init applies to each range, also the
- *  configuration's (drive_limits.c).  Float: init only. */
-int16_t param_extract_range_ok(const float si[2], float base, float max);
+/** param_extract_init's check of its arguments alone (no struct), the
+ *  status it would return: _ERR_BASES, then _ERR_RANGE for the first range
+ *  (Rs, Rr, Lm, Lr, psi, Tr, in param_limits_t's order) that is not
+ *  0 <= min < max < PARAM_EXTRACT_PU_MAX pu (Tr: 2047 pu), naming it in
+ *  @p bad (PARAM_ERR_RS .. PARAM_ERR_TR; PARAM_OK otherwise; may be NULL),
+ *  then _ERR_IM.  The configuration's table of limits calls it too
+ *  (drive_limits.c).  Float: init only. */
+param_init_status_t param_extract_check(const base_values_t *b, const param_limits_t *lim,
+                                        param_status_t *bad);
 
+/** Convert the SI ranges with the bases.  On error the struct is zeroed
+ *  (valid = 0). */
 param_init_status_t param_extract_init(param_extract_t *p, const base_values_t *b,
                                        const param_limits_t *lim);
 

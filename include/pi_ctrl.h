@@ -98,6 +98,13 @@ static inline void pi_apply_gains(pi_ctrl_t *p, const pi_gains_t *g)
     p->e_max = g->e_max;
 }
 
+/** pi_init's check of its arguments alone (no struct), the status it
+ *  would return: PI_ERR_KP (kp outside [0, PI_KP_MAX]), PI_ERR_KI (ki
+ *  outside [0, PI_KI_MAX]), PI_ERR_LIMITS, in that order; NaN fails.  The
+ *  configuration's table of limits calls it for every PI the drive sets
+ *  up (drive_limits.c).  Float: init only. */
+pi_status_t pi_check(float kp, float ki, float out_min, float out_max);
+
 /**
  * Set gains and limits (pu) and reset the state.  On an error the struct is
  * left zeroed (gains 0, limits 0: output 0) and the first offending argument

@@ -55,8 +55,22 @@ typedef struct {
     uint16_t trip;             /* 1 while a fault is latched */
 } protect_t;
 
+/** protect_init's levels refused, the first one named (protect_args_ok). */
+typedef enum {
+    PROTECT_ARGS_OK = 0,
+    PROTECT_ERR_TRIP,       /* i_trip not in (0, 32) pu */
+    PROTECT_ERR_VDC_MIN,    /* vdc_min not > 0 */
+    PROTECT_ERR_VDC_MAX     /* vdc_max not > vdc_min */
+} protect_args_t;
+
+/** protect_init's check of its levels alone (no struct), in that order
+ *  (a level not yet known may be passed as 0: the ones before it are judged
+ *  first).  The configuration's table of limits calls it too
+ *  (drive_limits.c). */
+protect_args_t protect_args_ok(_iq i_trip, _iq vdc_max, _iq vdc_min);
+
 /** Levels in pu.  Returns 1 if a level is not positive, i_trip >= 32 pu or
- *  vdc_min >= vdc_max. */
+ *  vdc_min >= vdc_max (protect_args_ok). */
 int16_t protect_init(protect_t *p, _iq i_trip, _iq vdc_max, _iq vdc_min);
 /* 1 if |i| > i_trip.  IQ_MATH: i + i_trip outside [0, 2 i_trip] as one
  * unsigned compare, the sum taken in uint32_t (defined wrap): every i in

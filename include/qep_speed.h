@@ -112,6 +112,14 @@ qep_speed_status_t qep_speed_init(qep_speed_t *q, uint16_t encoder_lines,
                                   const base_values_t *b, float speed_filter_Hz,
                                   uint16_t window);
 
+/** qep_speed_init's check of its arguments alone (no struct), the status it
+ *  would return: _BASE, _LINES, _WINDOW, then _RESOLUTION (one count in
+ *  the window, or in one sample, not below 1 pu of speed), then _CUTOFF.
+ *  The configuration's table of limits calls it too (drive_limits.c).
+ *  Float: init only. */
+qep_speed_status_t qep_speed_check(uint16_t encoder_lines, const base_values_t *b,
+                                   float speed_filter_Hz, uint16_t window);
+
 /** Restart from @p count_now: angles 0, speeds 0, the window filled with
  *  count_now (the shaft assumed at rest). */
 void qep_speed_reset(qep_speed_t *q, uint16_t count_now);
@@ -128,6 +136,13 @@ void qep_speed_reset(qep_speed_t *q, uint16_t count_now);
  */
 qep_speed_status_t qep_speed_set_decim(qep_speed_t *q, uint16_t decim, const base_values_t *b,
                                        float speed_filter_Hz);
+
+/** qep_speed_set_decim's check alone, for a module initialised with
+ *  @p window: _WINDOW (decim not a power of two <= window), _BASE, then
+ *  _CUTOFF (the corner not in (0, 1/(2 decim Ts)), or its coefficient below
+ *  QEP_SPEED_FILTER_A_MIN).  Also the table of limits' (drive_limits.c). */
+qep_speed_status_t qep_speed_decim_check(uint16_t decim, uint16_t window,
+                                         const base_values_t *b, float speed_filter_Hz);
 
 /* a - b modulo 2^16, read as a signed number in [-32768, 32767].  Written
  * without the implementation-defined uint16 -> int16 conversion, and

@@ -25,13 +25,6 @@
 /** The least step, pu per sample: 2^-20 (16 LSB24), the slope's
  *  quantisation below 1/32 (1 LSB of truncation over 16). */
 #define RAMP_GEN_STEP_MIN_PU 9.5367431640625e-7f
-/** 1 if @p step_pu (rate x Ts) is one ramp_gen_init accepts: in
- *  [RAMP_GEN_STEP_MIN_PU, 1] pu per sample.  The one test of it, also the
- *  configuration's (drive_limits.c).  Float: init only. */
-static inline int16_t ramp_gen_step_ok(float step_pu)
-{
-    return (int16_t)(step_pu >= RAMP_GEN_STEP_MIN_PU && step_pu <= 1.0f);
-}
 
 typedef enum {
     RAMP_GEN_OK = 0,
@@ -56,6 +49,14 @@ typedef struct {
  *  in pu.  Starts at out = 0 clamped into the limits, target = out. */
 ramp_gen_status_t ramp_gen_init(ramp_gen_t *r, float rate_pu_s, float Ts_s, float out_min_pu,
                                 float out_max_pu);
+
+/** ramp_gen_init's check of its arguments alone (no struct), the status it
+ *  would return: _PERIOD, then _RATE (rate not > 0, or the step rate x Ts
+ *  not in [RAMP_GEN_STEP_MIN_PU, 1] pu per sample), then _LIMITS.  The
+ *  configuration's table of limits calls it too (drive_limits.c).  Float:
+ *  init only. */
+ramp_gen_status_t ramp_gen_check(float rate_pu_s, float Ts_s, float out_min_pu,
+                                 float out_max_pu);
 
 /** Set the output (e.g. to the measured speed before the loop closes),
  *  clamped into the limits; done is cleared. */

@@ -52,6 +52,13 @@ typedef struct {
 /** k_nom: K1, K2, theta3 (K3 or K3' as the RLS form estimates it), K4 in pu;
  *  span > 1.  Float, once; on error the struct is zeroed (good = 0). */
 theta_guard_status_t theta_guard_init(theta_guard_t *g, const float k_nom[RLS_N], float span);
+/** theta_guard_init's check of its arguments alone (no struct):
+ *  THETA_GUARD_ERR_ARG for span not in (1, 1e6), then for the first K whose
+ *  sign is not the model's or whose magnitude is not below RLS_THETA_MAX,
+ *  with its index 0..3 in @p bad_k (may be NULL; RLS_N when no K is at
+ *  fault).  The configuration's table of limits calls it too
+ *  (drive_limits.c).  Float: init only. */
+theta_guard_status_t theta_guard_check(const float k_nom[RLS_N], float span, uint16_t *bad_k);
 /** Which K must be plausible for a theta to be taken (bit i: K(i+1)), a
  *  non-empty subset of 0xF; returns THETA_GUARD_ERR_ARG (nothing changed)
  *  otherwise.  One way: a K released stays released until theta_guard_init.  The drive's fused mode (adaptive sequence) needs only K2 and K4: it

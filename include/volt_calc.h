@@ -127,6 +127,14 @@ static inline void volt_calc_apply_curve(volt_calc_t *v, const volt_calc_curve_t
     v->comp_enable = 1u;
 }
 
+/** volt_calc_init's check of its arguments alone (no struct), the status it
+ *  would return: _PERIOD, _DEADTIME (td < 0 or td/Ts above
+ *  VOLT_CALC_DT_FRAC_MAX), _DROP, _THRESH, _ENABLE, in that order.  The
+ *  configuration's table of limits calls it too (drive_limits.c).  Float:
+ *  init only. */
+volt_calc_status_t volt_calc_check(float dead_time_s, float Ts_s, float drop_pu,
+                                   float i_thresh_pu, uint16_t comp_enable);
+
 /**
  * Compute the constants from SI times and pu drop/threshold and clear the
  * rest.  dead_time_s: programmed dead band; Ts_s: PWM period; drop_pu:

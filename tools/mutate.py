@@ -271,9 +271,10 @@ MUTANTS = [
       "#define TARGET_MIN_OF_RATED 0.2f", "#define TARGET_MIN_OF_RATED 0.1f",
       "a target speed below what the RLS's excitation needs accepted"),
     M("tr_limit_off", "src/app/drive_limits.c",
-      "        const float tr_max = IFO_TR_MAX_PU;",
-      "        const float tr_max = 2.0f * IFO_TR_MAX_PU;",
-      "a believed Tr beyond what ifo and the observer accept (Q20 time base) accepted by the table"),
+      "        return verdict((int16_t)(ifo_q20(x, st, imr, tr_pu) != IFO_ERR_TR), f, x->g.tr,",
+      "        return verdict((int16_t)(ifo_q20(x, st, imr, tr_pu) != IFO_ERR_IMR_MIN), f, x->g.tr,",
+      "a believed Tr beyond what ifo and the observer accept (Q20 time base) accepted by the table "
+      "(its Tr entry reading the wrong one of ifo's verdicts)"),
 ]
 
 

@@ -4,6 +4,8 @@
 
 #include <math.h>
 
+#include "volt_calc.h"
+
 base_status_t drive_design_bases(base_values_t *b, const drive_config_t *c)
 {
     return base_values_init(b, c->board.current_full_scale_A,
@@ -115,4 +117,15 @@ void drive_design_param_limits(param_limits_t *lim, const drive_config_t *c,
     lim->Rs_ohm[1] = fminf(lim->Rs_ohm[1], 120.0f * b->Z_base_ohm);
     lim->Rr_ohm[1] = fminf(lim->Rr_ohm[1], 120.0f * b->Z_base_ohm);
     lim->i_m_min_A = 0.25f * m->magnetizing_current_A;
+}
+
+float drive_design_volt_band_pu(const drive_config_t *c, const base_values_t *b)
+{
+    return (c->ident.vi_test != 0u) ? VOLT_CALC_ITH_MAX_PU
+                                    : c->board.dead_time_band_A / b->I_base_A;
+}
+
+uint16_t drive_design_volt_comp(const drive_config_t *c)
+{
+    return (c->ident.vi_test != 0u) ? 0u : c->board.dead_time_comp;
 }

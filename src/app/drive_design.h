@@ -41,6 +41,11 @@
 #define DRIVE_SPEED_REF_MAX_PU 2.0f    /* the speed reference ramp's limits, +-pu */
 #define DRIVE_ENC_FROZEN_S 0.05f       /* encoder check: counts frozen this long ... */
 #define DRIVE_ENC_SPEED_MAX_PU 4.0f    /* ... or a jump above this speed in one sample */
+#define DRIVE_ENC_IT_OF_IMAX 0.3f      /* ... with |i_T| above this part of its limit */
+#define DRIVE_VDC_FILTER_HZ 200.0f     /* the bus reading's low-pass (protections, display) */
+#define DRIVE_CUR_PI_OUT_MAX 1.0f      /* the current PIs' limits at init, +-pu (drive_slow.c
+                                          then sets them from the measured bus) */
+#define DRIVE_THETA_GUARD_SPAN 8.0f    /* the estimator safeguard: K within a factor 8 */
 /* The rotor at rest (id_sequence_set_rest): a start, CALIBRATE and
  * MAGNETIZE need |speed| below 1 % of the rated speed (at least two counts
  * of the QEP's speed window, its resolution).  There the back-EMF is 1 % of
@@ -133,6 +138,12 @@ void drive_design(drive_design_t *g, const drive_config_t *c, const base_values_
 /** The believed motor's K1..K4 (method §2), pu, as the RLS estimates them
  *  (K3 or K3' by c->ident.paper_regressor). */
 void drive_design_k_nominal(float k[RLS_N], const drive_config_t *c, const base_values_t *b);
+
+/** volt_calc_init's linear zone (pu) and compensation switch as drive_init
+ *  gives them: with ident.vi_test the zone is unused and the compensation
+ *  stays off until the bridge's measured curve is applied (drive_vi.c). */
+float drive_design_volt_band_pu(const drive_config_t *c, const base_values_t *b);
+uint16_t drive_design_volt_comp(const drive_config_t *c);
 
 /** The extraction's plausibility ranges: a factor of 4 either way of the
  *  believed motor, every upper end kept below 120 pu (Q24). */

@@ -43,7 +43,8 @@ static int16_t init_sensing(drive_t *d, const drive_config_t *c, float Ts)
     if (phase_current_init(&d->sense.phase, 1.0f, 1.0f, 1, 0.05f) != PHASE_CURRENT_OK) {
         return 1;
     }
-    if (dc_bus_init(&d->sense.bus, c->board.vdc_adc_full_scale_V, &d->base, 200.0f) != 0) {
+    if (dc_bus_init(&d->sense.bus, c->board.vdc_adc_full_scale_V, &d->base,
+                    DRIVE_VDC_FILTER_HZ) != 0) {
         return 1;
     }
     /* the angle every period, the speeds in the slow FILTERS slot */
@@ -71,8 +72,10 @@ static int16_t init_current_loops(drive_t *d, const drive_config_t *c, const dri
 
     d->k.sigma_ls = _IQ(g->sls / b->L_base_H);
     d->k.lm2_lr = _IQ(m->Lm_H * m->Lm_H / m->Lr_H / b->L_base_H);
-    if (pi_init(&d->loop.pi_id, g->cur_kp, g->cur_ki, -1.0f, 1.0f) != 0 ||
-        pi_init(&d->loop.pi_iq, g->cur_kp, g->cur_ki, -1.0f, 1.0f) != 0) {
+    if (pi_init(&d->loop.pi_id, g->cur_kp, g->cur_ki, -DRIVE_CUR_PI_OUT_MAX,
+                DRIVE_CUR_PI_OUT_MAX) != 0 ||
+        pi_init(&d->loop.pi_iq, g->cur_kp, g->cur_ki, -DRIVE_CUR_PI_OUT_MAX,
+                DRIVE_CUR_PI_OUT_MAX) != 0) {
         return 1;
     }
     return 0;
@@ -155,7 +158,7 @@ static int16_t init_identification(drive_t *d, const drive_config_t *c, const dr
     {
         float k_nom[RLS_N];
         drive_design_k_nominal(k_nom, c, b);
-        if (theta_guard_init(&d->id.guard, k_nom, 8.0f) != THETA_GUARD_OK) {
+        if (theta_guard_init(&d->id.guard, k_nom, DRIVE_THETA_GUARD_SPAN) != THETA_GUARD_OK) {
             return 1;
         }
     }
@@ -272,9 +275,7 @@ int16_t drive_init_checked(drive_t *d, const drive_config_t *c)
      * curve is measured (drive_vi.c), and the linear zone here is unused */
     if (volt_calc_init(&d->pwm.volt, c->board.dead_time_s, Ts,
                        c->board.device_drop_V / d->base.V_base_V,
-                       (c->ident.vi_test != 0u) ? VOLT_CALC_ITH_MAX_PU
-                                                : c->board.dead_time_band_A / d->base.I_base_A,
-                       (c->ident.vi_test != 0u) ? 0u : c->board.dead_time_comp) != 0) {
+                       drive_design_volt_band_pu(c, &d->base), drive_design_volt_comp(c)) != 0) {
         return DRIVE_CFG_VOLTAGE_MODEL;
     }
     d->k.config_status = DRIVE_CFG_IDENT;
@@ -313,7 +314,8 @@ int16_t drive_init_checked(drive_t *d, const drive_config_t *c)
     /* encoder plausibility (encoder_check.h): counts frozen for 50 ms with
      * |i_T| above 30 % of its limit, or a speed above 4 pu in one sample */
     if (encoder_check_init(&d->prot.enc, Ts, DRIVE_ENC_FROZEN_S,
-                           0.3f * c->control.max_torque_current_A / d->base.I_base_A,
+                           DRIVE_ENC_IT_OF_IMAX * c->control.max_torque_current_A /
+                               d->base.I_base_A,
                            DRIVE_ENC_SPEED_MAX_PU,
                            d->base.f_base_Hz, c->board.encoder_lines,
                            m->pole_pairs) != ENCODER_CHECK_OK ||

@@ -1,9 +1,15 @@
 /* The table of the drive's configuration limits.  See drive_limits.h.
  *
- * Each derived limit is checked with the expression of the module that needs
- * it (same floats, same Q24 conversions), so that a configuration this table
- * accepts is one drive_init accepts; the numbers reported with a failure are
- * the same limit said in the user's units.  Float: initialisation only. */
+ * A derived limit that is a module's own argument check asks that module:
+ * its x_check (dc_bus_check, qep_speed_check, pi_check, ifo_check, ...)
+ * is the one its x_init calls, on the arguments drive_init gives it, so
+ * that a configuration this table accepts is one drive_init accepts and no
+ * limit is written twice; a module whose check covers several entries is
+ * asked which of its arguments it refuses, and each entry refuses only its
+ * own.  The rules of the drive itself (the PWM period in counts, i_M below
+ * the rated peak, the target speed, ...) are written here.  The numbers
+ * reported with a failure are the limit said in the user's units.  Float:
+ * initialisation only. */
 #include "drive_limits.h"
 
 #include <float.h>
@@ -12,14 +18,24 @@
 #include <string.h>
 
 #include "bw_filter.h"
+#include "dc_bus.h"
 #include "drive.h"
 #include "drive_adapt.h"
 #include "drive_static.h"
 #include "drive_design.h"
 #include "drive_target.h"
 #include "drive_vi.h"
+#include "encoder_check.h"
+#include "flux_obs.h"
+#include "ident_regressor.h"
+#include "ifo.h"
 #include "param_extract.h"
+#include "pi_ctrl.h"
+#include "protect.h"
+#include "qep_speed.h"
 #include "ramp_gen.h"
+#include "theta_guard.h"
+#include "volt_calc.h"
 
 #define LO_OPEN DRIVE_LIMIT_LO_OPEN
 #define HI_OPEN DRIVE_LIMIT_HI_OPEN
@@ -292,10 +308,17 @@ static int16_t verdict(int16_t ok, drive_limit_fail_t *f, float value, float lo,
     return report(f, value, lo, hi, open);
 }
 
+/* 1 (and @p f filled) unless @p ok; @p v reported against the entry's own
+ * constant range. */
+static int16_t own_verdict(const drive_limit_t *l, int16_t ok, float v, drive_limit_fail_t *f)
+{
+    return verdict(ok, f, v, l->lo, l->hi, l->open);
+}
+
 /* 1 (and @p f filled) unless @p v is in the entry's own constant range. */
 static int16_t own_range(const drive_limit_t *l, float v, drive_limit_fail_t *f)
 {
-    return verdict(in_range(v, l->lo, l->hi, l->open), f, v, l->lo, l->hi, l->open);
+    return own_verdict(l, in_range(v, l->lo, l->hi, l->open), v, f);
 }
 
 /* A quantity that becomes Q24 somewhere: below Q24_HEADROOM of its base. */
@@ -325,22 +348,28 @@ static int16_t check_motor_and_scaling(const drive_limit_t *l, const limit_ctx_t
     case DRIVE_LD_T1PR:
         return own_range(l, x->g.t1pr, f);
     case DRIVE_LD_VDC_FS:   /* dc_bus_init */
-        v = c->board.vdc_adc_full_scale_V / b->V_base_V * (65536.0f / 65520.0f);
-        return verdict((int16_t)(v < DC_BUS_FULL_SCALE_MAX_PU), f, c->board.vdc_adc_full_scale_V,
-                       0.0f, DC_BUS_FULL_SCALE_MAX_PU * b->V_base_V * (65520.0f / 65536.0f),
-                       BOTH_OPEN);
-    case DRIVE_LD_QEP_RES: {   /* qep_speed_init */
-        float cpr = (float)(4 * (int32_t)c->board.encoder_lines);
-        float k1 = (float)b->pole_pairs / (cpr * b->Ts_s * b->f_base_Hz);
-        float k = (float)b->pole_pairs / ((float)DRIVE_QEP_WINDOW * cpr * b->Ts_s * b->f_base_Hz);
-        return verdict((int16_t)(k < 1.0f && k1 < 1.0f), f, (float)c->board.encoder_lines,
+        return verdict((int16_t)(dc_bus_check(c->board.vdc_adc_full_scale_V, b,
+                                              DRIVE_VDC_FILTER_HZ) == DC_BUS_OK),
+                       f, c->board.vdc_adc_full_scale_V, 0.0f,
+                       DC_BUS_FULL_SCALE_MAX_PU * b->V_base_V * (65520.0f / 65536.0f), BOTH_OPEN);
+    case DRIVE_LD_QEP_RES: {   /* qep_speed_init (its cut-off: DRIVE_LD_SPEED_FILT) */
+        qep_speed_status_t st = qep_speed_check(c->board.encoder_lines, b,
+                                                c->control.speed_filter_Hz, DRIVE_QEP_WINDOW);
+        return verdict((int16_t)(st == QEP_SPEED_OK || st == QEP_SPEED_ERR_CUTOFF), f,
+                       (float)c->board.encoder_lines,
                        (float)b->pole_pairs / (4.0f * b->Ts_s * b->f_base_Hz),
                        (float)QEP_SPEED_LINES_MAX, LO_OPEN);
     }
-    case DRIVE_LD_SPEED_FILT:   /* qep_speed_set_decim: the filter runs in the slow task */
+    case DRIVE_LD_SPEED_FILT:   /* qep_speed_init's and qep_speed_set_decim's: the filter
+                                   runs in the slow task */
         v = 0.5f / (b->Ts_s * (float)DRIVE_SLOTS);
-        return verdict((int16_t)(c->control.speed_filter_Hz < v), f, c->control.speed_filter_Hz,
-                       0.0f, v, BOTH_OPEN);
+        return verdict((int16_t)(qep_speed_check(c->board.encoder_lines, b,
+                                                 c->control.speed_filter_Hz,
+                                                 DRIVE_QEP_WINDOW) == QEP_SPEED_OK &&
+                                 qep_speed_decim_check(DRIVE_SLOTS, DRIVE_QEP_WINDOW, b,
+                                                       c->control.speed_filter_Hz) ==
+                                     QEP_SPEED_OK),
+                       f, c->control.speed_filter_Hz, 0.0f, v, BOTH_OPEN);
     case DRIVE_LD_LS_Q24:
         return q24(m->Ls_H, b->L_base_H, f);
     case DRIVE_LD_LR_Q24:
@@ -354,6 +383,17 @@ static int16_t check_motor_and_scaling(const drive_limit_t *l, const limit_ctx_t
     }
 }
 
+/* pi_check of the PIs drive_init sets up (init_current_loops, init_speed_loop) */
+static pi_status_t cur_pi(const drive_design_t *g)
+{
+    return pi_check(g->cur_kp, g->cur_ki, -DRIVE_CUR_PI_OUT_MAX, DRIVE_CUR_PI_OUT_MAX);
+}
+
+static pi_status_t spd_pi(const drive_design_t *g)
+{
+    return pi_check(g->spd_kp, g->spd_ki, -g->i_max, g->i_max);
+}
+
 static int16_t check_loops(const drive_limit_t *l, const limit_ctx_t *x,
                            drive_limit_fail_t *f)
 {
@@ -362,30 +402,45 @@ static int16_t check_loops(const drive_limit_t *l, const limit_ctx_t *x,
     const base_values_t *b = &x->b;
     const drive_design_t *g = &x->g;
 
+    /* pi_init of the current PIs and of the speed PI (its limit +-i_max:
+     * DRIVE_LD_IMAX before it), each gain its own entry (kp first) */
     switch (which) {
     case DRIVE_LD_CUR_KP:
-        return own_range(l, g->cur_kp, f);
+        return own_verdict(l, (int16_t)(cur_pi(g) != PI_ERR_KP), g->cur_kp, f);
     case DRIVE_LD_CUR_KI:
-        return own_range(l, g->cur_ki, f);
+        return own_verdict(l, (int16_t)(cur_pi(g) != PI_ERR_KI), g->cur_ki, f);
     case DRIVE_LD_IMAX:
         return verdict((int16_t)(g->i_max > 0.0f && g->i_max <= 1.0f), f,
                        c->control.max_torque_current_A, 0.0f, b->I_base_A, LO_OPEN);
     case DRIVE_LD_SPD_KP:
-        return own_range(l, g->spd_kp, f);
+        return own_verdict(l, (int16_t)(spd_pi(g) != PI_ERR_KP), g->spd_kp, f);
     case DRIVE_LD_SPD_KI:
-        return own_range(l, g->spd_ki, f);
-    case DRIVE_LD_RAMP: {   /* ramp_gen_init */
-        float step = g->ramp * g->Ts_slow;   /* the ramp steps in the slow task */
-        return verdict((int16_t)(g->ramp > 0.0f && ramp_gen_step_ok(step) != 0), f,
-                       c->control.speed_ramp_rpm_s, RAMP_GEN_STEP_MIN_PU * b->n_base_rpm / g->Ts_slow,
+        return own_verdict(l, (int16_t)(spd_pi(g) != PI_ERR_KI), g->spd_ki, f);
+    case DRIVE_LD_RAMP:   /* ramp_gen_init: the ramp steps in the slow task */
+        return verdict((int16_t)(ramp_gen_check(g->ramp, g->Ts_slow, -DRIVE_SPEED_REF_MAX_PU,
+                                                DRIVE_SPEED_REF_MAX_PU) == RAMP_GEN_OK),
+                       f, c->control.speed_ramp_rpm_s,
+                       RAMP_GEN_STEP_MIN_PU * b->n_base_rpm / g->Ts_slow,
                        b->n_base_rpm / g->Ts_slow, 0u);
-    }
     default:
         return 0;
     }
 }
 
-/* ifo_init / ifo_set_tr (and flux_obs_set_tr: the same bounds) */
+/* ifo_set_tr's test of the believed Tr held in Q20 (ifo_tr_check, also
+ * flux_obs_set_tr's bounds), on the Ts and guard ifo_init holds; @p st is
+ * ifo_check's verdict: a Tr it refuses (beyond the Q20 range: _IQ20()
+ * would overflow) is not converted */
+static ifo_status_t ifo_q20(const limit_ctx_t *x, ifo_status_t st, float imr, float tr_pu)
+{
+    if (st == IFO_ERR_TR) {
+        return st;
+    }
+    return ifo_tr_check(_IQ(x->b.Ts_pu), _IQ(imr), _IQ20(tr_pu));
+}
+
+/* ifo_init (ifo_check: the guard, Tr's Q20 headroom, f_base Ts) and
+ * ifo_set_tr (ifo_tr_check: Tr's bounds and the slip bound on the Q20 Tr) */
 static int16_t check_orientation(const drive_limit_t *l, const limit_ctx_t *x,
                                  drive_limit_fail_t *f)
 {
@@ -395,47 +450,49 @@ static int16_t check_orientation(const drive_limit_t *l, const limit_ctx_t *x,
     float imr = DRIVE_IMR_MIN_OF_IM * c->motor.magnetizing_current_A / b->I_base_A;
     float tr_pu = x->g.tr / b->t_base_s;
     float fts = b->f_base_Hz * b->Ts_s;
-    int16_t ok;
+    ifo_status_t st = ifo_check(x->g.tr, b, imr);
 
     switch (which) {
     case DRIVE_LD_IMR:
-        return verdict((int16_t)(imr > 0.0f && imr <= 1.0f), f, c->motor.magnetizing_current_A,
+        return verdict((int16_t)(st != IFO_ERR_IMR_MIN), f, c->motor.magnetizing_current_A,
                        0.0f, b->I_base_A / DRIVE_IMR_MIN_OF_IM, LO_OPEN);
-    case DRIVE_LD_TR: {
-        /* the limit once, for the tests and the message */
-        const float tr_max = IFO_TR_MAX_PU;
-        /* the float test first: _IQ20() of 2048 pu or more overflows; then
-         * ifo_set_tr's own test on the Q20 Tr (10 Ts < 0.5 pu: Q24 -> Q20) */
-        ok = (int16_t)(tr_pu <= tr_max);
-        if (ok != 0) {
-            ok = (int16_t)(_IQ20(tr_pu) >= _IQtoIQ20(_IQmpy(_IQ(b->Ts_pu), _IQ(IFO_TR_MIN_SAMPLES))) &&
-                           _IQ20(tr_pu) <= _IQ20(tr_max));
-        }
-        return verdict(ok, f, x->g.tr, IFO_TR_MIN_SAMPLES * b->Ts_s, tr_max * b->t_base_s, 0u);
-    }
+    case DRIVE_LD_TR:
+        return verdict((int16_t)(ifo_q20(x, st, imr, tr_pu) != IFO_ERR_TR), f, x->g.tr,
+                       IFO_TR_MIN_SAMPLES * b->Ts_s, IFO_TR_MAX_PU * b->t_base_s, 0u);
     case DRIVE_LD_FTS:
-        return verdict((int16_t)(fts < 1.0f / 128.0f && fts > 1.0f / 2000.0f), f, 1.0f / fts, l->lo,
-                       l->hi, l->open);
+        return verdict((int16_t)(st != IFO_ERR_BASE), f, 1.0f / fts, l->lo, l->hi, l->open);
     case DRIVE_LD_SLIP:
-        /* Q20 * Q24 -> Q20 as ifo_set_tr; a Tr beyond the Q20 range (refused
-         * by DRIVE_LD_TR) is not converted: its slip bound holds */
-        return verdict((int16_t)(tr_pu > IFO_TR_MAX_PU ||
-                                 _IQmpy(_IQ20(tr_pu), _IQ(imr)) >= _IQ20(IFO_I_T_MAX / IFO_SLIP_MAX)),
-                       f, tr_pu * imr, IFO_I_T_MAX / IFO_SLIP_MAX, NO_UPPER, HI_OPEN);
+        return verdict((int16_t)(ifo_q20(x, st, imr, tr_pu) != IFO_ERR_IMR_MIN), f, tr_pu * imr,
+                       IFO_I_T_MAX / IFO_SLIP_MAX, NO_UPPER, HI_OPEN);
     default:
         return 0;
     }
 }
 
-/* flux_obs_init and flux_obs_set_inductances, for orientation 1 only */
+/* flux_obs_init's check of drive_init's arguments */
+static flux_obs_status_t obs_init(const limit_ctx_t *x)
+{
+    const drive_motor_t *m = &x->c->motor;
+    return flux_obs_check(&x->b, m->Rs_ohm, m->Ls_H, m->Lr_H, m->Lm_H, x->g.tr, FOBS_WC_HZ,
+                          FOBS_WS_LPF_HZ);
+}
+
+/* flux_obs_set_step's: the observer steps once a slow period, on the Q20 Tr
+ * flux_obs_init holds (DRIVE_LD_TR before: within the Q20 range) */
+static flux_obs_status_t obs_step(const limit_ctx_t *x)
+{
+    return flux_obs_step_check(&x->b, DRIVE_SLOTS, FOBS_WC_HZ, FOBS_WS_LPF_HZ,
+                               _IQ20(x->g.tr / x->b.t_base_s));
+}
+
+/* flux_obs_init, flux_obs_set_step, and flux_obs_set_inductances, for
+ * orientation 1 only */
 static int16_t check_observer(const drive_limit_t *l, const limit_ctx_t *x,
                               drive_limit_fail_t *f)
 {
     uint16_t which = l->where;
     const drive_motor_t *m = &x->c->motor;
     const base_values_t *b = &x->b;
-    float wc_pu = FOBS_WC_HZ / b->f_base_Hz;
-    float rs = m->Rs_ohm / b->Z_base_ohm;
     float lm = m->Lm_H / b->L_base_H;
     _iq lm_q, lr_q, ls_q, sls;
 
@@ -443,30 +500,38 @@ static int16_t check_observer(const drive_limit_t *l, const limit_ctx_t *x,
         return 0;
     }
     switch (which) {
-    case DRIVE_LD_OBS_FBASE:   /* the observer steps once a slow period (flux_obs_set_step) */
-        return verdict((int16_t)(wc_pu > 0.0f && wc_pu <= FLUX_OBS_WC_MAX_PU &&
-                                 wc_pu * b->Ts_pu * (float)DRIVE_SLOTS <= FLUX_OBS_G_MAX),
+    case DRIVE_LD_OBS_FBASE:   /* the crossover in pu, and against the observer's step */
+        return verdict((int16_t)(obs_init(x) != FLUX_OBS_ERR_WC &&
+                                 obs_step(x) != FLUX_OBS_ERR_WC),
                        f, b->f_base_Hz, FOBS_WC_HZ / FLUX_OBS_WC_MAX_PU, NO_UPPER, HI_OPEN);
     case DRIVE_LD_OBS_PWM: {
-        /* its step DRIVE_SLOTS Ts: the ws low-pass at most 1 rad a step,
-         * the believed Tr at least FLUX_OBS_TR_MIN_SAMPLES steps */
+        /* its step DRIVE_SLOTS Ts: the ws low-pass at most 1 rad a step
+         * (flux_obs_set_step's), the believed Tr at least
+         * FLUX_OBS_TR_MIN_SAMPLES steps: in seconds here, where
+         * flux_obs_set_step compares the Q20 Tr (the two differ by the
+         * conversion: kept as it was, not to move the limit) */
         const float step = b->Ts_s * (float)DRIVE_SLOTS;
         const float f_min = fmaxf(6.2831853f * FOBS_WS_LPF_HZ,
                                   FLUX_OBS_TR_MIN_SAMPLES / x->g.tr) * (float)DRIVE_SLOTS;
-        return verdict((int16_t)(6.2831853f * FOBS_WS_LPF_HZ * step <= 1.0f &&
+        return verdict((int16_t)(obs_step(x) != FLUX_OBS_ERR_WS_LPF &&
                                  x->g.tr >= FLUX_OBS_TR_MIN_SAMPLES * step),
                        f, 1.0f / b->Ts_s, f_min, NO_UPPER, HI_OPEN);
     }
     case DRIVE_LD_OBS_RS:
-        return verdict((int16_t)(rs <= FLUX_OBS_RS_MAX && _IQ(rs) <= _IQ(FLUX_OBS_RS_MAX)), f,
-                       m->Rs_ohm, 0.0f, FLUX_OBS_RS_MAX * b->Z_base_ohm, 0u);
+        return verdict((int16_t)(obs_init(x) != FLUX_OBS_ERR_RS), f, m->Rs_ohm, 0.0f,
+                       FLUX_OBS_RS_MAX * b->Z_base_ohm, 0u);
     case DRIVE_LD_OBS_LM:
         return verdict((int16_t)(lm <= FLUX_OBS_LM_MAX && _IQ(lm) > _IQ(0.0)), f, m->Lm_H, 0.0f,
                        FLUX_OBS_LM_MAX * b->L_base_H, LO_OPEN);
     default:
         break;
     }
-    /* the checks below run after DRIVE_LD_OBS_LM: Lm is at most 16 pu */
+    /* the inductances as flux_obs_set_inductances takes them, in Q24 (the
+     * float test first: the conversion of an Lr or Ls beyond Q24 would
+     * overflow): flux_obs_init's own test is on the pu floats, and its one
+     * status does not say which inductance; kept as they were, not to move
+     * a limit by the conversion.  They run after DRIVE_LD_OBS_LM: Lm is at
+     * most 16 pu */
     lm_q = _IQ(lm);
     if (which == DRIVE_LD_OBS_LR) {
         if (!(m->Lr_H > m->Lm_H && m->Lr_H <= FLUX_OBS_LR_LM_MAX * m->Lm_H)) {
@@ -495,27 +560,33 @@ static int16_t check_observer(const drive_limit_t *l, const limit_ctx_t *x,
     return 0;
 }
 
-/* volt_calc_init */
+/* volt_calc_init (volt_calc_check, with drive_init's arguments) and the
+ * bridge's curve test (vi_curve_init) */
 static int16_t check_voltage_model(const drive_limit_t *l, const limit_ctx_t *x,
                                    drive_limit_fail_t *f)
 {
     uint16_t which = l->where;
     const drive_board_t *bd = &x->c->board;
     const base_values_t *b = &x->b;
+    volt_calc_status_t vc = volt_calc_check(bd->dead_time_s, x->g.Ts,
+                                            bd->device_drop_V / b->V_base_V,
+                                            drive_design_volt_band_pu(x->c, b),
+                                            drive_design_volt_comp(x->c));
     float v;
 
     switch (which) {
     case DRIVE_LD_DEAD:
-        return verdict((int16_t)(bd->dead_time_s / x->g.Ts <= VOLT_CALC_DT_FRAC_MAX), f,
-                       bd->dead_time_s, 0.0f, VOLT_CALC_DT_FRAC_MAX * x->g.Ts, 0u);
+        return verdict((int16_t)(vc != VOLT_CALC_ERR_DEADTIME), f, bd->dead_time_s, 0.0f,
+                       VOLT_CALC_DT_FRAC_MAX * x->g.Ts, 0u);
     case DRIVE_LD_DROP:
-        v = bd->device_drop_V / b->V_base_V;
-        return verdict((int16_t)(v >= 0.0f && v <= VOLT_CALC_DROP_MAX_PU), f, bd->device_drop_V,
-                       0.0f, VOLT_CALC_DROP_MAX_PU * b->V_base_V, 0u);
+        return verdict((int16_t)(vc != VOLT_CALC_ERR_DROP), f, bd->device_drop_V, 0.0f,
+                       VOLT_CALC_DROP_MAX_PU * b->V_base_V, 0u);
     case DRIVE_LD_VI_HOLD:
         /* the zone is measured (drive_vi.c) and checked when it is
          * (volt_calc_curve_design); vi_curve_init holds a current level
-         * 6 Tr in a 16-bit count of slow samples */
+         * 6 Tr in a 16-bit count of slow samples (its own test, 6 Tr / Ts
+         * <= 65535, is another float than this one: kept as it was, not
+         * to move the limit) */
         v = 65535.0f * x->g.Ts_slow / 6.0f;
         return verdict((int16_t)(x->c->ident.vi_test == 0u || bd->dead_time_comp == 0u ||
                                  x->g.tr <= v),
@@ -523,85 +594,93 @@ static int16_t check_voltage_model(const drive_limit_t *l, const limit_ctx_t *x,
     case DRIVE_LD_VI_GAINS: {
         /* vi_curve_init's pi_init: the current levels' PI within PI_KP_MAX,
          * PI_KI_MAX (a large Rs against Z_base makes ki large) */
-        float kp, ki;
+        float kp, ki, u_max;
+        pi_status_t st;
         if (x->c->ident.vi_test == 0u || bd->dead_time_comp == 0u) {
             return 0;
         }
-        drive_vi_gains(x->c, b, x->g.Ts_slow, x->g.sls, &kp, &ki);
-        if (!(kp <= PI_KP_MAX)) {
+        drive_vi_gains(x->c, b, x->g.Ts_slow, x->g.sls, &kp, &ki, &u_max);
+        st = pi_check(kp, ki, -u_max, u_max);
+        if (st == PI_ERR_KP) {
             return verdict(0, f, kp, 0.0f, PI_KP_MAX, 0u);
         }
-        return verdict((int16_t)(ki <= PI_KI_MAX), f, ki, 0.0f, PI_KI_MAX, 0u);
+        return verdict((int16_t)(st != PI_ERR_KI), f, ki, 0.0f, PI_KI_MAX, 0u);
     }
     case DRIVE_LD_BAND:
-        if (x->c->ident.vi_test != 0u) {
-            return 0;   /* passes: the fallback zone is unused, the test measures it */
-        }
-        v = bd->dead_time_band_A / b->I_base_A;
-        return verdict((int16_t)(v >= VOLT_CALC_ITH_MIN_PU && v <= VOLT_CALC_ITH_MAX_PU), f,
-                       bd->dead_time_band_A, VOLT_CALC_ITH_MIN_PU * b->I_base_A,
-                       VOLT_CALC_ITH_MAX_PU * b->I_base_A, 0u);
+        /* (with ident.vi_test the fallback zone is unused, the test measures
+         * it: drive_design_volt_band_pu passes) */
+        return verdict((int16_t)(vc == VOLT_CALC_OK), f, bd->dead_time_band_A,
+                       VOLT_CALC_ITH_MIN_PU * b->I_base_A, VOLT_CALC_ITH_MAX_PU * b->I_base_A, 0u);
     default:
         return 0;
     }
 }
 
-/* param_extract_init's test of one Q24 range */
-static int16_t pe_range_ok(const float si[2], float base)
-{
-    return param_extract_range_ok(si, base, PARAM_EXTRACT_PU_MAX);
-}
-
-/* bw_filter_init, theta_guard_init, param_extract_init */
+/* ident_regressor_init (its filters: bw_filter_init), theta_guard_init,
+ * param_extract_init */
 static int16_t check_estimator(const drive_limit_t *l, const limit_ctx_t *x,
                                drive_limit_fail_t *f)
 {
     uint16_t which = l->where;
+    /* the model's signs, only to report -K1, K2, K3, -K4 as the keys say */
     static const float k_sign[RLS_N] = {-1.0f, 1.0f, 1.0f, -1.0f};
     const drive_config_t *c = x->c;
     const base_values_t *b = &x->b;
     float wc = c->ident.filter_wc_rad_s;
     float k[RLS_N];
     param_limits_t lim;
+    param_status_t bad = PARAM_OK;
+    uint16_t bad_k = RLS_N;
+    uint16_t i;
+    bw_filter_status_t st;
 
     switch (which) {
     case DRIVE_LD_FILT:
         return own_range(l, wc / DRIVE_TWO_PI_F, f);
     case DRIVE_LD_FILT_WB:
-        return verdict(bw_filter_wc_ok(wc, b->w_base_rad_s), f, wc / DRIVE_TWO_PI_F, 0.0f,
-                       BW_FILTER_WC_MAX_PU * b->f_base_Hz, BOTH_OPEN);
     case DRIVE_LD_FILT_STEP:
-        /* the filters run in the slow task (ident_regressor_init) */
-        return verdict((int16_t)(wc * x->g.Ts_slow <= BW_FILTER_A_MAX), f, wc / DRIVE_TWO_PI_F,
-                       0.0f, BW_FILTER_A_MAX / (DRIVE_TWO_PI_F * x->g.Ts_slow), LO_OPEN);
+        /* the filters run in the slow task (DRIVE_SLOTS_LOG2) */
+        st = ident_regressor_check(wc, c->ident.euler_passes, x->g.Ts, b->w_base_rad_s,
+                                   DRIVE_SLOTS_LOG2);
+        if (which == DRIVE_LD_FILT_WB) {
+            return verdict((int16_t)(st != BW_FILTER_ERR_WC), f, wc / DRIVE_TWO_PI_F, 0.0f,
+                           BW_FILTER_WC_MAX_PU * b->f_base_Hz, BOTH_OPEN);
+        }
+        return verdict((int16_t)(st != BW_FILTER_ERR_STEP), f, wc / DRIVE_TWO_PI_F, 0.0f,
+                       BW_FILTER_A_MAX / (DRIVE_TWO_PI_F * x->g.Ts_slow), LO_OPEN);
     case DRIVE_LD_K1:
     case DRIVE_LD_K2:
     case DRIVE_LD_K3:
     case DRIVE_LD_K4:
-        /* theta_guard_init: each K with the model's sign in (0, RLS_THETA_MAX) */
+        /* theta_guard_init: each K with the model's sign in (0, RLS_THETA_MAX),
+         * the first one refused named */
         drive_design_k_nominal(k, c, b);
-        return own_range(l, k_sign[which - DRIVE_LD_K1] * k[which - DRIVE_LD_K1], f);
+        (void)theta_guard_check(k, DRIVE_THETA_GUARD_SPAN, &bad_k);
+        i = (uint16_t)(which - (uint16_t)DRIVE_LD_K1);
+        return own_verdict(l, (int16_t)(bad_k != i), k_sign[i] * k[i], f);
     default:
         break;
     }
     /* param_extract_init: each range 0.25 .. 4 times the believed value,
-     * capped at 120 pu, must stay a range below 127 pu */
+     * capped at 120 pu, must stay a range below 127 pu; the first range
+     * refused named */
     drive_design_param_limits(&lim, c, b);
+    (void)param_extract_check(b, &lim, &bad);
     switch (which) {
     case DRIVE_LD_PE_RS:
-        return verdict(pe_range_ok(lim.Rs_ohm, b->Z_base_ohm), f, c->motor.Rs_ohm, 0.0f,
+        return verdict((int16_t)(bad != PARAM_ERR_RS), f, c->motor.Rs_ohm, 0.0f,
                        480.0f * b->Z_base_ohm, BOTH_OPEN);
     case DRIVE_LD_PE_RR:
-        return verdict(pe_range_ok(lim.Rr_ohm, b->Z_base_ohm), f, c->motor.Rr_ohm, 0.0f,
+        return verdict((int16_t)(bad != PARAM_ERR_RR), f, c->motor.Rr_ohm, 0.0f,
                        480.0f * b->Z_base_ohm, BOTH_OPEN);
     case DRIVE_LD_PE_LM:
-        return verdict(pe_range_ok(lim.Lm_H, b->L_base_H), f, c->motor.Lm_H, 0.0f,
+        return verdict((int16_t)(bad != PARAM_ERR_LM), f, c->motor.Lm_H, 0.0f,
                        480.0f * b->L_base_H, BOTH_OPEN);
     case DRIVE_LD_PE_LR:
-        return verdict(pe_range_ok(lim.Lr_H, b->L_base_H), f, c->motor.Lr_H, 0.0f,
+        return verdict((int16_t)(bad != PARAM_ERR_LR), f, c->motor.Lr_H, 0.0f,
                        480.0f * b->L_base_H, BOTH_OPEN);
     case DRIVE_LD_PE_PSI:
-        return verdict(pe_range_ok(lim.psi_Wb, b->psi_base_Wb), f,
+        return verdict((int16_t)(bad != PARAM_ERR_PSI), f,
                        c->motor.Lm_H * c->motor.magnetizing_current_A, 0.0f,
                        PARAM_EXTRACT_PU_MAX / 4.0f * b->psi_base_Wb, BOTH_OPEN);
     default:
@@ -699,6 +778,17 @@ static int16_t check_adaptation(const drive_limit_t *l, const limit_ctx_t *x,
     return 0;
 }
 
+/* protect_init's check of drive_init's levels, those of the entries after
+ * @p upto (0 the trip, 1 the undervoltage, 2 the overvoltage) as 0: not
+ * yet checked (a level above Q24 would overflow), and judged after it */
+static protect_args_t protect_levels(const limit_ctx_t *x, uint16_t upto)
+{
+    const drive_board_t *bd = &x->c->board;
+    return protect_args_ok(_IQ(bd->overcurrent_A / x->b.I_base_A),
+                           (upto >= 2u) ? _IQ(bd->vdc_max_V / x->b.V_base_V) : _IQ(0.0),
+                           (upto >= 1u) ? _IQ(bd->vdc_min_V / x->b.V_base_V) : _IQ(0.0));
+}
+
 static int16_t check_sequence_and_protection(const drive_limit_t *l, const limit_ctx_t *x,
                                              drive_limit_fail_t *f)
 {
@@ -767,32 +857,42 @@ static int16_t check_sequence_and_protection(const drive_limit_t *l, const limit
         return verdict((int16_t)(bd->dead_time_s * per_s + bd->device_drop_V <= allowed), f,
                        bd->dead_time_s, 0.0f, (allowed - bd->device_drop_V) / per_s, 0u);
     }
-    case DRIVE_LD_OC_FS:   /* drive_init and protect_init */
-        return verdict((int16_t)(bd->overcurrent_A < bd->current_full_scale_A &&
-                                 _IQ(bd->overcurrent_A / b->I_base_A) > _IQ(0.0)),
-                       f, bd->overcurrent_A, 0.0f, bd->current_full_scale_A, BOTH_OPEN);
+    case DRIVE_LD_OC_FS:   /* drive_init's (below the sensors' full scale), then protect_init's */
+        ok = (int16_t)(bd->overcurrent_A < bd->current_full_scale_A);
+        if (ok != 0) {
+            ok = (int16_t)(protect_levels(x, 0u) != PROTECT_ERR_TRIP);
+        }
+        return verdict(ok, f, bd->overcurrent_A, 0.0f, bd->current_full_scale_A, BOTH_OPEN);
     case DRIVE_LD_TORQUE_OC:
         return verdict((int16_t)(c->control.max_torque_current_A <= bd->overcurrent_A), f,
                        c->control.max_torque_current_A, 0.0f, bd->overcurrent_A, LO_OPEN);
-    case DRIVE_LD_VDC_MIN:
-        return verdict((int16_t)(bd->vdc_min_V < bd->vdc_nominal_V &&
-                                 _IQ(bd->vdc_min_V / b->V_base_V) > _IQ(0.0)),
-                       f, bd->vdc_min_V, 0.0f, bd->vdc_nominal_V, BOTH_OPEN);
+    case DRIVE_LD_VDC_MIN:   /* drive_init's (below the nominal bus), then protect_init's */
+        ok = (int16_t)(bd->vdc_min_V < bd->vdc_nominal_V);
+        if (ok != 0) {
+            ok = (int16_t)(protect_levels(x, 1u) != PROTECT_ERR_VDC_MIN);
+        }
+        return verdict(ok, f, bd->vdc_min_V, 0.0f, bd->vdc_nominal_V, BOTH_OPEN);
     case DRIVE_LD_VDC_MAX:
-        /* below the full scale, so below 64 V_base: the Q24 conversions hold */
+        /* drive_init's (above the nominal bus, below the full scale, so below
+         * 64 V_base: the Q24 conversions hold), then protect_init's */
         ok = (int16_t)(bd->vdc_max_V > bd->vdc_nominal_V &&
                        bd->vdc_max_V < bd->vdc_adc_full_scale_V);
         if (ok != 0) {
-            ok = (int16_t)(_IQ(bd->vdc_max_V / b->V_base_V) > _IQ(bd->vdc_min_V / b->V_base_V));
+            ok = (int16_t)(protect_levels(x, 2u) != PROTECT_ERR_VDC_MAX);
         }
         return verdict(ok,
                        f, bd->vdc_max_V, bd->vdc_nominal_V, bd->vdc_adc_full_scale_V, BOTH_OPEN);
     case DRIVE_LD_ENC_JUMP: {   /* encoder_check_init: counts a period at DRIVE_ENC_SPEED_MAX_PU */
         float per_line = DRIVE_ENC_SPEED_MAX_PU * b->f_base_Hz / (float)c->motor.pole_pairs *
                          4.0f;
-        float jump = per_line * (float)bd->encoder_lines * b->Ts_s;
-        return verdict((int16_t)(jump >= 2.0f && jump <= 16384.0f), f, (float)bd->encoder_lines,
-                       2.0f / (per_line * b->Ts_s), 16384.0f / (per_line * b->Ts_s), 0u);
+        return verdict((int16_t)(encoder_check_args_ok(
+                                     g->Ts, DRIVE_ENC_FROZEN_S,
+                                     DRIVE_ENC_IT_OF_IMAX * c->control.max_torque_current_A /
+                                         b->I_base_A,
+                                     DRIVE_ENC_SPEED_MAX_PU, b->f_base_Hz, bd->encoder_lines,
+                                     c->motor.pole_pairs) == ENCODER_CHECK_OK),
+                       f, (float)bd->encoder_lines, 2.0f / (per_line * b->Ts_s),
+                       16384.0f / (per_line * b->Ts_s), 0u);
     }
     default:
         return 0;

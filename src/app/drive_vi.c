@@ -53,12 +53,14 @@
                                     test is wrong, refused */
 
 void drive_vi_gains(const drive_config_t *c, const base_values_t *b, float Ts_slow, float sls_H,
-                    float *kp, float *ki)
+                    float *kp, float *ki, float *u_max)
 {
     const float wc = DRIVE_TWO_PI_F * fminf(DRIVE_VI_BW_HZ, 0.05f * (1.0f / Ts_slow));
     /* the PI's zero on the stator pole, as the current loops (drive_init.c) */
     *kp = wc * sls_H / b->Z_base_ohm;
     *ki = wc * Ts_slow * c->motor.Rs_ohm / b->Z_base_ohm;
+    /* within half the linear modulation range vdc / sqrt(3) */
+    *u_max = 0.5f * c->board.vdc_nominal_V / 1.7320508f / b->V_base_V;
 }
 
 int16_t drive_vi_init(drive_t *d, const drive_config_t *c, float Ts_slow, float sls_H,
@@ -66,9 +68,7 @@ int16_t drive_vi_init(drive_t *d, const drive_config_t *c, float Ts_slow, float 
 {
     const base_values_t *b = &d->base;
     const float f_slow = 1.0f / Ts_slow;
-    float kp, ki;
-    /* within half the linear modulation range vdc / sqrt(3) */
-    const float u_max = 0.5f * c->board.vdc_nominal_V / 1.7320508f / b->V_base_V;
+    float kp, ki, u_max;
 
     d->vi.post = DRIVE_VI_NONE;
     d->vi.fitted = 0u;
@@ -84,7 +84,7 @@ int16_t drive_vi_init(drive_t *d, const drive_config_t *c, float Ts_slow, float 
     if (c->board.dead_time_comp == 0u || c->ident.vi_test == 0u) {
         return 0;   /* no compensation, or on the set band (drive_init.c) */
     }
-    drive_vi_gains(c, b, Ts_slow, sls_H, &kp, &ki);
+    drive_vi_gains(c, b, Ts_slow, sls_H, &kp, &ki, &u_max);
     if (vi_curve_init(&d->vi.test, Ts_slow, d->vi.i1_0, tr_s, kp, ki, u_max) != VI_CURVE_OK) {
         return 1;
     }

@@ -15,16 +15,17 @@ static inline uint16_t drive_vi_done(const drive_t *d) { return d->vi.done; }
 #define DRIVE_VI_CURVE 1u     /* vi.curve holds the curve to apply */
 #define DRIVE_VI_REFUSED 2u   /* the fit refused the test (vi.status) */
 
+/** The current levels' PI of the bridge's test (pu, as pi_init takes
+ *  them): the gains with the zero on the stator pole, as the current loops,
+ *  and the output limit +-u_max, half the linear modulation range; shared
+ *  by drive_vi_init and the configuration's limit table (drive_limits.c). */
+void drive_vi_gains(const drive_config_t *c, const base_values_t *b, float Ts_slow, float sls_H,
+                    float *kp, float *ki, float *u_max);
+
 /** Once, from drive_init after the sequence (float): with the board's
  *  dead_time_comp the test is armed (seq.vi_test) and the compensation
  *  stays off until its curve is applied.  Returns 0, or 1 when vi_curve
  *  refused its constants. */
-/** The current levels' PI gains of the bridge's test (pu, as pi_init takes
- *  them): the zero on the stator pole, as the current loops; shared by
- *  drive_vi_init and the configuration's limit table (drive_limits.c). */
-void drive_vi_gains(const drive_config_t *c, const base_values_t *b, float Ts_slow, float sls_H,
-                    float *kp, float *ki);
-
 int16_t drive_vi_init(drive_t *d, const drive_config_t *c, float Ts_slow, float sls_H,
                       float tr_s);
 

@@ -3,6 +3,20 @@
  * every value but INT32_MIN, far outside any sensor's range: +-1 pu full scale). */
 #include "protect.h"
 
+protect_args_t protect_args_ok(_iq i_trip, _iq vdc_max, _iq vdc_min)
+{
+    if (!(i_trip > _IQ(0.0)) || !(i_trip < _IQ(32.0))) {
+        return PROTECT_ERR_TRIP;
+    }
+    if (!(vdc_min > _IQ(0.0))) {
+        return PROTECT_ERR_VDC_MIN;
+    }
+    if (!(vdc_max > vdc_min)) {
+        return PROTECT_ERR_VDC_MAX;
+    }
+    return PROTECT_ARGS_OK;
+}
+
 int16_t protect_init(protect_t *p, _iq i_trip, _iq vdc_max, _iq vdc_min)
 {
     p->ia = p->ib = p->ic = _IQ(0.0);
@@ -14,11 +28,7 @@ int16_t protect_init(protect_t *p, _iq i_trip, _iq vdc_max, _iq vdc_min)
     p->vdc_max = vdc_max;
     p->vdc_min = vdc_min;
     p->i_span = i_trip + i_trip;
-    if (!(i_trip > _IQ(0.0)) || !(i_trip < _IQ(32.0)) || !(vdc_min > _IQ(0.0)) ||
-        !(vdc_max > vdc_min)) {
-        return 1;
-    }
-    return 0;
+    return (int16_t)(protect_args_ok(i_trip, vdc_max, vdc_min) != PROTECT_ARGS_OK);
 }
 
 uint16_t protect_clear(protect_t *p)

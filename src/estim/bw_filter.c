@@ -29,6 +29,22 @@ static _iq29 bw_to_q29(float v)
 #endif
 }
 
+bw_filter_status_t bw_filter_check(float wc_rad_s, uint16_t n_pass, float Ts_s,
+                                   float w_base_rad_s)
+{
+    /* "!(x > 0)" also rejects NaN */
+    if (!(w_base_rad_s > 0.0f)) { return BW_FILTER_ERR_BASE; }
+    /* 0 < Wc < BW_FILTER_WC_MAX_PU w_base */
+    if (!(wc_rad_s > 0.0f) || !(wc_rad_s / w_base_rad_s < BW_FILTER_WC_MAX_PU)) {
+        return BW_FILTER_ERR_WC;
+    }
+    if (!(Ts_s > 0.0f) || Ts_s > 0.01f) { return BW_FILTER_ERR_TS; }
+    if (n_pass < 1u || n_pass > BW_FILTER_N_MAX) { return BW_FILTER_ERR_N; }
+    /* a = Wc Ts = h Wc_pu: pu time cancels */
+    if (wc_rad_s * Ts_s > BW_FILTER_A_MAX) { return BW_FILTER_ERR_STEP; }
+    return BW_FILTER_OK;
+}
+
 bw_filter_status_t bw_filter_init(bw_filter_t *f, float wc_rad_s, uint16_t n_pass,
                                   float Ts_s, float w_base_rad_s)
 {
@@ -38,15 +54,12 @@ bw_filter_status_t bw_filter_init(bw_filter_t *f, float wc_rad_s, uint16_t n_pas
     float t[2][2];
     float d11, d12, d21, d22;
     uint16_t j;
+    bw_filter_status_t st;
 
     memset(f, 0, sizeof *f);
-    /* "!(x > 0)" also rejects NaN */
-    if (!(w_base_rad_s > 0.0f)) { return BW_FILTER_ERR_BASE; }
-    if (bw_filter_wc_ok(wc_rad_s, w_base_rad_s) == 0) { return BW_FILTER_ERR_WC; }
-    if (!(Ts_s > 0.0f) || Ts_s > 0.01f) { return BW_FILTER_ERR_TS; }
-    if (n_pass < 1u || n_pass > BW_FILTER_N_MAX) { return BW_FILTER_ERR_N; }
+    st = bw_filter_check(wc_rad_s, n_pass, Ts_s, w_base_rad_s);
+    if (st != BW_FILTER_OK) { return st; }
     a = wc_rad_s * Ts_s;       /* = h * Wc_pu: pu time cancels */
-    if (a > BW_FILTER_A_MAX) { return BW_FILTER_ERR_STEP; }
 
     /* M = (a/2) [0 1; -1 -sqrt2] */
     m[0][0] = 0.0f;

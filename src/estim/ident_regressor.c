@@ -8,21 +8,27 @@
 #include "estim_bfp.h"
 #include "iq_rmpy.h"
 
+bw_filter_status_t ident_regressor_check(float wc_rad_s, uint16_t n_pass, float Ts_s,
+                                         float w_base_rad_s, uint16_t decim_log2)
+{
+    if (decim_log2 > IDENT_REGRESSOR_DECIM_LOG2_MAX) {
+        return BW_FILTER_ERR_TS;
+    }
+    return bw_filter_check(wc_rad_s, n_pass, Ts_s * (float)(1u << decim_log2), w_base_rad_s);
+}
+
 bw_filter_status_t ident_regressor_init(ident_regressor_t *r, float wc_rad_s,
                                         uint16_t n_pass, float Ts_s,
                                         float w_base_rad_s, uint16_t decim_log2)
 {
     bw_filter_status_t st;
     memset(r, 0, sizeof *r);
-    if (decim_log2 > IDENT_REGRESSOR_DECIM_LOG2_MAX) {
-        return BW_FILTER_ERR_TS;
-    }
-    st = bw_filter_init(&r->f_im, wc_rad_s, n_pass, Ts_s * (float)(1u << decim_log2),
-                        w_base_rad_s);
+    st = ident_regressor_check(wc_rad_s, n_pass, Ts_s, w_base_rad_s, decim_log2);
     if (st != BW_FILTER_OK) {
-        memset(r, 0, sizeof *r);
         return st;
     }
+    (void)bw_filter_init(&r->f_im, wc_rad_s, n_pass, Ts_s * (float)(1u << decim_log2),
+                         w_base_rad_s);
     /* identical instances: same gain and delay for every signal (method §5) */
     r->f_it = r->f_im;
     r->f_um = r->f_im;

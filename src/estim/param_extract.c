@@ -24,53 +24,75 @@ static _iq pe_q24(float v)
     return pe_qn(v, 16777216.0f);
 }
 
-int16_t param_extract_range_ok(const float si[2], float base, float max)
+/* 1 if the SI range @p si = {lo, hi} on @p base is 0 <= lo < hi < @p max in pu */
+static int16_t pe_range_ok(const float si[2], float base, float max)
 {
     float lo = si[0] / base, hi = si[1] / base;
     return (int16_t)(lo >= 0.0f && hi > lo && hi < max);
 }
 
-/* An SI range in pu, in Q (2^q = two_q, largest value max): 1 if it is not
- * 0 <= lo < hi < max. */
-static int16_t pe_range_q(_iq out[2], const float si[2], float base, float max, float two_q)
+/* An SI range (checked) in pu, in Q (2^q = two_q). */
+static void pe_range_q(_iq out[2], const float si[2], float base, float two_q)
 {
-    if (param_extract_range_ok(si, base, max) == 0) {
-        return 1;
-    }
     out[0] = pe_qn(si[0] / base, two_q);
     out[1] = pe_qn(si[1] / base, two_q);
-    return 0;
 }
 
-static int16_t pe_range(_iq out[2], const float si[2], float base)
+param_init_status_t param_extract_check(const base_values_t *b, const param_limits_t *lim,
+                                        param_status_t *bad)
 {
-    return pe_range_q(out, si, base, PE_Q24_MAX, 16777216.0f);
+    param_status_t which = PARAM_OK;
+    float im;
+
+    if (bad != NULL) {
+        *bad = PARAM_OK;
+    }
+    if (!(b->Z_base_ohm > 0.0f) || !(b->L_base_H > 0.0f) || !(b->psi_base_Wb > 0.0f)
+        || !(b->t_base_s > 0.0f) || !(b->I_base_A > 0.0f)) {
+        return PARAM_INIT_ERR_BASES;
+    }
+    if (pe_range_ok(lim->Rs_ohm, b->Z_base_ohm, PE_Q24_MAX) == 0) {
+        which = PARAM_ERR_RS;
+    } else if (pe_range_ok(lim->Rr_ohm, b->Z_base_ohm, PE_Q24_MAX) == 0) {
+        which = PARAM_ERR_RR;
+    } else if (pe_range_ok(lim->Lm_H, b->L_base_H, PE_Q24_MAX) == 0) {
+        which = PARAM_ERR_LM;
+    } else if (pe_range_ok(lim->Lr_H, b->L_base_H, PE_Q24_MAX) == 0) {
+        which = PARAM_ERR_LR;
+    } else if (pe_range_ok(lim->psi_Wb, b->psi_base_Wb, PE_Q24_MAX) == 0) {
+        which = PARAM_ERR_PSI;
+    } else if (pe_range_ok(lim->Tr_s, b->t_base_s, PE_Q20_MAX) == 0) {
+        which = PARAM_ERR_TR;
+    }
+    if (which != PARAM_OK) {
+        if (bad != NULL) {
+            *bad = which;
+        }
+        return PARAM_INIT_ERR_RANGE;
+    }
+    im = lim->i_m_min_A / b->I_base_A;
+    if (!(im > 0.0f) || !(im < PE_Q24_MAX)) {
+        return PARAM_INIT_ERR_IM;
+    }
+    return PARAM_INIT_OK;
 }
 
 param_init_status_t param_extract_init(param_extract_t *p, const base_values_t *b,
                                        const param_limits_t *lim)
 {
-    float im;
+    param_init_status_t st;
     memset(p, 0, sizeof *p);
-    if (!(b->Z_base_ohm > 0.0f) || !(b->L_base_H > 0.0f) || !(b->psi_base_Wb > 0.0f)
-        || !(b->t_base_s > 0.0f) || !(b->I_base_A > 0.0f)) {
-        return PARAM_INIT_ERR_BASES;
+    st = param_extract_check(b, lim, NULL);
+    if (st != PARAM_INIT_OK) {
+        return st;
     }
-    if (pe_range(p->Rs_lim, lim->Rs_ohm, b->Z_base_ohm) != 0
-        || pe_range(p->Rr_lim, lim->Rr_ohm, b->Z_base_ohm) != 0
-        || pe_range(p->Lm_lim, lim->Lm_H, b->L_base_H) != 0
-        || pe_range(p->Lr_lim, lim->Lr_H, b->L_base_H) != 0
-        || pe_range(p->psi_lim, lim->psi_Wb, b->psi_base_Wb) != 0
-        || pe_range_q(p->Tr_lim, lim->Tr_s, b->t_base_s, PE_Q20_MAX, 1048576.0f) != 0) {
-        memset(p, 0, sizeof *p);
-        return PARAM_INIT_ERR_RANGE;
-    }
-    im = lim->i_m_min_A / b->I_base_A;
-    if (!(im > 0.0f) || !(im < PE_Q24_MAX)) {
-        memset(p, 0, sizeof *p);
-        return PARAM_INIT_ERR_IM;
-    }
-    p->i_m_min = pe_q24(im);
+    pe_range_q(p->Rs_lim, lim->Rs_ohm, b->Z_base_ohm, 16777216.0f);
+    pe_range_q(p->Rr_lim, lim->Rr_ohm, b->Z_base_ohm, 16777216.0f);
+    pe_range_q(p->Lm_lim, lim->Lm_H, b->L_base_H, 16777216.0f);
+    pe_range_q(p->Lr_lim, lim->Lr_H, b->L_base_H, 16777216.0f);
+    pe_range_q(p->psi_lim, lim->psi_Wb, b->psi_base_Wb, 16777216.0f);
+    pe_range_q(p->Tr_lim, lim->Tr_s, b->t_base_s, 1048576.0f);
+    p->i_m_min = pe_q24(lim->i_m_min_A / b->I_base_A);
     p->status = (uint16_t)PARAM_ERR_IM;     /* nothing computed yet */
     return PARAM_INIT_OK;
 }

@@ -4,22 +4,40 @@
 #include <math.h>
 #include <string.h>
 
-theta_guard_status_t theta_guard_init(theta_guard_t *g, const float k_nom[RLS_N], float span)
+/* the model's signs: K1 < 0, K2 > 0, K3 (K3') > 0, K4 < 0 */
+static const int16_t k_sign[RLS_N] = {-1, 1, 1, -1};
+
+theta_guard_status_t theta_guard_check(const float k_nom[RLS_N], float span, uint16_t *bad_k)
 {
-    /* the model's signs: K1 < 0, K2 > 0, K3 (K3') > 0, K4 < 0 */
-    static const int16_t k_sign[RLS_N] = {-1, 1, 1, -1};
     uint16_t i;
-    memset(g, 0, sizeof *g);
+    if (bad_k != NULL) {
+        *bad_k = RLS_N;
+    }
     if (!(span > 1.0f) || !(span < 1e6f)) {
         return THETA_GUARD_ERR_ARG;
     }
     for (i = 0u; i < RLS_N; i++) {
         float m = (float)k_sign[i] * k_nom[i];
-        float hi;
         if (!(m > 0.0f) || !(m < RLS_THETA_MAX)) {
-            memset(g, 0, sizeof *g);
+            if (bad_k != NULL) {
+                *bad_k = i;
+            }
             return THETA_GUARD_ERR_ARG;
         }
+    }
+    return THETA_GUARD_OK;
+}
+
+theta_guard_status_t theta_guard_init(theta_guard_t *g, const float k_nom[RLS_N], float span)
+{
+    uint16_t i;
+    memset(g, 0, sizeof *g);
+    if (theta_guard_check(k_nom, span, NULL) != THETA_GUARD_OK) {
+        return THETA_GUARD_ERR_ARG;
+    }
+    for (i = 0u; i < RLS_N; i++) {
+        float m = (float)k_sign[i] * k_nom[i];
+        float hi;
         hi = fminf(m * span, RLS_THETA_MAX);   /* the RLS saturates theta there anyway */
         g->lo[i] = _IQ(m / span);
         g->hi[i] = _IQ(hi);

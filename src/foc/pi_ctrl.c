@@ -30,10 +30,26 @@ pi_status_t pi_set_gains(pi_ctrl_t *p, _iq kp, _iq ki)
     return PI_OK;
 }
 
-pi_status_t pi_design_gains(pi_gains_t *g, float kp, float ki)
+/* The gains' ranges, kp first (NaN fails every comparison). */
+static pi_status_t pi_gains_status(float kp, float ki)
 {
     if (!(kp >= 0.0f && kp <= PI_KP_MAX)) { return PI_ERR_KP; }
     if (!(ki >= 0.0f && ki <= PI_KI_MAX)) { return PI_ERR_KI; }
+    return PI_OK;
+}
+
+pi_status_t pi_check(float kp, float ki, float out_min, float out_max)
+{
+    pi_status_t st = pi_gains_status(kp, ki);
+    if (st != PI_OK) { return st; }
+    if (!pi_limits_ok(out_min, out_max)) { return PI_ERR_LIMITS; }
+    return PI_OK;
+}
+
+pi_status_t pi_design_gains(pi_gains_t *g, float kp, float ki)
+{
+    pi_status_t st = pi_gains_status(kp, ki);
+    if (st != PI_OK) { return st; }
     g->kp = _IQ(kp);
     g->ki = _IQ(ki);
     /* e_max = min(64, 64/kp): the error range (|e| <= 64) when kp <= 1. */
@@ -47,10 +63,10 @@ pi_status_t pi_init(pi_ctrl_t *p, float kp, float ki, float out_min, float out_m
     pi_status_t st;
 
     memset(p, 0, sizeof *p);
-    st = pi_design_gains(&g, kp, ki);
+    st = pi_check(kp, ki, out_min, out_max);
     if (st != PI_OK) { return st; }
-    if (!pi_limits_ok(out_min, out_max)) { return PI_ERR_LIMITS; }
 
+    (void)pi_design_gains(&g, kp, ki);
     pi_apply_gains(p, &g);
     p->out_min = _IQ(out_min);
     p->out_max = _IQ(out_max);

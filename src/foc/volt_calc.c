@@ -31,6 +31,20 @@ volt_calc_status_t volt_calc_curve_design(volt_calc_curve_t *k, float dt_frac, f
     return VOLT_CALC_OK;
 }
 
+volt_calc_status_t volt_calc_check(float dead_time_s, float Ts_s, float drop_pu,
+                                   float i_thresh_pu, uint16_t comp_enable)
+{
+    volt_calc_curve_t k;   /* scratch: the curve's own checks */
+    volt_calc_status_t st;
+
+    if (!(Ts_s > 0.0f)) { return VOLT_CALC_ERR_PERIOD; }
+    if (!(dead_time_s >= 0.0f)) { return VOLT_CALC_ERR_DEADTIME; }
+    st = volt_calc_curve_design(&k, dead_time_s / Ts_s, drop_pu, i_thresh_pu);
+    if (st != VOLT_CALC_OK) { return st; }
+    if (comp_enable > 1u) { return VOLT_CALC_ERR_ENABLE; }
+    return VOLT_CALC_OK;
+}
+
 volt_calc_status_t volt_calc_init(volt_calc_t *v, float dead_time_s, float Ts_s,
                                   float drop_pu, float i_thresh_pu, uint16_t comp_enable)
 {
@@ -38,11 +52,9 @@ volt_calc_status_t volt_calc_init(volt_calc_t *v, float dead_time_s, float Ts_s,
     volt_calc_status_t st;
 
     memset(v, 0, sizeof *v);
-    if (!(Ts_s > 0.0f)) { return VOLT_CALC_ERR_PERIOD; }
-    if (!(dead_time_s >= 0.0f)) { return VOLT_CALC_ERR_DEADTIME; }
-    st = volt_calc_curve_design(&k, dead_time_s / Ts_s, drop_pu, i_thresh_pu);
+    st = volt_calc_check(dead_time_s, Ts_s, drop_pu, i_thresh_pu, comp_enable);
     if (st != VOLT_CALC_OK) { return st; }
-    if (comp_enable > 1u) { return VOLT_CALC_ERR_ENABLE; }
+    (void)volt_calc_curve_design(&k, dead_time_s / Ts_s, drop_pu, i_thresh_pu);
     volt_calc_apply_curve(v, &k);
     v->comp_enable = comp_enable;
     return VOLT_CALC_OK;

@@ -116,19 +116,13 @@ flux_obs_status_t flux_obs_design(flux_obs_model_t *m, float ts_pu, float rs_pu,
     return st;
 }
 
-flux_obs_status_t flux_obs_init(flux_obs_t *o, const base_values_t *b, float Rs_ohm,
-                                float Ls_H, float Lr_H, float Lm_H, float Tr_s, float wc_Hz,
-                                float ws_lpf_Hz)
+flux_obs_status_t flux_obs_check(const base_values_t *b, float Rs_ohm, float Ls_H, float Lr_H,
+                                 float Lm_H, float Tr_s, float wc_Hz, float ws_lpf_Hz)
 {
-    flux_obs_status_t st;
     flux_obs_model_t m;
     float fts;
     float wc_pu;
     float x_ws;
-
-    /* zero gains first: on any error below the observer stays inert */
-    zero_params(o);
-    flux_obs_reset(o);
 
     if (b == 0 || !(b->Ts_s > 0.0f) || !(b->t_base_s > 0.0f) || !(b->Ts_pu > 0.0f) ||
         !(b->Z_base_ohm > 0.0f) || !(b->L_base_H > 0.0f) || !(b->f_base_Hz > 0.0f)) {
@@ -147,14 +141,37 @@ flux_obs_status_t flux_obs_init(flux_obs_t *o, const base_values_t *b, float Rs_
     if (!(x_ws > 0.0f && x_ws <= 1.0f)) {
         return FLUX_OBS_ERR_WS_LPF;
     }
+    /* the model's ranges in pu, as the background checks a new set
+     * (flux_obs_design: range checks first, then the conversions) */
+    return flux_obs_design(&m, b->Ts_pu, Rs_ohm / b->Z_base_ohm, Lm_H / b->L_base_H,
+                           Lr_H / b->L_base_H, Ls_H / b->L_base_H, Tr_s / b->t_base_s);
+}
 
-    /* the model's constants in pu, as the background computes them for a
-     * new set (flux_obs_design: range checks first, then the conversions) */
-    st = flux_obs_design(&m, b->Ts_pu, Rs_ohm / b->Z_base_ohm, Lm_H / b->L_base_H,
-                         Lr_H / b->L_base_H, Ls_H / b->L_base_H, Tr_s / b->t_base_s);
+flux_obs_status_t flux_obs_init(flux_obs_t *o, const base_values_t *b, float Rs_ohm,
+                                float Ls_H, float Lr_H, float Lm_H, float Tr_s, float wc_Hz,
+                                float ws_lpf_Hz)
+{
+    flux_obs_status_t st;
+    flux_obs_model_t m;
+    float fts;
+    float wc_pu;
+    float x_ws;
+
+    /* zero gains first: on any error below the observer stays inert */
+    zero_params(o);
+    flux_obs_reset(o);
+
+    st = flux_obs_check(b, Rs_ohm, Ls_H, Lr_H, Lm_H, Tr_s, wc_Hz, ws_lpf_Hz);
     if (st != FLUX_OBS_OK) {
         return st;   /* the observer stays inert (zero_params above) */
     }
+    fts = b->f_base_Hz * b->Ts_s;
+    wc_pu = wc_Hz / b->f_base_Hz;
+    x_ws = 6.2831853f * ws_lpf_Hz * b->Ts_s;
+    /* the model's constants in pu, as the background computes them for a
+     * new set (its ranges checked above) */
+    (void)flux_obs_design(&m, b->Ts_pu, Rs_ohm / b->Z_base_ohm, Lm_H / b->L_base_H,
+                          Lr_H / b->L_base_H, Ls_H / b->L_base_H, Tr_s / b->t_base_s);
     flux_obs_apply_model(o, &m);
     o->n = 1u;
     o->ts = _IQ(b->Ts_pu);
@@ -169,21 +186,41 @@ flux_obs_status_t flux_obs_init(flux_obs_t *o, const base_values_t *b, float Rs_
     return FLUX_OBS_OK;
 }
 
+flux_obs_status_t flux_obs_step_check(const base_values_t *b, uint16_t n, float wc_Hz,
+                                      float ws_lpf_Hz, _iq20 tr_pu)
+{
+    float T_pu, wc_pu, x_ws;
+    if (b == 0 || !(n == 1u || n == 2u || n == 4u || n == 8u)) {
+        return FLUX_OBS_ERR_BASE;
+    }
+    T_pu = b->Ts_pu * (float)n;                 /* < 8 * 2 pi / 128 = 0.4: Q30 */
+    wc_pu = wc_Hz / b->f_base_Hz;
+    if (!(wc_pu * T_pu <= FLUX_OBS_G_MAX)) {
+        return FLUX_OBS_ERR_WC;
+    }
+    x_ws = 6.2831853f * ws_lpf_Hz * b->Ts_s * (float)n;
+    if (!(x_ws > 0.0f && x_ws <= 1.0f)) {
+        return FLUX_OBS_ERR_WS_LPF;
+    }
+    if (!(tr_pu >= _IQ20(FLUX_OBS_TR_MIN_SAMPLES * T_pu))) {
+        return FLUX_OBS_ERR_TR;
+    }
+    return FLUX_OBS_OK;
+}
+
 flux_obs_status_t flux_obs_set_step(flux_obs_t *o, const base_values_t *b, uint16_t n,
                                     float wc_Hz, float ws_lpf_Hz)
 {
     float fts, T_pu, wc_pu, x_ws, x_dth;
-    if (b == 0 || !(n == 1u || n == 2u || n == 4u || n == 8u) || !(o->ts > _IQ(0.0))) {
+    /* every refusal here is FLUX_OBS_ERR_BASE (flux_obs.h) */
+    if (!(o->ts > _IQ(0.0)) ||
+        flux_obs_step_check(b, n, wc_Hz, ws_lpf_Hz, o->tr) != FLUX_OBS_OK) {
         return FLUX_OBS_ERR_BASE;
     }
     fts = b->f_base_Hz * b->Ts_s * (float)n;   /* revolutions per step at 1 pu speed */
-    T_pu = b->Ts_pu * (float)n;                 /* < 8 * 2 pi / 128 = 0.4: Q30 */
+    T_pu = b->Ts_pu * (float)n;
     wc_pu = wc_Hz / b->f_base_Hz;
     x_ws = 6.2831853f * ws_lpf_Hz * b->Ts_s * (float)n;
-    if (!(wc_pu * T_pu <= FLUX_OBS_G_MAX) || !(x_ws > 0.0f && x_ws <= 1.0f) ||
-        !(o->tr >= _IQ20(FLUX_OBS_TR_MIN_SAMPLES * T_pu))) {
-        return FLUX_OBS_ERR_BASE;
-    }
     o->n = n;
     o->ts = _IQ(T_pu);
     o->ts30 = _IQ30(T_pu);

@@ -7,6 +7,7 @@
 
 ifo_status_t ifo_init(ifo_t *f, float Tr_s, const base_values_t *b, float imr_min_pu)
 {
+    ifo_status_t st;
     float tr_pu;
 
     f->i_m = _IQ(0.0);
@@ -21,6 +22,28 @@ ifo_status_t ifo_init(ifo_t *f, float Tr_s, const base_values_t *b, float imr_mi
     f->imr_min = _IQ(0.0);
     ifo_reset(f, _IQ(0.0));
 
+    st = ifo_check(Tr_s, b, imr_min_pu);
+    if (st != IFO_OK) {
+        return st;
+    }
+    tr_pu = Tr_s / b->t_base_s;
+    f->ts = _IQ(b->Ts_pu);
+    f->k_theta = _IQ30(b->f_base_Hz * b->Ts_s);
+    f->k_acc = angle_acc_k(b->f_base_Hz * b->Ts_s);   /* < 2: f_base Ts < 1/128, above */
+    f->inv_k_theta = _IQ20(1.0f / (b->f_base_Hz * b->Ts_s));
+    f->imr_min = _IQ(imr_min_pu);
+    {
+        ifo_tr_t t;
+        st = ifo_design_tr(&t, b->Ts_pu, tr_pu, imr_min_pu);
+        if (st == IFO_OK) {
+            ifo_apply_tr(f, &t);
+        }
+        return st;
+    }
+}
+
+ifo_status_t ifo_check(float Tr_s, const base_values_t *b, float imr_min_pu)
+{
     if (b == 0 || !(b->Ts_s > 0.0f) || !(b->t_base_s > 0.0f) || !(b->Ts_pu > 0.0f) ||
         !(b->f_base_Hz > 0.0f)) {
         return IFO_ERR_BASE;
@@ -28,8 +51,7 @@ ifo_status_t ifo_init(ifo_t *f, float Tr_s, const base_values_t *b, float imr_mi
     if (!(imr_min_pu > 0.0f && imr_min_pu <= 1.0f)) {
         return IFO_ERR_IMR_MIN;
     }
-    tr_pu = Tr_s / b->t_base_s;
-    if (!(tr_pu <= IFO_TR_MAX_PU)) {   /* also NaN; the lower bound is set_tr's */
+    if (!(Tr_s / b->t_base_s <= IFO_TR_MAX_PU)) {   /* also NaN; the lower bound: ifo_design_tr */
         return IFO_ERR_TR;
     }
     /* |ws| <= |wr| + |wslip| < 63 + 64 < 128, so f_base Ts < 1/128 keeps
@@ -42,19 +64,7 @@ ifo_status_t ifo_init(ifo_t *f, float Tr_s, const base_values_t *b, float imr_mi
     if (!(b->f_base_Hz * b->Ts_s > 1.0f / 2000.0f)) {
         return IFO_ERR_BASE;
     }
-    f->ts = _IQ(b->Ts_pu);
-    f->k_theta = _IQ30(b->f_base_Hz * b->Ts_s);
-    f->k_acc = angle_acc_k(b->f_base_Hz * b->Ts_s);   /* < 2: f_base Ts < 1/128, above */
-    f->inv_k_theta = _IQ20(1.0f / (b->f_base_Hz * b->Ts_s));
-    f->imr_min = _IQ(imr_min_pu);
-    {
-        ifo_tr_t t;
-        ifo_status_t st = ifo_design_tr(&t, b->Ts_pu, tr_pu, imr_min_pu);
-        if (st == IFO_OK) {
-            ifo_apply_tr(f, &t);
-        }
-        return st;
-    }
+    return IFO_OK;
 }
 
 ifo_status_t ifo_design_tr(ifo_tr_t *t, float ts_pu, float tr_pu, float imr_min_pu)
@@ -73,20 +83,29 @@ ifo_status_t ifo_design_tr(ifo_tr_t *t, float ts_pu, float tr_pu, float imr_min_
     return IFO_OK;
 }
 
-ifo_status_t ifo_set_tr(ifo_t *f, _iq20 tr_pu)
+ifo_status_t ifo_tr_check(_iq ts_pu, _iq imr_min_pu, _iq20 tr_pu)
 {
-    _iq x;
-
     /* Tr >= 10 Ts, i.e. x = Ts/Tr <= 0.1 (10 Ts < 0.5 pu: Q24 -> Q20 exact
      * to 1 LSB); Tr <= IFO_TR_MAX_PU (Q20 headroom) */
-    if (!(tr_pu >= _IQtoIQ20(_IQmpy(f->ts, _IQ(IFO_TR_MIN_SAMPLES)))) ||
+    if (!(tr_pu >= _IQtoIQ20(_IQmpy(ts_pu, _IQ(IFO_TR_MIN_SAMPLES)))) ||
         !(tr_pu <= _IQ20(IFO_TR_MAX_PU))) {
         return IFO_ERR_TR;
     }
     /* slip bound: I_T_MAX / (Tr imr_min) <= SLIP_MAX  <=>  Tr imr_min >= 2/64.
      * Q20*Q24 -> Q20 (_IQmpy shifts by 24): Tr <= 1000, imr_min <= 1, no overflow */
-    if (!(_IQmpy(tr_pu, f->imr_min) >= _IQ20(IFO_I_T_MAX / IFO_SLIP_MAX))) {
+    if (!(_IQmpy(tr_pu, imr_min_pu) >= _IQ20(IFO_I_T_MAX / IFO_SLIP_MAX))) {
         return IFO_ERR_IMR_MIN;
+    }
+    return IFO_OK;
+}
+
+ifo_status_t ifo_set_tr(ifo_t *f, _iq20 tr_pu)
+{
+    _iq x;
+    const ifo_status_t st = ifo_tr_check(f->ts, f->imr_min, tr_pu);
+
+    if (st != IFO_OK) {
+        return st;
     }
     x = _IQ20div(f->ts, tr_pu);   /* Q24 / Q20 -> Q24 (shift by 20), in (0, 0.1] */
     f->kf = one_minus_exp_neg_iq(x);   /* 1 - exp(-x), Q24 (exp_series.h) */

@@ -8,13 +8,66 @@
  * within +-63) stays inside Q24's +-128. */
 #define QEP_SPEED_RAW_MAX 63.0f
 
+/* pu of speed per count over @p n samples: pp / (n cpr Ts f_base) */
+static float qep_k(uint16_t pole_pairs, uint16_t n, int32_t cpr, const base_values_t *b)
+{
+    return (float)pole_pairs / ((float)n * (float)cpr * b->Ts_s * b->f_base_Hz);
+}
+
+/* The speed filter's corner @p fc_Hz with a step of @p n samples: in
+ * (0, 1/(2 n Ts)), its coefficient *a = 1 - exp(-2 pi fc n Ts) at least
+ * QEP_SPEED_FILTER_A_MIN. */
+static qep_speed_status_t qep_cutoff(float fc_Hz, const base_values_t *b, uint16_t n, float *a)
+{
+    if (!(fc_Hz > 0.0f) || !(fc_Hz < 0.5f / (b->Ts_s * (float)n))) {
+        return QEP_SPEED_ERR_CUTOFF;
+    }
+    *a = 1.0f - expf(-QEP_TWO_PI * fc_Hz * b->Ts_s * (float)n);
+    if (!(*a >= QEP_SPEED_FILTER_A_MIN)) {
+        return QEP_SPEED_ERR_CUTOFF;
+    }
+    return QEP_SPEED_OK;
+}
+
+/* 1 if @p n is a power of two in [1, @p n_max] (exactly one bit set) */
+static int16_t qep_pow2(uint16_t n, uint16_t n_max)
+{
+    return (int16_t)(n != 0u && n <= n_max && (n & (n - 1u)) == 0u);
+}
+
+qep_speed_status_t qep_speed_check(uint16_t encoder_lines, const base_values_t *b,
+                                   float speed_filter_Hz, uint16_t window)
+{
+    int32_t cpr;
+    float a;
+
+    if (b == 0 || !(b->Ts_s > 0.0f) || !(b->f_base_Hz > 0.0f) || b->pole_pairs == 0u ||
+        b->pole_pairs > QEP_SPEED_POLE_PAIRS_MAX) {
+        return QEP_SPEED_ERR_BASE;
+    }
+    if (encoder_lines == 0u || encoder_lines > QEP_SPEED_LINES_MAX) {
+        return QEP_SPEED_ERR_LINES;
+    }
+    if (qep_pow2(window, QEP_SPEED_WINDOW_MAX) == 0) {
+        return QEP_SPEED_ERR_WINDOW;
+    }
+    cpr = 4 * (int32_t)encoder_lines;
+    /* k <= k1: the one-sample speed needs the finer resolution as well */
+    if (!(qep_k(b->pole_pairs, window, cpr, b) < 1.0f) ||
+        !(qep_k(b->pole_pairs, 1u, cpr, b) < 1.0f)) {
+        return QEP_SPEED_ERR_RESOLUTION;
+    }
+    return qep_cutoff(speed_filter_Hz, b, 1u, &a);
+}
+
 qep_speed_status_t qep_speed_init(qep_speed_t *q, uint16_t encoder_lines,
                                   const base_values_t *b, float speed_filter_Hz,
                                   uint16_t window)
 {
+    qep_speed_status_t st;
     float k;
     float k1;
-    float a;
+    float a = 0.0f;
 
     q->cpr = 4;
     q->pole_pairs = 1;
@@ -28,34 +81,16 @@ qep_speed_status_t qep_speed_init(qep_speed_t *q, uint16_t encoder_lines,
     q->count = 0u;
     qep_speed_reset(q, 0u);
 
-    if (b == 0 || !(b->Ts_s > 0.0f) || !(b->f_base_Hz > 0.0f) || b->pole_pairs == 0u ||
-        b->pole_pairs > QEP_SPEED_POLE_PAIRS_MAX) {
-        return QEP_SPEED_ERR_BASE;
-    }
-    if (encoder_lines == 0u || encoder_lines > QEP_SPEED_LINES_MAX) {
-        return QEP_SPEED_ERR_LINES;
-    }
-    /* power of two: exactly one bit set */
-    if (window == 0u || window > QEP_SPEED_WINDOW_MAX || (window & (window - 1u)) != 0u) {
-        return QEP_SPEED_ERR_WINDOW;
+    st = qep_speed_check(encoder_lines, b, speed_filter_Hz, window);
+    if (st != QEP_SPEED_OK) {
+        return st;
     }
     q->cpr = 4 * (int32_t)encoder_lines;
     q->pole_pairs = (int32_t)b->pole_pairs;
     q->window = window;
-    k = (float)b->pole_pairs /
-        ((float)window * (float)q->cpr * b->Ts_s * b->f_base_Hz);
-    k1 = (float)b->pole_pairs / ((float)q->cpr * b->Ts_s * b->f_base_Hz);
-    /* k <= k1: the one-sample speed needs the finer resolution as well */
-    if (!(k < 1.0f) || !(k1 < 1.0f)) {
-        return QEP_SPEED_ERR_RESOLUTION;
-    }
-    if (!(speed_filter_Hz > 0.0f) || !(speed_filter_Hz < 0.5f / b->Ts_s)) {
-        return QEP_SPEED_ERR_CUTOFF;
-    }
-    a = 1.0f - expf(-QEP_TWO_PI * speed_filter_Hz * b->Ts_s);
-    if (!(a >= QEP_SPEED_FILTER_A_MIN)) {
-        return QEP_SPEED_ERR_CUTOFF;
-    }
+    k = qep_k(b->pole_pairs, window, q->cpr, b);
+    k1 = qep_k(b->pole_pairs, 1u, q->cpr, b);
+    (void)qep_cutoff(speed_filter_Hz, b, 1u, &a);
     /* d_max * k <= 63 pu; the window difference never exceeds 32768 */
     q->d_max = (int32_t)(QEP_SPEED_RAW_MAX / k);
     if (q->d_max > 32767) {
@@ -76,25 +111,33 @@ qep_speed_status_t qep_speed_init(qep_speed_t *q, uint16_t encoder_lines,
     return QEP_SPEED_OK;
 }
 
-qep_speed_status_t qep_speed_set_decim(qep_speed_t *q, uint16_t decim, const base_values_t *b,
-                                       float speed_filter_Hz)
+qep_speed_status_t qep_speed_decim_check(uint16_t decim, uint16_t window,
+                                         const base_values_t *b, float speed_filter_Hz)
 {
-    float kn, a;
-    if (decim == 0u || decim > q->window || (decim & (decim - 1u)) != 0u) {
+    float a;
+
+    if (qep_pow2(decim, window) == 0) {
         return QEP_SPEED_ERR_WINDOW;
     }
     if (b == 0 || !(b->Ts_s > 0.0f) || !(b->f_base_Hz > 0.0f)) {
         return QEP_SPEED_ERR_BASE;
     }
-    if (!(speed_filter_Hz > 0.0f) || !(speed_filter_Hz < 0.5f / (b->Ts_s * (float)decim))) {
-        return QEP_SPEED_ERR_CUTOFF;
+    return qep_cutoff(speed_filter_Hz, b, decim, &a);
+}
+
+qep_speed_status_t qep_speed_set_decim(qep_speed_t *q, uint16_t decim, const base_values_t *b,
+                                       float speed_filter_Hz)
+{
+    float kn;
+    float a = 0.0f;
+    qep_speed_status_t st = qep_speed_decim_check(decim, q->window, b, speed_filter_Hz);
+
+    if (st != QEP_SPEED_OK) {
+        return st;
     }
-    a = 1.0f - expf(-QEP_TWO_PI * speed_filter_Hz * b->Ts_s * (float)decim);
-    if (!(a >= QEP_SPEED_FILTER_A_MIN)) {
-        return QEP_SPEED_ERR_CUTOFF;
-    }
+    (void)qep_cutoff(speed_filter_Hz, b, decim, &a);
     /* the mean speed over decim samples: pp / (decim cpr Ts f_base) per count */
-    kn = (float)q->pole_pairs / ((float)decim * (float)q->cpr * b->Ts_s * b->f_base_Hz);
+    kn = qep_k((uint16_t)q->pole_pairs, decim, q->cpr, b);
     q->decim = decim;
     q->hist_len = (uint16_t)(q->window / decim);
     q->k_filt = _IQ(a);

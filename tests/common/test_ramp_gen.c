@@ -136,6 +136,31 @@ static void test_init_errors(void **state)
     assert_true(to_d(r.out) == 0.25);
 }
 
+/* ramp_gen_check, the configuration table's test: ramp_gen_init's verdict
+ * at each bound of ramp_gen.h.  Ts = 2^-10 s, so that the step rate x Ts is
+ * exact: [RAMP_GEN_STEP_MIN_PU = 2^-20, 1] pu per sample is a rate in
+ * [2^-10, 1024] pu/s; Ts in (0, 0.01]; the limits within
+ * +-RAMP_GEN_LIMIT_MAX. */
+static void test_check(void **state)
+{
+    const float ts = 9.765625e-4f;
+    const float rate[] = {9.765625e-4f, nextafterf(9.765625e-4f, 0.0f), 1024.0f,
+                          nextafterf(1024.0f, 2048.0f), 2.0f, 2.0f, 2.0f, 2.0f};
+    const float per[] = {ts, ts, ts, ts, 0.01f, nextafterf(0.01f, 1.0f), ts, ts};
+    const float hi[] = {1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f, RAMP_GEN_LIMIT_MAX,
+                        nextafterf(RAMP_GEN_LIMIT_MAX, 100.0f)};
+    const ramp_gen_status_t want[] = {RAMP_GEN_OK, RAMP_GEN_ERR_RATE, RAMP_GEN_OK,
+                                      RAMP_GEN_ERR_RATE, RAMP_GEN_OK, RAMP_GEN_ERR_PERIOD,
+                                      RAMP_GEN_OK, RAMP_GEN_ERR_LIMITS};
+    ramp_gen_t r;
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof want / sizeof want[0]; i++) {
+        assert_int_equal(ramp_gen_check(rate[i], per[i], -1.0f, hi[i]), want[i]);
+        assert_int_equal(ramp_gen_init(&r, rate[i], per[i], -1.0f, hi[i]), want[i]);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -143,6 +168,7 @@ int main(void)
         cmocka_unit_test(test_limit_and_reversal),
         cmocka_unit_test(test_small_change),
         cmocka_unit_test(test_init_errors),
+        cmocka_unit_test(test_check),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -108,6 +108,32 @@ static void test_init_rejects(void **state)
     assert_true(f.y == _IQ(0.0) && f.dy == _IQ(0.0));
 }
 
+/* bw_filter_check, the configuration table's test: bw_filter_init's verdict
+ * at each bound of bw_filter.h, on w_base = 512 rad/s and Ts = 2^-12 s
+ * (exact products): Wc below BW_FILTER_WC_MAX_PU w_base (2048 rad/s),
+ * a = Wc Ts at most BW_FILTER_A_MAX (Wc = 0.3 x 4096), N in
+ * 1..BW_FILTER_N_MAX, Ts at most 0.01 s. */
+static void test_check(void **state)
+{
+    const float ts = 2.44140625e-4f;
+    const float wa = BW_FILTER_A_MAX * 4096.0f;
+    const float wc[] = {nextafterf(2048.0f, 0.0f), 2048.0f, wa, nextafterf(wa, 1e4f), 20.0f,
+                        20.0f, 20.0f, 20.0f};
+    const float per[] = {1e-4f, 1e-4f, ts, ts, 0.01f, nextafterf(0.01f, 1.0f), ts, ts};
+    const uint16_t n[] = {10u, 10u, 10u, 10u, 10u, 10u, BW_FILTER_N_MAX, BW_FILTER_N_MAX + 1u};
+    const bw_filter_status_t want[] = {BW_FILTER_OK, BW_FILTER_ERR_WC, BW_FILTER_OK,
+                                       BW_FILTER_ERR_STEP, BW_FILTER_OK, BW_FILTER_ERR_TS,
+                                       BW_FILTER_OK, BW_FILTER_ERR_N};
+    bw_filter_t f;
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof want / sizeof want[0]; i++) {
+        assert_int_equal(bw_filter_check(wc[i], n[i], per[i], 512.0f), want[i]);
+        assert_int_equal(bw_filter_init(&f, wc[i], n[i], per[i], 512.0f), want[i]);
+    }
+    assert_int_equal(bw_filter_check(20.0f, 10u, ts, 0.0f), BW_FILTER_ERR_BASE);
+}
+
 /* Step of height H from rest: value and derivative against the continuous
  * response over 1 s (15000 samples, 9.6 time constants 1/sigma).
  * Bound: the scheme with N = 10 is the trapezoidal rule to within
@@ -387,6 +413,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_init_rejects),
+        cmocka_unit_test(test_check),
         cmocka_unit_test(test_step_analytic),
         cmocka_unit_test(test_ramp_analytic),
         cmocka_unit_test(test_vs_double_scheme),

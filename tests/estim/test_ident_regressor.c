@@ -357,6 +357,29 @@ static void test_init_rejects(void **state)
     assert_true(r.f_im.x1 == _IQ27(0.0) && r.f_im.z2 == _IQ27(0.0));
 }
 
+/* ident_regressor_check, the configuration table's test:
+ * ident_regressor_init's verdict at its bounds: the decimation up to
+ * IDENT_REGRESSOR_DECIM_LOG2_MAX, the filters' step Wc Ts 2^decim_log2 at
+ * most BW_FILTER_A_MAX (Ts = 2^-15 s, 8 samples a step: Wc = 0.3 x 4096,
+ * exact products). */
+static void test_check(void **state)
+{
+    const float ts = 3.0517578125e-5f;
+    const float wa = BW_FILTER_A_MAX * 4096.0f;
+    const float wc[] = {wa, nextafterf(wa, 1e4f), WC_RAD_S, WC_RAD_S};
+    const uint16_t dl[] = {3u, 3u, IDENT_REGRESSOR_DECIM_LOG2_MAX,
+                           IDENT_REGRESSOR_DECIM_LOG2_MAX + 1u};
+    const bw_filter_status_t want[] = {BW_FILTER_OK, BW_FILTER_ERR_STEP, BW_FILTER_OK,
+                                       BW_FILTER_ERR_TS};
+    ident_regressor_t r;
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof want / sizeof want[0]; i++) {
+        assert_int_equal(ident_regressor_check(wc[i], 10u, ts, 512.0f, dl[i]), want[i]);
+        assert_int_equal(ident_regressor_init(&r, wc[i], 10u, ts, 512.0f, dl[i]), want[i]);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -365,6 +388,7 @@ int main(void)
         cmocka_unit_test(test_regression_identity_decimated),
         cmocka_unit_test(test_saturation),
         cmocka_unit_test(test_period_mean_window),
+        cmocka_unit_test(test_check),
         cmocka_unit_test(test_period_mean_rejects),
         cmocka_unit_test(test_init_rejects),
     };

@@ -328,6 +328,47 @@ static void test_init_rejects(void **state)
     assert_int_equal(q.valid, 0);
 }
 
+/* param_extract_check, the configuration table's test: param_extract_init's
+ * verdict, naming the first range refused.  Each range's top just below
+ * and just above PARAM_EXTRACT_PU_MAX (Tr: 2047) of its base, in turn;
+ * a minimum below 0; two ranges refused at once name the first in
+ * param_limits_t's order; i_m_min_A not > 0. */
+static void test_check(void **state)
+{
+    const param_status_t names[] = {PARAM_ERR_RS, PARAM_ERR_RR, PARAM_ERR_LM, PARAM_ERR_LR,
+                                    PARAM_ERR_PSI, PARAM_ERR_TR};
+    const float base[] = {fx.b.Z_base_ohm, fx.b.Z_base_ohm, fx.b.L_base_H, fx.b.L_base_H,
+                          fx.b.psi_base_Wb, fx.b.t_base_s};
+    param_extract_t q;
+    param_status_t bad;
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof names / sizeof names[0]; i++) {
+        param_limits_t l = fx.lim;
+        float *hi[] = {&l.Rs_ohm[1], &l.Rr_ohm[1], &l.Lm_H[1], &l.Lr_H[1], &l.psi_Wb[1],
+                       &l.Tr_s[1]};
+        const float top = ((i == 5u) ? 2047.0f : PARAM_EXTRACT_PU_MAX) * base[i];
+        *hi[i] = top * 0.9999f;
+        assert_int_equal(param_extract_check(&fx.b, &l, &bad), PARAM_INIT_OK);
+        assert_int_equal(bad, PARAM_OK);
+        assert_int_equal(param_extract_init(&q, &fx.b, &l), PARAM_INIT_OK);
+        *hi[i] = top * 1.0001f;
+        assert_int_equal(param_extract_check(&fx.b, &l, &bad), PARAM_INIT_ERR_RANGE);
+        assert_int_equal(bad, names[i]);
+        assert_int_equal(param_extract_init(&q, &fx.b, &l), PARAM_INIT_ERR_RANGE);
+    }
+    {
+        param_limits_t l = fx.lim;
+        l.Rr_ohm[0] = nextafterf(0.0f, -1.0f);
+        l.Lr_H[0] = -1.0f;
+        assert_int_equal(param_extract_check(&fx.b, &l, &bad), PARAM_INIT_ERR_RANGE);
+        assert_int_equal(bad, PARAM_ERR_RR);
+        l = fx.lim;
+        l.i_m_min_A = 0.0f;
+        assert_int_equal(param_extract_check(&fx.b, &l, NULL), PARAM_INIT_ERR_IM);
+    }
+}
+
 /* param_extract_magnetic (fused mode): Lm, Lr, psi_r from K2, K4, i_M only.
  * (1) For the check (both forms) it gives what param_extract_step gives:
  *     the same a = -K4/(K2 i_M), Lr = 1/K2 + a, Lm = sqrt(a Lr), psi = Lm
@@ -443,6 +484,7 @@ int main(void)
         cmocka_unit_test(test_reference_flux_form),
         cmocka_unit_test(test_rejections),
         cmocka_unit_test(test_init_rejects),
+        cmocka_unit_test(test_check),
         cmocka_unit_test(test_large_tr),
         cmocka_unit_test(test_magnetic),
     };

@@ -132,6 +132,31 @@ static void test_encoder_jump_and_wrap(void **state)
                      ENCODER_CHECK_ERR_ARG);
 }
 
+/* encoder_check_args_ok, the configuration table's test: encoder_check_init's
+ * verdict at its bounds.  Ts = 2^-14 s and f_base 1024 Hz, 1 pole pair
+ * (exact products): the counts a sample at speed_max, speed_max f_base /
+ * pp x 4 lines Ts, in [2, 16384] (at 4 pu: one a line, from 2 lines; at
+ * 64 pu: 16 a line, up to 1024 lines); i_t_min in (0, 2). */
+static void test_encoder_check_args(void **state)
+{
+    const float ts = 6.103515625e-5f;
+    const float spd[] = {4.0f, 4.0f, 64.0f, 64.0f, 4.0f, 4.0f};
+    const uint16_t lines[] = {2u, 1u, 1024u, 1025u, 1000u, 1000u};
+    const float itm[] = {0.15f, 0.15f, 0.15f, 0.15f, nextafterf(2.0f, 0.0f), 2.0f};
+    const encoder_check_status_t want[] = {ENCODER_CHECK_OK, ENCODER_CHECK_ERR_RESOLUTION,
+                                           ENCODER_CHECK_OK, ENCODER_CHECK_ERR_RESOLUTION,
+                                           ENCODER_CHECK_OK, ENCODER_CHECK_ERR_ARG};
+    encoder_check_t e;
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof want / sizeof want[0]; i++) {
+        assert_int_equal(encoder_check_args_ok(ts, 0.05f, itm[i], spd[i], 1024.0f, lines[i], 1u),
+                         want[i]);
+        assert_int_equal(encoder_check_init(&e, ts, 0.05f, itm[i], spd[i], 1024.0f, lines[i], 1u),
+                         want[i]);
+    }
+}
+
 /* A constant error e: e_f = e (1 - (1-a)^k), a = 1 - exp(-Ts/tau); with
  * tau = 2 ms and e = 0.3 pu against e_max = 0.15 the trip comes after
  * tau ln 2 = 1.39 ms = 20.8 samples: at sample 21 (independent closed form). */
@@ -267,6 +292,40 @@ static void test_theta_guard(void **state)
     assert_true(g.theta_good[1] == _IQ(2.0));
     theta_guard_reset(&g);
     assert_int_equal(g.good, 0u);
+}
+
+/* theta_guard_check, the configuration table's test: theta_guard_init's
+ * verdict, naming the first K refused: each K with the model's sign and a
+ * magnitude below RLS_THETA_MAX (K1 just inside, at it, zero), span in
+ * (1, 1e6) (no K named). */
+static void test_theta_guard_check(void **state)
+{
+    const float k_nom[RLS_N] = {-0.842f, 2.12f, 0.107f, -0.308f};
+    theta_guard_t g;
+    float k[RLS_N];
+    uint16_t bad;
+    size_t i;
+    (void)state;
+    for (i = 0; i < RLS_N; i++) {
+        k[i] = k_nom[i];
+    }
+    k[0] = -nextafterf(RLS_THETA_MAX, 0.0f);
+    assert_int_equal(theta_guard_check(k, 8.0f, &bad), THETA_GUARD_OK);
+    assert_int_equal(bad, RLS_N);
+    assert_int_equal(theta_guard_init(&g, k, 8.0f), THETA_GUARD_OK);
+    k[0] = -RLS_THETA_MAX;
+    assert_int_equal(theta_guard_check(k, 8.0f, &bad), THETA_GUARD_ERR_ARG);
+    assert_int_equal(bad, 0u);
+    assert_int_equal(theta_guard_init(&g, k, 8.0f), THETA_GUARD_ERR_ARG);
+    k[0] = k_nom[0];
+    k[2] = 0.0f;
+    k[3] = 0.308f;
+    assert_int_equal(theta_guard_check(k, 8.0f, &bad), THETA_GUARD_ERR_ARG);
+    assert_int_equal(bad, 2u);
+    assert_int_equal(theta_guard_check(k_nom, 1.0f, &bad), THETA_GUARD_ERR_ARG);
+    assert_int_equal(bad, RLS_N);
+    assert_int_equal(theta_guard_init(&g, k_nom, 1.0f), THETA_GUARD_ERR_ARG);
+    assert_int_equal(theta_guard_check(k_nom, 8.0f, NULL), THETA_GUARD_OK);
 }
 
 /* theta_guard_set_required (the adaptive sequence's fused mode: only K2 and K4 judged).
@@ -426,6 +485,36 @@ static void test_protect_over_range(void **state)
     assert_int_equal(protect_init(&p, _IQ(40.0), _IQ(41.0), _IQ(0.7)), 1);
 }
 
+/* protect_args_ok, the configuration table's test: protect_init's verdict
+ * at each bound of protect.h, the first level refused named: i_trip in
+ * (0, 32) pu, vdc_min > 0, vdc_max > vdc_min, each to the LSB. */
+static void test_protect_args(void **state)
+{
+#if MATH_TYPE == IQ_MATH
+    const _iq below32 = _IQ(32.0) - 1, above07 = _IQ(0.7) + 1;
+#else
+    const _iq below32 = nextafterf(32.0f, 0.0f), above07 = nextafterf(0.7f, 1.0f);
+#endif
+    const _iq trip[] = {below32, _IQ(32.0), _IQ(0.0), _IQ(0.9), _IQ(0.9), _IQ(0.9), _IQ(0.9)};
+    const _iq vmax[] = {_IQ(1.3), _IQ(1.3), _IQ(1.3), _IQ(1.3), _IQ(1.3), above07, _IQ(0.7)};
+    const _iq vmin[] = {_IQ(0.7), _IQ(0.7), _IQ(0.7), _IQ(0.0), _IQ(0.7), _IQ(0.7), _IQ(0.7)};
+    const protect_args_t want[] = {PROTECT_ARGS_OK, PROTECT_ERR_TRIP, PROTECT_ERR_TRIP,
+                                   PROTECT_ERR_VDC_MIN, PROTECT_ARGS_OK, PROTECT_ARGS_OK,
+                                   PROTECT_ERR_VDC_MAX};
+    protect_t p;
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof want / sizeof want[0]; i++) {
+        assert_int_equal(protect_args_ok(trip[i], vmax[i], vmin[i]), want[i]);
+        assert_int_equal(protect_init(&p, trip[i], vmax[i], vmin[i]),
+                         (want[i] == PROTECT_ARGS_OK) ? 0 : 1);
+    }
+    /* the trip judged first, then the undervoltage (a level not yet known
+     * passed as 0: drive_limits.c) */
+    assert_int_equal(protect_args_ok(_IQ(0.0), _IQ(0.0), _IQ(0.0)), PROTECT_ERR_TRIP);
+    assert_int_equal(protect_args_ok(_IQ(0.9), _IQ(0.0), _IQ(0.0)), PROTECT_ERR_VDC_MIN);
+}
+
 /* Healthy runs (no fault injected) of every scenario on the paper motor and
  * of the 1.1 kW motor: no protection trips, and the current check stays
  * below two thirds of its trip level.  Measured: the worst is the
@@ -511,11 +600,14 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_encoder_frozen),
         cmocka_unit_test(test_encoder_jump_and_wrap),
+        cmocka_unit_test(test_encoder_check_args),
         cmocka_unit_test(test_current_check),
         cmocka_unit_test(test_theta_guard),
         cmocka_unit_test(test_theta_guard_required),
+        cmocka_unit_test(test_theta_guard_check),
         cmocka_unit_test(test_protect_priority_and_clear),
         cmocka_unit_test(test_protect_over_range),
+        cmocka_unit_test(test_protect_args),
         cmocka_unit_test(test_protect_overcurrent_each_phase),
         cmocka_unit_test(test_healthy_runs_margin),
     };

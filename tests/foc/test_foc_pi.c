@@ -501,6 +501,29 @@ static void test_design_gains(void **state)
     assert_memory_equal(&g, &keep, sizeof g);
 }
 
+/* pi_check, the configuration table's test: pi_init's verdict at each bound
+ * of pi_ctrl.h (kp in [0, PI_KP_MAX], ki in [0, PI_KI_MAX], the limits
+ * within +-PI_OUT_MAX_PU, out_min < out_max), kp judged first. */
+static void test_check(void **state)
+{
+    const float kp[] = {PI_KP_MAX, nextafterf(PI_KP_MAX, 200.0f), 0.0f, -0.0f,
+                        nextafterf(0.0f, -1.0f), 1.0f, 1.0f, 1.0f, 1.0f,
+                        1.0f, 200.0f};
+    const float ki[] = {0.1f, 0.1f, 0.1f, 0.1f, 0.1f, PI_KI_MAX, nextafterf(PI_KI_MAX, 2.0f),
+                        0.1f, 0.1f, 0.0f, 2.0f};
+    const float hi[] = {1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f, 1.0f, PI_OUT_MAX_PU,
+                        nextafterf(PI_OUT_MAX_PU, 100.0f), -1.0f, 1.0f};
+    const pi_status_t want[] = {PI_OK, PI_ERR_KP, PI_OK, PI_OK, PI_ERR_KP, PI_OK, PI_ERR_KI,
+                                PI_OK, PI_ERR_LIMITS, PI_ERR_LIMITS, PI_ERR_KP};
+    pi_ctrl_t p;
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof want / sizeof want[0]; i++) {
+        assert_int_equal(pi_check(kp[i], ki[i], -1.0f, hi[i]), want[i]);
+        assert_int_equal(pi_init(&p, kp[i], ki[i], -1.0f, hi[i]), want[i]);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -513,6 +536,7 @@ int main(void)
         cmocka_unit_test(test_random_steps),
         cmocka_unit_test(test_set_gains),
         cmocka_unit_test(test_design_gains),
+        cmocka_unit_test(test_check),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -51,6 +51,36 @@ static void test_init(void **state)
     assert_int_equal(v.comp_enable, 1u);
 }
 
+/* volt_calc_check, the configuration table's test: volt_calc_init's verdict
+ * at each bound of volt_calc.h.  Ts = 2^-14 s, so that td / Ts is exact:
+ * td / Ts at most VOLT_CALC_DT_FRAC_MAX (td 2^-16 s), the drop in
+ * [0, VOLT_CALC_DROP_MAX_PU], the zone in [VOLT_CALC_ITH_MIN_PU,
+ * VOLT_CALC_ITH_MAX_PU], the switch 0 or 1. */
+static void test_check(void **state)
+{
+    const float ts = 6.103515625e-5f;
+    const float td = 1.52587890625e-5f;
+    const float dead[] = {td, nextafterf(td, 1.0f), 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+    const float drop[] = {0.05f, 0.05f, VOLT_CALC_DROP_MAX_PU,
+                          nextafterf(VOLT_CALC_DROP_MAX_PU, 2.0f), 0.05f, 0.05f, 0.05f, 0.05f,
+                          0.05f};
+    const float ith[] = {0.02f, 0.02f, 0.02f, 0.02f, VOLT_CALC_ITH_MIN_PU,
+                         nextafterf(VOLT_CALC_ITH_MIN_PU, 0.0f), VOLT_CALC_ITH_MAX_PU,
+                         nextafterf(VOLT_CALC_ITH_MAX_PU, 2.0f), 0.02f};
+    const uint16_t en[] = {1u, 1u, 1u, 1u, 1u, 1u, 0u, 0u, 2u};
+    const volt_calc_status_t want[] = {VOLT_CALC_OK, VOLT_CALC_ERR_DEADTIME, VOLT_CALC_OK,
+                                       VOLT_CALC_ERR_DROP, VOLT_CALC_OK, VOLT_CALC_ERR_THRESH,
+                                       VOLT_CALC_OK, VOLT_CALC_ERR_THRESH, VOLT_CALC_ERR_ENABLE};
+    volt_calc_t v;
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof want / sizeof want[0]; i++) {
+        assert_int_equal(volt_calc_check(dead[i], ts, drop[i], ith[i], en[i]), want[i]);
+        assert_int_equal(volt_calc_init(&v, dead[i], ts, drop[i], ith[i], en[i]), want[i]);
+    }
+    assert_int_equal(volt_calc_check(td, 0.0f, 0.05f, 0.02f, 1u), VOLT_CALC_ERR_PERIOD);
+}
+
 /* The formula, in double, with the module's stored constants (their
  * quantisation is checked in test_init): each leg
  *   pole_x = vdc d_x - (sgn(i_x - d_x di_x / 2) + sgn(i_x + d_x di_x / 2)) e_x / 2
@@ -357,6 +387,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_init),
+        cmocka_unit_test(test_check),
         cmocka_unit_test(test_formula_random),
         cmocka_unit_test(test_edges),
         cmocka_unit_test(test_compensation_physics),

@@ -692,6 +692,73 @@ static void test_init_errors(void **state)
     }
 }
 
+/* flux_obs_check and flux_obs_step_check, the configuration table's tests:
+ * flux_obs_init's and flux_obs_set_step's verdicts at bounds of flux_obs.h
+ * (bases 50 Hz, 15 kHz: Ts = 0.020944 pu).  Init: w_c at most
+ * FLUX_OBS_WC_MAX_PU (50 Hz), the ws low-pass 2 pi f Ts <= 1 (2387.3 Hz),
+ * Rs at most FLUX_OBS_RS_MAX (4 Z_base = 6.93 ohm).  The step of 8
+ * samples: w_c 8 Ts <= FLUX_OBS_G_MAX (14.92 Hz), 2 pi f 8 Ts <= 1
+ * (298.4 Hz), the Q20 Tr at least 10 steps (to the LSB); set_step names
+ * each refusal FLUX_OBS_ERR_BASE. */
+static void test_check(void **state)
+{
+    static const struct {
+        float rs, wc, wf;
+        flux_obs_status_t want;
+    } c_init[] = {
+        {RS_OHM, 50.0f, WS_LPF_HZ, FLUX_OBS_OK},
+        {RS_OHM, 50.01f, WS_LPF_HZ, FLUX_OBS_ERR_WC},
+        {RS_OHM, WC_HZ, 2387.0f, FLUX_OBS_OK},
+        {RS_OHM, WC_HZ, 2388.0f, FLUX_OBS_ERR_WS_LPF},
+        {4.0f * 1.7320508f * 0.9999f, WC_HZ, WS_LPF_HZ, FLUX_OBS_OK},
+        {4.0f * 1.7320508f * 1.0001f, WC_HZ, WS_LPF_HZ, FLUX_OBS_ERR_RS},
+    };
+    static const struct {
+        float wc, wf;
+        flux_obs_status_t want;
+    } c_step[] = {
+        {14.9f, WS_LPF_HZ, FLUX_OBS_OK},
+        {15.0f, WS_LPF_HZ, FLUX_OBS_ERR_WC},
+        {WC_HZ, 298.0f, FLUX_OBS_OK},
+        {WC_HZ, 299.0f, FLUX_OBS_ERR_WS_LPF},
+    };
+    flux_obs_t o;
+    _iq20 tr_lo;
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof c_init / sizeof c_init[0]; i++) {
+        assert_int_equal(flux_obs_check(&g_b, c_init[i].rs, LS_H, LR_H, LM_H, TR_S, c_init[i].wc,
+                                        c_init[i].wf),
+                         c_init[i].want);
+        assert_int_equal(flux_obs_init(&o, &g_b, c_init[i].rs, LS_H, LR_H, LM_H, TR_S,
+                                       c_init[i].wc, c_init[i].wf),
+                         c_init[i].want);
+    }
+    assert_int_equal(flux_obs_check(NULL, RS_OHM, LS_H, LR_H, LM_H, TR_S, WC_HZ, WS_LPF_HZ),
+                     FLUX_OBS_ERR_BASE);
+    for (i = 0; i < sizeof c_step / sizeof c_step[0]; i++) {
+        assert_int_equal(flux_obs_init(&o, &g_b, RS_OHM, LS_H, LR_H, LM_H, TR_S, WC_HZ,
+                                       WS_LPF_HZ),
+                         FLUX_OBS_OK);
+        assert_int_equal(flux_obs_step_check(&g_b, 8u, c_step[i].wc, c_step[i].wf, o.tr),
+                         c_step[i].want);
+        assert_int_equal(flux_obs_set_step(&o, &g_b, 8u, c_step[i].wc, c_step[i].wf),
+                         (c_step[i].want == FLUX_OBS_OK) ? FLUX_OBS_OK : FLUX_OBS_ERR_BASE);
+    }
+    tr_lo = _IQ20(FLUX_OBS_TR_MIN_SAMPLES * (g_b.Ts_pu * 8.0f));
+    assert_int_equal(flux_obs_step_check(&g_b, 8u, WC_HZ, WS_LPF_HZ, tr_lo), FLUX_OBS_OK);
+#if MATH_TYPE == IQ_MATH
+    assert_int_equal(flux_obs_step_check(&g_b, 8u, WC_HZ, WS_LPF_HZ, tr_lo - 1),
+                     FLUX_OBS_ERR_TR);
+#else
+    assert_int_equal(flux_obs_step_check(&g_b, 8u, WC_HZ, WS_LPF_HZ,
+                                         nextafterf(tr_lo, 0.0f)),
+                     FLUX_OBS_ERR_TR);
+#endif
+    assert_int_equal(flux_obs_step_check(&g_b, 3u, WC_HZ, WS_LPF_HZ, o.tr), FLUX_OBS_ERR_BASE);
+    assert_int_equal(flux_obs_step_check(NULL, 8u, WC_HZ, WS_LPF_HZ, o.tr), FLUX_OBS_ERR_BASE);
+}
+
 /* Inputs at the ends of Q24 (+-127 pu, a broken sensor or a wrong scale)
  * for 2 s with a turning rotor angle: saturation, reported in sat, every
  * state within its bound (UBSan would flag an overflow), and after a
@@ -1027,6 +1094,7 @@ int main(void)
         cmocka_unit_test(test_set_tr_online),
         cmocka_unit_test(test_setters),
         cmocka_unit_test(test_init_errors),
+        cmocka_unit_test(test_check),
         cmocka_unit_test(test_extreme_inputs),
         cmocka_unit_test(test_angle_jumps_bounded),
         cmocka_unit_test(test_set_rs_dc),

@@ -447,6 +447,62 @@ static void test_init_errors(void **state)
     }
 }
 
+/* One step of the representation below / above a Q value (a float in
+ * FLOAT_MATH). */
+#if MATH_TYPE == IQ_MATH
+#define Q_BELOW(x) ((x) - 1)
+#define Q_ABOVE(x) ((x) + 1)
+#else
+#define Q_BELOW(x) nextafterf((x), -INFINITY)
+#define Q_ABOVE(x) nextafterf((x), INFINITY)
+#endif
+
+/* ifo_check and ifo_tr_check, the configuration table's tests: ifo_init's
+ * and ifo_set_tr's verdicts at each bound of ifo.h.  ifo_check: imr_min in
+ * (0, 1], Tr at most IFO_TR_MAX_PU, f_base Ts in (1/2000, 1/128) (at
+ * 15 kHz a base of 7.5 .. 117.19 Hz); Tr's lower bound is ifo_design_tr's.
+ * ifo_tr_check on the Q20 Tr: [10 Ts, IFO_TR_MAX_PU] to the LSB, and
+ * Tr imr_min >= 2/64. */
+static void test_check(void **state)
+{
+    const float t1000 = 1000.0f * g_b.t_base_s;
+    const float tr[] = {TR_S, TR_S, TR_S, 0.9999f * t1000, 1.0001f * t1000};
+    const float imr[] = {1.0f, nextafterf(1.0f, 2.0f), 0.0f, 0.05f, 0.05f};
+    const ifo_status_t want[] = {IFO_OK, IFO_ERR_IMR_MIN, IFO_ERR_IMR_MIN, IFO_OK, IFO_ERR_TR};
+    const float fb[] = {117.0f, 118.0f, 7.6f, 7.4f};
+    const ifo_status_t want_fb[] = {IFO_OK, IFO_ERR_BASE, IFO_OK, IFO_ERR_BASE};
+    ifo_t f;
+    _iq20 lo, hi;
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof want / sizeof want[0]; i++) {
+        assert_int_equal(ifo_check(tr[i], &g_b, imr[i]), want[i]);
+        assert_int_equal(ifo_init(&f, tr[i], &g_b, imr[i]), want[i]);
+    }
+    for (i = 0; i < sizeof want_fb / sizeof want_fb[0]; i++) {
+        base_values_t b;
+        assert_int_equal(base_values_init(&b, 20.0f, 34.64f, fb[i], 2u, TS_S), BASE_OK);
+        assert_int_equal(ifo_check(0.05f, &b, 0.05f), want_fb[i]);
+        assert_int_equal(ifo_init(&f, 0.05f, &b, 0.05f), want_fb[i]);
+    }
+    /* below 10 Ts: ifo_design_tr's refusal, not ifo_check's */
+    assert_int_equal(ifo_check(5.0f * TS_S, &g_b, 0.05f), IFO_OK);
+    assert_int_equal(ifo_check(TR_S, NULL, 0.05f), IFO_ERR_BASE);
+
+    assert_int_equal(ifo_init(&f, TR_S, &g_b, 1.0f), IFO_OK);   /* no slip bound at 10 Ts */
+    lo = _IQtoIQ20(_IQmpy(f.ts, _IQ(IFO_TR_MIN_SAMPLES)));
+    hi = _IQ20(IFO_TR_MAX_PU);
+    assert_int_equal(ifo_tr_check(f.ts, f.imr_min, lo), IFO_OK);
+    assert_int_equal(ifo_tr_check(f.ts, f.imr_min, Q_BELOW(lo)), IFO_ERR_TR);
+    assert_int_equal(ifo_set_tr(&f, Q_BELOW(lo)), IFO_ERR_TR);
+    assert_int_equal(ifo_tr_check(f.ts, f.imr_min, hi), IFO_OK);
+    assert_int_equal(ifo_tr_check(f.ts, f.imr_min, Q_ABOVE(hi)), IFO_ERR_TR);
+    assert_int_equal(ifo_set_tr(&f, Q_ABOVE(hi)), IFO_ERR_TR);
+    assert_int_equal(ifo_tr_check(f.ts, _IQ(0.03125), _IQ20(1.0)), IFO_OK);
+    assert_int_equal(ifo_tr_check(f.ts, Q_BELOW(_IQ(0.03125)), _IQ20(1.0)), IFO_ERR_IMR_MIN);
+    assert_int_equal(ifo_set_tr(&f, lo), IFO_OK);
+}
+
 /* ifo_design_tr: the Tr constants in float, what ifo_init computes and the
  * drive's background posts to the ISR.  From the pu floats ifo_init
  * derives: equal to the initialised module's.  Against double: Tr within
@@ -665,6 +721,7 @@ int main(void)
         cmocka_unit_test(test_small_imr_guard),
         cmocka_unit_test(test_theta_mid),
         cmocka_unit_test(test_init_errors),
+        cmocka_unit_test(test_check),
         cmocka_unit_test(test_encoder_angle_mode),
         cmocka_unit_test(test_align),
     };

@@ -135,12 +135,35 @@ static void test_init_errors(void **state)
     assert_int_equal(dc_bus_init(&d, V_FS, &g_b, 1.0f), DC_BUS_OK);
 }
 
+/* dc_bus_check, the configuration table's test: init's verdict, at each
+ * bound.  Full scale: V_fs / V_base * 65536/65520 below
+ * DC_BUS_FULL_SCALE_MAX_PU (64 x 34.641 V x 65520/65536 = 2216.5 V); the
+ * cut-off below 1/(2 Ts) (7500 Hz) with a >= DC_BUS_FILTER_A_MIN (a = 1e-4
+ * at 0.2387 Hz). */
+static void test_check(void **state)
+{
+    const float fs_max = DC_BUS_FULL_SCALE_MAX_PU * g_b.V_base_V * (65520.0f / 65536.0f);
+    const float fs[] = {fs_max * 0.9999f, fs_max * 1.0001f, V_FS, V_FS, V_FS, V_FS};
+    const float fc[] = {100.0f, 100.0f, 7499.0f, 7500.0f, 0.24f, 0.238f};
+    const dc_bus_status_t want[] = {DC_BUS_OK, DC_BUS_ERR_FULL_SCALE, DC_BUS_OK,
+                                    DC_BUS_ERR_CUTOFF, DC_BUS_OK, DC_BUS_ERR_CUTOFF};
+    dc_bus_t d;
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof want / sizeof want[0]; i++) {
+        assert_int_equal(dc_bus_check(fs[i], &g_b, fc[i]), want[i]);
+        assert_int_equal(dc_bus_init(&d, fs[i], &g_b, fc[i]), want[i]);
+    }
+    assert_int_equal(dc_bus_check(V_FS, NULL, 100.0f), DC_BUS_ERR_BASE);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_scaling),
         cmocka_unit_test(test_filter_step_response),
         cmocka_unit_test(test_init_errors),
+        cmocka_unit_test(test_check),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

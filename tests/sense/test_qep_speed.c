@@ -316,6 +316,37 @@ static void test_init_errors(void **state)
     assert_int_equal(qep_speed_init(&q, LINES, &g_b, 100.0f, 1u), QEP_SPEED_OK);
 }
 
+/* qep_speed_check and qep_speed_decim_check, the configuration table's
+ * tests: init's and set_decim's verdicts, at each bound.  One count in one
+ * sample below 1 pu: pp / (cpr Ts f_base) < 1, cpr > 600, more than 150
+ * lines; the speed filter's corner below 1/(2 decim Ts) (937.5 Hz at
+ * decim 8), decim a power of two up to W. */
+static void test_check(void **state)
+{
+    qep_speed_t q;
+    (void)state;
+    assert_int_equal(qep_speed_check(151u, &g_b, 100.0f, W), QEP_SPEED_OK);
+    assert_int_equal(qep_speed_check(150u, &g_b, 100.0f, W), QEP_SPEED_ERR_RESOLUTION);
+    assert_int_equal(qep_speed_init(&q, 150u, &g_b, 100.0f, W), QEP_SPEED_ERR_RESOLUTION);
+    assert_int_equal(qep_speed_check(QEP_SPEED_LINES_MAX, &g_b, 100.0f, W), QEP_SPEED_OK);
+    assert_int_equal(qep_speed_check(QEP_SPEED_LINES_MAX + 1u, &g_b, 100.0f, W),
+                     QEP_SPEED_ERR_LINES);
+    assert_int_equal(qep_speed_check(LINES, &g_b, 7499.0f, W), QEP_SPEED_OK);
+    assert_int_equal(qep_speed_check(LINES, &g_b, 7500.0f, W), QEP_SPEED_ERR_CUTOFF);
+    assert_int_equal(qep_speed_check(LINES, &g_b, 100.0f, 3u), QEP_SPEED_ERR_WINDOW);
+    assert_int_equal(qep_speed_check(LINES, NULL, 100.0f, W), QEP_SPEED_ERR_BASE);
+
+    assert_int_equal(qep_speed_init(&q, LINES, &g_b, 100.0f, W), QEP_SPEED_OK);
+    assert_int_equal(qep_speed_decim_check(8u, W, &g_b, 937.0f), QEP_SPEED_OK);
+    assert_int_equal(qep_speed_set_decim(&q, 8u, &g_b, 937.0f), QEP_SPEED_OK);
+    assert_int_equal(qep_speed_decim_check(8u, W, &g_b, 938.0f), QEP_SPEED_ERR_CUTOFF);
+    assert_int_equal(qep_speed_set_decim(&q, 8u, &g_b, 938.0f), QEP_SPEED_ERR_CUTOFF);
+    assert_int_equal(qep_speed_decim_check(W, W, &g_b, 100.0f), QEP_SPEED_OK);
+    assert_int_equal(qep_speed_decim_check(2u * W, W, &g_b, 100.0f), QEP_SPEED_ERR_WINDOW);
+    assert_int_equal(qep_speed_decim_check(6u, W, &g_b, 100.0f), QEP_SPEED_ERR_WINDOW);
+    assert_int_equal(qep_speed_decim_check(8u, W, NULL, 100.0f), QEP_SPEED_ERR_BASE);
+}
+
 /* speed_1, the one-sample speed of a W = 16 instance, is exactly (to the bit)
  * the speed_raw of a W = 1 instance fed the same counts: irregular steps of
  * -40..+40 counts through both wraps of the 16-bit counter and beyond the
@@ -382,6 +413,7 @@ int main(void)
         cmocka_unit_test(test_saturation),
         cmocka_unit_test(test_init_errors),
         cmocka_unit_test(test_one_sample_speed),
+        cmocka_unit_test(test_check),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }
