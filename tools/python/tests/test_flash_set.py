@@ -48,6 +48,32 @@ def test_flash_set_keeps_shared_helpers_in_ram(roots):
     assert {"disarm", "drive_slow_task"} <= slow - flash
 
 
+def test_fast_in_slow_ram_takes_only_what_its_roots_alone_reach(roots, monkeypatch):
+    """FAST_IN_SLOW_RAM: control-ISR code placed in H0 (the slow include) in the
+    flash image: its root and what only it reaches; a helper the control ISR
+    also calls elsewhere stays in the fast set, and the includes list the moved
+    code once per image (#ifndef / #ifdef ISR_RAM_IMAGE)."""
+    monkeypatch.setattr(bench_size, "FAST_IN_SLOW_RAM", ("test_period",))
+    g = graph({
+        "isr_control": ["drive_isr"],
+        "drive_isr": ["test_period", "svgen_step", "test_step"],   # test_step: the flash root
+        "test_period": ["pulse", "svgen_step"],
+        "pulse": ["unit"],
+        "isr_slow": ["drive_slow_task"],
+        "drive_slow_task": ["change", "disarm"],
+        "disarm": ["pulse"],                      # the slow ISR reaches it too: still moved
+    })
+    assert bench_size.fast_in_slow_ram(g) == {"test_period", "pulse", "unit"}
+    fast_txt, slow_txt = bench_size.isr_cmd_texts(g)
+    for txt, which in ((fast_txt, "#ifdef ISR_RAM_IMAGE"), (slow_txt, "#ifndef ISR_RAM_IMAGE")):
+        block = txt.split(which, 1)[1].split("#endif", 1)[0]
+        assert "_test_period)" in block and "_pulse)" in block and "_svgen_step)" not in block
+    assert "_svgen_step)" in fast_txt.split("#ifdef ISR_RAM_IMAGE", 1)[0]
+    monkeypatch.setattr(bench_size, "FAST_IN_SLOW_RAM", ("nowhere",))
+    with pytest.raises(SystemExit, match="nowhere"):
+        bench_size.fast_in_slow_ram(g)
+
+
 def test_flash_root_off_the_isr_path_is_an_error(roots):
     g = graph({"isr_control": ["drive_isr"], "isr_slow": ["drive_slow_task"],
                "drive_isr": ["test_step"], "drive_slow_task": []})
@@ -76,7 +102,9 @@ def test_committed_includes_name_the_flash_set_in_ifdef_blocks():
 
 def test_flash_lines_cover_each_function_body():
     spans, names = bench_isr.flash_lines()
-    assert "id_sequence_step" in names and "sensor_test_step" in names
+    assert "id_sequence_step" in names and "flux_obs_step_a" in names
+    # the sensor test's pulses run from H0 (FAST_IN_SLOW_RAM), not from flash
+    assert "sensor_test_step" not in names and "drive_safety_test_period" not in names
     seq = str(ROOT / "src/app/id_sequence.c")
     src = Path(seq).read_text().splitlines()
     first, last = next((a, b) for a, b in spans[seq] if "id_sequence_step" in src[a - 1])
