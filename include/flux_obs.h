@@ -237,8 +237,9 @@ flux_obs_status_t flux_obs_set_step(flux_obs_t *o, const base_values_t *b, uint1
  *  holds (flux_obs_t.tr), each refusal named (flux_obs_set_step returns
  *  FLUX_OBS_ERR_BASE for every one): _BASE (n not a power of two in
  *  [1, 8]), _WC (w_c n Ts > 0.05), _WS_LPF (the ws low-pass step 2 pi f n Ts
- *  not in (0, 1]), _TR (Tr below 10 steps).  Also the table of limits'
- *  (drive_limits.c).  Float: init only. */
+ *  not in (0, 1]), _TR (Tr below 10 steps: flux_obs_design_tr's float test
+ *  on _IQ20toF(tr_pu), the one that designs the step's kf).  Also the table
+ *  of limits' (drive_limits.c).  Float: init only. */
 flux_obs_status_t flux_obs_step_check(const base_values_t *b, uint16_t n, float wc_Hz,
                                       float ws_lpf_Hz, _iq20 tr_pu);
 

@@ -147,6 +147,13 @@ typedef struct {
  */
 vi_curve_status_t vi_curve_init(vi_curve_t *v, float Ts_s, float i1_pu, float Tr_s, float kp,
                                 float ki, float u_max);
+/** vi_curve_init's check of its arguments alone (no struct), the status it
+ *  would return, in its order: _PERIOD, _CURRENT, _TIME (6 Tr / Ts above
+ *  65535: the current levels' settling count is 16-bit), _GAINS (pi_check).
+ *  The configuration's table of limits calls it too (drive_limits.c).
+ *  Float: init only. */
+vi_curve_status_t vi_curve_check(float Ts_s, float i1_pu, float Tr_s, float kp, float ki,
+                                 float u_max);
 /** Back to level 0 (background, while the ISR does not run the test: the
  *  next run starts it afresh). */
 void vi_curve_restart(vi_curve_t *v);

@@ -129,3 +129,13 @@ uint16_t drive_design_volt_comp(const drive_config_t *c)
 {
     return (c->ident.vi_test != 0u) ? 0u : c->board.dead_time_comp;
 }
+
+int16_t drive_design_imax_ok(float i_max_pu)
+{
+    return (int16_t)(i_max_pu > 0.0f && i_max_pu <= 1.0f);
+}
+
+int16_t drive_design_oc_ok(const drive_board_t *bd)
+{
+    return (int16_t)(bd->overcurrent_A < bd->current_full_scale_A);
+}

@@ -145,6 +145,15 @@ void drive_design_k_nominal(float k[RLS_N], const drive_config_t *c, const base_
 float drive_design_volt_band_pu(const drive_config_t *c, const base_values_t *b);
 uint16_t drive_design_volt_comp(const drive_config_t *c);
 
+/** The drive's own rules, the ones no module checks, judged once for
+ *  drive_init and the table of limits: 1 if the speed PI's torque-current
+ *  limit @p i_max_pu (drive_design_t.i_max) is in (0, 1] pu (the current
+ *  loops' range; NaN fails), else 0. */
+int16_t drive_design_imax_ok(float i_max_pu);
+/** 1 if @p bd's overcurrent trip is below the current sensors' full scale
+ *  (a trip level the sensors cannot read never trips; NaN fails), else 0. */
+int16_t drive_design_oc_ok(const drive_board_t *bd);
+
 /** The extraction's plausibility ranges: a factor of 4 either way of the
  *  believed motor, every upper end kept below 120 pu (Q24). */
 void drive_design_param_limits(param_limits_t *lim, const drive_config_t *c,

@@ -87,7 +87,7 @@ static int16_t init_speed_loop(drive_t *d, const drive_config_t *c, const drive_
 {
     float imax = g->i_max;
 
-    if (!(c->control.inertia_kgm2 > 0.0f) || !(imax > 0.0f) || imax > 1.0f) {
+    if (!(c->control.inertia_kgm2 > 0.0f) || drive_design_imax_ok(imax) == 0) {
         return 1;
     }
     d->k.i_max = _IQ(imax);
@@ -308,7 +308,7 @@ int16_t drive_init_checked(drive_t *d, const drive_config_t *c)
     if (protect_init(&d->prot.trip, _IQ(c->board.overcurrent_A / d->base.I_base_A),
                      _IQ(c->board.vdc_max_V / d->base.V_base_V),
                      _IQ(c->board.vdc_min_V / d->base.V_base_V)) != 0 ||
-        !(c->board.overcurrent_A < c->board.current_full_scale_A)) {
+        drive_design_oc_ok(&c->board) == 0) {
         return DRIVE_CFG_PROTECTION;
     }
     /* encoder plausibility (encoder_check.h): counts frozen for 50 ms with

@@ -410,7 +410,7 @@ static int16_t check_loops(const drive_limit_t *l, const limit_ctx_t *x,
     case DRIVE_LD_CUR_KI:
         return own_verdict(l, (int16_t)(cur_pi(g) != PI_ERR_KI), g->cur_ki, f);
     case DRIVE_LD_IMAX:
-        return verdict((int16_t)(g->i_max > 0.0f && g->i_max <= 1.0f), f,
+        return verdict(drive_design_imax_ok(g->i_max), f,
                        c->control.max_torque_current_A, 0.0f, b->I_base_A, LO_OPEN);
     case DRIVE_LD_SPD_KP:
         return own_verdict(l, (int16_t)(spd_pi(g) != PI_ERR_KP), g->spd_kp, f);
@@ -505,16 +505,13 @@ static int16_t check_observer(const drive_limit_t *l, const limit_ctx_t *x,
                                  obs_step(x) != FLUX_OBS_ERR_WC),
                        f, b->f_base_Hz, FOBS_WC_HZ / FLUX_OBS_WC_MAX_PU, NO_UPPER, HI_OPEN);
     case DRIVE_LD_OBS_PWM: {
-        /* its step DRIVE_SLOTS Ts: the ws low-pass at most 1 rad a step
-         * (flux_obs_set_step's), the believed Tr at least
-         * FLUX_OBS_TR_MIN_SAMPLES steps: in seconds here, where
-         * flux_obs_set_step compares the Q20 Tr (the two differ by the
-         * conversion: kept as it was, not to move the limit) */
-        const float step = b->Ts_s * (float)DRIVE_SLOTS;
+        /* its step DRIVE_SLOTS Ts (flux_obs_set_step's): the ws low-pass at
+         * most 1 rad a step, the believed Tr at least FLUX_OBS_TR_MIN_SAMPLES
+         * steps */
+        const flux_obs_status_t st = obs_step(x);
         const float f_min = fmaxf(6.2831853f * FOBS_WS_LPF_HZ,
                                   FLUX_OBS_TR_MIN_SAMPLES / x->g.tr) * (float)DRIVE_SLOTS;
-        return verdict((int16_t)(obs_step(x) != FLUX_OBS_ERR_WS_LPF &&
-                                 x->g.tr >= FLUX_OBS_TR_MIN_SAMPLES * step),
+        return verdict((int16_t)(st != FLUX_OBS_ERR_WS_LPF && st != FLUX_OBS_ERR_TR),
                        f, 1.0f / b->Ts_s, f_min, NO_UPPER, HI_OPEN);
     }
     case DRIVE_LD_OBS_RS:
@@ -582,24 +579,26 @@ static int16_t check_voltage_model(const drive_limit_t *l, const limit_ctx_t *x,
         return verdict((int16_t)(vc != VOLT_CALC_ERR_DROP), f, bd->device_drop_V, 0.0f,
                        VOLT_CALC_DROP_MAX_PU * b->V_base_V, 0u);
     case DRIVE_LD_VI_HOLD:
-        /* the zone is measured (drive_vi.c) and checked when it is
-         * (volt_calc_curve_design); vi_curve_init holds a current level
-         * 6 Tr in a 16-bit count of slow samples (its own test, 6 Tr / Ts
-         * <= 65535, is another float than this one: kept as it was, not
-         * to move the limit) */
-        v = 65535.0f * x->g.Ts_slow / 6.0f;
-        return verdict((int16_t)(x->c->ident.vi_test == 0u || bd->dead_time_comp == 0u ||
-                                 x->g.tr <= v),
-                       f, x->g.tr, 0.0f, v, LO_OPEN);
     case DRIVE_LD_VI_GAINS: {
-        /* vi_curve_init's pi_init: the current levels' PI within PI_KP_MAX,
-         * PI_KI_MAX (a large Rs against Z_base makes ki large) */
+        /* the bridge's curve test (drive_vi_init: vi_curve_check on its
+         * arguments); its zone is measured (drive_vi.c) and checked when it
+         * is (volt_calc_curve_design) */
         float kp, ki, u_max;
         pi_status_t st;
         if (x->c->ident.vi_test == 0u || bd->dead_time_comp == 0u) {
             return 0;
         }
         drive_vi_gains(x->c, b, x->g.Ts_slow, x->g.sls, &kp, &ki, &u_max);
+        if (which == DRIVE_LD_VI_HOLD) {
+            /* a current level held 6 Tr in a 16-bit count of slow samples */
+            v = 65535.0f * x->g.Ts_slow / 6.0f;
+            return verdict((int16_t)(vi_curve_check(x->g.Ts_slow, drive_vi_i1_pu(x->c, b),
+                                                    x->g.tr, kp, ki, u_max) !=
+                                     VI_CURVE_ERR_TIME),
+                           f, x->g.tr, 0.0f, v, LO_OPEN);
+        }
+        /* its PI within PI_KP_MAX, PI_KI_MAX (a large Rs against Z_base
+         * makes ki large): pi_check names the gain */
         st = pi_check(kp, ki, -u_max, u_max);
         if (st == PI_ERR_KP) {
             return verdict(0, f, kp, 0.0f, PI_KP_MAX, 0u);
@@ -858,7 +857,7 @@ static int16_t check_sequence_and_protection(const drive_limit_t *l, const limit
                        bd->dead_time_s, 0.0f, (allowed - bd->device_drop_V) / per_s, 0u);
     }
     case DRIVE_LD_OC_FS:   /* drive_init's (below the sensors' full scale), then protect_init's */
-        ok = (int16_t)(bd->overcurrent_A < bd->current_full_scale_A);
+        ok = drive_design_oc_ok(bd);
         if (ok != 0) {
             ok = (int16_t)(protect_levels(x, 0u) != PROTECT_ERR_TRIP);
         }

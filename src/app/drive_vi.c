@@ -63,6 +63,11 @@ void drive_vi_gains(const drive_config_t *c, const base_values_t *b, float Ts_sl
     *u_max = 0.5f * c->board.vdc_nominal_V / 1.7320508f / b->V_base_V;
 }
 
+float drive_vi_i1_pu(const drive_config_t *c, const base_values_t *b)
+{
+    return DRIVE_VI_I1_OF_IM * c->motor.magnetizing_current_A / b->I_base_A;
+}
+
 int16_t drive_vi_init(drive_t *d, const drive_config_t *c, float Ts_slow, float sls_H,
                       float tr_s)
 {
@@ -75,7 +80,7 @@ int16_t drive_vi_init(drive_t *d, const drive_config_t *c, float Ts_slow, float 
     d->vi.wait = 0u;
     d->vi.wait_max = (uint32_t)(DRIVE_VI_WAIT_S / Ts_slow + 0.5f);
     d->vi.dt_frac = c->board.dead_time_s * f_slow * (float)DRIVE_SLOTS;
-    d->vi.i1_0 = DRIVE_VI_I1_OF_IM * c->motor.magnetizing_current_A / b->I_base_A;
+    d->vi.i1_0 = drive_vi_i1_pu(c, b);
     /* +-2 i1 within the torque-current limit (the current loops' own, at
      * least i_M: the first test's 2 i1) */
     d->vi.i1_max = 0.5f * fmaxf(c->control.max_torque_current_A, c->motor.magnetizing_current_A) /

@@ -22,6 +22,11 @@ static inline uint16_t drive_vi_done(const drive_t *d) { return d->vi.done; }
 void drive_vi_gains(const drive_config_t *c, const base_values_t *b, float Ts_slow, float sls_H,
                     float *kp, float *ki, float *u_max);
 
+/** The test's first current level i1, pu of I_base (DRIVE_VI_I1_OF_IM of
+ *  i_M), as drive_vi_init gives it to vi_curve_init; shared with the
+ *  configuration's limit table (drive_limits.c). */
+float drive_vi_i1_pu(const drive_config_t *c, const base_values_t *b);
+
 /** Once, from drive_init after the sequence (float): with the board's
  *  dead_time_comp the test is armed (seq.vi_test) and the compensation
  *  stays off until its curve is applied.  Returns 0, or 1 when vi_curve

@@ -39,26 +39,39 @@ static void start_level(vi_curve_t *v, uint16_t l, float u_now)
     v->n = 0u;
 }
 
-vi_curve_status_t vi_curve_init(vi_curve_t *v, float Ts_s, float i1_pu, float Tr_s, float kp,
-                                float ki, float u_max)
+vi_curve_status_t vi_curve_check(float Ts_s, float i1_pu, float Tr_s, float kp, float ki,
+                                 float u_max)
 {
-    float tr_n;
-    uint16_t k = VI_AVG_MIN_SHIFT;
-
-    memset(v, 0, sizeof *v);
     if (!(Ts_s > 0.0f) || !(Tr_s > 0.0f)) {
         return VI_CURVE_ERR_PERIOD;
     }
     if (!(i1_pu > 0.0f) || !(2.0f * i1_pu <= VI_CURVE_I_MAX_PU)) {
         return VI_CURVE_ERR_CURRENT;
     }
-    tr_n = Tr_s / Ts_s;
-    if (!(6.0f * tr_n <= 65535.0f)) {
+    /* the float vi_curve_init rounds up to settle_i_n: it must fit 16 bits */
+    if (!(6.0f * (Tr_s / Ts_s) <= 65535.0f)) {
         return VI_CURVE_ERR_TIME;
     }
-    if (pi_init(&v->pi, kp, ki, -u_max, u_max) != PI_OK) {
+    if (pi_check(kp, ki, -u_max, u_max) != PI_OK) {
         return VI_CURVE_ERR_GAINS;
     }
+    return VI_CURVE_OK;
+}
+
+vi_curve_status_t vi_curve_init(vi_curve_t *v, float Ts_s, float i1_pu, float Tr_s, float kp,
+                                float ki, float u_max)
+{
+    float tr_n;
+    uint16_t k = VI_AVG_MIN_SHIFT;
+    vi_curve_status_t st;
+
+    memset(v, 0, sizeof *v);
+    st = vi_curve_check(Ts_s, i1_pu, Tr_s, kp, ki, u_max);
+    if (st != VI_CURVE_OK) {
+        return st;
+    }
+    tr_n = Tr_s / Ts_s;
+    (void)pi_init(&v->pi, kp, ki, -u_max, u_max);   /* pi_check passed above */
     v->i1 = i1_pu;
     v->settle_n = (uint16_t)ceilf(3.0f * tr_n);
     v->settle_i_n = (uint16_t)ceilf(6.0f * tr_n);

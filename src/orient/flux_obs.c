@@ -202,7 +202,10 @@ flux_obs_status_t flux_obs_step_check(const base_values_t *b, uint16_t n, float 
     if (!(x_ws > 0.0f && x_ws <= 1.0f)) {
         return FLUX_OBS_ERR_WS_LPF;
     }
-    if (!(tr_pu >= _IQ20(FLUX_OBS_TR_MIN_SAMPLES * T_pu))) {
+    /* flux_obs_design_tr's test, which flux_obs_set_step applies to the
+     * float of the Q20 Tr it holds (the Q20 compare, truncated both sides,
+     * passed up to one LSB below it) */
+    if (!(_IQ20toF(tr_pu) >= FLUX_OBS_TR_MIN_SAMPLES * T_pu)) {
         return FLUX_OBS_ERR_TR;
     }
     return FLUX_OBS_OK;

@@ -27,6 +27,7 @@
 #include <cmocka.h>
 
 #include "drive_adapt.h"
+#include "drive_design.h"
 #include "drive_types.h"
 #include "sim_config.h"
 
@@ -134,6 +135,28 @@ static void test_rate_limit_per_pass(void **state)
     assert_true(fabs(lm - 1.5) < 1e-5 && fabs(lr - 1.5) < 1e-5);
 }
 
+/* The drive's own rules, drive_init's and the table's one test each: the
+ * torque-current limit in (0, 1] pu, the trip below the sensors' full
+ * scale, at their edges (adjacent floats) and for NaN. */
+static void test_drive_rules_at_edges(void **state)
+{
+    drive_board_t bd;
+    (void)state;
+    assert_int_equal(drive_design_imax_ok(1.0f), 1);
+    assert_int_equal(drive_design_imax_ok(nextafterf(1.0f, 2.0f)), 0);
+    assert_int_equal(drive_design_imax_ok(nextafterf(0.0f, 1.0f)), 1);
+    assert_int_equal(drive_design_imax_ok(0.0f), 0);
+    assert_int_equal(drive_design_imax_ok(nanf("")), 0);
+    memset(&bd, 0, sizeof bd);
+    bd.current_full_scale_A = 20.0f;
+    bd.overcurrent_A = nextafterf(20.0f, 0.0f);
+    assert_int_equal(drive_design_oc_ok(&bd), 1);
+    bd.overcurrent_A = 20.0f;
+    assert_int_equal(drive_design_oc_ok(&bd), 0);
+    bd.overcurrent_A = nanf("");
+    assert_int_equal(drive_design_oc_ok(&bd), 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -141,6 +164,7 @@ int main(void)
         cmocka_unit_test(test_modulation_advance),
         cmocka_unit_test(test_tracker_guard),
         cmocka_unit_test(test_rate_limit_per_pass),
+        cmocka_unit_test(test_drive_rules_at_edges),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -11,6 +11,7 @@
 #include <math.h>
 #include <cmocka.h>
 
+#include "pi_ctrl.h"
 #include "vi_curve.h"
 
 #define TS_S (8.0f / 15000.0f)
@@ -81,11 +82,49 @@ static void test_retry_refuses_bad_i1(void **state)
     assert_int_equal(vi_curve_retry(&v, 2.0f), VI_CURVE_OK);   /* 2 i1 = 4: the edge */
 }
 
+/* vi_curve_check, the configuration table's test too: each refusal at its
+ * bound, in its order, and vi_curve_init's verdict the same.  Ts 1 s: 6 Tr
+ * / Ts = 65535 exactly at Tr 10922.5 s (the settling count's 16 bits). */
+static void test_check_bounds(void **state)
+{
+    static const struct {
+        float ts, i1, tr, kp, ki;
+        vi_curve_status_t want;
+    } c[] = {
+        {1.0f, 0.05f, 10922.5f, 0.5f, 0.01f, VI_CURVE_OK},
+        {1.0f, 0.05f, 10922.501f, 0.5f, 0.01f, VI_CURVE_ERR_TIME},   /* next float */
+        {0.0f, 0.05f, 0.1f, 0.5f, 0.01f, VI_CURVE_ERR_PERIOD},
+        {TS_S, 0.05f, 0.0f, 0.5f, 0.01f, VI_CURVE_ERR_PERIOD},
+        {TS_S, 2.0f, 0.1f, 0.5f, 0.01f, VI_CURVE_OK},                /* 2 i1 = 4 */
+        {TS_S, 2.0000002f, 0.1f, 0.5f, 0.01f, VI_CURVE_ERR_CURRENT},
+        {TS_S, 0.0f, 0.1f, 0.5f, 0.01f, VI_CURVE_ERR_CURRENT},
+        {TS_S, 0.05f, 0.1f, PI_KP_MAX, PI_KI_MAX, VI_CURVE_OK},
+        {TS_S, 0.05f, 0.1f, 100.00001f, 0.01f, VI_CURVE_ERR_GAINS},
+        {TS_S, 0.05f, 0.1f, 0.5f, 1.0000001f, VI_CURVE_ERR_GAINS},
+        {TS_S, 5.0f, 20000.0f, 200.0f, 0.01f, VI_CURVE_ERR_CURRENT},  /* the first named */
+        {1.0f, 0.05f, 20000.0f, 200.0f, 0.01f, VI_CURVE_ERR_TIME},
+    };
+    vi_curve_t v;
+    size_t i;
+    (void)state;
+    assert_true(nextafterf(10922.5f, 20000.0f) == 10922.501f);
+    for (i = 0; i < sizeof c / sizeof c[0]; i++) {
+        assert_int_equal(vi_curve_check(c[i].ts, c[i].i1, c[i].tr, c[i].kp, c[i].ki, 0.5f),
+                         c[i].want);
+        assert_int_equal(vi_curve_init(&v, c[i].ts, c[i].i1, c[i].tr, c[i].kp, c[i].ki, 0.5f),
+                         c[i].want);
+    }
+    /* at the edge the settling count is the full 16 bits */
+    assert_int_equal(vi_curve_init(&v, 1.0f, 0.05f, 10922.5f, 0.5f, 0.01f, 0.5f), VI_CURVE_OK);
+    assert_int_equal(v.settle_i_n, 65535u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_retry_restarts_with_new_i1),
         cmocka_unit_test(test_retry_refuses_bad_i1),
+        cmocka_unit_test(test_check_bounds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -698,8 +698,8 @@ static void test_init_errors(void **state)
  * FLUX_OBS_WC_MAX_PU (50 Hz), the ws low-pass 2 pi f Ts <= 1 (2387.3 Hz),
  * Rs at most FLUX_OBS_RS_MAX (4 Z_base = 6.93 ohm).  The step of 8
  * samples: w_c 8 Ts <= FLUX_OBS_G_MAX (14.92 Hz), 2 pi f 8 Ts <= 1
- * (298.4 Hz), the Q20 Tr at least 10 steps (to the LSB); set_step names
- * each refusal FLUX_OBS_ERR_BASE. */
+ * (298.4 Hz), the float of the Q20 Tr at least 10 steps (to the LSB);
+ * set_step names each refusal FLUX_OBS_ERR_BASE. */
 static void test_check(void **state)
 {
     static const struct {
@@ -723,7 +723,7 @@ static void test_check(void **state)
         {WC_HZ, 299.0f, FLUX_OBS_ERR_WS_LPF},
     };
     flux_obs_t o;
-    _iq20 tr_lo;
+    _iq20 tr_lo, tr_below;
     size_t i;
     (void)state;
     for (i = 0; i < sizeof c_init / sizeof c_init[0]; i++) {
@@ -745,16 +745,29 @@ static void test_check(void **state)
         assert_int_equal(flux_obs_set_step(&o, &g_b, 8u, c_step[i].wc, c_step[i].wf),
                          (c_step[i].want == FLUX_OBS_OK) ? FLUX_OBS_OK : FLUX_OBS_ERR_BASE);
     }
+    /* the least Tr: the first Q20 value whose float reaches 10 steps (the
+     * truncated conversion of the bound itself falls short: set_step's kf
+     * design refused it) */
     tr_lo = _IQ20(FLUX_OBS_TR_MIN_SAMPLES * (g_b.Ts_pu * 8.0f));
-    assert_int_equal(flux_obs_step_check(&g_b, 8u, WC_HZ, WS_LPF_HZ, tr_lo), FLUX_OBS_OK);
 #if MATH_TYPE == IQ_MATH
-    assert_int_equal(flux_obs_step_check(&g_b, 8u, WC_HZ, WS_LPF_HZ, tr_lo - 1),
-                     FLUX_OBS_ERR_TR);
+    if (_IQ20toF(tr_lo) < FLUX_OBS_TR_MIN_SAMPLES * (g_b.Ts_pu * 8.0f)) {
+        tr_lo++;
+    }
+    tr_below = tr_lo - 1;
 #else
-    assert_int_equal(flux_obs_step_check(&g_b, 8u, WC_HZ, WS_LPF_HZ,
-                                         nextafterf(tr_lo, 0.0f)),
-                     FLUX_OBS_ERR_TR);
+    tr_below = nextafterf(tr_lo, 0.0f);
 #endif
+    assert_int_equal(flux_obs_step_check(&g_b, 8u, WC_HZ, WS_LPF_HZ, tr_lo), FLUX_OBS_OK);
+    assert_int_equal(flux_obs_step_check(&g_b, 8u, WC_HZ, WS_LPF_HZ, tr_below), FLUX_OBS_ERR_TR);
+    /* set_step on an observer holding each: the same verdicts */
+    assert_int_equal(flux_obs_init(&o, &g_b, RS_OHM, LS_H, LR_H, LM_H, TR_S, WC_HZ, WS_LPF_HZ),
+                     FLUX_OBS_OK);
+    o.tr = tr_lo;
+    assert_int_equal(flux_obs_set_step(&o, &g_b, 8u, WC_HZ, WS_LPF_HZ), FLUX_OBS_OK);
+    assert_int_equal(flux_obs_init(&o, &g_b, RS_OHM, LS_H, LR_H, LM_H, TR_S, WC_HZ, WS_LPF_HZ),
+                     FLUX_OBS_OK);
+    o.tr = tr_below;
+    assert_true(flux_obs_set_step(&o, &g_b, 8u, WC_HZ, WS_LPF_HZ) != FLUX_OBS_OK);
     assert_int_equal(flux_obs_step_check(&g_b, 3u, WC_HZ, WS_LPF_HZ, o.tr), FLUX_OBS_ERR_BASE);
     assert_int_equal(flux_obs_step_check(NULL, 8u, WC_HZ, WS_LPF_HZ, o.tr), FLUX_OBS_ERR_BASE);
 }
