@@ -204,6 +204,29 @@ static void standstill_set(drive_t *d)
     post(d, &s, v);
 }
 
+/* Ls of a new model's Lm, Lr with the standstill test's sigma Ls: sigma Ls +
+ * Lm^2/Lr (Lr > Lm > 0: the quotient < 1 by _IQdiv; < 8 + 16); without that
+ * test, ls as given. */
+static void ls_from_sigma(const drive_t *d, _iq v[DRIVE_ADAPT_NP])
+{
+    if (d->telemetry.sigma_ls_dc != _IQ(0.0)) {
+        v[DRIVE_P_LS] = d->telemetry.sigma_ls_dc +
+                        _IQmpy(v[DRIVE_P_LM], _IQdiv(v[DRIVE_P_LM], v[DRIVE_P_LR]));
+    }
+}
+
+/* Each parameter of a new model within a factor 2 of the model in use (the
+ * designs' ranges): Q24 parameters below 120 pu, Tr (Q20) below
+ * IFO_TR_MAX_PU. */
+static void within_factor_2_of_applied(const drive_adapt_bg_t *g, _iq v[DRIVE_ADAPT_NP])
+{
+    uint16_t i;
+    for (i = 0u; i < DRIVE_ADAPT_NP; i++) {
+        v[i] = within_factor_2(v[i], g->applied[i],
+                               (i == DRIVE_P_TR) ? _IQ20(IFO_TR_MAX_PU) : _IQ(120.0));
+    }
+}
+
 /* The standstill sequence's set as the model in use, whole (at rest nothing
  * runs on it: no blend): Rs, Lm, Lr, Tr as published; Ls = sigma Ls +
  * Lm^2/Lr with the standstill test's sigma Ls (its lock-in ran in the
@@ -214,22 +237,14 @@ static void seed(drive_t *d)
     drive_adapt_bg_t *g = &d->adapt.bg;
     drive_model_set_t s;
     _iq v[DRIVE_ADAPT_NP];
-    uint16_t i;
 
     v[DRIVE_P_RS] = g->m_rs;
     v[DRIVE_P_LM] = g->m_lm;
     v[DRIVE_P_LR] = g->m_lr;
     v[DRIVE_P_LS] = g->m_ls;
     v[DRIVE_P_TR] = g->m_tr;
-    if (d->telemetry.sigma_ls_dc != _IQ(0.0)) {
-        /* Lr > Lm > 0: the quotient < 1 by _IQdiv; < 8 + 16 */
-        v[DRIVE_P_LS] = d->telemetry.sigma_ls_dc +
-                        _IQmpy(g->m_lm, _IQdiv(g->m_lm, g->m_lr));
-    }
-    for (i = 0u; i < DRIVE_ADAPT_NP; i++) {
-        v[i] = within_factor_2(v[i], g->applied[i],
-                               (i == DRIVE_P_TR) ? _IQ20(IFO_TR_MAX_PU) : _IQ(120.0));
-    }
+    ls_from_sigma(d, v);
+    within_factor_2_of_applied(g, v);
     g->lr = v[DRIVE_P_LR];
     design(g, v, &s);
     s.state = ID_IDLE;
@@ -276,17 +291,9 @@ static void take_mail(drive_t *d)
         if (a->track_rr != 0u || g->m_full == 0u) {
             g->to[DRIVE_P_TR] = g->applied[DRIVE_P_TR];
         }
-        if (d->telemetry.sigma_ls_dc != _IQ(0.0)) {
-            /* Ls = sigma Ls + Lm^2/Lr of the new Lm, Lr (Lr > Lm > 0: the
-             * quotient < 1 by _IQdiv; < 8 + 16) */
-            g->to[DRIVE_P_LS] = d->telemetry.sigma_ls_dc +
-                                _IQmpy(g->to[DRIVE_P_LM],
-                                       _IQdiv(g->to[DRIVE_P_LM], g->to[DRIVE_P_LR]));
-        }
+        ls_from_sigma(d, g->to);   /* Ls of the new Lm, Lr */
+        within_factor_2_of_applied(g, g->to);
         for (i = 0u; i < DRIVE_ADAPT_NP; i++) {
-            /* Q24 parameters below 120 pu, Tr (Q20) below IFO_TR_MAX_PU */
-            g->to[i] = within_factor_2(g->to[i], g->applied[i],
-                                       (i == DRIVE_P_TR) ? _IQ20(IFO_TR_MAX_PU) : _IQ(120.0));
             g->from[i] = g->applied[i];
         }
         g->lr = g->to[DRIVE_P_LR];
