@@ -77,9 +77,11 @@
  * in (flux_obs_apply_model, a few word copies, no division).  Likewise the
  * DC re-seat at standstill: flux_obs_seat_dc computes the states (fixed
  * point, outside the ISR), flux_obs_apply_seat copies them in.  The fixed-
- * point setters (flux_obs_set_rs, flux_obs_set_tr, flux_obs_set_inductances,
- * flux_obs_set_rs_dc) remain for callers without float; the drive's ISR
- * does not use them.  Rate limiting and blending of identified values is
+ * point setters (flux_obs_set_rs, flux_obs_set_tr, flux_obs_set_rs_dc)
+ * remain for callers without float; the drive's ISR does not use them.
+ * The inductances have no fixed-point setter: their ranges are one float
+ * test (flux_obs_l_check), the one flux_obs_design_l and the table of
+ * limits call.  Rate limiting and blending of identified values is
  * the caller's choice.
  */
 #ifndef FLUX_OBS_H
@@ -126,11 +128,21 @@ typedef enum {
     FLUX_OBS_OK = 0,
     FLUX_OBS_ERR_BASE,    /* bases NULL or not initialised, or f_base Ts not in (1/2000, 1/128) */
     FLUX_OBS_ERR_RS,      /* Rs not in [0, 4] pu */
-    FLUX_OBS_ERR_L,       /* not 0 < Lm < Lr, Lm < Ls, Lm <= 16, Lr/Lm <= 4, sigma Ls in (0, 4] */
+    FLUX_OBS_ERR_L,       /* flux_obs_l_check refuses an inductance */
     FLUX_OBS_ERR_TR,      /* Tr not in [10 Ts, FLUX_OBS_TR_MAX_PU] pu */
     FLUX_OBS_ERR_WC,      /* w_c not in (0, 1] pu, or w_c Ts > 0.05 */
     FLUX_OBS_ERR_WS_LPF   /* ws low-pass corner f not > 0 or 2 pi f Ts > 1 */
 } flux_obs_status_t;
+
+/** Which inductance flux_obs_l_check refuses, first in this order (a later
+ *  test assumes the earlier ones passed). */
+typedef enum {
+    FLUX_OBS_L_OK = 0,
+    FLUX_OBS_L_LM,    /* Lm not in (0, FLUX_OBS_LM_MAX] pu, or 0 in Q24 */
+    FLUX_OBS_L_LR,    /* Lr not in (Lm, FLUX_OBS_LR_LM_MAX Lm] */
+    FLUX_OBS_L_LS,    /* Ls not in (Lm, 2 FLUX_OBS_LM_MAX] pu */
+    FLUX_OBS_L_SLS    /* sigma Ls = Ls - Lm^2/Lr not in (0, FLUX_OBS_SIGMA_LS_MAX] pu, or 0 in Q24 */
+} flux_obs_l_fault_t;
 
 typedef struct {
     /* inputs (set before each flux_obs_step) */
@@ -252,15 +264,21 @@ void flux_obs_reset(flux_obs_t *o);
  * sigma Ls = Ls - Lm^2/Lr and kf = 1 - exp(-x), x = Ts/Tr, by its series to
  * x^5/120 (x <= 0.1: error < x^6/720 = 1.4e-9, below the float rounding),
  * each converted to Q24 by _IQ (truncation, < 1 LSB, plus the float's
- * rounding: relative 6e-8 of the value).  Ranges as the setters': Rs in
- * [0, 4]; 0 < Lm <= 16, Lm < Lr <= 4 Lm, Lm < Ls <= 32, sigma Ls in
- * (0, 4]; Tr in [10 Ts, FLUX_OBS_TR_MAX_PU], to Q20 by _IQ20 (NaN fails
+ * rounding: relative 6e-8 of the value).  Ranges: Rs in [0, 4] (as
+ * flux_obs_set_rs); the inductances as flux_obs_l_check; Tr in [10 Ts, FLUX_OBS_TR_MAX_PU], to Q20 by _IQ20 (NaN fails
  * every check).  Each group (Rs; the
  * inductances; Tr) is written only when its own check passes, so a refused
  * group keeps what @p m held (as a refusing setter keeps its old value).
  * flux_obs_design: all three, in that order; returns the first refusal.
  */
 flux_obs_status_t flux_obs_design_rs(flux_obs_model_t *m, float rs_pu);
+/** The inductances' ranges, the one test of them: flux_obs_design_l (and so
+ *  flux_obs_init and the background's estimated sets) refuses with
+ *  FLUX_OBS_ERR_L exactly when this is not FLUX_OBS_L_OK, and the table of
+ *  limits (drive_limits.c) names the inductance by it.  On the pu floats
+ *  (NaN fails every test); Lm and sigma Ls must also be nonzero in Q24 (the
+ *  model's Lm and sigma Ls are _IQ of them).  Float: not in the ISR. */
+flux_obs_l_fault_t flux_obs_l_check(float lm_pu, float lr_pu, float ls_pu);
 flux_obs_status_t flux_obs_design_l(flux_obs_model_t *m, float lm_pu, float lr_pu, float ls_pu);
 flux_obs_status_t flux_obs_design_tr(flux_obs_model_t *m, float ts_pu, float tr_pu);
 flux_obs_status_t flux_obs_design(flux_obs_model_t *m, float ts_pu, float rs_pu, float lm_pu,
@@ -353,13 +371,6 @@ flux_obs_status_t flux_obs_set_rs_dc(flux_obs_t *o, _iq rs_pu, _iq u_alpha, _iq 
  * < 1.4e-9).  Rejects (old value kept) outside [10 Ts, FLUX_OBS_TR_MAX_PU].
  */
 flux_obs_status_t flux_obs_set_tr(flux_obs_t *o, _iq20 tr_pu);
-
-/**
- * Lm, Lr, Ls in pu: Lr/Lm and Lm/Lr by _IQdiv (< 1 LSB), sigma Ls = Ls -
- * Lm (Lm/Lr) (< 2 LSB).  Rejects (all old values kept) unless 0 < Lm < Lr,
- * Lm < Ls, Lm <= 16, Lr/Lm <= 4 and 0 < sigma Ls <= 4.
- */
-flux_obs_status_t flux_obs_set_inductances(flux_obs_t *o, _iq lm_pu, _iq lr_pu, _iq ls_pu);
 
 /**
  * One sample (inputs set).  Scaling and overflow: inputs saturated to

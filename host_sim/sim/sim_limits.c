@@ -47,9 +47,9 @@ static const char *const k_why[DRIVE_LD_COUNT] = {
     [DRIVE_LD_OBS_RS] = "with controller.orientation = 1: at most 4 Z_base",
     [DRIVE_LD_OBS_LM] = "with controller.orientation = 1: at most 16 L_base",
     [DRIVE_LD_OBS_LR] = "with controller.orientation = 1: (nameplate.Lm_H + nameplate.Llr_H) / "
-                        "nameplate.Lm_H in (1, 4] in Q24",
+                        "nameplate.Lm_H in (1, 4]",
     [DRIVE_LD_OBS_LS] = "with controller.orientation = 1: nameplate.Lm_H + nameplate.Lls_H "
-                        "above Lm in Q24, at most 32 L_base",
+                        "above nameplate.Lm_H, at most 32 L_base",
     [DRIVE_LD_OBS_SLS] = "with controller.orientation = 1: Ls - Lm^2/Lr of the nameplate in "
                          "(0, 4 L_base]",
     [DRIVE_LD_DEAD] = "at most a quarter of the PWM period",

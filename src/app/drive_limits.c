@@ -485,16 +485,34 @@ static flux_obs_status_t obs_step(const limit_ctx_t *x)
                                _IQ20(x->g.tr / x->b.t_base_s));
 }
 
-/* flux_obs_init, flux_obs_set_step, and flux_obs_set_inductances, for
- * orientation 1 only */
+/* The table's entry for an inductance flux_obs_l_check refuses (none: an
+ * index no entry has) */
+static uint16_t obs_l_entry(flux_obs_l_fault_t lf)
+{
+    switch (lf) {
+    case FLUX_OBS_L_LM:
+        return DRIVE_LD_OBS_LM;
+    case FLUX_OBS_L_LR:
+        return DRIVE_LD_OBS_LR;
+    case FLUX_OBS_L_LS:
+        return DRIVE_LD_OBS_LS;
+    case FLUX_OBS_L_SLS:
+        return DRIVE_LD_OBS_SLS;
+    default:
+        return 0xFFFFu;
+    }
+}
+
+/* flux_obs_init, flux_obs_set_step, for orientation 1 only; the
+ * inductances by flux_obs_l_check, the test flux_obs_init applies to them,
+ * which names the one it refuses (flux_obs_init's status does not) */
 static int16_t check_observer(const drive_limit_t *l, const limit_ctx_t *x,
                               drive_limit_fail_t *f)
 {
     uint16_t which = l->where;
     const drive_motor_t *m = &x->c->motor;
     const base_values_t *b = &x->b;
-    float lm = m->Lm_H / b->L_base_H;
-    _iq lm_q, lr_q, ls_q, sls;
+    flux_obs_l_fault_t lf;
 
     if (x->c->control.orientation != DRIVE_ORIENT_FLUX_OBS) {
         return 0;
@@ -517,44 +535,28 @@ static int16_t check_observer(const drive_limit_t *l, const limit_ctx_t *x,
     case DRIVE_LD_OBS_RS:
         return verdict((int16_t)(obs_init(x) != FLUX_OBS_ERR_RS), f, m->Rs_ohm, 0.0f,
                        FLUX_OBS_RS_MAX * b->Z_base_ohm, 0u);
-    case DRIVE_LD_OBS_LM:
-        return verdict((int16_t)(lm <= FLUX_OBS_LM_MAX && _IQ(lm) > _IQ(0.0)), f, m->Lm_H, 0.0f,
-                       FLUX_OBS_LM_MAX * b->L_base_H, LO_OPEN);
     default:
         break;
     }
-    /* the inductances as flux_obs_set_inductances takes them, in Q24 (the
-     * float test first: the conversion of an Lr or Ls beyond Q24 would
-     * overflow): flux_obs_init's own test is on the pu floats, and its one
-     * status does not say which inductance; kept as they were, not to move
-     * a limit by the conversion.  They run after DRIVE_LD_OBS_LM: Lm is at
-     * most 16 pu */
-    lm_q = _IQ(lm);
-    if (which == DRIVE_LD_OBS_LR) {
-        if (!(m->Lr_H > m->Lm_H && m->Lr_H <= FLUX_OBS_LR_LM_MAX * m->Lm_H)) {
-            return report(f, m->Lr_H / m->Lm_H, 1.0f, FLUX_OBS_LR_LM_MAX, LO_OPEN);
-        }
-        lr_q = _IQ(m->Lr_H / b->L_base_H);
-        return verdict((int16_t)(lr_q > lm_q && lr_q <= _IQmpy(lm_q, _IQ(FLUX_OBS_LR_LM_MAX))), f,
-                       m->Lr_H / m->Lm_H, 1.0f, FLUX_OBS_LR_LM_MAX, LO_OPEN);
+    /* the pu floats flux_obs_check gives flux_obs_design_l; each entry
+     * fails on its own fault only (an earlier one has been reported) */
+    lf = flux_obs_l_check(m->Lm_H / b->L_base_H, m->Lr_H / b->L_base_H, m->Ls_H / b->L_base_H);
+    if (which != obs_l_entry(lf)) {
+        return 0;
     }
-    if (which == DRIVE_LD_OBS_LS) {
-        if (!(m->Ls_H > m->Lm_H && m->Ls_H / b->L_base_H <= 2.0f * FLUX_OBS_LM_MAX)) {
-            return report(f, m->Ls_H, m->Lm_H, 2.0f * FLUX_OBS_LM_MAX * b->L_base_H, LO_OPEN);
-        }
-        ls_q = _IQ(m->Ls_H / b->L_base_H);
-        return verdict((int16_t)(ls_q > lm_q && ls_q <= _IQ(2.0f * FLUX_OBS_LM_MAX)), f, m->Ls_H,
-                       m->Lm_H, 2.0f * FLUX_OBS_LM_MAX * b->L_base_H, LO_OPEN);
+    /* the value in the user's units; the divisions are defined here: Lm
+     * passed before Lr, Ls and sigma Ls are tested, Lr before sigma Ls */
+    switch (lf) {
+    case FLUX_OBS_L_LM:
+        return report(f, m->Lm_H, 0.0f, FLUX_OBS_LM_MAX * b->L_base_H, LO_OPEN);
+    case FLUX_OBS_L_LR:
+        return report(f, m->Lr_H / m->Lm_H, 1.0f, FLUX_OBS_LR_LM_MAX, LO_OPEN);
+    case FLUX_OBS_L_LS:
+        return report(f, m->Ls_H, m->Lm_H, 2.0f * FLUX_OBS_LM_MAX * b->L_base_H, LO_OPEN);
+    default:
+        return report(f, m->Ls_H - m->Lm_H * m->Lm_H / m->Lr_H, 0.0f,
+                      FLUX_OBS_SIGMA_LS_MAX * b->L_base_H, LO_OPEN);
     }
-    if (which == DRIVE_LD_OBS_SLS) {
-        lr_q = _IQ(m->Lr_H / b->L_base_H);
-        ls_q = _IQ(m->Ls_H / b->L_base_H);
-        sls = ls_q - _IQmpy(lm_q, _IQdiv(lm_q, lr_q));
-        return verdict((int16_t)(sls > _IQ(0.0) && sls <= _IQ(FLUX_OBS_SIGMA_LS_MAX)), f,
-                       _IQtoF(sls) * b->L_base_H, 0.0f, FLUX_OBS_SIGMA_LS_MAX * b->L_base_H,
-                       LO_OPEN);
-    }
-    return 0;
 }
 
 /* volt_calc_init (volt_calc_check, with drive_init's arguments) and the

@@ -70,24 +70,46 @@ flux_obs_status_t flux_obs_design_rs(flux_obs_model_t *m, float rs_pu)
     return FLUX_OBS_OK;
 }
 
-flux_obs_status_t flux_obs_design_l(flux_obs_model_t *m, float lm_pu, float lr_pu, float ls_pu)
+/* sigma Ls = Ls - Lm^2/Lr, pu (Lr > 0): the check's and the model's */
+static float sigma_ls_pu(float lm_pu, float lr_pu, float ls_pu)
+{
+    return ls_pu - lm_pu * lm_pu / lr_pu;
+}
+
+flux_obs_l_fault_t flux_obs_l_check(float lm_pu, float lr_pu, float ls_pu)
 {
     float sls;
 
-    /* checked before any division or conversion: every quotient and every
-     * Q24 value below is then in range (NaN fails) */
-    if (!(lm_pu > 0.0f && lm_pu <= FLUX_OBS_LM_MAX && lr_pu > lm_pu && ls_pu > lm_pu &&
-          lr_pu <= FLUX_OBS_LR_LM_MAX * lm_pu && ls_pu <= 2.0f * FLUX_OBS_LM_MAX)) {
-        return FLUX_OBS_ERR_L;
+    /* in this order, each before any division or conversion that needs it:
+     * Lm in range makes 4 Lm and every quotient below finite, Lr > Lm > 0
+     * makes Lm^2/Lr defined (NaN fails every test) */
+    if (!(lm_pu > 0.0f && lm_pu <= FLUX_OBS_LM_MAX) || !(_IQ(lm_pu) > _IQ(0.0))) {
+        return FLUX_OBS_L_LM;
     }
-    sls = ls_pu - lm_pu * lm_pu / lr_pu;
+    if (!(lr_pu > lm_pu && lr_pu <= FLUX_OBS_LR_LM_MAX * lm_pu)) {
+        return FLUX_OBS_L_LR;
+    }
+    if (!(ls_pu > lm_pu && ls_pu <= 2.0f * FLUX_OBS_LM_MAX)) {
+        return FLUX_OBS_L_LS;
+    }
+    sls = sigma_ls_pu(lm_pu, lr_pu, ls_pu);
     if (!(sls > 0.0f && sls <= FLUX_OBS_SIGMA_LS_MAX) || !(_IQ(sls) > _IQ(0.0))) {
+        return FLUX_OBS_L_SLS;
+    }
+    return FLUX_OBS_L_OK;
+}
+
+flux_obs_status_t flux_obs_design_l(flux_obs_model_t *m, float lm_pu, float lr_pu, float ls_pu)
+{
+    /* every quotient and every Q24 value below is in range once the check
+     * passes */
+    if (flux_obs_l_check(lm_pu, lr_pu, ls_pu) != FLUX_OBS_L_OK) {
         return FLUX_OBS_ERR_L;
     }
     m->lm = _IQ(lm_pu);
     m->lr_lm = _IQ(lr_pu / lm_pu);   /* (1, 4] */
     m->lm_lr = _IQ(lm_pu / lr_pu);   /* [0.25, 1) */
-    m->sigma_ls = _IQ(sls);
+    m->sigma_ls = _IQ(sigma_ls_pu(lm_pu, lr_pu, ls_pu));
     return FLUX_OBS_OK;
 }
 
@@ -330,31 +352,6 @@ flux_obs_status_t flux_obs_set_tr(flux_obs_t *o, _iq20 tr_pu)
     x = _IQ20div(o->ts, tr_pu);   /* Q24 / Q20 -> Q24 (shift by 20), in (0, 0.1] */
     o->kf = one_minus_exp_neg_iq(x);   /* 1 - exp(-x), Q24 (exp_series.h) */
     o->tr = tr_pu;
-    return FLUX_OBS_OK;
-}
-
-flux_obs_status_t flux_obs_set_inductances(flux_obs_t *o, _iq lm_pu, _iq lr_pu, _iq ls_pu)
-{
-    _iq lr_lm;
-    _iq lm_lr;
-    _iq sls;
-
-    /* Lr <= 4 Lm is checked before the division, so the quotient is < 4 */
-    if (!(lm_pu > _IQ(0.0) && lm_pu <= _IQ(FLUX_OBS_LM_MAX) && lr_pu > lm_pu &&
-          ls_pu > lm_pu && lr_pu <= _IQmpy(lm_pu, _IQ(FLUX_OBS_LR_LM_MAX)) &&
-          ls_pu <= _IQ(2.0f * FLUX_OBS_LM_MAX))) {
-        return FLUX_OBS_ERR_L;
-    }
-    lr_lm = _IQdiv(lr_pu, lm_pu);   /* Q24 / Q24 -> Q24, in (1, 4] */
-    lm_lr = _IQdiv(lm_pu, lr_pu);   /* in [0.25, 1) */
-    sls = ls_pu - _IQmpy(lm_pu, lm_lr);   /* Ls - Lm^2/Lr; Q24*Q24 -> Q24 < 16 */
-    if (!(sls > _IQ(0.0) && sls <= _IQ(FLUX_OBS_SIGMA_LS_MAX))) {
-        return FLUX_OBS_ERR_L;
-    }
-    o->lm = lm_pu;
-    o->lr_lm = lr_lm;
-    o->lm_lr = lm_lr;
-    o->sigma_ls = sls;
     return FLUX_OBS_OK;
 }
 

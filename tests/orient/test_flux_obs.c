@@ -18,6 +18,7 @@
 #include <setjmp.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <string.h>
 #include <math.h>
 #include <complex.h>
 #include <cmocka.h>
@@ -600,11 +601,6 @@ static void test_setters(void **state)
 
     obs_init(&ref, 1.0, 1.0);
     obs_init(&o, 1.0, 1.0);
-    assert_int_equal(flux_obs_set_inductances(&o, _IQ(g_m.lm), _IQ(g_m.lr), _IQ(g_m.ls)),
-                     FLUX_OBS_OK);
-    assert_true(fabs(to_d(o.lr_lm) - g_m.lr / g_m.lm) <= 4.0 * lsb + 1e-6);
-    assert_true(fabs(to_d(o.lm_lr) - g_m.lm / g_m.lr) <= 4.0 * lsb + 1e-6);
-    assert_true(fabs(to_d(o.sigma_ls) - g_m.sls) <= 8.0 * lsb + 1e-6);
     /* large motors' Tr (hundreds of pu, Q20) as the paper motor's 6.2 pu */
     {
         static const double tr_list[] = {150.0, 292.4, 999.0};
@@ -633,12 +629,6 @@ static void test_setters(void **state)
     assert_int_equal(flux_obs_set_tr(&o, _IQ20(FLUX_OBS_TR_MAX_PU) + _IQ20(1.0)), FLUX_OBS_ERR_TR);
     assert_int_equal(flux_obs_set_tr(&o, _IQ20(-1.0)), FLUX_OBS_ERR_TR);
     assert_true(o.kf == ref.kf && o.tr == ref.tr);
-    assert_int_equal(flux_obs_set_inductances(&o, _IQ(1.0), _IQ(0.9), _IQ(1.1)), FLUX_OBS_ERR_L);
-    assert_int_equal(flux_obs_set_inductances(&o, _IQ(1.0), _IQ(1.1), _IQ(1.0)), FLUX_OBS_ERR_L);
-    assert_int_equal(flux_obs_set_inductances(&o, _IQ(0.0), _IQ(1.1), _IQ(1.1)), FLUX_OBS_ERR_L);
-    assert_int_equal(flux_obs_set_inductances(&o, _IQ(1.0), _IQ(4.5), _IQ(4.5)), FLUX_OBS_ERR_L);
-    assert_int_equal(flux_obs_set_inductances(&o, _IQ(1.0), _IQ(1.1), _IQ(6.0)), FLUX_OBS_ERR_L);
-    assert_true(o.lm == ref.lm && o.lr_lm == ref.lr_lm && o.sigma_ls == ref.sigma_ls);
 }
 
 /* Bad arguments to init: a status naming the argument, and an inert
@@ -954,8 +944,8 @@ static void test_set_rs_dc(void **state)
  *    difference of two rounded terms of size Ls), 4e-7 x 1.37 pu = 9 LSB;
  *    kf = 1 - exp(-Ts/Tr): 1 LSB + 3e-7 relative (series 1.4e-9 and a few
  *    float roundings of x ~ 3.4e-3);
- *  - against the fixed-point setters the ISR used: the sum of the two
- *    budgets (setters: Lr/Lm 4 LSB, sigma Ls 8 LSB, kf (1/Tr + 4) LSB);
+ *  - against the fixed-point setter of Tr (flux_obs_set_tr): the sum of
+ *    the two budgets (the setter's kf (1/Tr + 4) LSB);
  *  - a refused group leaves its members as they were (NaN too). */
 static void test_design(void **state)
 {
@@ -983,13 +973,9 @@ static void test_design(void **state)
     assert_true(fabs(to_d(m.sigma_ls) - g_m.sls) <= lsb + 4.0 * 1.2e-7 * g_m.ls);
     assert_true(fabs(to_d(m.kf) - (1.0 - exp(-g_m.ts / g_m.tr))) <= lsb + 3e-7 * to_d(m.kf));
 
-    /* the fixed-point setters from the same Q24 values */
+    /* the fixed-point setter of Tr from the same Q20 value */
     fx = o;
-    assert_int_equal(flux_obs_set_inductances(&fx, m.lm, _IQ(lr), _IQ(ls)), FLUX_OBS_OK);
     assert_int_equal(flux_obs_set_tr(&fx, m.tr), FLUX_OBS_OK);
-    assert_true(fabs(to_d(fx.lr_lm) - to_d(m.lr_lm)) <= 6.0 * lsb);
-    assert_true(fabs(to_d(fx.lm_lr) - to_d(m.lm_lr)) <= 6.0 * lsb);
-    assert_true(fabs(to_d(fx.sigma_ls) - to_d(m.sigma_ls)) <= 18.0 * lsb);
     assert_true(fabs(to_d(fx.kf) - to_d(m.kf)) <= (1.0 / g_m.tr + 6.0) * lsb);
     /* a large motor's Tr (292 pu: 0.93 s at 50 Hz) against double */
     assert_int_equal(flux_obs_design_tr(&m, g_b.Ts_pu, 292.4f), FLUX_OBS_OK);
@@ -1029,6 +1015,86 @@ static void test_design(void **state)
     flux_obs_apply_model(&fx, &m);
     assert_true(fx.tr == m.tr && fx.kf == m.kf && fx.rs == m.rs);
     assert_true(fx.ts == o.ts && fx.wc == o.wc && fx.psis_alpha == o.psis_alpha);
+}
+
+/* flux_obs_l_check, the one test of the inductances (flux_obs_design_l and
+ * the table of limits): each refusal named at its own edge, the edge itself
+ * accepted and the next float refused; the tests in their stated order (an
+ * Lr and an Ls both out: LR); flux_obs_design_l refuses exactly what the
+ * check refuses, over a log-uniform sweep that crosses every edge. */
+static void test_l_check(void **state)
+{
+    static const struct {
+        float lm, lr, ls;
+        flux_obs_l_fault_t want;
+    } c[] = {
+        {16.0f, 17.0f, 19.0f, FLUX_OBS_L_OK},                  /* Lm at its top; sigma Ls 3.94 */
+        {0.0f, 1.1f, 1.2f, FLUX_OBS_L_LM},
+        {-1.0f, 1.1f, 1.2f, FLUX_OBS_L_LM},
+        {NAN, 1.1f, 1.2f, FLUX_OBS_L_LM},
+        {1.0f, 4.0f, 1.5f, FLUX_OBS_L_OK},                     /* Lr = 4 Lm */
+        {1.0f, 1.0f, 1.5f, FLUX_OBS_L_LR},                     /* Lr = Lm */
+        {1.0f, NAN, 1.5f, FLUX_OBS_L_LR},
+        {1.0f, 5.0f, 1.0f, FLUX_OBS_L_LR},                     /* Lr first, Ls too */
+        {1.0f, 1.1f, 1.0f, FLUX_OBS_L_LS},                     /* Ls = Lm */
+        {1.0f, 1.1f, NAN, FLUX_OBS_L_LS},
+        {16.0f, 17.0f, 32.0f, FLUX_OBS_L_SLS},                 /* Ls at its top; sigma Ls 16.9 */
+        {2.0f, 4.0f, 5.0f, FLUX_OBS_L_OK},                     /* sigma Ls = 4 exactly */
+    };
+    flux_obs_model_t m;
+    uint32_t i, seed = 12345u, n_bad[5] = {0u, 0u, 0u, 0u, 0u};
+    (void)state;
+
+    for (i = 0u; i < sizeof c / sizeof c[0]; i++) {
+        if (flux_obs_l_check(c[i].lm, c[i].lr, c[i].ls) != c[i].want) {
+            fail_msg("case %u: %d, want %d", (unsigned)i,
+                     (int)flux_obs_l_check(c[i].lm, c[i].lr, c[i].ls), (int)c[i].want);
+        }
+    }
+    /* one float beyond each upper edge */
+    assert_int_equal(flux_obs_l_check(nextafterf(16.0f, 32.0f), 17.0f, 19.0f), FLUX_OBS_L_LM);
+    assert_int_equal(flux_obs_l_check(1.0f, nextafterf(4.0f, 8.0f), 1.5f), FLUX_OBS_L_LR);
+    assert_int_equal(flux_obs_l_check(16.0f, 17.0f, nextafterf(32.0f, 64.0f)), FLUX_OBS_L_LS);
+    assert_int_equal(flux_obs_l_check(2.0f, 4.0f, nextafterf(5.0f, 8.0f)), FLUX_OBS_L_SLS);
+    /* one float above each lower edge: accepted */
+    assert_int_equal(flux_obs_l_check(1.0f, nextafterf(1.0f, 2.0f), 1.5f), FLUX_OBS_L_OK);
+    assert_int_equal(flux_obs_l_check(1.0f, 1.1f, nextafterf(1.0f, 2.0f)), FLUX_OBS_L_OK);
+    /* nonzero in Q24: an Lm or a sigma Ls below one LSB is 0 in the model */
+#if MATH_TYPE == IQ_MATH
+    assert_int_equal(flux_obs_l_check(0x1p-25f, 0x1p-24f, 0x1p-24f), FLUX_OBS_L_LM);
+    assert_int_equal(flux_obs_l_check(1e-3f, nextafterf(1e-3f, 1.0f), nextafterf(1e-3f, 1.0f)), FLUX_OBS_L_SLS);
+#else
+    assert_int_equal(flux_obs_l_check(0x1p-25f, 0x1p-24f, 0x1p-24f), FLUX_OBS_L_OK);
+#endif
+    /* flux_obs_design_l: refused exactly when the check refuses, the model
+     * then kept; Lm, Lr/Lm and Ls/Lm log-uniform across their edges */
+    for (i = 0u; i < 20000u; i++) {
+        float lm, lr, ls;
+        flux_obs_l_fault_t lf;
+        flux_obs_status_t st;
+        flux_obs_model_t keep;
+        seed = seed * 1664525u + 1013904223u;
+        lm = (float)pow(2.0, -26.0 + 31.0 * (double)(seed >> 8) / 16777216.0);   /* 2^-26..32 */
+        seed = seed * 1664525u + 1013904223u;
+        lr = lm * (float)pow(2.0, -0.5 + 3.0 * (double)(seed >> 8) / 16777216.0);   /* 0.7..5.7 Lm */
+        seed = seed * 1664525u + 1013904223u;
+        ls = lm * (float)pow(2.0, -0.5 + 4.0 * (double)(seed >> 8) / 16777216.0);
+        memset(&m, 0x5a, sizeof m);
+        keep = m;
+        lf = flux_obs_l_check(lm, lr, ls);
+        st = flux_obs_design_l(&m, lm, lr, ls);
+        n_bad[lf]++;
+        if ((st == FLUX_OBS_OK) != (lf == FLUX_OBS_L_OK) ||
+            (st != FLUX_OBS_OK && memcmp(&m, &keep, sizeof m) != 0)) {
+            fail_msg("Lm %.9g Lr %.9g Ls %.9g: check %d, design %d", (double)lm, (double)lr,
+                     (double)ls, (int)lf, (int)st);
+        }
+    }
+    print_message("sweep: ok %u, Lm %u, Lr %u, Ls %u, sigma Ls %u\n", (unsigned)n_bad[0],
+                  (unsigned)n_bad[1], (unsigned)n_bad[2], (unsigned)n_bad[3], (unsigned)n_bad[4]);
+    for (i = 0u; i < 5u; i++) {
+        assert_true(n_bad[i] > 100u);   /* every verdict reached */
+    }
 }
 
 /* flux_obs_seat_dc + flux_obs_apply_seat (the background computes, the ISR
@@ -1112,6 +1178,7 @@ int main(void)
         cmocka_unit_test(test_angle_jumps_bounded),
         cmocka_unit_test(test_set_rs_dc),
         cmocka_unit_test(test_design),
+        cmocka_unit_test(test_l_check),
         cmocka_unit_test(test_seat_dc),
     };
     return cmocka_run_group_tests(tests, setup, NULL);

@@ -367,6 +367,10 @@ static void test_derived_limits(void **state)
         CASE("observer Lm", "nameplate.Lm_H", 16.0 * L_BASE, 1, "nameplate.Lm_H",
              {"controller.orientation", 1.0}, {"plant.Lm_H", 0.0064},
              {"controller.magnetizing_current_A", 1.0}),
+        /* Lr = 4 Lm: a rotor leakage of 3 Lm (flux_obs_l_check, the test
+         * flux_obs_init applies, names it) */
+        CASE("observer Lr / Lm", "nameplate.Llr_H", 3.0 * 0.0064, 1, "Lr / Lm",
+             {"controller.orientation", 1.0}, {"plant.Llr_H", 0.0028}),
         /* a quarter of a 30 kHz period loses 15.3 V a leg, more than 30 % of the
          * paper motor's 18.9 V: a believed Ls of 27.4 mH (Lls 21 mH) gives 53 V
          * at rated speed; the bridge itself with 1 us (the simulated world's
