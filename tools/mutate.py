@@ -92,8 +92,10 @@ MUTANTS = [
       "#define TRACK_PHI_MIN_OF_RATED 0.1f", "#define TRACK_PHI_MIN_OF_RATED 0.01f",
       "the Rr tracker's wind-up guard: at 1 % it learns from noise at no load"),
     M("pass_rate_limit_x4", "src/app/drive_adapt_bg.c",
-      "    _iq lo = _IQmpy(ref, _IQ(0.5));\n    _iq hi = (ref < _IQ(60.0)) ? ref + ref : _IQ(120.0);",
-      "    _iq lo = _IQmpy(ref, _IQ(0.25));\n    _iq hi = (ref < _IQ(30.0)) ? ref * 4 : _IQ(120.0);",
+      "    _iq lo = _IQmpy(ref, _IQ(0.5));   /* any Q times Q24 0.5: the same Q */\n"
+      "    _iq hi = (ref < top - ref) ? ref + ref : top;",
+      "    _iq lo = _IQmpy(ref, _IQ(0.25));   /* any Q times Q24 0.5: the same Q */\n"
+      "    _iq hi = (ref < _IQmpy(top, _IQ(0.25))) ? ref * 4 : top;",
       "the model handed from pass to pass moves at most a factor 2 (a bad pass cannot "
       "throw the observer off)"),
     # ---- protections ---------------------------------------------------------
@@ -230,8 +232,8 @@ MUTANTS = [
       "        } else if (s->t_state >= s->settle_max_samples + s->settle_max_samples) {",
       "the SETTLE time limit doubled"),
     M("rls_tail_off_by_one", "src/app/id_sequence.c",
-      "(s->state == ID_SETTLE && s->t_state <= s->rls_tail_samples));",
-      "(s->state == ID_SETTLE && s->t_state < 1u));",
+      "s->rls_on = (uint16_t)(s->t_state <= s->rls_tail_samples);",
+      "s->rls_on = (uint16_t)(s->t_state < 1u);",
       "the RLS stops at the end of the ramp: the tail that catches the end-of-ramp transient "
       "is lost"),
     M("magnetize_exit_early", "src/app/id_sequence.c",
@@ -267,7 +269,7 @@ MUTANTS = [
       "#define HEADROOM_LOSS_OF_VOLTAGE 0.3f", "#define HEADROOM_LOSS_OF_VOLTAGE 0.4f",
       "a dead-time loss of 40 % of the motor's voltage at the target accepted (8 us on the "
       "paper motor: Tr -5 %)"),
-    M("target_floor_10pct", "src/app/drive_limits.c",
+    M("target_floor_10pct", "src/app/drive_target.c",
       "#define TARGET_MIN_OF_RATED 0.2f", "#define TARGET_MIN_OF_RATED 0.1f",
       "a target speed below what the RLS's excitation needs accepted"),
     M("tr_limit_off", "src/app/drive_limits.c",
