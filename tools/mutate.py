@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Mutation testing of the firmware core (src/, include/) against the CTest
-suite of the host-iq build.  Run by hand (about 20 minutes with --jobs 2 on two cores: 1 101 s for the 52), not in CI.
+suite of the host-iq build.  Run by hand (about 20 minutes with --jobs 2 on two cores: 1 101 s for 52), not in CI.
 
     tools/mutate.py --list                       the mutants: name, file, why
     tools/mutate.py [--only A,B] [--jobs N]      run them (default: all, one job)
@@ -212,6 +212,11 @@ MUTANTS = [
     M("flux_obs_ws_unfiltered", "src/orient/flux_obs.c",
       "o->ws_f += _IQrmpy(o->kf_ws, o->ws - o->ws_f);", "o->ws_f = o->ws;",
       "the observer's frame speed without its 200 Hz low-pass (the angle step's noise)"),
+    M("flux_obs_lr_limit_off", "src/orient/flux_obs.c",
+      "    if (!(lr_pu > lm_pu && lr_pu <= FLUX_OBS_LR_LM_MAX * lm_pu)) {",
+      "    if (!(lr_pu > lm_pu && lr_pu <= 2.0f * FLUX_OBS_LR_LM_MAX * lm_pu)) {",
+      "an Lr up to 8 Lm accepted: Lr/Lm beyond the observer's Q24 budget "
+      "(|Lr/Lm (psi_s - sigma Ls i)| <= 96), by flux_obs_init and the table alike"),
     M("flux_obs_correction_sign", "src/orient/flux_obs.c",
       "    zn = sat_sym(*z + iq_rmpy(o->g, e), Z_MAX, sat);",
       "    zn = sat_sym(*z - iq_rmpy(o->g, e), Z_MAX, sat);",
