@@ -15,8 +15,19 @@
  *     X_r = -(w1 Tr) (nu R) + 4 w1 (L_M + Tr Rs) (nu / 4)
  * theta = [Rs, w1 Tr, 4 w1 (L_M + Tr Rs), 0] (pu; the 4 keeps the regressor
  * nu / 4 <= 1 within the RLS's |phi| < 4).  Three points (nu = 1, 2, 4) give
- * six rows for three unknowns; the RLS starts from P(0) = 1e4 I, so after
- * the six rows it is the batch least-squares fit within 1e-4 of it.
+ * six rows for three unknowns.  The RLS starts from P(0) = p0 I (1e4): after
+ * the rows it holds the fit regularised by its prior,
+ *     theta_N = (Phi' Phi + I / p0)^-1 Phi' y,   P_N = (Phi' Phi + I / p0)^-1,
+ * pulled towards 0 by 1 / (1 + p0 lambda) along each eigendirection of
+ * Phi' Phi: on the paper motor lambda_min = 1.5e-3 (the Tr column's first
+ * rows, nu X_r / 4, are small where Rs >> X_r).  With the former p0 = 1e6
+ * that pull was 7e-4 (Tr -0.08 %, Lm -0.07 %, a misfit floor of 4.5e-5).
+ * The fit gives it back exactly: the batch fit theta* solves Phi' Phi
+ * theta* = Phi' y = P_N^-1 theta_N, i.e. (I - P_N / p0) theta* = theta_N,
+ * and (Phi' Phi)^-1 = (I - P_N / p0)^-1 P_N, a 3x3 solve (Cramer) whose
+ * matrix has eigenvalues p0 lambda / (1 + p0 lambda) (15/16 at the paper
+ * motor).  The smaller p0 keeps the RLS's own rounding small (from 1e6, P_N
+ * was a difference of terms 1e6 times its size along the weak direction).
  * Then Tr = theta2 / w1, L_M = theta3 / (4 w1) - Tr Rs, Ls = sigma Ls + L_M,
  * and with the paper's Lr = Ls (method §4; Lls = Llr: what terminal
  * measurements cannot separate): Lr = Ls, Lm = sqrt(L_M Lr), Rr = Lr / Tr,
@@ -27,7 +38,7 @@
  *
  * Confidence, as the rotating sequences' (ident_conf.h): the deterministic
  * bound sqrt(J e' P e) of each parameter, J the rows' squared misfit, P the
- * RLS's covariance (with P(0) this large, (Phi' Phi)^-1 of the rows), e the
+ * covariance (Phi' Phi)^-1 of the rows (the RLS's, the prior given back), e the
  * parameter's derivatives in theta: the largest change an error in the
  * rows as large as their misfit can cause.  It grows with the noise and
  * with any departure of the data from the model (saturation, skin effect,

@@ -28,6 +28,31 @@
  * before i_M's sample, half a fast period earlier: standstill_fit.h turns
  * U back by w Ts / 2.
  *
+ * Hold (why the injection is ramped, not stepped).  The lock-in sees the
+ * regression's window means: the mean of N = 2^hold_log2 period voltages
+ * and of N current samples, one value per slow sample.  That is U/I = Z(jw)
+ * only for signals that hold the tone alone.  A reference held over the N
+ * periods of a slow sample (a staircase) also holds its images at w + m W
+ * (W = 2 pi / (N Ts), m = 1 .. N-1), of relative size D_m = sin(N w Ts/2)
+ * / (N sin((w + m W) Ts/2)), about w Ts / (2 sin(m pi / N)); the window
+ * mean passes each again by D_m, and its sampling folds them all onto w.
+ * At the images the current loop makes a voltage of about w_c sigma Ls
+ * per unit of reference (w_c its bandwidth), far more than |Z(jw)|, so
+ *     U/I = Z(jw) [1 + sum_m D_m^2 e^(-j m W t0) (T_m / T_0) (Z_m / Z(jw) - 1)]
+ * (T the loop's reference-to-current gain, Z_m the impedance, at w + m W;
+ * t0 the hold's offset in the window): a relative error of order
+ *     5.25 (w Ts)^2 w_c sigma Ls / |Z(jw)|      (sum_m 1 / (4 sin^2(m pi / 8)) = 5.25)
+ * that shrinks with Ts^2 and that the model cannot absorb.  On the paper
+ * motor at 15 kHz (w Ts = 6.7e-3 at the 4th harmonic, w_c sigma Ls =
+ * 11 |Z|) it is 1.8e-3 there, the fit's misfit ~0.1 % of |Z|, and its
+ * imaginary part is what a turn-back of ~0.3 Ts instead of 0.5 Ts partly
+ * hides (docs/accuracy.md).  So the sample's value is reached by a ramp
+ * over the N periods (a first-order hold, standstill_lf_fast, as the speed
+ * loop hands i_T on: drive_slow.c): its images are of size D_m^2, the
+ * error of order (w Ts)^3, below 2e-5 there (test_standstill_lf.c).  The
+ * ramp delays the reference by one slow sample: a delay of the injection,
+ * not of u against i, so U/I does not see it.
+ *
  * Phase.  The sample's angle in the fundamental's period is ph / per
  * (pu of a revolution, Q24, from a Q32 reciprocal: |error| < 2^-24 rev);
  * the harmonics' angles are 2 and 4 times it (_IQsinPU wraps), so every
@@ -64,6 +89,8 @@
                                                multisine's trough (-2.3 ampl) stays above 0.3 i_M */
 #define STANDSTILL_LF_PER_MIN 64u    /* samples per fundamental period: the 4th harmonic gets 16 */
 #define STANDSTILL_LF_HALF_MAX 1048576u   /* samples in one half: g = 16 / n >= 256 LSB */
+#define STANDSTILL_LF_HOLD_LOG2_MAX 3u    /* the ramp over at most 8 fast periods (a step of
+                                             |i_add - i_ref| / 8 <= 0.5 pu) */
 
 /* the four sums of one harmonic in one half, in STANDSTILL_LF_NSUM */
 enum { SSLF_US = 0, SSLF_UC, SSLF_IS, SSLF_IC };
@@ -73,7 +100,8 @@ typedef enum {
     STANDSTILL_LF_ERR_TIME,    /* Ts or Tr not > 0, or the period outside [64, 2^20] samples */
     STANDSTILL_LF_ERR_WINDOW,  /* a half over STANDSTILL_LF_HALF_MAX samples, or the test
                                   over 2^31 samples */
-    STANDSTILL_LF_ERR_AMPL     /* amplitude not in (0, 0.3 i_M], or i_M not in (0, 2] pu */
+    STANDSTILL_LF_ERR_AMPL,    /* amplitude not in (0, 0.3 i_M], or i_M not in (0, 2] pu */
+    STANDSTILL_LF_ERR_HOLD     /* hold_log2 above STANDSTILL_LF_HOLD_LOG2_MAX */
 } standstill_lf_status_t;
 
 typedef struct {
@@ -88,8 +116,14 @@ typedef struct {
     uint32_t per;           /* samples per fundamental period */
     uint32_t lead;          /* samples before the first half */
     uint32_t half;          /* samples per half (whole periods) */
+    uint16_t hold_log2;     /* the ramp's fast periods per slow sample, 2^hold_log2 */
     /* outputs */
-    _iq i_add;              /* Q24 pu: add to the i_M reference (0 when not running) */
+    _iq i_add;              /* Q24 pu: the injection's value for this sample (0 when not
+                               running): the ramp's target */
+    _iq i_ref;              /* Q24 pu: the injection of this fast period (standstill_lf_fast):
+                               add to the i_M reference */
+    _iq i_step;             /* Q24 pu: the ramp's step per fast period, (i_add - i_ref) /
+                               2^hold_log2 rounded (|.| <= 0.5 pu) */
     uint16_t done;          /* 1 once both halves are summed (the sums then hold) */
     /* state */
     _iq sum[STANDSTILL_LF_HALVES][STANDSTILL_LF_NH][STANDSTILL_LF_NSUM];   /* Q24 */
@@ -101,10 +135,13 @@ typedef struct {
 /** @p Ts_s the slow task's period, @p tr_s the believed Tr, @p ampl_pu each
  *  harmonic's amplitude, @p im_pu the magnetising current it rides on,
  *  @p min_window_s the least time summed (both halves; each half at least
- *  one fundamental period).  Float, once.  On error the struct is zeroed
+ *  one fundamental period), @p hold_log2 the fast periods per slow sample
+ *  (2^hold_log2: the regression's window, DRIVE_SLOTS), over which
+ *  standstill_lf_fast ramps.  Float, once.  On error the struct is zeroed
  *  (never runs). */
 standstill_lf_status_t standstill_lf_init(standstill_lf_t *z, float Ts_s, float tr_s,
-                                          float ampl_pu, float im_pu, float min_window_s);
+                                          float ampl_pu, float im_pu, float min_window_s,
+                                          uint16_t hold_log2);
 
 /** standstill_lf_init's check alone (no struct): the configuration's
  *  limits table calls it (drive_limits.c), so the limits are said once. */
@@ -124,9 +161,22 @@ float standstill_lf_sum(const standstill_lf_t *z, uint16_t half, uint16_t h, uin
 /** Start (sums cleared, done 0). */
 void standstill_lf_start(standstill_lf_t *z);
 
-/** One slow sample while running: i_add for the next samples and, past the
- *  lead, the sums; done = 1 (i_add 0) after the second half.  Not running:
- *  nothing (i_add stays 0). */
+/** One slow sample while running: i_add for the next samples, the ramp's
+ *  step towards it and, past the lead, the sums; done = 1 (i_add, i_ref,
+ *  i_step 0) after the second half.  Not running: nothing (they stay 0). */
 void standstill_lf_step(standstill_lf_t *z);
+
+/** ISR, every fast period: the injection of this period, i_ref, one
+ *  i_step further along the ramp that reaches the last i_add after
+ *  2^hold_log2 periods (the Hold paragraph above).  The slow task computes
+ *  i_step from i_ref where the last ramp ended, so a step's rounding
+ *  (|.| <= 1/2 LSB a period, 4 LSB at the end) never accumulates.  One
+ *  add; 0 while the test does not run (i_step 0, i_ref 0).  |i_ref| <= 3
+ *  ampl + 4 LSB < 1.8 pu. */
+static inline _iq standstill_lf_fast(standstill_lf_t *z)
+{
+    z->i_ref += z->i_step;
+    return z->i_ref;
+}
 
 #endif /* STANDSTILL_LF_H */

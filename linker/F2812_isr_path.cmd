@@ -19,7 +19,7 @@
  * the same name in two .c files would be matched in both: --check-isr-cmd refuses it.
  * The firmware's own ISR functions are in `ramfuncs` by #pragma CODE_SECTION
  * (checked by the same test); TI's IQmath functions by the IQmath section.
- * 61 functions.
+ * 62 functions.
  */
 *(.text:_angle_acc_pu)
 *(.text:_angle_acc_step)
@@ -71,6 +71,7 @@
 *(.text:_sat_in)
 *(.text:_sense)
 *(.text:_set_outputs_off)
+*(.text:_standstill_lf_fast)
 *(.text:_standstill_z_step)
 *(.text:_svgen_compare)
 *(.text:_svgen_inv_vdc)
@@ -104,11 +105,12 @@
  * The flash image runs them from flash (.text, not named here; their wait
  * states costed by tools/bench_isr.py); the RAM image defines
  * ISR_FLASH_SET_IN_RAM and keeps them on chip with the rest of this set.
- * 8 functions.
+ * 9 functions.
  */
 #ifdef ISR_FLASH_SET_IN_RAM
 *(.text:_accumulate)
 *(.text:_drive_static_slow)
+*(.text:_hold_step)
 *(.text:_lf_angle)
 *(.text:_pc_load_offset)
 *(.text:_phase_current_cal_start)

@@ -317,7 +317,7 @@ static double static_inject_s(const sim_config_t *c)
     standstill_lf_t z;
     if (standstill_lf_init(&z, (float)ts_slow, (float)((n->Lm_H + n->Llr_H) / n->Rr_ohm),
                            (float)(DRIVE_STATIC_AMPL_OF_IM * im_pu), (float)im_pu,
-                           DRIVE_STATIC_WINDOW_S) != STANDSTILL_LF_OK) {
+                           DRIVE_STATIC_WINDOW_S, DRIVE_SLOTS_LOG2) != STANDSTILL_LF_OK) {
         return 0.0;
     }
     return (double)standstill_lf_samples(&z) * ts_slow;

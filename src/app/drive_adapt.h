@@ -67,9 +67,12 @@ static inline void drive_adapt_fast(drive_t *d)
     standstill_z_t *z = &d->adapt.ssz;
 
     if (z->running == 0u) {
-        /* the standstill sequence's multisine (drive_static.c): 0 but while
-         * it runs in INJECT (a start clears a test a stop cut short) */
-        d->loop.im_inject = d->adapt.lf.i_add;
+        /* the standstill sequence's multisine (drive_static.c), each slow
+         * sample's value reached by a ramp over the slow period (a held
+         * value's images would fold onto the lock-in's tones:
+         * standstill_lf.h, Hold): 0 but while it runs in INJECT (a start
+         * clears a test a stop cut short) */
+        d->loop.im_inject = standstill_lf_fast(&d->adapt.lf);
         return;
     }
     /* the sequence's i_M reference plus the injection (drive_step.c) */

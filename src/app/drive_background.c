@@ -415,6 +415,8 @@ static void start_identification(drive_t *d)
     d->adapt.lf.running = 0u;
     d->adapt.lf.done = 0u;
     d->adapt.lf.i_add = _IQ(0.0);
+    d->adapt.lf.i_step = _IQ(0.0);   /* the step first: an ISR between the two adds nothing */
+    d->adapt.lf.i_ref = _IQ(0.0);
     id_sequence_start(&d->seq);
 }
 

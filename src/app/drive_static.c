@@ -30,8 +30,11 @@ int16_t drive_static_init(drive_t *d, const drive_config_t *c, float Ts)
      * up whichever sequence is configured: the other can be selected at
      * run time (drive_static_select) */
     if (c->ident.standstill != 0u) {
+        /* the injection ramped over the slow period's DRIVE_SLOTS fast
+         * periods, the regression's window (standstill_lf.h, Hold) */
         st = standstill_lf_init(&d->adapt.lf, Ts * (float)DRIVE_SLOTS, m->Lr_H / m->Rr_ohm,
-                                DRIVE_STATIC_AMPL_OF_IM * im_pu, im_pu, DRIVE_STATIC_WINDOW_S);
+                                DRIVE_STATIC_AMPL_OF_IM * im_pu, im_pu, DRIVE_STATIC_WINDOW_S,
+                                DRIVE_SLOTS_LOG2);
     }
     if (c->ident.static_id == 0u) {
         return 0;
@@ -74,7 +77,8 @@ void drive_static_slow(drive_t *d)
     }
     z->u_m = d->id.reg.u_mf;
     z->i_m = d->id.reg.i_mf;
-    standstill_lf_step(z);   /* its i_add reaches the i_M reference by drive_adapt_fast */
+    standstill_lf_step(z);   /* its i_add reaches the i_M reference by a ramp over the next
+                                DRIVE_SLOTS periods (drive_adapt_fast, standstill_lf_fast) */
 }
 
 /* The reason a fit is refused, or PUBLISHED. */

@@ -8,8 +8,14 @@
 #include <math.h>
 #include <string.h>
 
-#define FIT_P0 1.0e6f        /* P(0): the rows are of order 1 (normalised), the prior's
-                                pull below 1e-6 of an estimate */
+#define FIT_P0 1.0e4f        /* P(0): the rows are of order 1 (normalised); the prior's
+                                pull given back exactly (prior_back).  Not 1e6: from there
+                                the RLS's own rounding (P_N a difference of terms 1e6 its
+                                size along the weakest direction) left Tr 3-4e-4 off the
+                                batch fit on the paper motor (test_fit_is_batch); from 1e4,
+                                6e-6 (IQ) / 6e-7 (FLOAT) */
+#define FIT_DET_MIN 0.01f    /* det M below this: a direction the rows hardly fix
+                                (p0 lambda_min < ~0.01); the RLS's fit is kept */
 #define I_MIN 1.0e-6f        /* smallest |I| (a sum of 16 ampl/2: the injection's is ~1) */
 
 static const float k_nu[STANDSTILL_LF_NH] = {1.0f, 2.0f, 4.0f};
@@ -69,18 +75,80 @@ static int params_of(const float th[3], float s, const standstill_fit_in_t *in,
     return 0;
 }
 
+/* P_ij of the RLS's covariance (rls_cov.h: 2^(Pe_i + Pe_j) Pn_ij / w). */
+static float p_of(const rls_cov_t *c, uint16_t i, uint16_t j)
+{
+    return ldexpf(_IQ30toF(c->Pn[i][j]), (int)c->Pe[i] + (int)c->Pe[j]) / _IQ30toF(c->w);
+}
+
+/* The determinant of a 3x3 (float; the background's). */
+static float det3(const float a[3][3])
+{
+    return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
+           a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+           a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+}
+
+/* The prior's pull given back (standstill_fit.h): with M = I - P_N / p0
+ * (eigenvalues p0 lambda / (1 + p0 lambda): 15/16 at the paper motor's
+ * weakest direction, lambda = 1.5e-3), the batch fit theta* = M^-1
+ * theta_N and its covariance (Phi' Phi)^-1 = M^-1 P_N, by Cramer's rule.
+ * det M below FIT_DET_MIN (a direction the rows hardly fix): nothing
+ * changed.  The fourth unknown has no regressor (its P row is p0 e_4,
+ * theta_N 0): left out.  P (3x3) in and out: P_N in, (Phi' Phi)^-1 out. */
+static void prior_back(float P[3][3], float th[3])
+{
+    float m[3][3], q[3][3], t[3];
+    float det;
+    uint16_t i, j, k, c;
+
+    for (i = 0u; i < 3u; i++) {
+        for (j = 0u; j < 3u; j++) {
+            m[i][j] = ((i == j) ? 1.0f : 0.0f) - P[i][j] / FIT_P0;
+        }
+    }
+    det = det3(m);
+    if (!(det > FIT_DET_MIN)) {
+        return;
+    }
+    /* column c of M^-1 [theta_N P_N]: M with column k replaced (Cramer) */
+    for (c = 0u; c < 4u; c++) {
+        float x[3];
+        for (k = 0u; k < 3u; k++) {
+            float a[3][3];
+            for (i = 0u; i < 3u; i++) {
+                for (j = 0u; j < 3u; j++) {
+                    a[i][j] = (j == k) ? ((c == 0u) ? th[i] : P[i][c - 1u]) : m[i][j];
+                }
+            }
+            x[k] = det3(a) / det;
+        }
+        for (k = 0u; k < 3u; k++) {
+            if (c == 0u) {
+                t[k] = x[k];
+            } else {
+                q[k][c - 1u] = x[k];
+            }
+        }
+    }
+    for (i = 0u; i < 3u; i++) {
+        th[i] = t[i];
+        for (j = 0u; j < 3u; j++) {
+            P[i][j] = 0.5f * (q[i][j] + q[j][i]);   /* symmetric as it is, to rounding */
+        }
+    }
+}
+
 /* Each parameter's standard deviation (relative) from the fit's covariance
- * s2 P (P the RLS's, the rows' misfit s2 per degree of freedom), through
+ * s2 P (P = (Phi' Phi)^-1, prior_back's; the rows' misfit s2 per degree of freedom), through
  * the parameters' derivatives in theta (central differences). */
-static void deviations(const rls_t *r, const float th[3], float s, float s2,
+static void deviations(const float P[3][3], const float th[3], float s, float s2,
                        const standstill_fit_in_t *in, const float p[SSFIT_NP],
                        float sd[SSFIT_NP])
 {
-    rls_cov_t c;
     float jac[SSFIT_NP][3];
     uint16_t i, j, k;
 
-    rls_cov_save(&c, r);
     for (j = 0u; j < 3u; j++) {
         float tp[3] = {th[0], th[1], th[2]};
         float tm[3] = {th[0], th[1], th[2]};
@@ -102,9 +170,7 @@ static void deviations(const rls_t *r, const float th[3], float s, float s2,
         float v = 0.0f;
         for (i = 0u; i < 3u; i++) {
             for (j = 0u; j < 3u; j++) {
-                /* P_ij = 2^(Pe_i + Pe_j) Pn_ij / w (rls_cov.h) */
-                v += jac[k][i] * jac[k][j] *
-                     ldexpf(_IQ30toF(c.Pn[i][j]), (int)c.Pe[i] + (int)c.Pe[j]) / _IQ30toF(c.w);
+                v += jac[k][i] * jac[k][j] * P[i][j];
             }
         }
         sd[k] = sqrtf(fmaxf(v * s2, 0.0f)) / p[k];
@@ -120,6 +186,7 @@ static standstill_fit_status_t fit_half(const standstill_lf_t *z, const standsti
 {
     float s = 0.0f;
     float th[3];
+    float P[3][3];
     float e2 = 0.0f, y2 = 0.0f;
     uint16_t n, j;
 
@@ -153,6 +220,17 @@ static standstill_fit_status_t fit_half(const standstill_lf_t *z, const standsti
     for (j = 0u; j < 3u; j++) {
         th[j] = _IQtoF(r->theta[j]);
     }
+    {
+        rls_cov_t c;
+        uint16_t i;
+        rls_cov_save(&c, r);
+        for (i = 0u; i < 3u; i++) {
+            for (j = 0u; j < 3u; j++) {
+                P[i][j] = p_of(&c, i, j);
+            }
+        }
+    }
+    prior_back(P, th);   /* the batch least-squares fit (standstill_fit.h) */
     for (n = 0u; n < STANDSTILL_LF_NH; n++) {
         const float nu4 = 0.25f * k_nu[n];
         const float rn = rr[n] / s, xn = xx[n] / s;
@@ -167,7 +245,7 @@ static standstill_fit_status_t fit_half(const standstill_lf_t *z, const standsti
     }
     if (sd != NULL) {
         /* six rows, three unknowns: the misfit per degree of freedom */
-        deviations(r, th, s, e2 / 3.0f, in, p, sd);
+        deviations(P, th, s, e2 / 3.0f, in, p, sd);
     }
     return STANDSTILL_FIT_OK;
 }

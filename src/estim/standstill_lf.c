@@ -1,6 +1,7 @@
 /* The standstill sequence's low-frequency impedance test.  See standstill_lf.h. */
 #include "standstill_lf.h"
 
+#include "estim_bfp.h"
 #include "iq_rmpy.h"
 
 #include <math.h>
@@ -52,7 +53,8 @@ standstill_lf_status_t standstill_lf_check(float Ts_s, float tr_s, float ampl_pu
 }
 
 standstill_lf_status_t standstill_lf_init(standstill_lf_t *z, float Ts_s, float tr_s,
-                                          float ampl_pu, float im_pu, float min_window_s)
+                                          float ampl_pu, float im_pu, float min_window_s,
+                                          uint16_t hold_log2)
 {
     float per = 0.0f, periods = 0.0f, lead = 0.0f;
     standstill_lf_status_t st;
@@ -62,6 +64,10 @@ standstill_lf_status_t standstill_lf_init(standstill_lf_t *z, float Ts_s, float 
     if (st != STANDSTILL_LF_OK) {
         return st;
     }
+    if (hold_log2 > STANDSTILL_LF_HOLD_LOG2_MAX) {
+        return STANDSTILL_LF_ERR_HOLD;
+    }
+    z->hold_log2 = hold_log2;
     z->per = (uint32_t)per;
     z->half = (uint32_t)(periods * per);
     z->lead = (uint32_t)lead;
@@ -92,7 +98,24 @@ void standstill_lf_start(standstill_lf_t *z)
     z->ph = 0u;
     z->done = 0u;
     z->i_add = _IQ(0.0);
+    z->i_step = _IQ(0.0);   /* the step first: an ISR between the two adds nothing */
+    z->i_ref = _IQ(0.0);
     z->running = (uint16_t)(z->per > 0u);
+}
+
+/* The ramp's step, d / 2^n rounded half up (estim_asr32: floor without
+ * shifting a negative value); |d| <= 2 * 1.8 pu + 4 LSB: no overflow.
+ * FLOAT_MATH: the exact quotient. */
+static inline _iq hold_step(_iq d, uint16_t n)
+{
+#if MATH_TYPE == IQ_MATH
+    if (n == 0u) {
+        return d;
+    }
+    return estim_asr32(d + ((int32_t)1 << (n - 1u)), (int16_t)n);
+#else
+    return d / (float)(1u << n);
+#endif
 }
 
 /* The sample's angle in the fundamental's period, Q24 pu of a revolution:
@@ -167,8 +190,11 @@ void standstill_lf_step(standstill_lf_t *z)
         accumulate(sum[1], s2, c2, u, i, z->gain);
         accumulate(sum[2], s4, c4, u, i, z->gain);
     }
-    /* the injection for the next samples: 3 ampl < 0.9 i_M <= 1.8 pu */
+    /* the injection for the next samples: 3 ampl < 0.9 i_M <= 1.8 pu,
+     * reached by a ramp from where the last one ended (standstill_lf_fast:
+     * a held value would fold its images onto the tones, standstill_lf.h) */
     z->i_add = _IQmpy(z->ampl, s1 + s2 + s4);
+    z->i_step = hold_step(z->i_add - z->i_ref, z->hold_log2);
     if (++z->ph >= z->per) {
         z->ph = 0u;
     }
@@ -176,5 +202,7 @@ void standstill_lf_step(standstill_lf_t *z)
         z->done = 1u;
         z->running = 0u;
         z->i_add = _IQ(0.0);
+        z->i_step = _IQ(0.0);   /* the step first (standstill_lf_start) */
+        z->i_ref = _IQ(0.0);
     }
 }
