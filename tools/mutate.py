@@ -203,7 +203,7 @@ MUTANTS = [
       "the bus's filtered value (the SVPWM's divider) unfiltered"),
     # ---- orientation ----------------------------------------------------------
     M("ifo_flux_lag_removed", "include/ifo.h",
-      "f->imr = imr + iq_rmpy(f->kf, i_m - imr);", "f->imr = i_m;",
+      "f->imr = imr + iq_rmpy(f->kf, i_m - imr);", "f->imr = i_m + (imr - imr);",
       "the rotor flux follows i_M without its Tr lag: a slip too large in every transient"),
     M("ifo_slip_sign", "include/ifo.h",
       "    f->ws = wr + wslip;\n    /* Q24 * Q30",

@@ -338,6 +338,14 @@ static void write_reasons(void)
      * at its limit (a SETTLE that runs out of time otherwise, timeout:
      * tests/app/test_id_sequence.c) */
     base_plus("reason_torque_limit.ini", "\n[load]\nprop_Nm_s = 0.02\n");
+    /* the motor's Rs 0.2 ohm, the nameplate's 1.031: the extraction finds
+     * 0.2 ohm, beyond its plausibility range (x0.25 .. x4 of the
+     * nameplate), and the set is refused as implausible; nothing trips (a
+     * model error refuses a set, it is no fault) */
+    {
+        static const char rs[] = "Rs_ohm = 0.2\n";
+        base_with_after("\n[plant]\n", "reason_implausible.ini", rs, sizeof rs - 1u);
+    }
 }
 
 /* The 15 kW motor's file with the paper's sequence instead of its own (the

@@ -142,9 +142,9 @@ def test_pc_tool_identify_standstill(tmp_path):
     before the start; the drive never accelerates, publishes every parameter from
     standstill, and the rotor's true angle moved by less than one encoder count.
     The 1.1 kW motor: its confidences (0.5-0.9 %) leave the verdict to the tool's flow.
-    The paper motor's L_M is the difference of two terms 4.6 times larger (Rs / R_R,
-    docs/accuracy.md): its standstill confidence, 1.7-3.1 % over the command's timing,
-    refuses about one run in 25 (low_confidence), which would make this test a lottery."""
+    (The paper motor's, whose L_M is the difference of two terms 4.6 times larger, were
+    1.7-3.1 % before the multisine's ramp, one run in 25 refused; 0.5-1.5 % since:
+    docs/accuracy.md.)"""
     cfg = CONFIG_DIR / "motor_1kw.ini"
     sim = Sim(tmp_path, config=cfg)
     try:
