@@ -105,12 +105,11 @@
  * The flash image runs them from flash (.text, not named here; their wait
  * states costed by tools/bench_isr.py); the RAM image defines
  * ISR_FLASH_SET_IN_RAM and keeps them on chip with the rest of this set.
- * 9 functions.
+ * 8 functions.
  */
 #ifdef ISR_FLASH_SET_IN_RAM
 *(.text:_accumulate)
 *(.text:_drive_static_slow)
-*(.text:_hold_step)
 *(.text:_lf_angle)
 *(.text:_pc_load_offset)
 *(.text:_phase_current_cal_start)

@@ -245,6 +245,24 @@ static inline void estim_accumulate(_iq *acc, _iq d, int16_t n, int16_t qin, _iq
 
 #endif /* MATH_TYPE */
 
+/** x / 2^n rounded half up, 0 <= n <= 31: floor((x + 2^(n-1)) / 2^n), the
+ *  floor without shifting a negative value (estim_asr32); n = 0: x.  The
+ *  caller keeps x + 2^(n-1) LSB within int32 (no check: the regression's
+ *  window sums stay below 56 pu, the multisine's ramp below 3.6 pu).  No
+ *  bias to pass on, unlike a truncating shift.  FLOAT_MATH: the exact
+ *  quotient. */
+static inline _iq estim_div_pow2_round(_iq x, uint16_t n)
+{
+#if MATH_TYPE == IQ_MATH
+    if (n == 0u) {
+        return x;
+    }
+    return estim_asr32(x + ((int32_t)1 << (n - 1u)), (int16_t)n);
+#else
+    return x / (float)((uint32_t)1u << n);
+#endif
+}
+
 /** floor(a / 2) for any sign (C's `/` truncates toward zero). */
 static inline int16_t estim_floor_half(int16_t a)
 {

@@ -93,23 +93,6 @@ void ident_regressor_reset(ident_regressor_t *r)
 #endif
 }
 
-/* The window mean of a sum of 2^n samples (n <= 3), rounded half up (no
- * bias to pass the filters' unit DC gain): floor((sum + 2^(n-1)) / 2^n),
- * the floor written without shifting a negative value (estim_asr32);
- * |sum| < 56 pu, so sum + 2^(n-1) LSB cannot overflow.  n = 0: exact.
- * FLOAT_MATH: the exact quotient. */
-static inline _iq ident_mean(_iq sum, uint16_t n)
-{
-#if MATH_TYPE == IQ_MATH
-    if (n == 0u) {
-        return sum;
-    }
-    return estim_asr32(sum + ((int32_t)1 << (n - 1u)), (int16_t)n);
-#else
-    return sum / (float)(1u << n);
-#endif
-}
-
 /* The period-mean form's window (ident_regressor.h, (a)-(c); regression_
  * bias.md §5.1), on the window means filter_a just formed: x2 the squared
  * half step, wsm the window's mean frame speed.
@@ -137,8 +120,8 @@ static void period_mean_window(ident_regressor_t *r, _iq x2, _iq wsm)
     const _iq ic_t = _IQmpy(k2, _IQmpyIQX(_IQmpy(wsm, um), GLOBAL_Q, r->k_rip, 30));
     /* the trapezoid's mean less the samples' mean: half the window's
      * current step per sample, -(i_end - i_start) / 2N (rounded) */
-    const _iq h_m = ident_mean(r->i_m - r->i0_m, n1);
-    const _iq h_t = ident_mean(r->i_t - r->i0_t, n1);
+    const _iq h_m = estim_div_pow2_round(r->i_m - r->i0_m, n1);
+    const _iq h_t = estim_div_pow2_round(r->i_t - r->i0_t, n1);
     /* (c) the mean of i_bar - i_sampled, the slip angle of the window */
     const _iq d_m = h_m + ic_m;
     const _iq d_t = h_t + ic_t;
@@ -175,32 +158,35 @@ static void period_mean_window(ident_regressor_t *r, _iq x2, _iq wsm)
 }
 #endif
 
+/* The window means below: a sum of 2^n samples (n <= 3) over 2^n, rounded
+ * half up (no bias to pass the filters' unit DC gain); |sum| < 56 pu, so
+ * the rounding's half LSB cannot overflow. */
 void ident_regressor_filter_a(ident_regressor_t *r)
 {
     const uint16_t n = r->decim_log2;
-    const _iq um = ident_mean(r->s_um, n);
-    const _iq ut = ident_mean(r->s_ut, n);
+    const _iq um = estim_div_pow2_round(r->s_um, n);
+    const _iq ut = estim_div_pow2_round(r->s_ut, n);
     /* back to the middle of the periods: R(x), x = pi f_base Ts ws_mean,
      * |x| <= 7 pi/128 < 0.18 rad (f_base Ts < 1/128, |ws| <= 7):
      * cos x = 1 - (x^2/2)(1 - x^2/12), sin x = x (1 - x^2/6), series
      * errors below x^6/720, x^5/120 (< 2e-6 at the limit, 3e-9 at 2 pu);
      * Q24 products of factors <= 1 */
-    const _iq x = _IQmpy(r->k_half, ident_mean(r->s_ws, n));
+    const _iq x = _IQmpy(r->k_half, estim_div_pow2_round(r->s_ws, n));
     const _iq x2 = _IQmpy(x, x);
     const _iq cx = _IQ(1.0) - _IQmpy(_IQmpy(x2, _IQ(0.5)), _IQ(1.0) - _IQmpy(x2, _IQ(1.0 / 12.0)));
     const _iq sx = _IQmpy(x, _IQ(1.0) - _IQmpy(x2, _IQ(1.0 / 6.0)));
 
-    r->f_im.u = ident_mean(r->s_im, n);
-    r->f_it.u = ident_mean(r->s_it, n);
+    r->f_im.u = estim_div_pow2_round(r->s_im, n);
+    r->f_it.u = estim_div_pow2_round(r->s_it, n);
     /* |um|, |ut| <= 7: each sum < 9.9 */
     r->f_um.u = _IQmpy(cx, um) - _IQmpy(sx, ut);
     r->f_ut.u = _IQmpy(sx, um) + _IQmpy(cx, ut);
-    r->f_ws_it.u = ident_mean(r->s_ws_it, n);
-    r->f_ws_im.u = ident_mean(r->s_ws_im, n);
+    r->f_ws_it.u = estim_div_pow2_round(r->s_ws_it, n);
+    r->f_ws_im.u = estim_div_pow2_round(r->s_ws_im, n);
     r->f_wr.u = r->wr;   /* already the window's mean (ident_regressor.h) */
 #if IDENT_PERIOD_MEAN
     if (r->period_mean != 0u) {
-        period_mean_window(r, x2, ident_mean(r->s_ws, n));
+        period_mean_window(r, x2, estim_div_pow2_round(r->s_ws, n));
     }
 #endif
     r->s_im = r->s_it = r->s_um = r->s_ut = _IQ(0.0);

@@ -103,21 +103,6 @@ void standstill_lf_start(standstill_lf_t *z)
     z->running = (uint16_t)(z->per > 0u);
 }
 
-/* The ramp's step, d / 2^n rounded half up (estim_asr32: floor without
- * shifting a negative value); |d| <= 2 * 1.8 pu + 4 LSB: no overflow.
- * FLOAT_MATH: the exact quotient. */
-static inline _iq hold_step(_iq d, uint16_t n)
-{
-#if MATH_TYPE == IQ_MATH
-    if (n == 0u) {
-        return d;
-    }
-    return estim_asr32(d + ((int32_t)1 << (n - 1u)), (int16_t)n);
-#else
-    return d / (float)(1u << n);
-#endif
-}
-
 /* The sample's angle in the fundamental's period, Q24 pu of a revolution:
  * ph * round(2^32 / per) / 2^8 (ph < per: the product below 2^32 + per/2,
  * so uint32 holds it but for the last sample's rounding: taken in 64 bits). */
@@ -194,7 +179,7 @@ void standstill_lf_step(standstill_lf_t *z)
      * reached by a ramp from where the last one ended (standstill_lf_fast:
      * a held value would fold its images onto the tones, standstill_lf.h) */
     z->i_add = _IQmpy(z->ampl, s1 + s2 + s4);
-    z->i_step = hold_step(z->i_add - z->i_ref, z->hold_log2);
+    z->i_step = estim_div_pow2_round(z->i_add - z->i_ref, z->hold_log2);
     if (++z->ph >= z->per) {
         z->ph = 0u;
     }
