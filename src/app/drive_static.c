@@ -120,6 +120,18 @@ void drive_static_background(drive_t *d)
     uint16_t verdict;
     uint16_t j;
 
+    /* the multisine's ramp ends with INJECT, however INJECT ends: the test's
+     * own end clears it, a stop or a fault does not, and the control ISR
+     * would go on adding the last step (standstill_lf_fast) until the next
+     * start.  Here rather than in the slow ISR's state change (12 cycles
+     * where 14 are left); till the background passes, the ramp runs on by
+     * its step, about 1e-3 pu a period, the bridge off or its currents
+     * going down.  The step is read first: it is set only in INJECT, so a
+     * state read after it that is not INJECT means INJECT has ended. */
+    if (d->adapt.lf.i_step != _IQ(0.0) && d->seq.state != ID_INJECT) {
+        d->adapt.lf.i_step = _IQ(0.0);   /* the step first: an ISR between the two adds nothing */
+        d->adapt.lf.i_ref = _IQ(0.0);
+    }
     if (d->seq.static_done == 0u || d->verdict.static_judged != 0u ||
         d->seq.state != ID_IDLE) {
         return;

@@ -98,7 +98,8 @@ static float det3(const float a[3][3])
  * theta_N 0): left out.  P (3x3) in and out: P_N in, (Phi' Phi)^-1 out. */
 static void prior_back(float P[3][3], float th[3])
 {
-    float m[3][3], q[3][3], t[3];
+    float m[3][3], q[3][3];
+    float t[3] = {0.0f, 0.0f, 0.0f};   /* all written (c = 0) before read */
     float det;
     uint16_t i, j, k, c;
 

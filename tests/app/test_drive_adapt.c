@@ -349,6 +349,46 @@ static void test_static_encoder_watch(void **state)
     }
 }
 
+/* INJECT cut short (a stop or a fault: the sequence leaves it before the
+ * test's end): the multisine's ramp runs on by its last step until the
+ * background passes (drive_static_background), then the injection is 0 in
+ * every control ISR (it used to run on until the next start cleared it,
+ * from the 0.17 pu it had reached, wrapping int32 in the end). */
+static void test_static_ramp_stops_with_inject(void **state)
+{
+    drive_t *d = &g_d;
+    uint32_t k;
+    _iq most = _IQ(0.0);
+    (void)state;
+
+    fresh(d, ID_INJECT, 1u);
+    for (k = 0u; k < 64u; k++) {   /* 64 slow periods of the test, 8 control ISRs each */
+        uint16_t n;
+        isr(d);
+        for (n = 0u; n < DRIVE_SLOTS; n++) {
+            drive_adapt_fast(d);
+            most = (d->loop.im_inject > most) ? d->loop.im_inject : most;
+        }
+    }
+    assert_true(d->adapt.lf.running == 1u && d->adapt.lf.i_step != _IQ(0.0));
+    assert_true(to_d(most) > 0.01);   /* it injected */
+    d->seq.state = ID_IDLE;           /* a stop */
+    isr(d);
+    for (k = 0u; k < DRIVE_SLOTS; k++) {   /* till the background passes: by the last step */
+        const _iq before = d->adapt.lf.i_ref;
+        drive_adapt_fast(d);
+        assert_true(d->loop.im_inject == before + d->adapt.lf.i_step);
+    }
+    drive_static_background(d);
+    for (k = 0u; k < 100000u; k++) {
+        drive_adapt_fast(d);
+        if (d->loop.im_inject != _IQ(0.0)) {
+            fail_msg("control ISR %u after the stop: im_inject %g pu", (unsigned)k,
+                     to_d(d->loop.im_inject));
+        }
+    }
+}
+
 /* The mailbox protocol, deterministically:
  *  (a) ready 0 and the set half written (any bytes): the ISR reads nothing
  *      and changes nothing;
@@ -923,6 +963,7 @@ int main(void)
         cmocka_unit_test(test_set_equals_init),
         cmocka_unit_test(test_seed_from_standstill),
         cmocka_unit_test(test_static_encoder_watch),
+        cmocka_unit_test(test_static_ramp_stops_with_inject),
         cmocka_unit_test(test_mailbox_whole_sets),
         cmocka_unit_test(test_preemption),
         cmocka_unit_test(test_standstill),
